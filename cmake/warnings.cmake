@@ -1,0 +1,25 @@
+# Warnings as errors for the project's own code: an INTERFACE target that each
+# of our targets links PRIVATE, so consumers and third-party headers are not
+# affected.
+add_library(rockcal_warnings INTERFACE)
+target_compile_options(rockcal_warnings INTERFACE
+  -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wold-style-cast
+  -Wcast-align -Woverloaded-virtual -Wnull-dereference -Werror)
+
+# Address + undefined-behaviour sanitizers (CI runs the tests with them).
+add_library(rockcal_sanitizers INTERFACE)
+if(ROCKCAL_SANITIZE)
+  target_compile_options(rockcal_sanitizers INTERFACE
+    -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all)
+  target_link_options(rockcal_sanitizers INTERFACE -fsanitize=address,undefined)
+endif()
+
+# rockcal_add_library(NAME folder SOURCES ... DEPS ...)
+function(rockcal_add_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS" ${ARGN})
+  add_library(rockcal_${name} ${ARG_SOURCES})
+  add_library(rockcal::${name} ALIAS rockcal_${name})
+  target_include_directories(rockcal_${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+  target_link_libraries(rockcal_${name} PUBLIC ${ARG_PUBLIC_DEPS} rockcal_sanitizers
+                                        PRIVATE rockcal_warnings)
+endfunction()

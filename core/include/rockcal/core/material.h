@@ -1,0 +1,58 @@
+// Slope materials and the hardness model: calibrated physical quantities in
+// (hardness, roughness, contact time), derived stiffness and damping out.
+#ifndef ROCKCAL_CORE_MATERIAL_H_
+#define ROCKCAL_CORE_MATERIAL_H_
+
+#include <optional>
+#include <string>
+
+namespace rockcal::core {
+
+// One slope material, SI units.
+struct Material {
+  std::string id;
+  double hardness = 0.5;          // H in [0, 1]
+  double roughness_m = 0.0;       // R >= 0; 0 means a smooth surface (facets)
+  double contact_time_s = 0.005;  // t_c > 0, duration of a normal impact
+  std::optional<double> restitution;  // overrides e = H when set, in (0, 1)
+  std::optional<double> friction;     // overrides f(H) when set, >= 0
+};
+
+// Constants of the default hardness model.
+struct HardnessModel {
+  double friction_soft = 0.9;  // f at H = 0
+  double friction_hard = 0.4;  // f at H = 1
+  double restitution_min = 0.01;
+  double restitution_max = 0.99;
+};
+
+// Contact parameters of a material, per unit rock mass (the slope's mass is
+// infinite, k_n = m (pi^2 + ln^2 e) / t_c^2, so every force scales with m).
+struct ContactLaw {
+  double restitution = 0.5;   // e, rebound/impact speed ratio of a normal impact
+  double friction = 0.65;     // Coulomb coefficient f
+  double contact_time = 0.005;     // t_c [s]
+  double stiffness_per_mass = 0.0;  // k_n / m [1/s^2]
+  double damping_per_mass = 0.0;    // C / m [1/s], chosen so the clamped contact gives e
+  double damping_ratio = 0.0;       // zeta = C / (2 sqrt(k m))
+  double eq13_damping_ratio = 0.0;  // the manual's eq. 13 zeta (reported, not used)
+  double tangential_ratio = 2.0 / 7.0;  // k_s / k_n
+};
+
+// Derives the contact law of `material` with the hardness model. Pure function.
+ContactLaw DeriveContactLaw(const Material& material, const HardnessModel& model = {});
+
+// Restitution (rebound/impact speed) of a linear spring-dashpot with damping
+// ratio zeta whose force is clamped at zero (the slope never pulls).
+double ClampedRestitution(double zeta);
+
+// Inverse of ClampedRestitution: the damping ratio giving restitution e in (0, 1).
+double DampingRatioForRestitution(double e);
+
+// Roughness R -> virtual sphere radius for grid spacing s: (R^2 + (s/2)^2) / (2R).
+// Returns +infinity for R == 0 (smooth).
+double VirtualSphereRadius(double roughness, double spacing);
+
+}  // namespace rockcal::core
+
+#endif  // ROCKCAL_CORE_MATERIAL_H_

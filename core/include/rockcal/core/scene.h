@@ -1,0 +1,90 @@
+// A scene: everything the simulator needs, in SI units. Built by sites/.
+#ifndef ROCKCAL_CORE_SCENE_H_
+#define ROCKCAL_CORE_SCENE_H_
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rockcal/core/material.h"
+#include "rockcal/core/rock_shape.h"
+#include "rockcal/core/terrain.h"
+
+namespace rockcal::core {
+
+constexpr double kStandardGravity = 9.80665;  // m/s^2
+constexpr double kFoot = 0.3048;              // m
+
+// An X partition is the vertical plane x = value; a Z partition is the line
+// where the ground elevation equals value.
+struct Partition {
+  enum class Kind { kX, kZ };
+  std::string id;
+  Kind kind = Kind::kX;
+  double value = 0.0;  // m
+};
+
+struct Release {
+  std::vector<Eigen::Vector2d> zone;  // plan polygon; empty means `point`
+  Eigen::Vector2d point = Eigen::Vector2d::Zero();
+  double height = 0.0;  // m, of the rock's lowest point above the ground
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // m/s
+};
+
+struct RockGroup {
+  int count = 1;
+  Shape shape = Shape::kSphere;
+  double size_min = 1.0, size_max = 1.0;  // m, uniform in range
+  double unit_weight = 25.9e3;            // N/m^3
+  Release release;
+};
+
+// A tree (vertical trunk) where scar heights were measured: a rock whose
+// bounding sphere first reaches the trunk records its height there.
+struct TreeProbe {
+  double x = 0.0, y = 0.0;  // m
+  double radius = 0.0;      // trunk radius [m]
+};
+
+// What the simulation records; the misfit and reports ask only for what they use.
+struct RecordOptions {
+  bool partitions = true;    // crossings at partitions
+  bool energy_check = true;  // track the largest relative energy gain
+  std::vector<TreeProbe> trees;  // record passages at these trees
+  int trajectories = 0;      // record the path of the first N rocks
+  double sample_seconds = 0.05;  // trajectory sampling interval
+};
+
+struct SimulationOptions {
+  std::uint64_t seed = 1;
+  double max_time = 60.0;        // s of simulated time per rock
+  double stop_speed = 0.1;       // m/s
+  double stop_duration = 1.0;    // s below stop_speed to count as stopped
+  int steps_per_contact = 50;    // N_c: dt <= t_c / N_c
+  double safety = 0.2;           // fraction of the damped critical step
+  bool exact_flight = true;      // advance free flight exactly between contacts
+  int threads = 0;               // 0: OpenMP default
+  RecordOptions record;
+
+  // Checks single fields and pairs; on failure sets *error (naming the field,
+  // its value and the rule) and returns false.
+  bool IsValid(std::string* error) const;
+};
+
+struct Scene {
+  std::string name;
+  HeightGrid grid;
+  std::vector<Material> materials;
+  HardnessModel hardness_model;
+  std::vector<Partition> partitions;
+  std::vector<RockGroup> groups;
+  SimulationOptions options;
+  double gravity = kStandardGravity;
+
+  int total_rocks() const;
+};
+
+}  // namespace rockcal::core
+
+#endif  // ROCKCAL_CORE_SCENE_H_

@@ -1,0 +1,89 @@
+// The simulation loop: every rock of a scene, independently, in parallel.
+#ifndef ROCKCAL_CORE_SIMULATE_H_
+#define ROCKCAL_CORE_SIMULATE_H_
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "rockcal/core/scene.h"
+#include "rockcal/core/statistics.h"
+
+namespace rockcal::core {
+
+enum class Outcome { kStopped, kLeft, kTimeout };
+const char* OutcomeName(Outcome outcome);
+
+struct Crossing {
+  bool crossed = false;
+  double height = 0.0;  // m, rock centre above the ground below it
+  double speed = 0.0;   // m/s, translational
+  double energy = 0.0;  // J, translational + rotational kinetic
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+};
+
+struct TrajectorySample {
+  double t;
+  Eigen::Vector3d x, v, w;
+};
+
+struct RockRecord {
+  int rock = 0, group = 0;
+  Shape shape = Shape::kSphere;
+  double size = 0.0, mass = 0.0;
+  Outcome outcome = Outcome::kTimeout;
+  Eigen::Vector3d start = Eigen::Vector3d::Zero();
+  Eigen::Vector3d stop = Eigen::Vector3d::Zero();  // final centre position
+  double time = 0.0;        // simulated seconds
+  long steps = 0;           // contact (small) steps
+  long flights = 0;         // exact free-flight advances
+  double dt = 0.0;          // the rock's contact time step [s]
+  double max_relative_energy_gain = 0.0;
+  double max_penetration = 0.0;  // deepest overlap / element radius
+  bool tunneled = false;    // centre went below the terrain surface by more than its radius
+  std::vector<Crossing> crossings;  // per partition, scene order (empty if not recorded)
+  std::vector<Crossing> trees;      // per RecordOptions::trees entry; height = rock centre above ground
+  std::vector<TrajectorySample> trajectory;
+};
+
+struct SimulationResult {
+  std::vector<RockRecord> rocks;  // in rock order
+  long steps = 0, flights = 0;
+  double wall_seconds = 0.0;
+  double dt_min = 0.0, dt_max = 0.0;  // contact steps used
+  int dt_shrunk = 0;   // rocks whose step was cut below t_c/N_c for stability
+  double max_relative_energy_gain = 0.0;
+  double max_penetration = 0.0;
+  int non_finite = 0;  // rocks whose state became non-finite (must be 0)
+  int tunneled = 0;
+  int count(Outcome o) const;
+};
+
+// The contact time step of a rock of `body` on `law` (and the stable bound it
+// honours); sets *shrunk when the stability bound is below t_c / N_c.
+double ContactTimeStep(const RockBody& body, const ContactLaw& law, const SimulationOptions& opt,
+                       bool* shrunk = nullptr);
+
+// Runs every rock of the scene. Deterministic for a seed at any thread count.
+SimulationResult Simulate(const Scene& scene);
+// Same, reusing a terrain built for this scene's roughness (calibration).
+SimulationResult Simulate(const Scene& scene, const Terrain& terrain);
+
+// Builds the terrain for a scene (virtual spheres from material roughness).
+Terrain BuildTerrain(const Scene& scene);
+
+// Per-partition and runout statistics of a result.
+struct PartitionStats {
+  std::string id;
+  int passed = 0;
+  Stats height, velocity, energy;  // m, m/s, J
+};
+struct ResultStats {
+  std::vector<PartitionStats> partitions;
+  Stats runout_x;  // m, stop x of stopped rocks
+};
+ResultStats ComputeStats(const Scene& scene, const SimulationResult& result);
+
+}  // namespace rockcal::core
+
+#endif  // ROCKCAL_CORE_SIMULATE_H_

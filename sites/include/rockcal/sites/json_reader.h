@@ -1,0 +1,76 @@
+// Strict reading of JSON input: every access knows its file and JSON path, so
+// every error names them, the value found and what was expected. Objects are
+// checked for unknown keys; nothing is silently defaulted.
+#ifndef ROCKCAL_SITES_JSON_READER_H_
+#define ROCKCAL_SITES_JSON_READER_H_
+
+#include <initializer_list>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rockcal/core/error.h"
+
+namespace rockcal::sites {
+
+// Reads and parses a JSON file; a syntax error names the file, line and column.
+nlohmann::json ReadJsonFile(const std::string& path);
+
+// A view of one JSON value at a path ("$.rocks[0].size") inside a file.
+class JsonNode final {
+ public:
+  JsonNode(const nlohmann::json* value, std::string file, std::string path);
+
+  const std::string& file() const { return file_; }
+  const std::string& path() const { return path_; }
+  const nlohmann::json& raw() const { return *value_; }
+  // "file: $.path" for error messages.
+  std::string where() const;
+  // Throws InputError at this node: "<file>: <path>: <what> (found <value>)".
+  [[noreturn]] void Fail(const std::string& what) const;
+
+  bool is_object() const { return value_->is_object(); }
+  bool is_array() const { return value_->is_array(); }
+  bool is_number() const { return value_->is_number(); }
+  bool is_string() const { return value_->is_string(); }
+
+  // Objects. Keys() rejects any key not in `allowed`, naming it and listing
+  // the allowed ones.
+  void Keys(std::initializer_list<const char*> allowed) const;
+  bool Has(const char* key) const;
+  JsonNode Get(const char* key) const;  // required
+  std::optional<JsonNode> Find(const char* key) const;
+
+  // Scalars (each fails unless the value has that type).
+  double Number() const;                    // finite number
+  double Number(double lo, double hi) const;  // in [lo, hi]
+  double Positive() const;                  // > 0
+  double NonNegative() const;               // >= 0
+  long Integer(long lo, long hi) const;
+  std::string String() const;
+  bool Bool() const;
+
+  // Arrays.
+  std::vector<JsonNode> Array(std::size_t min_size = 0) const;
+  // An array of exactly n numbers.
+  std::vector<double> Numbers(std::size_t n) const;
+
+ private:
+  const nlohmann::json* value_;
+  std::string file_;
+  std::string path_;
+};
+
+// Unit conversions of the site and observation files.
+enum class Units { kUS, kSI };
+// Reads "units": "us" | "si".
+Units ReadUnits(const JsonNode& node);
+// Length in the file's units -> metres.
+double LengthToSI(double value, Units units);
+// Unit weight in the file's units (lbf/ft^3 or kN/m^3) -> N/m^3.
+double UnitWeightToSI(double value, Units units);
+
+}  // namespace rockcal::sites
+
+#endif  // ROCKCAL_SITES_JSON_READER_H_

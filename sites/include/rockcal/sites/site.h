@@ -1,0 +1,40 @@
+// Site files: read, validate and turn into a core::Scene (SI units).
+#ifndef ROCKCAL_SITES_SITE_H_
+#define ROCKCAL_SITES_SITE_H_
+
+#include <string>
+#include <vector>
+
+#include "rockcal/core/scene.h"
+#include "rockcal/sites/json_reader.h"
+
+namespace rockcal::sites {
+
+// A calibrated parameter and its bounds, SI units (roughness in m, contact
+// time in s; hardness dimensionless).
+struct ParameterBound {
+  std::string material;  // material id
+  std::string name;      // "hardness", "roughness" or "contact_time"
+  double lower = 0.0, upper = 0.0;
+};
+
+struct Site {
+  std::string path;  // the site file
+  Units units = Units::kUS;
+  core::Scene scene;
+  std::vector<ParameterBound> calibrate;  // from each material's "calibrate"
+  // What the reader found and did, for `rockcal validate` (one line each).
+  std::vector<std::string> notes;
+};
+
+// Reads, validates and builds the site at `path`. Throws InputError naming the
+// file, the JSON path (or line), the value and what was expected.
+Site LoadSite(const std::string& path);
+
+// Applies one --set override "material.<id>.<hardness|roughness|contact_time>=VALUE"
+// (VALUE in the site's units) to site->scene. Throws InputError on a bad key or value.
+void ApplySetting(const std::string& key_value, Site* site);
+
+}  // namespace rockcal::sites
+
+#endif  // ROCKCAL_SITES_SITE_H_
