@@ -3,6 +3,7 @@
 #define ROCKCAL_CORE_SIMULATE_H_
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,7 @@ struct Crossing {
 struct TrajectorySample {
   double t;
   Eigen::Vector3d x, v, w;
+  Eigen::Vector4d q;  // orientation quaternion (w, x, y, z); identity for spheres
 };
 
 struct RockRecord {
@@ -40,7 +42,7 @@ struct RockRecord {
   double dt = 0.0;          // the rock's contact time step [s]
   double max_relative_energy_gain = 0.0;
   double max_penetration = 0.0;  // deepest overlap / element radius
-  bool tunneled = false;    // centre went below the terrain surface by more than its radius
+  bool tunneled = false;    // centre went below the surface by more than its radius plus the sag
   std::vector<Crossing> crossings;  // per partition, scene order (empty if not recorded)
   std::vector<Crossing> trees;      // per RecordOptions::trees entry; height = rock centre above ground
   std::vector<TrajectorySample> trajectory;

@@ -3,6 +3,7 @@
 #define ROCKCAL_CORE_TERRAIN_H_
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <vector>
 
@@ -62,6 +63,10 @@ class Terrain final {
   // negative: overlap); +inf when nothing is within `reach` horizontally.
   double Gap(const Eigen::Vector3d& c, double a, double reach) const;
 
+  // Deepest sag of the virtual-sphere surface below the nodes: at a cell
+  // centre, r - sqrt(r^2 - s^2/2) for the largest sphere radius r in use (r
+  // itself where the four spheres leave a hole, R > 0.207 s); 0 when smooth.
+  double sag() const { return sag_; }
   bool has_rough() const { return has_rough_; }
   bool has_smooth() const { return has_smooth_; }
   double xmin() const { return grid_.x0; }
@@ -83,6 +88,7 @@ class Terrain final {
   std::vector<std::uint8_t> smooth_cell_;  // per cell: a corner is smooth
   std::vector<double> ceiling_;          // per cell
   bool has_rough_ = false, has_smooth_ = false;
+  double sag_ = 0.0;
 };
 
 }  // namespace rockcal::core

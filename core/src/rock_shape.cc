@@ -1,0 +1,116 @@
+#include "rockcal/core/rock_shape.h"
+
+#include <cmath>
+
+namespace rockcal::core {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct ShapeInfo {
+  Shape shape;
+  const char* name;
+};
+constexpr ShapeInfo kShapes[] = {{Shape::kSphere, "sphere"},
+                                 {Shape::kCylinder, "cylinder"},
+                                 {Shape::kDisc, "disc"},
+                                 {Shape::kTetrahedron, "tetrahedron"},
+                                 {Shape::kCube, "cube"}};
+
+}  // namespace
+
+const char* ShapeName(Shape shape) {
+  for (const auto& s : kShapes)
+    if (s.shape == shape) return s.name;
+  return "?";
+}
+
+bool ParseShape(const std::string& name, Shape* shape) {
+  for (const auto& s : kShapes) {
+    if (name == s.name) {
+      *shape = s.shape;
+      return true;
+    }
+  }
+  return false;
+}
+
+const char* ShapeNames() { return "sphere, cylinder, disc, tetrahedron, cube"; }
+
+double NominalVolume(Shape shape, double size) {
+  const double s3 = size * size * size;
+  switch (shape) {
+    case Shape::kSphere:
+      return kPi * s3 / 6.0;  // diameter = size
+    case Shape::kCylinder:
+      return kPi * s3 / 16.0;  // length = size, diameter = size / 2
+    case Shape::kDisc:
+      return std::sqrt(3.0) * s3 / 8.0;  // triangle of side size, thickness size / 2
+    case Shape::kTetrahedron: {
+      const double edge = size * std::sqrt(1.5);  // regular, height = size
+      return edge * edge * edge / (6.0 * std::sqrt(2.0));
+    }
+    case Shape::kCube:
+      return s3;
+  }
+  return 0.0;
+}
+
+RockBody MakeRockBody(Shape shape, double size, double unit_weight, double gravity) {
+  RockBody body;
+  body.shape = shape;
+  body.size = size;
+  body.mass = unit_weight * NominalVolume(shape, size) / gravity;
+  const double q = size / 4.0;
+  switch (shape) {
+    case Shape::kSphere:
+      body.element_radius = size / 2.0;
+      body.elements = {Eigen::Vector3d::Zero()};
+      break;
+    case Shape::kCylinder:
+      body.element_radius = q;
+      body.elements = {{-q, 0, 0}, {q, 0, 0}};
+      break;
+    case Shape::kDisc: {
+      // Touching spheres at the corners of an equilateral triangle of side size/2.
+      body.element_radius = q;
+      const double rc = (size / 2.0) / std::sqrt(3.0);  // circumradius
+      for (int k = 0; k < 3; ++k) {
+        const double a = 2.0 * kPi * k / 3.0;
+        body.elements.emplace_back(rc * std::cos(a), rc * std::sin(a), 0.0);
+      }
+      break;
+    }
+    case Shape::kTetrahedron: {
+      // Touching spheres at the corners of a regular tetrahedron; overall height = size.
+      const double edge = size / (1.0 + std::sqrt(2.0 / 3.0));
+      body.element_radius = edge / 2.0;
+      const double h = edge / 2.0, w = edge / (2.0 * std::sqrt(2.0));
+      body.elements = {{h, 0, -w}, {-h, 0, -w}, {0, h, w}, {0, -h, w}};
+      break;
+    }
+    case Shape::kCube:
+      body.element_radius = q;
+      for (int i = 0; i < 8; ++i)
+        body.elements.emplace_back((i & 1) ? q : -q, (i & 2) ? q : -q, (i & 4) ? q : -q);
+      break;
+  }
+  body.inertia = ClusterInertiaTensor(body).diagonal();
+  double reach = 0.0;
+  for (const auto& e : body.elements) reach = std::max(reach, e.norm());
+  body.bounding_radius = reach + body.element_radius;
+  return body;
+}
+
+Eigen::Matrix3d ClusterInertiaTensor(const RockBody& body) {
+  const double me = body.mass / static_cast<double>(body.elements.size());
+  const double a = body.element_radius;
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+  for (const auto& d : body.elements) {
+    inertia += 0.4 * me * a * a * Eigen::Matrix3d::Identity();
+    inertia += me * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose());
+  }
+  return inertia;
+}
+
+}  // namespace rockcal::core

@@ -1,0 +1,36 @@
+#include "rockcal/core/scene.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace rockcal::core {
+
+bool SimulationOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& field, double value, const char* rule) {
+    std::ostringstream s;
+    s << "simulation." << field << " = " << value << ": " << rule;
+    *error = s.str();
+    return false;
+  };
+  if (!(max_time > 0 && std::isfinite(max_time))) return fail("max_time", max_time, "must be > 0");
+  if (!(stop_speed > 0)) return fail("stop_speed", stop_speed, "must be > 0");
+  if (!(stop_duration > 0)) return fail("stop_duration", stop_duration, "must be > 0");
+  if (stop_duration >= max_time)
+    return fail("stop_duration", stop_duration, "must be below max_time");
+  if (steps_per_contact < 4) return fail("steps_per_contact", steps_per_contact, "must be >= 4");
+  if (!(safety > 0 && safety <= 1)) return fail("safety", safety, "must be in (0, 1]");
+  if (threads < 0) return fail("threads", threads, "must be >= 0 (0: all cores)");
+  if (record.trajectories < 0)
+    return fail("record.trajectories", record.trajectories, "must be >= 0");
+  if (record.trajectories > 0 && !(record.sample_seconds > 0))
+    return fail("record.sample_seconds", record.sample_seconds, "must be > 0");
+  return true;
+}
+
+int Scene::total_rocks() const {
+  int n = 0;
+  for (const auto& g : groups) n += g.count;
+  return n;
+}
+
+}  // namespace rockcal::core

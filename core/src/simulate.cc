@@ -1,0 +1,668 @@
+#include "rockcal/core/simulate.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <Eigen/Geometry>
+#include <limits>
+
+#include "rockcal/core/random.h"
+
+namespace rockcal::core {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
+// Stiff contacts that may act on one body at once (rough terrain: a rock
+// between nodes touches two virtual spheres); part of the stable-step bound.
+constexpr double kParallelContacts = 2.0;
+// Free flight near the terrain advances up to kFlightReach of the gap at a
+// time, and is worth it while it covers more than kMinFlight of a step.
+constexpr double kFlightReach = 0.98;
+constexpr double kMinFlight = 0.05;
+// Sub-step of the torque-free rotation of non-isotropic clusters in flight [s].
+constexpr double kFlightRotationStep = 1e-3;
+
+struct ContactState {
+  std::int64_t key;
+  int element;
+  Eigen::Vector3d u;  // tangential spring displacement
+};
+
+struct State {
+  Eigen::Vector3d x, v, w;  // centre, velocity, angular velocity (world)
+  Eigen::Quaterniond q;     // body -> world (clusters only)
+  double t;
+};
+
+// Everything a rock needs that is shared by all rocks of the scene.
+struct SceneContext {
+  const Scene& scene;
+  const Terrain& terrain;
+  std::vector<ContactLaw> laws;
+  Eigen::Vector3d gravity;
+  bool has_x = false, has_z = false;  // partition kinds present
+};
+
+// Point in polygon (even-odd rule).
+bool InPolygon(const std::vector<Eigen::Vector2d>& poly, double x, double y) {
+  bool inside = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const auto& a = poly[i];
+    const auto& b = poly[j];
+    if ((a.y() > y) != (b.y() > y) && x < (b.x() - a.x()) * (y - a.y()) / (b.y() - a.y()) + a.x())
+      inside = !inside;
+  }
+  return inside;
+}
+
+// One rock, from release to its outcome. kCluster selects the rigid-cluster
+// path (orientation, full inertia); spheres carry no orientation work.
+template <bool kCluster>
+class RockRun {
+ public:
+  RockRun(const SceneContext& ctx, const RockBody& body, double dt, RockRecord* rec)
+      : ctx_(ctx), opt_(ctx.scene.options), body_(body), dt_(dt), rec_(rec) {
+    inv_inertia_ = body.inertia.cwiseInverse();
+    g_ = ctx.gravity.norm();
+    found_.reserve(16);
+    contacts_.reserve(16);
+    next_.reserve(16);
+  }
+
+  void Run(State s) {
+    s_ = s;
+    a_ = ctx_.gravity;
+    alpha_.setZero();
+    const int np = static_cast<int>(ctx_.scene.partitions.size());
+    const auto& rec_opt = opt_.record;
+    if (rec_opt.partitions) rec_->crossings.assign(np, Crossing{});
+    rec_->trees.assign(rec_opt.trees.size(), Crossing{});
+    record_trajectory_ = rec_opt.trajectories > rec_->rock;
+    next_sample_ = 0.0;
+    Sample(s_);
+    const double scale_floor = body_.mass * g_ * body_.bounding_radius;
+    energy_min_ = Energy();
+    ke_max_ = scale_floor;
+    double slow_since = -1.0;
+    Outcome outcome = Outcome::kTimeout;
+    while (s_.t < opt_.max_time) {
+      const State before = s_;
+      bool flew = false;
+      if (contacts_.empty() && opt_.exact_flight) {
+        const double tau = std::min(FlightTime(), opt_.max_time - s_.t);
+        if (tau > kMinFlight * dt_) {
+          Fly(tau);
+          flew = true;
+          landing_ = true;
+          ++rec_->flights;
+        }
+      }
+      if (!flew) {
+        // After a flight the rock is within a small fraction of a step of the
+        // terrain: the contact force at the step start is the dashpot's.
+        if (landing_ && contacts_.empty()) PrimeLanding();
+        landing_ = false;
+        Step();
+        ++rec_->steps;
+      }
+      if (!s_.x.allFinite() || !s_.v.allFinite() || !s_.w.allFinite()) {
+        rec_->max_relative_energy_gain = kInf;  // flagged; the caller counts it
+        outcome = Outcome::kLeft;
+        break;
+      }
+      Events(before, flew);
+      if (opt_.record.energy_check && !flew) CheckEnergy();
+      if (!ctx_.terrain.OnSlope(s_.x.x(), s_.x.y())) {
+        outcome = Outcome::kLeft;
+        break;
+      }
+      double ground = 0.0;
+      ctx_.terrain.Elevation(s_.x.x(), s_.x.y(), &ground);
+      if (ground - s_.x.z() > body_.bounding_radius + ctx_.terrain.sag()) {
+        rec_->tunneled = true;
+        outcome = Outcome::kLeft;
+        break;
+      }
+      if (s_.v.norm() < opt_.stop_speed) {
+        if (slow_since < 0) slow_since = before.t;
+        if (s_.t - slow_since >= opt_.stop_duration) {
+          outcome = Outcome::kStopped;
+          break;
+        }
+      } else {
+        slow_since = -1.0;
+      }
+    }
+    rec_->outcome = outcome;
+    rec_->stop = s_.x;
+    rec_->time = s_.t;
+    if (record_trajectory_) Sample(s_, /*force=*/true);
+  }
+
+ private:
+  Eigen::Matrix3d Rotation() const {
+    if constexpr (kCluster) return s_.q.toRotationMatrix();
+    return Eigen::Matrix3d::Identity();
+  }
+
+  // World angular acceleration from torque (with the gyroscopic term for clusters).
+  Eigen::Vector3d AngularAcceleration(const Eigen::Vector3d& torque, const Eigen::Vector3d& w,
+                                      const Eigen::Matrix3d& rot) const {
+    if constexpr (kCluster) {
+      const Eigen::Vector3d wb = rot.transpose() * w;
+      const Eigen::Vector3d tb = rot.transpose() * torque;
+      const Eigen::Vector3d lb = body_.inertia.cwiseProduct(wb);
+      return rot * inv_inertia_.cwiseProduct(tb - wb.cross(lb));
+    }
+    return torque * inv_inertia_.x();
+  }
+
+  double RotationalEnergy(const State& s) const {
+    if constexpr (kCluster) {
+      const Eigen::Vector3d wb = s.q.conjugate() * s.w;
+      return 0.5 * wb.dot(body_.inertia.cwiseProduct(wb));
+    }
+    return 0.5 * body_.inertia.x() * s.w.squaredNorm();
+  }
+
+  double KineticEnergy(const State& s) const {
+    return 0.5 * body_.mass * s.v.squaredNorm() + RotationalEnergy(s);
+  }
+
+  // Mechanical energy including the energy stored in contact springs.
+  double Energy() const {
+    return KineticEnergy(s_) - body_.mass * ctx_.gravity.dot(s_.x) + spring_energy_;
+  }
+
+  void CheckEnergy() {
+    const double e = Energy();
+    ke_max_ = std::max(ke_max_, KineticEnergy(s_));
+    if (e < energy_min_) {
+      energy_min_ = e;
+    } else {
+      rec_->max_relative_energy_gain =
+          std::max(rec_->max_relative_energy_gain, (e - energy_min_) / ke_max_);
+    }
+  }
+
+  // Longest time the rock can fly freely from s_ without touching anything.
+  double FlightTime() {
+    const double s = ctx_.terrain.grid().spacing;
+    const double vh = std::hypot(s_.v.x(), s_.v.y());
+    const double t_cap = std::min(vh > 0 ? s / vh : kInf, 1.0);
+    const double rb = body_.bounding_radius;
+    const double x1 = s_.x.x() + s_.v.x() * t_cap, y1 = s_.x.y() + s_.v.y() * t_cap;
+    const double ceiling = ctx_.terrain.Ceiling(std::min(s_.x.x(), x1) - rb, std::max(s_.x.x(), x1) + rb,
+                                                std::min(s_.x.y(), y1) - rb, std::max(s_.x.y(), y1) + rb);
+    // Vertical clearance above every obstacle under the swept footprint.
+    const double h = s_.x.z() - rb - ceiling;
+    const double vz = s_.v.z();  // gravity is along -z
+    double tau = 0.0;
+    if (h > 0.0) tau = std::min(t_cap, (vz + std::sqrt(vz * vz + 2.0 * g_ * h)) / g_);
+    if (tau > 4.0 * dt_) return tau;
+    // Close to the ground: the true gap of the bounding sphere bounds how far
+    // any point of the rock may move.
+    const double gap = ctx_.terrain.Gap(s_.x, rb, s);
+    if (!(gap > 0.0)) return tau;
+    double speed = s_.v.norm();
+    if constexpr (kCluster) speed += s_.w.norm() * rb;
+    const double reach = kFlightReach * gap;
+    const double t_gap = 2.0 * reach / (speed + std::sqrt(speed * speed + 2.0 * g_ * reach));
+    const double vmax = speed + g_ * t_gap;
+    return std::max(tau, std::min(t_gap, vmax > 0 ? s / vmax : kInf));
+  }
+
+  // Exact ballistic advance by tau (free rotation for clusters).
+  void Fly(double tau) {
+    s_.x += s_.v * tau + 0.5 * ctx_.gravity * tau * tau;
+    s_.v += ctx_.gravity * tau;
+    if constexpr (kCluster) {
+      // Torque-free rotation: the angular momentum L is fixed in the world;
+      // isotropic bodies keep w, others follow w = R I^-1 R^T L in midpoint
+      // sub-steps (no energy is pumped in, unlike explicit Euler equations).
+      const bool isotropic = (body_.inertia - Eigen::Vector3d::Constant(body_.inertia.x()))
+                                 .cwiseAbs()
+                                 .maxCoeff() < 1e-12 * body_.inertia.x();
+      if (isotropic) {
+        Rotate(s_.w, tau);
+      } else {
+        const Eigen::Vector3d lb = body_.inertia.cwiseProduct(s_.q.conjugate() * s_.w);
+        const Eigen::Vector3d l = s_.q * lb;
+        auto omega = [&](const Eigen::Quaterniond& q) {
+          return Eigen::Vector3d(q * inv_inertia_.cwiseProduct(q.conjugate() * l));
+        };
+        const int n = std::max(1, static_cast<int>(std::ceil(tau / kFlightRotationStep)));
+        const double h = tau / n;
+        for (int k = 0; k < n; ++k) {
+          const Eigen::Quaterniond q0 = s_.q;
+          Rotate(omega(s_.q), 0.5 * h);
+          const Eigen::Vector3d w_mid = omega(s_.q);
+          s_.q = q0;
+          Rotate(w_mid, h);
+        }
+        s_.w = omega(s_.q);
+      }
+    }
+    s_.t += tau;
+    a_ = ctx_.gravity;
+    alpha_.setZero();
+  }
+
+  void Rotate(const Eigen::Vector3d& w, double h) {
+    const double angle = w.norm() * h;
+    if (angle > 0.0) {
+      s_.q = Eigen::Quaterniond(Eigen::AngleAxisd(angle, w.normalized())) * s_.q;
+      s_.q.normalize();
+    }
+  }
+
+  // Contact forces at the current state for obstacles within the landing
+  // tolerance: the dashpot resists the approach from the first instant of
+  // contact, so the trapezoidal step does not miss the onset impulse.
+  void PrimeLanding() {
+    const double tol = (kMinFlight / kFlightReach) * dt_ *
+                           (s_.v.norm() + s_.w.norm() * body_.bounding_radius) +
+                       1e-12 * body_.element_radius;
+    const Eigen::Matrix3d rot = Rotation();
+    Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+    const double m = body_.mass;
+    for (std::size_t e = 0; e < body_.elements.size(); ++e) {
+      Eigen::Vector3d centre = s_.x;
+      if constexpr (kCluster) centre += rot * body_.elements[e];
+      found_.clear();
+      ctx_.terrain.FindContacts(centre, body_.element_radius + tol, &found_);
+      for (const TerrainContact& c : found_) {
+        const ContactLaw& law = ctx_.laws[static_cast<std::size_t>(c.material)];
+        const Eigen::Vector3d arm = c.point - s_.x;
+        const double vn = (s_.v + s_.w.cross(arm)).dot(c.normal);
+        const double overlap = std::max(c.overlap - tol, 0.0);
+        const double fn = std::max(0.0, m * (law.stiffness_per_mass * overlap - law.damping_per_mass * vn));
+        force += fn * c.normal;
+        torque += arm.cross(fn * c.normal);
+      }
+    }
+    a_ = ctx_.gravity + force / m;
+    alpha_ = AngularAcceleration(torque, s_.w, rot);
+  }
+
+  // One central-difference (kick-drift-kick) contact step.
+  void Step() {
+    const double dt = dt_;
+    const Eigen::Vector3d v_half = s_.v + 0.5 * dt * a_;
+    const Eigen::Vector3d w_half = s_.w + 0.5 * dt * alpha_;
+    s_.x += dt * v_half;
+    if constexpr (kCluster) Rotate(w_half, dt);
+    s_.t += dt;
+    // Angular velocity estimate at the new time for the gyroscopic term.
+    const Eigen::Vector3d w_pred = w_half + 0.5 * dt * alpha_;
+    const Eigen::Matrix3d rot = Rotation();
+    Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+    next_.clear();
+    spring_energy_ = 0.0;
+    const double m = body_.mass;
+    const double a = body_.element_radius;
+    for (std::size_t e = 0; e < body_.elements.size(); ++e) {
+      Eigen::Vector3d centre = s_.x;
+      if constexpr (kCluster) centre += rot * body_.elements[e];
+      found_.clear();
+      ctx_.terrain.FindContacts(centre, a, &found_);
+      for (const TerrainContact& c : found_) {
+        const ContactLaw& law = ctx_.laws[static_cast<std::size_t>(c.material)];
+        const Eigen::Vector3d arm = c.point - s_.x;
+        const Eigen::Vector3d vc_half = v_half + w_half.cross(arm);
+        const double kn = m * law.stiffness_per_mass;
+        // Normal velocity at the end of the step, with the dashpot taken
+        // implicitly (trapezoidal): v_n = v_n,half + dt/2 (k d / m - c v_n + g_n).
+        const double vn = (vc_half.dot(c.normal) +
+                           0.5 * dt * (law.stiffness_per_mass * c.overlap + ctx_.gravity.dot(c.normal))) /
+                          (1.0 + 0.5 * dt * law.damping_per_mass);
+        const double fn = std::max(0.0, kn * c.overlap - m * law.damping_per_mass * vn);
+        // Tangential spring: carry the displacement over, rotated into the
+        // current tangent plane, and add this step's sliding.
+        Eigen::Vector3d u = Eigen::Vector3d::Zero();
+        for (const ContactState& old : contacts_) {
+          if (old.key == c.key && old.element == static_cast<int>(e)) {
+            const double len = old.u.norm();
+            u = old.u - c.normal * c.normal.dot(old.u);
+            const double nlen = u.norm();
+            if (nlen > 0) u *= len / nlen;
+            break;
+          }
+        }
+        u += dt * (vc_half - c.normal * c.normal.dot(vc_half));
+        const double ks = kn * law.tangential_ratio;
+        Eigen::Vector3d ft = -ks * u;
+        const double cap = law.friction * fn;
+        const double ftn = ft.norm();
+        if (ftn > cap) {
+          ft *= cap / ftn;
+          u = -ft / ks;
+        }
+        const Eigen::Vector3d f = fn * c.normal + ft;
+        force += f;
+        torque += arm.cross(f);
+        spring_energy_ += 0.5 * kn * c.overlap * c.overlap + 0.5 * ks * u.squaredNorm();
+        next_.push_back({c.key, static_cast<int>(e), u});
+        rec_->max_penetration = std::max(rec_->max_penetration, c.overlap / a);
+      }
+    }
+    contacts_.swap(next_);
+    a_ = ctx_.gravity + force / m;
+    alpha_ = AngularAcceleration(torque, w_pred, rot);
+    s_.v = v_half + 0.5 * dt * a_;
+    s_.w = w_half + 0.5 * dt * alpha_;
+  }
+
+  // State at fraction f of the last advance: exact parabola after a flight,
+  // linear within a small step.
+  State Between(const State& s0, double f, bool flew) const {
+    State s = s0;
+    const double tau = f * (s_.t - s0.t);
+    if (flew) {
+      s.x = s0.x + s0.v * tau + 0.5 * ctx_.gravity * tau * tau;
+      s.v = s0.v + ctx_.gravity * tau;
+    } else {
+      s.x = s0.x + f * (s_.x - s0.x);
+      s.v = s0.v + f * (s_.v - s0.v);
+    }
+    s.w = s0.w + f * (s_.w - s0.w);
+    s.q = s_.q;
+    s.t = s0.t + tau;
+    return s;
+  }
+
+  Crossing Record(const State& s) const {
+    Crossing c;
+    c.crossed = true;
+    double ground = s.x.z();
+    ctx_.terrain.Elevation(s.x.x(), s.x.y(), &ground);
+    c.height = s.x.z() - ground;
+    c.speed = s.v.norm();
+    c.energy = KineticEnergy(s);
+    c.point = s.x;
+    return c;
+  }
+
+  // Partition crossings, tree passages and trajectory samples within the
+  // advance from s0 to s_.
+  void Events(const State& s0, bool flew) {
+    const auto& parts = ctx_.scene.partitions;
+    if (opt_.record.partitions) {
+      for (std::size_t p = 0; p < parts.size(); ++p) {
+        Crossing& cr = rec_->crossings[p];
+        if (cr.crossed) continue;
+        const Partition& part = parts[p];
+        double f0, f1;
+        if (part.kind == Partition::Kind::kX) {
+          f0 = s0.x.x() - part.value;
+          f1 = s_.x.x() - part.value;
+        } else {
+          double z0, z1;
+          if (!ctx_.terrain.Elevation(s0.x.x(), s0.x.y(), &z0) ||
+              !ctx_.terrain.Elevation(s_.x.x(), s_.x.y(), &z1))
+            continue;
+          f0 = z0 - part.value;
+          f1 = z1 - part.value;
+        }
+        if ((f0 < 0) != (f1 < 0)) cr = Record(Between(s0, f0 / (f0 - f1), flew));
+      }
+    }
+    const auto& trees = opt_.record.trees;
+    for (std::size_t k = 0; k < trees.size(); ++k) {
+      Crossing& cr = rec_->trees[k];
+      if (cr.crossed) continue;
+      // First time the plan path (straight over one advance) comes within
+      // reach of the trunk.
+      const double reach = trees[k].radius + body_.bounding_radius;
+      const Eigen::Vector2d p0(s0.x.x() - trees[k].x, s0.x.y() - trees[k].y);
+      const Eigen::Vector2d d(s_.x.x() - s0.x.x(), s_.x.y() - s0.x.y());
+      const double aa = d.squaredNorm(), bb = 2.0 * p0.dot(d), cc = p0.squaredNorm() - reach * reach;
+      if (cc <= 0.0) continue;  // started inside: not a passage
+      const double disc = bb * bb - 4.0 * aa * cc;
+      if (aa <= 0.0 || disc < 0.0) continue;
+      const double f = (-bb - std::sqrt(disc)) / (2.0 * aa);
+      if (f >= 0.0 && f <= 1.0) cr = Record(Between(s0, f, flew));
+    }
+    if (record_trajectory_) {
+      while (next_sample_ <= s_.t) {
+        const double f = s_.t > s0.t ? (next_sample_ - s0.t) / (s_.t - s0.t) : 1.0;
+        Sample(Between(s0, std::clamp(f, 0.0, 1.0), flew));
+      }
+    }
+  }
+
+  void Sample(const State& s, bool force = false) {
+    if (!record_trajectory_) return;
+    if (!force && s.t + 1e-12 < next_sample_) return;
+    rec_->trajectory.push_back({s.t, s.x, s.v, s.w, Eigen::Vector4d(s.q.w(), s.q.x(), s.q.y(), s.q.z())});
+    next_sample_ += opt_.record.sample_seconds;
+  }
+
+  const SceneContext& ctx_;
+  const SimulationOptions& opt_;
+  const RockBody& body_;
+  const double dt_;
+  RockRecord* rec_;
+  State s_;
+  Eigen::Vector3d a_, alpha_;  // accelerations at the current state
+  Eigen::Vector3d inv_inertia_;
+  double g_ = 0.0;
+  double spring_energy_ = 0.0, energy_min_ = 0.0, ke_max_ = 0.0;
+  bool record_trajectory_ = false;
+  bool landing_ = false;  // the last advance was a flight
+  double next_sample_ = 0.0;
+  std::vector<TerrainContact> found_;
+  std::vector<ContactState> contacts_, next_;
+};
+
+// Release: a random point of the zone, a random size and orientation, then
+// placed so the lowest point is `height` above every obstacle.
+State ReleaseRock(const SceneContext& ctx, const RockGroup& group, const RockBody& body,
+              RandomStream* rng, double u_pos[2], Eigen::Quaterniond q) {
+  State s;
+  const core::Release& rel = group.release;
+  double x = rel.point.x(), y = rel.point.y();
+  if (!rel.zone.empty()) {
+    double xmin = kInf, xmax = -kInf, ymin = kInf, ymax = -kInf;
+    for (const auto& p : rel.zone) {
+      xmin = std::min(xmin, p.x());
+      xmax = std::max(xmax, p.x());
+      ymin = std::min(ymin, p.y());
+      ymax = std::max(ymax, p.y());
+    }
+    x = xmin + u_pos[0] * (xmax - xmin);
+    y = ymin + u_pos[1] * (ymax - ymin);
+    for (int tries = 0; tries < 10000 && !InPolygon(rel.zone, x, y); ++tries) {
+      x = rng->Uniform(xmin, xmax);
+      y = rng->Uniform(ymin, ymax);
+    }
+  }
+  s.q = q;
+  const Eigen::Matrix3d rot = s.q.toRotationMatrix();
+  double lowest = kInf;
+  for (const auto& e : body.elements) lowest = std::min(lowest, (rot * e).z() - body.element_radius);
+  double ground = 0.0;
+  ctx.terrain.Elevation(x, y, &ground);
+  s.x = Eigen::Vector3d(x, y, ground - lowest + rel.height);
+  // Lift out of any virtual sphere that pokes above the interpolated surface.
+  for (int pass = 0; pass < 4; ++pass) {
+    double worst = 0.0;
+    for (const auto& e : body.elements)
+      worst = std::min(worst, ctx.terrain.Gap(s.x + rot * e, body.element_radius, 0.0));
+    if (worst >= 0.0) break;
+    s.x.z() += -worst + 1e-9 * body.bounding_radius;
+  }
+  s.v = rel.velocity;
+  s.w.setZero();
+  s.t = 0.0;
+  return s;
+}
+
+}  // namespace
+
+const char* OutcomeName(Outcome outcome) {
+  switch (outcome) {
+    case Outcome::kStopped:
+      return "stopped";
+    case Outcome::kLeft:
+      return "left";
+    case Outcome::kTimeout:
+      return "timeout";
+  }
+  return "?";
+}
+
+int SimulationResult::count(Outcome o) const {
+  int n = 0;
+  for (const auto& r : rocks) n += r.outcome == o;
+  return n;
+}
+
+double ContactTimeStep(const RockBody& body, const ContactLaw& law, const SimulationOptions& opt,
+                       bool* shrunk) {
+  // An off-centre contact on a cluster acts on a smaller effective mass:
+  // 1/m_eff = 1/m + l^2 / I_min for a lever arm l.
+  double mass_ratio = 1.0;
+  if (body.elements.size() > 1) {
+    double arm = 0.0;
+    for (const auto& e : body.elements) arm = std::max(arm, e.norm());
+    arm += body.element_radius;
+    mass_ratio += body.mass * arm * arm / body.inertia.minCoeff();
+  }
+  const double omega = std::sqrt(law.stiffness_per_mass * mass_ratio * kParallelContacts);
+  const double zeta = law.damping_ratio;
+  const double critical = (2.0 / omega) * (std::sqrt(1.0 + zeta * zeta) - zeta);
+  const double by_contact = law.contact_time / opt.steps_per_contact;
+  const double stable = opt.safety * critical;
+  if (shrunk) *shrunk = stable < by_contact;
+  return std::min(by_contact, stable);
+}
+
+Terrain BuildTerrain(const Scene& scene) {
+  std::vector<double> roughness;
+  for (const auto& m : scene.materials) roughness.push_back(m.roughness_m);
+  double max_radius = 0.0;
+  for (const auto& g : scene.groups) {
+    const RockBody b = MakeRockBody(g.shape, g.size_max, g.unit_weight, scene.gravity);
+    max_radius = std::max(max_radius, b.element_radius);
+  }
+  return Terrain(scene.grid, roughness, max_radius);
+}
+
+SimulationResult Simulate(const Scene& scene) { return Simulate(scene, BuildTerrain(scene)); }
+
+SimulationResult Simulate(const Scene& scene, const Terrain& terrain) {
+  const auto start = std::chrono::steady_clock::now();
+  SceneContext ctx{scene, terrain, {}, Eigen::Vector3d(0, 0, -scene.gravity)};
+  for (const auto& m : scene.materials) ctx.laws.push_back(DeriveContactLaw(m, scene.hardness_model));
+  for (const auto& p : scene.partitions) {
+    ctx.has_x = ctx.has_x || p.kind == Partition::Kind::kX;
+    ctx.has_z = ctx.has_z || p.kind == Partition::Kind::kZ;
+  }
+  struct Job {
+    int group;
+    int rock;
+  };
+  std::vector<Job> jobs;
+  for (std::size_t g = 0; g < scene.groups.size(); ++g)
+    for (int k = 0; k < scene.groups[g].count; ++k)
+      jobs.push_back({static_cast<int>(g), static_cast<int>(jobs.size())});
+
+  SimulationResult result;
+  result.rocks.resize(jobs.size());
+  std::vector<char> shrunk(jobs.size(), 0);
+  const int threads = scene.options.threads > 0 ? scene.options.threads : omp_get_max_threads();
+  const long n = static_cast<long>(jobs.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (long k = 0; k < n; ++k) {
+    const Job& job = jobs[static_cast<std::size_t>(k)];
+    const RockGroup& group = scene.groups[static_cast<std::size_t>(job.group)];
+    RandomStream rng(scene.options.seed, static_cast<std::uint64_t>(job.rock));
+    // Draws in a fixed order, whatever the shape or parameters: size, position, orientation.
+    const double size = group.size_min + rng.Uniform() * (group.size_max - group.size_min);
+    double u_pos[2] = {rng.Uniform(), rng.Uniform()};
+    const double u1 = rng.Uniform(), u2 = rng.Uniform(), u3 = rng.Uniform();
+    const Eigen::Quaterniond q(std::sqrt(1 - u1) * std::sin(2 * kPi * u2),
+                               std::sqrt(1 - u1) * std::cos(2 * kPi * u2),
+                               std::sqrt(u1) * std::sin(2 * kPi * u3),
+                               std::sqrt(u1) * std::cos(2 * kPi * u3));
+    const RockBody body = MakeRockBody(group.shape, size, group.unit_weight, scene.gravity);
+    double dt = kInf;
+    bool any_shrunk = false;
+    for (const auto& law : ctx.laws) {
+      bool sh = false;
+      dt = std::min(dt, ContactTimeStep(body, law, scene.options, &sh));
+      any_shrunk = any_shrunk || sh;
+    }
+    shrunk[static_cast<std::size_t>(k)] = any_shrunk;
+    RockRecord& rec = result.rocks[static_cast<std::size_t>(k)];
+    rec.rock = job.rock;
+    rec.group = job.group;
+    rec.shape = group.shape;
+    rec.size = size;
+    rec.mass = body.mass;
+    rec.dt = dt;
+    const bool cluster = body.elements.size() > 1;
+    const State s0 = ReleaseRock(ctx, group, body, &rng, u_pos,
+                             cluster ? q.normalized() : Eigen::Quaterniond::Identity());
+    rec.start = s0.x;
+    if (cluster) {
+      RockRun<true>(ctx, body, dt, &rec).Run(s0);
+    } else {
+      RockRun<false>(ctx, body, dt, &rec).Run(s0);
+    }
+  }
+  result.dt_min = kInf;
+  result.dt_max = 0.0;
+  for (std::size_t k = 0; k < result.rocks.size(); ++k) {
+    const RockRecord& r = result.rocks[k];
+    result.steps += r.steps;
+    result.flights += r.flights;
+    result.dt_min = std::min(result.dt_min, r.dt);
+    result.dt_max = std::max(result.dt_max, r.dt);
+    result.dt_shrunk += shrunk[k];
+    result.tunneled += r.tunneled;
+    if (!std::isfinite(r.max_relative_energy_gain) || !r.stop.allFinite()) {
+      ++result.non_finite;
+    } else {
+      result.max_relative_energy_gain =
+          std::max(result.max_relative_energy_gain, r.max_relative_energy_gain);
+    }
+    result.max_penetration = std::max(result.max_penetration, r.max_penetration);
+  }
+  if (result.rocks.empty()) result.dt_min = 0.0;
+  result.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+ResultStats ComputeStats(const Scene& scene, const SimulationResult& result) {
+  ResultStats stats;
+  for (std::size_t p = 0; p < scene.partitions.size(); ++p) {
+    PartitionStats ps;
+    ps.id = scene.partitions[p].id;
+    std::vector<double> h, v, e;
+    for (const auto& r : result.rocks) {
+      if (p < r.crossings.size() && r.crossings[p].crossed) {
+        h.push_back(r.crossings[p].height);
+        v.push_back(r.crossings[p].speed);
+        e.push_back(r.crossings[p].energy);
+      }
+    }
+    ps.passed = static_cast<int>(h.size());
+    ps.height = Summarize(h);
+    ps.velocity = Summarize(v);
+    ps.energy = Summarize(e);
+    stats.partitions.push_back(ps);
+  }
+  std::vector<double> xs;
+  for (const auto& r : result.rocks)
+    if (r.outcome == Outcome::kStopped) xs.push_back(r.stop.x());
+  stats.runout_x = Summarize(xs);
+  return stats;
+}
+
+}  // namespace rockcal::core

@@ -1,0 +1,299 @@
+#include "rockcal/core/terrain.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "rockcal/core/material.h"
+
+namespace rockcal::core {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision
+// Detection, section 5.1.5: regions of the triangle by barycentric tests).
+Eigen::Vector3d ClosestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                       const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+// Signed distance from point c to the triangle (p0, b, d) of the terrain,
+// one-sided: positive above the surface; negative (minus the depth below the
+// facet plane) when c lies under the facet; +inf when c is under the plane but
+// not over this facet (a neighbour handles it). *normal points out of the terrain.
+double FacetDistance(const Eigen::Vector3d& c, const Eigen::Vector3d& p0, const Eigen::Vector3d& b,
+                     const Eigen::Vector3d& d, Eigen::Vector3d* normal) {
+  const Eigen::Vector3d up = (b - p0).cross(d - p0).normalized();
+  const double height = up.dot(c - p0);
+  const Eigen::Vector3d q = ClosestPointOnTriangle(c, p0, b, d);
+  if (height > 0.0) {
+    const Eigen::Vector3d gap = c - q;
+    const double dist = gap.norm();
+    *normal = dist > 1e-12 ? Eigen::Vector3d(gap / dist) : up;
+    return dist;
+  }
+  const double off = (c - height * up - q).squaredNorm();
+  if (off > 1e-18 + 1e-12 * height * height) return kInf;
+  *normal = up;
+  return height;
+}
+
+}  // namespace
+
+bool HeightGrid::valid(int i, int j) const {
+  return i >= 0 && j >= 0 && i < nx && j < ny && !std::isnan(z[index(i, j)]);
+}
+
+Terrain::Terrain(HeightGrid grid, const std::vector<double>& roughness_m,
+                 double max_element_radius)
+    : grid_(std::move(grid)), max_element_radius_(max_element_radius) {
+  BuildSpheres(roughness_m);
+  BuildCeiling();
+}
+
+void Terrain::BuildSpheres(const std::vector<double>& roughness_m) {
+  const int nx = grid_.nx, ny = grid_.ny;
+  const double s = grid_.spacing;
+  centre_.assign(static_cast<std::size_t>(nx) * ny, Eigen::Vector3d::Zero());
+  radius_.assign(static_cast<std::size_t>(nx) * ny, kInf);
+  has_rough_ = has_smooth_ = false;
+  sag_ = 0.0;
+  auto zat = [&](int i, int j) { return grid_.z[grid_.index(i, j)]; };
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      if (!grid_.valid(i, j)) continue;
+      const int n = grid_.index(i, j);
+      const double rough = roughness_m[static_cast<std::size_t>(grid_.material[n])];
+      if (rough <= 0.0) {
+        has_smooth_ = true;
+        continue;
+      }
+      has_rough_ = true;
+      // Surface normal from central differences (one-sided at edges and holes).
+      const int il = grid_.valid(i - 1, j) ? i - 1 : i, ir = grid_.valid(i + 1, j) ? i + 1 : i;
+      const int jd = grid_.valid(i, j - 1) ? j - 1 : j, ju = grid_.valid(i, j + 1) ? j + 1 : j;
+      const double dzdx = ir > il ? (zat(ir, j) - zat(il, j)) / ((ir - il) * s) : 0.0;
+      const double dzdy = ju > jd ? (zat(i, ju) - zat(i, jd)) / ((ju - jd) * s) : 0.0;
+      const Eigen::Vector3d normal = Eigen::Vector3d(-dzdx, -dzdy, 1.0).normalized();
+      const double r = VirtualSphereRadius(rough, s);
+      radius_[n] = r;
+      const double half_diagonal2 = 0.5 * s * s;
+      sag_ = std::max(sag_, r * r > half_diagonal2 ? r - std::sqrt(r * r - half_diagonal2) : r);
+      centre_[n] = Eigen::Vector3d(grid_.x(i), grid_.y(j), zat(i, j)) - r * normal;
+    }
+  }
+  // A cell takes facets when any corner is smooth (and none is a hole).
+  const int cx = std::max(nx - 1, 0), cy = std::max(ny - 1, 0);
+  smooth_cell_.assign(static_cast<std::size_t>(cx) * cy, 0);
+  for (int j = 0; j < cy; ++j) {
+    for (int i = 0; i < cx; ++i) {
+      bool all_valid = true, any_smooth = false;
+      for (int k = 0; k < 4; ++k) {
+        const int ii = i + (k & 1), jj = j + (k >> 1);
+        all_valid = all_valid && grid_.valid(ii, jj);
+        any_smooth = any_smooth || (grid_.valid(ii, jj) && std::isinf(radius_[grid_.index(ii, jj)]));
+      }
+      smooth_cell_[static_cast<std::size_t>(j) * cx + i] = all_valid && any_smooth;
+    }
+  }
+}
+
+void Terrain::BuildCeiling() {
+  const int cx = grid_.nx - 1, cy = grid_.ny - 1;
+  const double s = grid_.spacing;
+  ceiling_.assign(static_cast<std::size_t>(std::max(cx, 0)) * std::max(cy, 0), -kInf);
+  // A node is a contact candidate of an element within a + s of it (per axis);
+  // the contact point is within a of the element centre. So an obstacle point
+  // over a cell can only come from nodes within 2a + s of that cell.
+  const int rings = static_cast<int>(std::ceil(2.0 * max_element_radius_ / s)) + 1;
+  for (int j = 0; j < cy; ++j) {
+    for (int i = 0; i < cx; ++i) {
+      const double x0 = grid_.x(i), x1 = grid_.x(i + 1), y0 = grid_.y(j), y1 = grid_.y(j + 1);
+      double top = -kInf;
+      const std::size_t cell = static_cast<std::size_t>(j) * cx + i;
+      if (smooth_cell_[cell]) {
+        for (int k = 0; k < 4; ++k)
+          top = std::max(top, grid_.z[grid_.index(i + (k & 1), j + (k >> 1))]);
+      }
+      for (int jj = std::max(j - rings, 0); jj <= std::min(j + 1 + rings, grid_.ny - 1); ++jj) {
+        for (int ii = std::max(i - rings, 0); ii <= std::min(i + 1 + rings, grid_.nx - 1); ++ii) {
+          const int n = grid_.index(ii, jj);
+          const double r = radius_[n];
+          if (std::isinf(r)) continue;
+          const Eigen::Vector3d& c = centre_[n];
+          const double dx = std::max({x0 - c.x(), 0.0, c.x() - x1});
+          const double dy = std::max({y0 - c.y(), 0.0, c.y() - y1});
+          const double d2 = dx * dx + dy * dy;
+          if (d2 < r * r) top = std::max(top, c.z() + std::sqrt(r * r - d2));
+        }
+      }
+      ceiling_[cell] = top;
+    }
+  }
+}
+
+bool Terrain::OnSlope(double x, double y) const {
+  const double fx = (x - grid_.x0) / grid_.spacing, fy = (y - grid_.y0) / grid_.spacing;
+  if (!(fx >= 0.0 && fy >= 0.0 && fx <= grid_.nx - 1 && fy <= grid_.ny - 1)) return false;
+  const int i = std::min(static_cast<int>(fx), grid_.nx - 2);
+  const int j = std::min(static_cast<int>(fy), grid_.ny - 2);
+  return grid_.valid(i, j) && grid_.valid(i + 1, j) && grid_.valid(i, j + 1) &&
+         grid_.valid(i + 1, j + 1);
+}
+
+bool Terrain::Elevation(double x, double y, double* z) const {
+  if (!OnSlope(x, y)) return false;
+  const double fx = (x - grid_.x0) / grid_.spacing, fy = (y - grid_.y0) / grid_.spacing;
+  const int i = std::min(static_cast<int>(fx), grid_.nx - 2);
+  const int j = std::min(static_cast<int>(fy), grid_.ny - 2);
+  const double u = fx - i, v = fy - j;
+  const double z00 = grid_.z[grid_.index(i, j)], z10 = grid_.z[grid_.index(i + 1, j)];
+  const double z01 = grid_.z[grid_.index(i, j + 1)], z11 = grid_.z[grid_.index(i + 1, j + 1)];
+  // Cells split along the (i, j)-(i+1, j+1) diagonal.
+  *z = u >= v ? z00 + u * (z10 - z00) + v * (z11 - z10) : z00 + v * (z01 - z00) + u * (z11 - z01);
+  return true;
+}
+
+int Terrain::MaterialAt(double x, double y) const {
+  const int i = std::clamp(static_cast<int>(std::lround((x - grid_.x0) / grid_.spacing)), 0,
+                           grid_.nx - 1);
+  const int j = std::clamp(static_cast<int>(std::lround((y - grid_.y0) / grid_.spacing)), 0,
+                           grid_.ny - 1);
+  return grid_.material[grid_.index(i, j)];
+}
+
+double Terrain::Ceiling(double xmin, double xmax, double ymin, double ymax) const {
+  const double s = grid_.spacing;
+  const int i0 = std::max(static_cast<int>(std::floor((xmin - grid_.x0) / s)), 0);
+  const int i1 = std::min(static_cast<int>(std::floor((xmax - grid_.x0) / s)), grid_.nx - 2);
+  const int j0 = std::max(static_cast<int>(std::floor((ymin - grid_.y0) / s)), 0);
+  const int j1 = std::min(static_cast<int>(std::floor((ymax - grid_.y0) / s)), grid_.ny - 2);
+  double top = -kInf;
+  const int cx = grid_.nx - 1;
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) top = std::max(top, ceiling_[static_cast<std::size_t>(j) * cx + i]);
+  return top;
+}
+
+void Terrain::FindContacts(const Eigen::Vector3d& c, double a,
+                           std::vector<TerrainContact>* out) const {
+  const double s = grid_.spacing;
+  if (has_rough_) {
+    const double reach = a + s;
+    const int i0 = std::max(static_cast<int>(std::ceil((c.x() - reach - grid_.x0) / s)), 0);
+    const int i1 = std::min(static_cast<int>(std::floor((c.x() + reach - grid_.x0) / s)), grid_.nx - 1);
+    const int j0 = std::max(static_cast<int>(std::ceil((c.y() - reach - grid_.y0) / s)), 0);
+    const int j1 = std::min(static_cast<int>(std::floor((c.y() + reach - grid_.y0) / s)), grid_.ny - 1);
+    for (int j = j0; j <= j1; ++j) {
+      for (int i = i0; i <= i1; ++i) {
+        const int n = grid_.index(i, j);
+        const double r = radius_[n];
+        if (std::isinf(r)) continue;
+        const Eigen::Vector3d d = c - centre_[n];
+        const double limit = a + r;
+        const double d2 = d.squaredNorm();
+        if (d2 >= limit * limit) continue;
+        const double dist = std::sqrt(d2);
+        TerrainContact contact;
+        contact.normal = d / dist;
+        contact.overlap = limit - dist;
+        contact.point = c - contact.normal * (a - 0.5 * contact.overlap);
+        contact.material = grid_.material[n];
+        contact.key = n;
+        out->push_back(contact);
+      }
+    }
+  }
+  if (has_smooth_) {
+    const int cx = grid_.nx - 1;
+    const int i0 = std::max(static_cast<int>(std::floor((c.x() - a - grid_.x0) / s)), 0);
+    const int i1 = std::min(static_cast<int>(std::floor((c.x() + a - grid_.x0) / s)), grid_.nx - 2);
+    const int j0 = std::max(static_cast<int>(std::floor((c.y() - a - grid_.y0) / s)), 0);
+    const int j1 = std::min(static_cast<int>(std::floor((c.y() + a - grid_.y0) / s)), grid_.ny - 2);
+    TerrainContact best;
+    for (int j = j0; j <= j1; ++j) {
+      for (int i = i0; i <= i1; ++i) {
+        if (!smooth_cell_[static_cast<std::size_t>(j) * cx + i]) continue;
+        const Eigen::Vector3d p00(grid_.x(i), grid_.y(j), grid_.z[grid_.index(i, j)]);
+        const Eigen::Vector3d p10(grid_.x(i + 1), grid_.y(j), grid_.z[grid_.index(i + 1, j)]);
+        const Eigen::Vector3d p01(grid_.x(i), grid_.y(j + 1), grid_.z[grid_.index(i, j + 1)]);
+        const Eigen::Vector3d p11(grid_.x(i + 1), grid_.y(j + 1), grid_.z[grid_.index(i + 1, j + 1)]);
+        for (int t = 0; t < 2; ++t) {
+          Eigen::Vector3d normal;
+          const double dist = FacetDistance(c, p00, t == 0 ? p10 : p11, t == 0 ? p11 : p01, &normal);
+          const double overlap = a - dist;
+          if (overlap > best.overlap) {
+            best.overlap = overlap;
+            best.normal = normal;
+            best.point = c - normal * (a - 0.5 * overlap);
+            best.key = -(2 * (static_cast<std::int64_t>(j) * cx + i) + t + 1);
+          }
+        }
+      }
+    }
+    if (best.overlap > 0.0) {
+      best.material = MaterialAt(best.point.x(), best.point.y());
+      out->push_back(best);
+    }
+  }
+}
+
+double Terrain::Gap(const Eigen::Vector3d& c, double a, double reach) const {
+  const double s = grid_.spacing;
+  double gap = kInf;
+  if (has_rough_) {
+    const double w = a + s + reach;
+    const int i0 = std::max(static_cast<int>(std::ceil((c.x() - w - grid_.x0) / s)), 0);
+    const int i1 = std::min(static_cast<int>(std::floor((c.x() + w - grid_.x0) / s)), grid_.nx - 1);
+    const int j0 = std::max(static_cast<int>(std::ceil((c.y() - w - grid_.y0) / s)), 0);
+    const int j1 = std::min(static_cast<int>(std::floor((c.y() + w - grid_.y0) / s)), grid_.ny - 1);
+    for (int j = j0; j <= j1; ++j) {
+      for (int i = i0; i <= i1; ++i) {
+        const int n = grid_.index(i, j);
+        if (std::isinf(radius_[n])) continue;
+        gap = std::min(gap, (c - centre_[n]).norm() - radius_[n] - a);
+      }
+    }
+  }
+  if (has_smooth_) {
+    const double w = a + reach;
+    const int cx = grid_.nx - 1;
+    const int i0 = std::max(static_cast<int>(std::floor((c.x() - w - grid_.x0) / s)), 0);
+    const int i1 = std::min(static_cast<int>(std::floor((c.x() + w - grid_.x0) / s)), grid_.nx - 2);
+    const int j0 = std::max(static_cast<int>(std::floor((c.y() - w - grid_.y0) / s)), 0);
+    const int j1 = std::min(static_cast<int>(std::floor((c.y() + w - grid_.y0) / s)), grid_.ny - 2);
+    for (int j = j0; j <= j1; ++j) {
+      for (int i = i0; i <= i1; ++i) {
+        if (!smooth_cell_[static_cast<std::size_t>(j) * cx + i]) continue;
+        const Eigen::Vector3d p00(grid_.x(i), grid_.y(j), grid_.z[grid_.index(i, j)]);
+        const Eigen::Vector3d p10(grid_.x(i + 1), grid_.y(j), grid_.z[grid_.index(i + 1, j)]);
+        const Eigen::Vector3d p01(grid_.x(i), grid_.y(j + 1), grid_.z[grid_.index(i, j + 1)]);
+        const Eigen::Vector3d p11(grid_.x(i + 1), grid_.y(j + 1), grid_.z[grid_.index(i + 1, j + 1)]);
+        Eigen::Vector3d normal;
+        gap = std::min(gap, FacetDistance(c, p00, p10, p11, &normal) - a);
+        gap = std::min(gap, FacetDistance(c, p00, p11, p01, &normal) - a);
+      }
+    }
+  }
+  return gap;
+}
+
+}  // namespace rockcal::core
