@@ -22,6 +22,8 @@ constexpr double kParallelContacts = 2.0;
 // time, and is worth it while it covers more than kMinFlight of a step.
 constexpr double kFlightReach = 0.98;
 constexpr double kMinFlight = 0.05;
+// Look-ahead of the near-ground flight test, in contact steps.
+constexpr double kGapHorizonSteps = 16.0;
 // Sub-step of the torque-free rotation of non-isotropic clusters in flight [s].
 constexpr double kFlightRotationStep = 1e-3;
 
@@ -119,9 +121,7 @@ class RockRun {
         outcome = Outcome::kLeft;
         break;
       }
-      double ground = 0.0;
-      ctx_.terrain.Elevation(s_.x.x(), s_.x.y(), &ground);
-      if (ground - s_.x.z() > body_.bounding_radius + ctx_.terrain.sag()) {
+      if (ctx_.terrain.FloorHeight(s_.x.x(), s_.x.y()) - s_.x.z() > body_.bounding_radius) {
         rec_->tunneled = true;
         outcome = Outcome::kLeft;
         break;
@@ -204,15 +204,16 @@ class RockRun {
     if (h > 0.0) tau = std::min(t_cap, (vz + std::sqrt(vz * vz + 2.0 * g_ * h)) / g_);
     if (tau > 4.0 * dt_) return tau;
     // Close to the ground: the true gap of the bounding sphere bounds how far
-    // any point of the rock may move.
-    const double gap = ctx_.terrain.Gap(s_.x, rb, s);
-    if (!(gap > 0.0)) return tau;
+    // any point of the rock may move. Look ahead over a short horizon only.
     double speed = s_.v.norm();
     if constexpr (kCluster) speed += s_.w.norm() * rb;
-    const double reach = kFlightReach * gap;
-    const double t_gap = 2.0 * reach / (speed + std::sqrt(speed * speed + 2.0 * g_ * reach));
-    const double vmax = speed + g_ * t_gap;
-    return std::max(tau, std::min(t_gap, vmax > 0 ? s / vmax : kInf));
+    const double horizon = kGapHorizonSteps * dt_;
+    const double reach = speed * horizon + 0.5 * g_ * horizon * horizon;
+    const double gap = std::min(ctx_.terrain.Gap(s_.x, rb, reach), reach);
+    if (!(gap > 0.0)) return tau;
+    const double d = kFlightReach * gap;
+    const double t_gap = 2.0 * d / (speed + std::sqrt(speed * speed + 2.0 * g_ * d));
+    return std::max(tau, t_gap);
   }
 
   // Exact ballistic advance by tau (free rotation for clusters).
@@ -488,12 +489,14 @@ State ReleaseRock(const SceneContext& ctx, const RockGroup& group, const RockBod
   ctx.terrain.Elevation(x, y, &ground);
   s.x = Eigen::Vector3d(x, y, ground - lowest + rel.height);
   // Lift out of any virtual sphere that pokes above the interpolated surface.
-  for (int pass = 0; pass < 4; ++pass) {
+  // A vertical lift by the overlap clears a tilted obstacle only in part, so
+  // repeat (each pass lifts at least by the remaining overlap).
+  for (int pass = 0; pass < 100; ++pass) {
     double worst = 0.0;
     for (const auto& e : body.elements)
       worst = std::min(worst, ctx.terrain.Gap(s.x + rot * e, body.element_radius, 0.0));
     if (worst >= 0.0) break;
-    s.x.z() += -worst + 1e-9 * body.bounding_radius;
+    s.x.z() += -worst + 1e-6 * body.bounding_radius;
   }
   s.v = rel.velocity;
   s.w.setZero();
@@ -554,7 +557,7 @@ Terrain BuildTerrain(const Scene& scene) {
 
 SimulationResult Simulate(const Scene& scene) { return Simulate(scene, BuildTerrain(scene)); }
 
-SimulationResult Simulate(const Scene& scene, const Terrain& terrain) {
+SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const ProgressFn& progress) {
   const auto start = std::chrono::steady_clock::now();
   SceneContext ctx{scene, terrain, {}, Eigen::Vector3d(0, 0, -scene.gravity)};
   for (const auto& m : scene.materials) ctx.laws.push_back(DeriveContactLaw(m, scene.hardness_model));
@@ -576,6 +579,7 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain) {
   std::vector<char> shrunk(jobs.size(), 0);
   const int threads = scene.options.threads > 0 ? scene.options.threads : omp_get_max_threads();
   const long n = static_cast<long>(jobs.size());
+  int done = 0;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (long k = 0; k < n; ++k) {
     const Job& job = jobs[static_cast<std::size_t>(k)];
@@ -613,6 +617,10 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain) {
       RockRun<true>(ctx, body, dt, &rec).Run(s0);
     } else {
       RockRun<false>(ctx, body, dt, &rec).Run(s0);
+    }
+    if (progress) {
+#pragma omp critical(rockcal_progress)
+      progress(++done, static_cast<int>(n));
     }
   }
   result.dt_min = kInf;

@@ -10,6 +10,8 @@ namespace rockcal::core {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// Contact keys of catch planes (below every node and facet key).
+constexpr std::int64_t kCatchKey = -(std::int64_t{1} << 40);
 
 // Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision
 // Detection, section 5.1.5: regions of the triangle by barycentric tests).
@@ -66,7 +68,7 @@ Terrain::Terrain(HeightGrid grid, const std::vector<double>& roughness_m,
                  double max_element_radius)
     : grid_(std::move(grid)), max_element_radius_(max_element_radius) {
   BuildSpheres(roughness_m);
-  BuildCeiling();
+  BuildCandidates();
 }
 
 void Terrain::BuildSpheres(const std::vector<double>& roughness_m) {
@@ -76,6 +78,7 @@ void Terrain::BuildSpheres(const std::vector<double>& roughness_m) {
   radius_.assign(static_cast<std::size_t>(nx) * ny, kInf);
   has_rough_ = has_smooth_ = false;
   sag_ = 0.0;
+  max_offset_ = 0.0;
   auto zat = [&](int i, int j) { return grid_.z[grid_.index(i, j)]; };
   for (int j = 0; j < ny; ++j) {
     for (int i = 0; i < nx; ++i) {
@@ -95,6 +98,7 @@ void Terrain::BuildSpheres(const std::vector<double>& roughness_m) {
       const Eigen::Vector3d normal = Eigen::Vector3d(-dzdx, -dzdy, 1.0).normalized();
       const double r = VirtualSphereRadius(rough, s);
       radius_[n] = r;
+      max_offset_ = std::max(max_offset_, r * std::hypot(normal.x(), normal.y()));
       const double half_diagonal2 = 0.5 * s * s;
       sag_ = std::max(sag_, r * r > half_diagonal2 ? r - std::sqrt(r * r - half_diagonal2) : r);
       centre_[n] = Eigen::Vector3d(grid_.x(i), grid_.y(j), zat(i, j)) - r * normal;
@@ -116,47 +120,133 @@ void Terrain::BuildSpheres(const std::vector<double>& roughness_m) {
   }
 }
 
-void Terrain::BuildCeiling() {
-  const int cx = grid_.nx - 1, cy = grid_.ny - 1;
-  const double s = grid_.spacing;
-  ceiling_.assign(static_cast<std::size_t>(std::max(cx, 0)) * std::max(cy, 0), -kInf);
-  // A node is a contact candidate of an element within a + s of it (per axis);
-  // the contact point is within a of the element centre. So an obstacle point
-  // over a cell can only come from nodes within 2a + s of that cell.
-  const int rings = static_cast<int>(std::ceil(2.0 * max_element_radius_ / s)) + 1;
+void Terrain::BuildCandidates() {
+  const int cx = std::max(grid_.nx - 1, 0), cy = std::max(grid_.ny - 1, 0);
+  const double s = grid_.spacing, a = max_element_radius_;
+  const std::size_t cells = static_cast<std::size_t>(cx) * cy;
+  ceiling_.assign(cells, -kInf);
+  catch_.assign(cells, -kInf);
+  list_start_.assign(cells + 1, 0);
+  list_.clear();
+  double r_max = 0.0;
+  for (double r : radius_)
+    if (!std::isinf(r)) r_max = std::max(r_max, r);
+  // Nodes whose sphere may reach a cell expanded by a: within r + offset + a.
+  const int rings = static_cast<int>(std::ceil((r_max + max_offset_ + a) / s)) + 1;
+  std::vector<int> reach;
+  std::vector<double> tops, touch;
   for (int j = 0; j < cy; ++j) {
     for (int i = 0; i < cx; ++i) {
-      const double x0 = grid_.x(i), x1 = grid_.x(i + 1), y0 = grid_.y(j), y1 = grid_.y(j + 1);
-      double top = -kInf;
       const std::size_t cell = static_cast<std::size_t>(j) * cx + i;
+      const double x0 = grid_.x(i), x1 = grid_.x(i + 1), y0 = grid_.y(j), y1 = grid_.y(j + 1);
+      // floor: a lower bound of the obstacle envelope over the cell, the
+      // highest of the spheres' lowest points over it (min of a max >= max of mins).
+      double floor = -kInf, top = -kInf;
       if (smooth_cell_[cell]) {
-        for (int k = 0; k < 4; ++k)
-          top = std::max(top, grid_.z[grid_.index(i + (k & 1), j + (k >> 1))]);
+        double lo = kInf;
+        for (int k = 0; k < 4; ++k) {
+          const double z = grid_.z[grid_.index(i + (k & 1), j + (k >> 1))];
+          lo = std::min(lo, z);
+          top = std::max(top, z);
+        }
+        floor = lo;
       }
+      reach.clear();
+      tops.clear();
+      touch.clear();
       for (int jj = std::max(j - rings, 0); jj <= std::min(j + 1 + rings, grid_.ny - 1); ++jj) {
         for (int ii = std::max(i - rings, 0); ii <= std::min(i + 1 + rings, grid_.nx - 1); ++ii) {
           const int n = grid_.index(ii, jj);
           const double r = radius_[n];
           if (std::isinf(r)) continue;
           const Eigen::Vector3d& c = centre_[n];
-          const double dx = std::max({x0 - c.x(), 0.0, c.x() - x1});
-          const double dy = std::max({y0 - c.y(), 0.0, c.y() - y1});
-          const double d2 = dx * dx + dy * dy;
-          if (d2 < r * r) top = std::max(top, c.z() + std::sqrt(r * r - d2));
+          // Highest point over the cell expanded by a (where an element
+          // centred in the cell may touch it).
+          const double dx = std::max({x0 - a - c.x(), 0.0, c.x() - x1 - a});
+          const double dy = std::max({y0 - a - c.y(), 0.0, c.y() - y1 - a});
+          const double near2 = dx * dx + dy * dy;
+          if (near2 >= r * r) continue;
+          // Highest centre of an element of radius a touching it over the cell.
+          const double cdx = std::max({x0 - c.x(), 0.0, c.x() - x1});
+          const double cdy = std::max({y0 - c.y(), 0.0, c.y() - y1});
+          const double ra = r + a;
+          const double cell2 = cdx * cdx + cdy * cdy;
+          reach.push_back(n);
+          tops.push_back(c.z() + std::sqrt(r * r - near2));
+          touch.push_back(cell2 < ra * ra ? c.z() + std::sqrt(ra * ra - cell2) : -kInf);
+          // Lowest point over the cell itself, if the sphere covers all of it.
+          const double fx = std::max(std::abs(x0 - c.x()), std::abs(x1 - c.x()));
+          const double fy = std::max(std::abs(y0 - c.y()), std::abs(y1 - c.y()));
+          const double far2 = fx * fx + fy * fy;
+          if (far2 < r * r) floor = std::max(floor, c.z() + std::sqrt(r * r - far2));
         }
       }
+      // An element that overlaps no sphere by more than its radius has its
+      // centre outside every sphere, so above the envelope, so above floor.
+      // It touches sphere k only with its centre inside k inflated by a: a
+      // sphere whose inflated top over the cell is below floor is buried.
+      for (std::size_t k = 0; k < reach.size(); ++k) {
+        if (touch[k] < floor) continue;
+        list_.push_back(reach[k]);
+        top = std::max(top, tops[k]);
+      }
+      list_start_[cell + 1] = static_cast<int>(list_.size());
+      // Catch plane closing holes of the sphere surface (R > 0.207 s, sharp
+      // concave breaks). Where a sphere covers the whole cell it lies at
+      // floor, never above the envelope; where none does (a hole), at the
+      // lowest corner less the largest roughness of the corners.
+      if (!smooth_cell_[cell] && CellValid(i, j)) {
+        double lowest = kInf, roughness = 0.0;
+        for (int k = 0; k < 4; ++k) {
+          const int n = grid_.index(i + (k & 1), j + (k >> 1));
+          lowest = std::min(lowest, grid_.z[n]);
+          const double r = radius_[n];
+          // R from r = (R^2 + (s/2)^2) / (2R): the sag between neighbours.
+          if (!std::isinf(r)) roughness = std::max(roughness, r - std::sqrt(r * r - 0.25 * s * s));
+        }
+        catch_[cell] = std::isfinite(floor) ? floor : lowest - roughness;
+        top = std::max(top, catch_[cell]);
+      }
+      // Facets an element centred here may touch lie in the neighbouring cells.
+      for (int jj = std::max(j - 1, 0); jj <= std::min(j + 1, cy - 1); ++jj)
+        for (int ii = std::max(i - 1, 0); ii <= std::min(i + 1, cx - 1); ++ii)
+          if (smooth_cell_[static_cast<std::size_t>(jj) * cx + ii])
+            for (int k = 0; k < 4; ++k)
+              top = std::max(top, grid_.z[grid_.index(ii + (k & 1), jj + (k >> 1))]);
       ceiling_[cell] = top;
     }
   }
 }
 
+bool Terrain::CellValid(int i, int j) const {
+  return grid_.valid(i, j) && grid_.valid(i + 1, j) && grid_.valid(i, j + 1) &&
+         grid_.valid(i + 1, j + 1);
+}
+
+double Terrain::FloorHeight(double x, double y) const {
+  const int cell = CellOf(x, y);
+  if (cell < 0) return -kInf;
+  if (smooth_cell_[static_cast<std::size_t>(cell)]) {
+    double z = -kInf;
+    Elevation(x, y, &z);
+    return z;
+  }
+  return catch_[static_cast<std::size_t>(cell)];
+}
+
+int Terrain::CellOf(double x, double y) const {
+  const double fx = (x - grid_.x0) / grid_.spacing, fy = (y - grid_.y0) / grid_.spacing;
+  if (!(fx >= 0.0 && fy >= 0.0 && fx <= grid_.nx - 1 && fy <= grid_.ny - 1)) return -1;
+  const int i = std::min(static_cast<int>(fx), grid_.nx - 2);
+  const int j = std::min(static_cast<int>(fy), grid_.ny - 2);
+  return j * (grid_.nx - 1) + i;
+}
+
 bool Terrain::OnSlope(double x, double y) const {
   const double fx = (x - grid_.x0) / grid_.spacing, fy = (y - grid_.y0) / grid_.spacing;
   if (!(fx >= 0.0 && fy >= 0.0 && fx <= grid_.nx - 1 && fy <= grid_.ny - 1)) return false;
-  const int i = std::min(static_cast<int>(fx), grid_.nx - 2);
-  const int j = std::min(static_cast<int>(fy), grid_.ny - 2);
-  return grid_.valid(i, j) && grid_.valid(i + 1, j) && grid_.valid(i, j + 1) &&
-         grid_.valid(i + 1, j + 1);
+  return CellValid(std::min(static_cast<int>(fx), grid_.nx - 2),
+                   std::min(static_cast<int>(fy), grid_.ny - 2));
 }
 
 bool Terrain::Elevation(double x, double y, double* z) const {
@@ -196,30 +286,33 @@ double Terrain::Ceiling(double xmin, double xmax, double ymin, double ymax) cons
 void Terrain::FindContacts(const Eigen::Vector3d& c, double a,
                            std::vector<TerrainContact>* out) const {
   const double s = grid_.spacing;
-  if (has_rough_) {
-    const double reach = a + s;
-    const int i0 = std::max(static_cast<int>(std::ceil((c.x() - reach - grid_.x0) / s)), 0);
-    const int i1 = std::min(static_cast<int>(std::floor((c.x() + reach - grid_.x0) / s)), grid_.nx - 1);
-    const int j0 = std::max(static_cast<int>(std::ceil((c.y() - reach - grid_.y0) / s)), 0);
-    const int j1 = std::min(static_cast<int>(std::floor((c.y() + reach - grid_.y0) / s)), grid_.ny - 1);
-    for (int j = j0; j <= j1; ++j) {
-      for (int i = i0; i <= i1; ++i) {
-        const int n = grid_.index(i, j);
-        const double r = radius_[n];
-        if (std::isinf(r)) continue;
-        const Eigen::Vector3d d = c - centre_[n];
-        const double limit = a + r;
-        const double d2 = d.squaredNorm();
-        if (d2 >= limit * limit) continue;
-        const double dist = std::sqrt(d2);
-        TerrainContact contact;
-        contact.normal = d / dist;
-        contact.overlap = limit - dist;
-        contact.point = c - contact.normal * (a - 0.5 * contact.overlap);
-        contact.material = grid_.material[n];
-        contact.key = n;
-        out->push_back(contact);
-      }
+  const int cell = CellOf(c.x(), c.y());
+  if (has_rough_ && cell >= 0) {
+    for (int k = list_start_[cell]; k < list_start_[cell + 1]; ++k) {
+      const int n = list_[k];
+      const double r = radius_[n];
+      const Eigen::Vector3d d = c - centre_[n];
+      const double limit = a + r;
+      const double d2 = d.squaredNorm();
+      if (d2 >= limit * limit) continue;
+      const double dist = std::sqrt(d2);
+      TerrainContact contact;
+      contact.normal = d / dist;
+      contact.overlap = limit - dist;
+      contact.point = c - contact.normal * (a - 0.5 * contact.overlap);
+      contact.material = grid_.material[n];
+      contact.key = n;
+      out->push_back(contact);
+    }
+    const double below = catch_[static_cast<std::size_t>(cell)] - (c.z() - a);
+    if (below > 0.0) {
+      TerrainContact contact;
+      contact.normal = Eigen::Vector3d::UnitZ();
+      contact.overlap = below;
+      contact.point = Eigen::Vector3d(c.x(), c.y(), c.z() - a + 0.5 * below);
+      contact.material = MaterialAt(c.x(), c.y());
+      contact.key = kCatchKey - cell;
+      out->push_back(contact);
     }
   }
   if (has_smooth_) {
@@ -260,16 +353,22 @@ double Terrain::Gap(const Eigen::Vector3d& c, double a, double reach) const {
   const double s = grid_.spacing;
   double gap = kInf;
   if (has_rough_) {
-    const double w = a + s + reach;
-    const int i0 = std::max(static_cast<int>(std::ceil((c.x() - w - grid_.x0) / s)), 0);
-    const int i1 = std::min(static_cast<int>(std::floor((c.x() + w - grid_.x0) / s)), grid_.nx - 1);
-    const int j0 = std::max(static_cast<int>(std::ceil((c.y() - w - grid_.y0) / s)), 0);
-    const int j1 = std::min(static_cast<int>(std::floor((c.y() + w - grid_.y0) / s)), grid_.ny - 1);
+    // Candidates of any cell where an element inside this sphere may be
+    // centred once it moved by up to reach.
+    const double w = a + reach;
+    const int cx = grid_.nx - 1;
+    const int i0 = std::max(static_cast<int>(std::floor((c.x() - w - grid_.x0) / s)), 0);
+    const int i1 = std::min(static_cast<int>(std::floor((c.x() + w - grid_.x0) / s)), grid_.nx - 2);
+    const int j0 = std::max(static_cast<int>(std::floor((c.y() - w - grid_.y0) / s)), 0);
+    const int j1 = std::min(static_cast<int>(std::floor((c.y() + w - grid_.y0) / s)), grid_.ny - 2);
     for (int j = j0; j <= j1; ++j) {
       for (int i = i0; i <= i1; ++i) {
-        const int n = grid_.index(i, j);
-        if (std::isinf(radius_[n])) continue;
-        gap = std::min(gap, (c - centre_[n]).norm() - radius_[n] - a);
+        const int cell = j * cx + i;
+        for (int k = list_start_[cell]; k < list_start_[cell + 1]; ++k) {
+          const int n = list_[k];
+          gap = std::min(gap, (c - centre_[n]).norm() - radius_[n] - a);
+        }
+        gap = std::min(gap, c.z() - a - catch_[static_cast<std::size_t>(cell)]);
       }
     }
   }

@@ -180,6 +180,28 @@ TEST(Simulate, RoughSlopeEndsCleanlyWithoutEnergyGain) {
             static_cast<int>(result.rocks.size()));
 }
 
+// With R > 0.207 s the four virtual spheres around a cell leave a hole at its
+// centre; a rock smaller than the hole must be caught, never fall through.
+TEST(Simulate, RoughnessHolesDoNotSwallowSmallRocks) {
+  Material m;
+  m.id = "coarse";
+  m.hardness = 0.3;
+  m.roughness_m = 0.45;  // s = 1 m: r = 0.5 m, exactly half the spacing
+  Scene scene = GridScene(21, 21, 1.0, [](double, double) { return 0.0; }, m);
+  RockGroup g = PointGroup(Shape::kSphere, 0.1, 10.5, 10.5, 0.5, 6);
+  g.release.zone = {{9.5, 9.5}, {11.5, 9.5}, {11.5, 11.5}, {9.5, 11.5}};
+  scene.groups = {g};
+  const Terrain terrain = BuildTerrain(scene);
+  ASSERT_GT(terrain.sag(), 0.45) << "the test needs holes at cell centres";
+  const SimulationResult result = Simulate(scene, terrain);
+  for (const auto& r : result.rocks) {
+    // Caught (stopped, or still rolling in the cup at the time limit), not gone.
+    EXPECT_NE(r.outcome, Outcome::kLeft) << "rock " << r.rock << " at " << r.stop.transpose();
+    EXPECT_FALSE(r.tunneled);
+    EXPECT_GE(r.stop.z(), terrain.FloorHeight(r.stop.x(), r.stop.y()));
+  }
+}
+
 TEST(Simulate, TumblingCubeKeepsUnitQuaternion) {
   Scene scene = RoughSlope(1);
   scene.groups = {scene.groups[1]};

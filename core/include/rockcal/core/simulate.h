@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -42,7 +43,7 @@ struct RockRecord {
   double dt = 0.0;          // the rock's contact time step [s]
   double max_relative_energy_gain = 0.0;
   double max_penetration = 0.0;  // deepest overlap / element radius
-  bool tunneled = false;    // centre went below the surface by more than its radius plus the sag
+  bool tunneled = false;    // centre went below Terrain::FloorHeight by more than its radius
   std::vector<Crossing> crossings;  // per partition, scene order (empty if not recorded)
   std::vector<Crossing> trees;      // per RecordOptions::trees entry; height = rock centre above ground
   std::vector<TrajectorySample> trajectory;
@@ -66,10 +67,14 @@ struct SimulationResult {
 double ContactTimeStep(const RockBody& body, const ContactLaw& law, const SimulationOptions& opt,
                        bool* shrunk = nullptr);
 
+// Called after each rock with (rocks done, rocks in all), one call at a time.
+using ProgressFn = std::function<void(int, int)>;
+
 // Runs every rock of the scene. Deterministic for a seed at any thread count.
 SimulationResult Simulate(const Scene& scene);
 // Same, reusing a terrain built for this scene's roughness (calibration).
-SimulationResult Simulate(const Scene& scene, const Terrain& terrain);
+SimulationResult Simulate(const Scene& scene, const Terrain& terrain,
+                          const ProgressFn& progress = nullptr);
 
 // Builds the terrain for a scene (virtual spheres from material roughness).
 Terrain BuildTerrain(const Scene& scene);

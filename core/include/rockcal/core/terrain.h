@@ -52,21 +52,31 @@ class Terrain final {
   bool OnSlope(double x, double y) const;
   // Material of the node nearest to (x, y) (clamped to the grid).
   int MaterialAt(double x, double y) const;
-  // Upper bound of every obstacle (virtual sphere or facet) over the plan
-  // rectangle [xmin, xmax] x [ymin, ymax]; -inf over nothing.
+  // Upper bound of every obstacle (virtual sphere or facet) that an element
+  // centred over the plan rectangle [xmin, xmax] x [ymin, ymax] may touch;
+  // -inf over nothing.
   double Ceiling(double xmin, double xmax, double ymin, double ymax) const;
-  // Appends the contacts of an element sphere (centre c, radius a) to `out`.
-  // Virtual spheres of every rough node nearby; for smooth cells the deepest
-  // facet contact.
+  // Appends the contacts of an element sphere (centre c, radius a <= the
+  // max_element_radius given at construction) to `out`: the candidate virtual
+  // spheres of the cell below c, and the deepest facet contact of smooth cells.
   void FindContacts(const Eigen::Vector3d& c, double a, std::vector<TerrainContact>* out) const;
-  // Smallest gap between an element sphere and any obstacle near it (may be
-  // negative: overlap); +inf when nothing is within `reach` horizontally.
+  // Smallest gap between an element sphere and any obstacle it may touch
+  // while its centre moves by at most `reach` (negative: overlap); +inf when none.
   double Gap(const Eigen::Vector3d& c, double a, double reach) const;
 
   // Deepest sag of the virtual-sphere surface below the nodes: at a cell
   // centre, r - sqrt(r^2 - s^2/2) for the largest sphere radius r in use (r
   // itself where the four spheres leave a hole, R > 0.207 s); 0 when smooth.
   double sag() const { return sag_; }
+  // The lowest support under (x, y): the facet surface in a smooth cell, the
+  // catch plane that closes holes of the virtual-sphere surface in a rough
+  // one; -inf off the grid. A rock centre below it by more than the rock's
+  // radius has tunneled.
+  double FloorHeight(double x, double y) const;
+  // Mean number of candidate virtual spheres per cell (cost of a contact search).
+  double mean_candidates() const {
+    return list_start_.size() > 1 ? static_cast<double>(list_.size()) / (list_start_.size() - 1) : 0.0;
+  }
   bool has_rough() const { return has_rough_; }
   bool has_smooth() const { return has_smooth_; }
   double xmin() const { return grid_.x0; }
@@ -79,16 +89,23 @@ class Terrain final {
 
  private:
   void BuildSpheres(const std::vector<double>& roughness_m);
-  void BuildCeiling();
+  // Per cell: the virtual spheres an element centred in it may touch (those
+  // reaching the cell that are not buried under the others), and the ceiling.
+  void BuildCandidates();
+  int CellOf(double x, double y) const;  // -1 outside the grid
+  bool CellValid(int i, int j) const;     // all four corners are data
 
   HeightGrid grid_;
   double max_element_radius_ = 0.0;
   std::vector<Eigen::Vector3d> centre_;  // per node
   std::vector<double> radius_;           // per node, +inf when smooth or hole
   std::vector<std::uint8_t> smooth_cell_;  // per cell: a corner is smooth
-  std::vector<double> ceiling_;          // per cell
+  std::vector<double> ceiling_;          // per cell: no obstacle an element centred there may touch is higher
+  std::vector<int> list_start_, list_;   // per cell, candidate sphere nodes (CSR)
+  std::vector<double> catch_;            // per rough cell, catch plane height (-inf: none)
   bool has_rough_ = false, has_smooth_ = false;
   double sag_ = 0.0;
+  double max_offset_ = 0.0;  // largest plan distance from a node to its sphere centre
 };
 
 }  // namespace rockcal::core
