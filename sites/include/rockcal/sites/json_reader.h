@@ -62,6 +62,10 @@ class JsonNode final {
   std::string path_;
 };
 
+// A number for messages: shortest form with up to 10 significant digits
+// ("0.3048", "12", "1e-05").
+std::string FormatNumber(double value);
+
 // Unit conversions of the site and observation files.
 enum class Units { kUS, kSI };
 // Reads "units": "us" | "si".

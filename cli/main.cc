@@ -1,0 +1,44 @@
+// rockcal: the command line. Exit status 0 on success, 2 on bad input, 1 on
+// any other failure.
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "rockcal/core/error.h"
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage:\n"
+    "  rockcal simulate SITE.json [--rocks N] [--seed S] [--set KEY=VALUE ...]\n"
+    "                   [--trajectories N --sample-seconds DT] [--threads N]\n"
+    "                   [--force] [--quiet] --out DIR\n"
+    "  rockcal validate SITE.json [--observations OBS.json]\n"
+    "\n"
+    "KEY for --set: material.<id>.hardness | .roughness | .contact_time (site units)\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
+    std::fputs(kUsage, args.empty() ? stderr : stdout);
+    return args.empty() ? 2 : 0;
+  }
+  const std::string command = args[0];
+  args.erase(args.begin());
+  try {
+    if (command == "simulate") return rockcal::cli::Simulate(args);
+    if (command == "validate") return rockcal::cli::Validate(args);
+    throw rockcal::InputError("", "unknown command '" + command +
+                                      "' (available: simulate, validate; see rockcal --help)");
+  } catch (const rockcal::InputError& e) {
+    std::fprintf(stderr, "rockcal: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rockcal: failed: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,27 @@
+#ifndef ROCKCAL_CLI_PROGRESS_H_
+#define ROCKCAL_CLI_PROGRESS_H_
+
+#include <chrono>
+#include <string>
+
+namespace rockcal::cli {
+
+// A progress line on stderr, redrawn at most a few times a second; silent when
+// stderr is not a terminal or when quiet.
+class Progress final {
+ public:
+  Progress(std::string what, bool quiet);
+  ~Progress();
+  // `done` of `total` units; `extra` is appended (e.g. "best misfit 3.2").
+  void Update(int done, int total, const std::string& extra = "");
+
+ private:
+  std::string what_;
+  bool active_;
+  bool drawn_ = false;
+  std::chrono::steady_clock::time_point start_, last_;
+};
+
+}  // namespace rockcal::cli
+
+#endif  // ROCKCAL_CLI_PROGRESS_H_

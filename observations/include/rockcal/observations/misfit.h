@@ -1,0 +1,77 @@
+// The misfit between a simulation's rock records and field observations:
+// quantiles of simulated against observed distributions, each difference
+// scaled by its uncertainty. See observations/README.md for the formulas.
+#ifndef ROCKCAL_OBSERVATIONS_MISFIT_H_
+#define ROCKCAL_OBSERVATIONS_MISFIT_H_
+
+#include <string>
+#include <vector>
+
+#include "rockcal/core/scene.h"
+#include "rockcal/core/simulate.h"
+#include "rockcal/observations/observations.h"
+
+namespace rockcal::observations {
+
+struct MisfitOptions {
+  // Quantile levels compared for every distribution (heights, runout distance
+  // and lateral offset), each in [0, 1].
+  std::vector<double> levels = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9};
+  // Also compare the largest simulated and observed values.
+  bool include_max = true;
+  // Misfit of a result that cannot be compared (non-finite rock state), and
+  // the contribution of each distribution with fewer than 2 simulated values.
+  // Finite, > 0.
+  double penalty = 1e6;
+  // Floor of every sigma as a fraction of the measurement error of its kind
+  // (an absolute floor of 1e-9 applies too), in (0, 1].
+  double sigma_floor = 1e-3;
+
+  // Checks each field; on failure sets *error (naming the field, its value
+  // and the rule) and returns false.
+  bool IsValid(std::string* error) const;
+};
+
+// One scaled difference between a simulated and an observed quantity.
+struct Residual {
+  std::string observation;  // "tree_scars[0] BP-1", "runout distance", "passing[0] BP-2"
+  std::string quantity;     // "p10", "max", "fraction"
+  double simulated = 0.0;   // SI (m, or a fraction)
+  double observed = 0.0;    // SI
+  double sigma = 1.0;       // SI, > 0
+  double value = 0.0;       // (simulated - observed) / sigma
+};
+
+struct Misfit {
+  std::vector<Residual> residuals;  // empty when the result was non-finite
+  double value = 0.0;               // 0.5 * sum of residual values squared
+  // True when a penalty entered the value: a non-finite result (value =
+  // penalty, no residuals) or a distribution with fewer than 2 simulated
+  // values (its residuals add up to the penalty).
+  bool penalised = false;
+  std::string message;  // why it was penalised, one sentence per cause
+
+  // One line per residual, then the total.
+  std::string Report() const;
+};
+
+// Compares `result` (simulated with at least RequiredRecording(observations,
+// ...)) with `observations`. Throws std::invalid_argument when `options` is
+// invalid or the records lack what the observations need (programmer errors).
+// Always returns a finite value.
+Misfit ComputeMisfit(const Observations& observations, const core::Scene& scene,
+                     const core::SimulationResult& result, const MisfitOptions& options = {});
+
+// Standard error of the level-p quantile of an ascending sample of n values,
+// from order statistics: positions c -/+ h with c = (n - 1) p (the type-7
+// quantile position) and h = sqrt(n p (1 - p)), clamped to [0, n - 1],
+// interpolated linearly; the error is half the spread between them. 0 for n < 2.
+double QuantileStandardError(const std::vector<double>& sorted, double level);
+// Standard error of the maximum: the gap between the two largest values (0 for n < 2).
+double MaxStandardError(const std::vector<double>& sorted);
+// "p10" for 0.1, "p2.5" for 0.025, "p100" for 1.
+std::string LevelName(double level);
+
+}  // namespace rockcal::observations
+
+#endif  // ROCKCAL_OBSERVATIONS_MISFIT_H_

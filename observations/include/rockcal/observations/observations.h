@@ -1,0 +1,112 @@
+// Field observations of a site (tree scars, runout, passing fractions), read
+// from an observations file and held in SI units. See observations/README.md
+// for the file format.
+#ifndef ROCKCAL_OBSERVATIONS_OBSERVATIONS_H_
+#define ROCKCAL_OBSERVATIONS_OBSERVATIONS_H_
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rockcal/core/scene.h"
+#include "rockcal/sites/json_reader.h"
+
+namespace rockcal::observations {
+
+// A tree where scar heights were measured. The simulated counterpart is the
+// height of the rocks whose bounding sphere reaches the trunk.
+struct Tree {
+  double x = 0.0, y = 0.0;      // m, trunk position in plan
+  double radius = 0.0;          // m, trunk radius (>= 0)
+  std::vector<double> heights;  // m, scar heights above the ground (>= 0)
+  // Index of this tree in RequiredRecording(...).trees, hence in
+  // core::RockRecord::trees. Set by LoadObservations (trees numbered in file
+  // order over all tree-form scar sets).
+  int probe = -1;
+};
+
+// One set of tree scar heights, tied either to a partition (CRSP's practice)
+// or to a list of trees. The heights of a tree-form set are pooled over its
+// trees (one distribution per set).
+struct ScarSet {
+  std::string label;            // "tree_scars[0] BP-1" or "tree_scars[1] trees"
+  int partition = -1;           // index into core::Scene::partitions; -1: tree form
+  std::vector<double> heights;  // m, partition form only
+  std::vector<Tree> trees;      // tree form only
+
+  bool at_partition() const { return partition >= 0; }
+  // The observed heights: `heights`, or every tree's heights in tree order.
+  std::vector<double> ObservedHeights() const;
+};
+
+// Where boulders stopped, as distances along a direction (and, when stop
+// points were given, signed lateral offsets from the line).
+struct Runout {
+  std::vector<Eigen::Vector2d> stop_points;              // m; empty when given as distances
+  Eigen::Vector2d from = Eigen::Vector2d::Zero();        // m, origin of the distances
+  Eigen::Vector2d direction = Eigen::Vector2d::UnitX();  // unit vector in plan
+  // m, (p - from) . direction of each stop point, or the distances as given.
+  std::vector<double> distances;
+  // m, signed perpendicular offset of each stop point, positive to the left of
+  // `direction` (direction x (p - from)). Empty when given as distances.
+  std::vector<double> lateral;
+
+  // Along-direction distance and lateral offset of a plan point p.
+  double Distance(const Eigen::Vector2d& p) const { return (p - from).dot(direction); }
+  double Lateral(const Eigen::Vector2d& p) const {
+    const Eigen::Vector2d d = p - from;
+    return direction.x() * d.y() - direction.y() * d.x();
+  }
+  bool has_lateral() const { return !lateral.empty(); }
+};
+
+// Share of released rocks that cross a partition.
+struct Passing {
+  std::string label;    // "passing[0] BP-2"
+  int partition = -1;   // index into core::Scene::partitions
+  double fraction = 0;  // in [0, 1]
+};
+
+// One-sigma measurement errors, SI.
+struct MeasurementErrors {
+  double height = 0.0;    // m, of a scar height (> 0 when tree scars are given)
+  double runout = 0.0;    // m, of a stop position along and across the direction
+  double passing = 0.05;  // of a passing fraction, in (0, 1]
+};
+
+struct Observations {
+  std::string path;  // the observations file
+  sites::Units units = sites::Units::kUS;
+  std::vector<ScarSet> tree_scars;
+  std::optional<Runout> runout;
+  std::vector<Passing> passing;
+  MeasurementErrors error;
+  // What the reader found and chose (e.g. the runout direction), one line each,
+  // for `rockcal validate`.
+  std::vector<std::string> notes;
+
+  bool empty() const { return tree_scars.empty() && !runout && passing.empty(); }
+};
+
+// Reads and validates the observations file at `path` against `scene` (whose
+// partitions the file may name and whose first rock group's release is the
+// default origin of runout distances). Strict: unknown, missing or mistyped
+// keys, unknown partition ids, negative heights, fractions outside [0, 1],
+// empty lists and bad CSV rows throw InputError naming the file, the JSON path
+// (or the CSV line), the value and what was expected.
+Observations LoadObservations(const std::string& path, const core::Scene& scene);
+
+// What a simulation must record for ComputeMisfit: `base` with `partitions`
+// set only when a scar set or a passing fraction refers to a partition, and
+// `trees` replaced by the trees of the tree-form scar sets (in Tree::probe
+// order; empty when there are none). Other fields are left as in `base`.
+core::RecordOptions RequiredRecording(const Observations& observations, core::RecordOptions base);
+
+// Plan centroid of a release: the area centroid of its zone polygon (the mean
+// of its vertices when the polygon has no area), or its point.
+Eigen::Vector2d ReleaseCentroid(const core::Release& release);
+
+}  // namespace rockcal::observations
+
+#endif  // ROCKCAL_OBSERVATIONS_OBSERVATIONS_H_

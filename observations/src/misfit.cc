@@ -1,0 +1,310 @@
+#include "rockcal/observations/misfit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+#include "rockcal/core/statistics.h"
+
+namespace rockcal::observations {
+namespace {
+
+constexpr double kAbsoluteSigmaFloor = 1e-9;
+
+std::string FormatNumber(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// Value at a fractional position k in [0, n - 1] of an ascending sample,
+// interpolated linearly between neighbouring order statistics.
+double AtPosition(const std::vector<double>& sorted, double k) {
+  const std::size_t n = sorted.size();
+  const double lo = std::floor(k);
+  const std::size_t i = static_cast<std::size_t>(lo);
+  if (i + 1 >= n) return sorted[n - 1];
+  return sorted[i] + (k - lo) * (sorted[i + 1] - sorted[i]);
+}
+
+bool Finite(const core::Crossing& c) {
+  return std::isfinite(c.height) && std::isfinite(c.speed) && std::isfinite(c.energy) &&
+         c.point.allFinite();
+}
+
+// Number of rocks with a non-finite value in a record the misfit may read.
+int CountNonFiniteRecords(const core::SimulationResult& result) {
+  int count = 0;
+  for (const core::RockRecord& rock : result.rocks) {
+    bool ok = rock.start.allFinite() && rock.stop.allFinite();
+    for (const core::Crossing& c : rock.crossings) ok = ok && (!c.crossed || Finite(c));
+    for (const core::Crossing& c : rock.trees) ok = ok && (!c.crossed || Finite(c));
+    if (!ok) ++count;
+  }
+  return count;
+}
+
+// Builds the residuals of one comparison into a Misfit.
+class Comparer final {
+ public:
+  Comparer(const MisfitOptions& options, Misfit* misfit) : options_(options), misfit_(misfit) {}
+
+  // Quantiles (options' levels, and the max) of the simulated against the
+  // observed values; `error` is the one-sigma measurement error.
+  void Distributions(const std::string& observation, std::vector<double> simulated,
+                     std::vector<double> observed, double error) const;
+  // A passing fraction: `crossed` of `released` simulated rocks.
+  void Fraction(const std::string& observation, int crossed, int released, double observed,
+                double error) const;
+
+ private:
+  double Floor(double error) const {
+    return std::max(options_.sigma_floor * error, kAbsoluteSigmaFloor);
+  }
+  void Add(const std::string& observation, const std::string& quantity, double simulated,
+           double observed, double sigma, double value) const {
+    Residual r;
+    r.observation = observation;
+    r.quantity = quantity;
+    r.simulated = simulated;
+    r.observed = observed;
+    r.sigma = sigma;
+    r.value = value;
+    misfit_->residuals.push_back(r);
+  }
+  void Penalise(const std::string& why) const {
+    misfit_->penalised = true;
+    misfit_->message += (misfit_->message.empty() ? "" : " ") + why;
+  }
+
+  const MisfitOptions& options_;
+  Misfit* misfit_;
+};
+
+void Comparer::Distributions(const std::string& observation, std::vector<double> simulated,
+                             std::vector<double> observed, double error) const {
+  if (observed.empty()) {
+    throw std::invalid_argument("ComputeMisfit: observation '" + observation +
+                                "' has no observed values");
+  }
+  std::sort(simulated.begin(), simulated.end());
+  std::sort(observed.begin(), observed.end());
+  const std::size_t quantities = options_.levels.size() + (options_.include_max ? 1 : 0);
+  const bool sparse = simulated.size() < 2;
+  // A distribution that cannot be compared adds exactly `penalty` to the misfit.
+  const double penalty_value = std::sqrt(2.0 * options_.penalty / static_cast<double>(quantities));
+  if (sparse) {
+    Penalise(observation + ": " + std::to_string(simulated.size()) + " simulated value" +
+             (simulated.size() == 1 ? "" : "s") + " (fewer than 2); penalty " +
+             FormatNumber(options_.penalty) + " added.");
+  }
+  const double min_sigma = Floor(error);
+  auto compare = [&](const std::string& quantity, double sim, double obs, double sim_error,
+                     double obs_error) {
+    const double sigma = std::max(
+        std::sqrt(error * error + sim_error * sim_error + obs_error * obs_error), min_sigma);
+    const double value = sparse ? penalty_value : (sim - obs) / sigma;
+    Add(observation, quantity, sim, obs, sigma, value);
+  };
+  for (const double level : options_.levels) {
+    const double sim = simulated.empty() ? 0.0 : core::Quantile(simulated, level);
+    compare(LevelName(level), sim, core::Quantile(observed, level),
+            QuantileStandardError(simulated, level), QuantileStandardError(observed, level));
+  }
+  if (options_.include_max) {
+    const double sim = simulated.empty() ? 0.0 : simulated.back();
+    compare("max", sim, observed.back(), MaxStandardError(simulated), MaxStandardError(observed));
+  }
+}
+
+void Comparer::Fraction(const std::string& observation, int crossed, int released, double observed,
+                        double error) const {
+  if (released <= 0) {
+    Penalise(observation + ": no rocks released; penalty " + FormatNumber(options_.penalty) +
+             " added.");
+    Add(observation, "fraction", 0.0, observed, std::max(error, Floor(error)),
+        std::sqrt(2.0 * options_.penalty));
+    return;
+  }
+  const double n = static_cast<double>(released);
+  const double f = static_cast<double>(crossed) / n;
+  const double sigma = std::max(std::sqrt(error * error + f * (1.0 - f) / n), Floor(error));
+  Add(observation, "fraction", f, observed, sigma, (f - observed) / sigma);
+}
+
+}  // namespace
+
+bool MisfitOptions::IsValid(std::string* error) const {
+  auto fail = [error](const std::string& message) {
+    if (error != nullptr) *error = message;
+    return false;
+  };
+  if (levels.empty() && !include_max) {
+    return fail(
+        "levels is empty and include_max is false (expected at least one quantity to "
+        "compare)");
+  }
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    if (!(levels[i] >= 0.0 && levels[i] <= 1.0)) {
+      return fail("levels[" + std::to_string(i) + "] = " + FormatNumber(levels[i]) +
+                  " (expected a level in [0, 1])");
+    }
+  }
+  if (!(std::isfinite(penalty) && penalty > 0.0)) {
+    return fail("penalty = " + FormatNumber(penalty) + " (expected a finite number > 0)");
+  }
+  if (!(sigma_floor > 0.0 && sigma_floor <= 1.0)) {
+    return fail("sigma_floor = " + FormatNumber(sigma_floor) + " (expected a number in (0, 1])");
+  }
+  return true;
+}
+
+std::string Misfit::Report() const {
+  std::ostringstream out;
+  char line[256];
+  std::snprintf(line, sizeof(line), "%-28s %-9s %12s %12s %12s %10s\n", "observation", "quantity",
+                "simulated", "observed", "sigma", "residual");
+  out << line;
+  for (const Residual& r : residuals) {
+    std::snprintf(line, sizeof(line), "%-28s %-9s %12.5g %12.5g %12.5g %10.4g\n",
+                  r.observation.c_str(), r.quantity.c_str(), r.simulated, r.observed, r.sigma,
+                  r.value);
+    out << line;
+  }
+  out << "misfit " << value << (penalised ? " (penalised)" : "") << "\n";
+  if (!message.empty()) out << message << "\n";
+  return out.str();
+}
+
+double QuantileStandardError(const std::vector<double>& sorted, double level) {
+  const std::size_t n = sorted.size();
+  if (n < 2) return 0.0;
+  const double last = static_cast<double>(n - 1);
+  const double centre = last * level;
+  const double half = std::sqrt(static_cast<double>(n) * level * (1.0 - level));
+  const double lo = std::clamp(centre - half, 0.0, last);
+  const double hi = std::clamp(centre + half, 0.0, last);
+  return 0.5 * (AtPosition(sorted, hi) - AtPosition(sorted, lo));
+}
+
+double MaxStandardError(const std::vector<double>& sorted) {
+  const std::size_t n = sorted.size();
+  if (n < 2) return 0.0;
+  return sorted[n - 1] - sorted[n - 2];
+}
+
+std::string LevelName(double level) {
+  const double percent = 100.0 * level;
+  const double rounded = std::round(percent);
+  if (std::abs(percent - rounded) < 1e-9) {
+    return "p" + std::to_string(static_cast<long>(rounded));
+  }
+  std::ostringstream s;
+  s.precision(6);
+  s << "p" << percent;
+  return s.str();
+}
+
+Misfit ComputeMisfit(const Observations& observations, const core::Scene& scene,
+                     const core::SimulationResult& result, const MisfitOptions& options) {
+  std::string invalid;
+  if (!options.IsValid(&invalid)) throw std::invalid_argument("MisfitOptions: " + invalid);
+
+  Misfit misfit;
+  const int non_finite = std::max(result.non_finite, CountNonFiniteRecords(result));
+  if (non_finite > 0) {
+    misfit.value = options.penalty;
+    misfit.penalised = true;
+    misfit.message = "the simulation produced " + std::to_string(non_finite) +
+                     " rock(s) with a non-finite state; misfit set to the penalty " +
+                     FormatNumber(options.penalty) + ".";
+    return misfit;
+  }
+
+  const std::size_t n_partitions = scene.partitions.size();
+  auto check_partition = [&](const std::string& label, int partition) {
+    if (partition < 0 || static_cast<std::size_t>(partition) >= n_partitions) {
+      throw std::invalid_argument("ComputeMisfit: observation '" + label +
+                                  "' refers to partition " + std::to_string(partition) +
+                                  " but the scene has " + std::to_string(n_partitions));
+    }
+    for (const core::RockRecord& rock : result.rocks) {
+      if (rock.crossings.size() <= static_cast<std::size_t>(partition)) {
+        throw std::invalid_argument("ComputeMisfit: rock " + std::to_string(rock.rock) +
+                                    " records " + std::to_string(rock.crossings.size()) +
+                                    " partition crossings but observation '" + label +
+                                    "' needs partition " + std::to_string(partition) +
+                                    " (simulate with RequiredRecording(observations, ...))");
+      }
+    }
+  };
+  auto check_probe = [&](const std::string& label, int probe) {
+    for (const core::RockRecord& rock : result.rocks) {
+      if (probe < 0 || rock.trees.size() <= static_cast<std::size_t>(probe)) {
+        throw std::invalid_argument("ComputeMisfit: rock " + std::to_string(rock.rock) +
+                                    " records " + std::to_string(rock.trees.size()) +
+                                    " trees but observation '" + label + "' needs tree probe " +
+                                    std::to_string(probe) +
+                                    " (simulate with RequiredRecording(observations, ...))");
+      }
+    }
+  };
+
+  const Comparer compare(options, &misfit);
+  for (const ScarSet& set : observations.tree_scars) {
+    std::vector<double> simulated;
+    if (set.at_partition()) {
+      check_partition(set.label, set.partition);
+      const std::size_t p = static_cast<std::size_t>(set.partition);
+      for (const core::RockRecord& rock : result.rocks) {
+        if (rock.crossings[p].crossed) simulated.push_back(rock.crossings[p].height);
+      }
+    } else {
+      for (const Tree& tree : set.trees) {
+        check_probe(set.label, tree.probe);
+        const std::size_t k = static_cast<std::size_t>(tree.probe);
+        for (const core::RockRecord& rock : result.rocks) {
+          if (rock.trees[k].crossed) simulated.push_back(rock.trees[k].height);
+        }
+      }
+    }
+    compare.Distributions(set.label, std::move(simulated), set.ObservedHeights(),
+                          observations.error.height);
+  }
+
+  if (observations.runout) {
+    const Runout& runout = *observations.runout;
+    std::vector<double> distance, lateral;
+    for (const core::RockRecord& rock : result.rocks) {
+      if (rock.outcome != core::Outcome::kStopped) continue;
+      const Eigen::Vector2d p = rock.stop.head<2>();
+      distance.push_back(runout.Distance(p));
+      lateral.push_back(runout.Lateral(p));
+    }
+    compare.Distributions("runout distance", std::move(distance), runout.distances,
+                          observations.error.runout);
+    if (runout.has_lateral()) {
+      compare.Distributions("runout lateral", std::move(lateral), runout.lateral,
+                            observations.error.runout);
+    }
+  }
+
+  const int released = static_cast<int>(result.rocks.size());
+  for (const Passing& passing : observations.passing) {
+    check_partition(passing.label, passing.partition);
+    const std::size_t p = static_cast<std::size_t>(passing.partition);
+    int crossed = 0;
+    for (const core::RockRecord& rock : result.rocks) crossed += rock.crossings[p].crossed ? 1 : 0;
+    compare.Fraction(passing.label, crossed, released, passing.fraction,
+                     observations.error.passing);
+  }
+
+  double sum = 0.0;
+  for (const Residual& r : misfit.residuals) sum += r.value * r.value;
+  misfit.value = 0.5 * sum;
+  return misfit;
+}
+
+}  // namespace rockcal::observations

@@ -1,0 +1,545 @@
+#include "rockcal/observations/observations.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <sstream>
+#include <utility>
+
+#include "rockcal/core/error.h"
+#include "rockcal/sites/text_reader.h"
+
+namespace rockcal::observations {
+namespace {
+
+using sites::FormatNumber;
+using sites::JsonNode;
+using sites::ParseNumber;
+using sites::SplitFields;
+using sites::Units;
+
+std::string FormatPoint(const Eigen::Vector2d& p) {
+  return "(" + FormatNumber(p.x()) + ", " + FormatNumber(p.y()) + ")";
+}
+
+std::string QuotedList(std::initializer_list<const char*> keys) {
+  std::string out;
+  for (const char* k : keys) out += std::string(out.empty() ? "'" : ", '") + k + "'";
+  return out;
+}
+
+// Returns the one key of `keys` present in the object `node`; throws when none
+// or more than one is present.
+std::string OneOf(const JsonNode& node, std::initializer_list<const char*> keys) {
+  std::vector<std::string> present;
+  for (const char* k : keys) {
+    if (node.Has(k)) present.emplace_back(k);
+  }
+  if (present.empty()) {
+    throw InputError(node.where(),
+                     "missing required key (expected exactly one of " + QuotedList(keys) + ")");
+  }
+  if (present.size() > 1) {
+    throw InputError(node.where(), "keys '" + present[0] + "' and '" + present[1] +
+                                       "' both given (expected exactly one of " + QuotedList(keys) +
+                                       ")");
+  }
+  return present[0];
+}
+
+// ---------------------------------------------------------------------------
+// CSV files: one row per line, fields separated by commas (or, on lines
+// without a comma, by blanks); blank lines and lines starting with '#' are
+// skipped; the first row is a header when every field starts with a letter.
+
+struct CsvRow {
+  int line = 0;
+  std::vector<std::string> fields;
+};
+
+struct CsvTable {
+  std::string file;  // resolved path
+  std::vector<CsvRow> rows;
+};
+
+bool LooksLikeHeader(const std::vector<std::string>& fields) {
+  for (const std::string& f : fields) {
+    if (f.empty()) return false;
+    const unsigned char c = static_cast<unsigned char>(f[0]);
+    if (!std::isalpha(c) && c != '_') return false;
+  }
+  return true;
+}
+
+std::string ColumnList(std::initializer_list<const char*> columns) {
+  std::string out;
+  for (const char* c : columns) out += std::string(out.empty() ? "" : ", ") + c;
+  return out;
+}
+
+[[noreturn]] void CsvFail(const CsvTable& table, const CsvRow& row, const std::string& what) {
+  throw InputError(table.file + ":" + std::to_string(row.line), what);
+}
+
+// Field `i` (named `column`) of `row` as a finite number.
+double CsvNumber(const CsvTable& table, const CsvRow& row, std::size_t i, const char* column) {
+  double v = 0.0;
+  if (!ParseNumber(row.fields[i], &v)) {
+    CsvFail(table, row,
+            std::string("expected a number for '") + column + "' (found '" + row.fields[i] + "')");
+  }
+  return v;
+}
+
+double CsvNonNegative(const CsvTable& table, const CsvRow& row, std::size_t i, const char* column) {
+  const double v = CsvNumber(table, row, i, column);
+  if (v < 0) {
+    CsvFail(table, row,
+            std::string("expected '") + column + "' >= 0 (found " + row.fields[i] + ")");
+  }
+  return v;
+}
+
+// ---------------------------------------------------------------------------
+
+class Loader final {
+ public:
+  Loader(const std::string& path, const core::Scene& scene) : path_(path), scene_(scene) {}
+
+  Observations Load();
+
+ private:
+  double Length(double v) const { return sites::LengthToSI(v, units_); }
+  std::string Resolve(const std::string& file) const;
+  CsvTable ReadCsv(const JsonNode& ref, std::initializer_list<const char*> columns) const;
+
+  // Index of the partition named by the string at `node`, or throws listing the ids.
+  int FindPartition(const JsonNode& node) const;
+  int FindPartition(const std::string& id) const;
+  std::string PartitionIds() const;
+
+  // Heights of `node` from its "heights" list or its "heights_file".
+  std::vector<double> ReadHeights(const JsonNode& node) const;
+  ScarSet ReadScarSet(const JsonNode& node, std::size_t index) const;
+  Tree ReadTree(const JsonNode& node) const;
+  std::vector<Tree> ReadTreesFile(const JsonNode& ref) const;
+  Runout ReadRunout(const JsonNode& node, std::vector<std::string>* notes) const;
+  std::vector<Passing> ReadPassing(const JsonNode& node) const;
+  std::vector<Passing> ReadPassingFile(const JsonNode& ref) const;
+
+  std::string path_;
+  const core::Scene& scene_;
+  Units units_ = Units::kUS;
+};
+
+std::string Loader::Resolve(const std::string& file) const {
+  const std::filesystem::path p(file);
+  if (p.is_absolute()) return file;
+  const std::filesystem::path base = std::filesystem::path(path_).parent_path();
+  return base.empty() ? file : (base / p).string();
+}
+
+CsvTable Loader::ReadCsv(const JsonNode& ref, std::initializer_list<const char*> columns) const {
+  const std::string name = ref.String();
+  if (name.empty()) ref.Fail("expected a CSV file name");
+  CsvTable table;
+  table.file = Resolve(name);
+  if (!std::filesystem::is_regular_file(table.file))
+    ref.Fail("cannot open CSV file '" + table.file + "'");
+  sites::LineReader in(table.file);
+  std::string line;
+  bool first = true;
+  while (in.Next(&line)) {
+    if (in.line() == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
+    if (sites::IsBlank(line)) continue;
+    const std::string text = line.substr(line.find_first_not_of(" \t"));
+    if (text[0] == '#') continue;
+    CsvRow row{in.line(), SplitFields(text)};
+    for (std::string& f : row.fields)
+      if (f.size() >= 2 && f.front() == '"' && f.back() == '"') f = f.substr(1, f.size() - 2);
+    if (first) {
+      first = false;
+      if (LooksLikeHeader(row.fields)) continue;
+    }
+    if (row.fields.size() != columns.size()) {
+      CsvFail(table, row,
+              "expected " + std::to_string(columns.size()) + " value" +
+                  (columns.size() == 1 ? "" : "s") + " per row (" + ColumnList(columns) +
+                  "), found " + std::to_string(row.fields.size()) + " in '" + text + "'");
+    }
+    table.rows.push_back(std::move(row));
+  }
+  if (table.rows.empty()) {
+    throw InputError(table.file, "no data rows (expected rows of " + ColumnList(columns) +
+                                     "; referenced at " + ref.where() + ")");
+  }
+  return table;
+}
+
+std::string Loader::PartitionIds() const {
+  if (scene_.partitions.empty()) return "the site has no partitions";
+  std::string ids;
+  for (const core::Partition& p : scene_.partitions) ids += (ids.empty() ? "" : ", ") + p.id;
+  return "partitions of the site: " + ids;
+}
+
+int Loader::FindPartition(const std::string& id) const {
+  for (std::size_t i = 0; i < scene_.partitions.size(); ++i) {
+    if (scene_.partitions[i].id == id) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+int Loader::FindPartition(const JsonNode& node) const {
+  const int index = FindPartition(node.String());
+  if (index < 0) node.Fail("unknown partition id (" + PartitionIds() + ")");
+  return index;
+}
+
+std::vector<double> Loader::ReadHeights(const JsonNode& node) const {
+  std::vector<double> heights;
+  if (OneOf(node, {"heights", "heights_file"}) == "heights") {
+    for (const JsonNode& h : node.Get("heights").Array(1))
+      heights.push_back(Length(h.NonNegative()));
+  } else {
+    const CsvTable table = ReadCsv(node.Get("heights_file"), {"height"});
+    for (const CsvRow& row : table.rows)
+      heights.push_back(Length(CsvNonNegative(table, row, 0, "height")));
+  }
+  return heights;
+}
+
+Tree Loader::ReadTree(const JsonNode& node) const {
+  node.Keys({"x", "y", "radius", "heights", "heights_file"});
+  Tree tree;
+  tree.x = Length(node.Get("x").Number());
+  tree.y = Length(node.Get("y").Number());
+  tree.radius = Length(node.Get("radius").NonNegative());
+  tree.heights = ReadHeights(node);
+  return tree;
+}
+
+std::vector<Tree> Loader::ReadTreesFile(const JsonNode& ref) const {
+  // One scar per row; rows at the same (x, y) belong to the same tree.
+  const CsvTable table = ReadCsv(ref, {"x", "y", "radius", "height"});
+  std::vector<Tree> trees;
+  std::vector<int> first_line;
+  for (const CsvRow& row : table.rows) {
+    const double x = Length(CsvNumber(table, row, 0, "x"));
+    const double y = Length(CsvNumber(table, row, 1, "y"));
+    const double radius = Length(CsvNonNegative(table, row, 2, "radius"));
+    const double height = Length(CsvNonNegative(table, row, 3, "height"));
+    std::size_t k = 0;
+    while (k < trees.size() && !(trees[k].x == x && trees[k].y == y)) ++k;
+    if (k == trees.size()) {
+      Tree tree;
+      tree.x = x;
+      tree.y = y;
+      tree.radius = radius;
+      trees.push_back(tree);
+      first_line.push_back(row.line);
+    } else if (trees[k].radius != radius) {
+      CsvFail(table, row,
+              "tree at (" + row.fields[0] + ", " + row.fields[1] + ") has radius " + row.fields[2] +
+                  " here but a different radius on line " + std::to_string(first_line[k]) +
+                  " (expected one radius per tree)");
+    }
+    trees[k].heights.push_back(height);
+  }
+  return trees;
+}
+
+ScarSet Loader::ReadScarSet(const JsonNode& node, std::size_t index) const {
+  node.Keys({"partition", "heights", "heights_file", "trees", "trees_file"});
+  ScarSet set;
+  const std::string label = "tree_scars[" + std::to_string(index) + "]";
+  const std::string form = OneOf(node, {"partition", "trees", "trees_file"});
+  if (form == "partition") {
+    set.partition = FindPartition(node.Get("partition"));
+    set.heights = ReadHeights(node);
+    set.label = label + " " + scene_.partitions[static_cast<std::size_t>(set.partition)].id;
+    return set;
+  }
+  for (const char* key : {"heights", "heights_file"}) {
+    if (node.Has(key)) {
+      throw InputError(node.where() + "." + key,
+                       std::string("'") + key +
+                           "' belongs to a set with 'partition'; in a set of trees each tree "
+                           "has its own heights");
+    }
+  }
+  if (form == "trees") {
+    for (const JsonNode& t : node.Get("trees").Array(1)) set.trees.push_back(ReadTree(t));
+  } else {
+    set.trees = ReadTreesFile(node.Get("trees_file"));
+  }
+  set.label = label + " trees";
+  return set;
+}
+
+Runout Loader::ReadRunout(const JsonNode& node, std::vector<std::string>* notes) const {
+  node.Keys(
+      {"stop_points", "stop_points_file", "distances", "distances_file", "from", "direction"});
+  const std::string form =
+      OneOf(node, {"stop_points", "stop_points_file", "distances", "distances_file"});
+  std::optional<Eigen::Vector2d> from, direction;
+  if (const auto f = node.Find("from")) {
+    const std::vector<double> v = f->Numbers(2);
+    from = Eigen::Vector2d(Length(v[0]), Length(v[1]));
+  }
+  if (const auto d = node.Find("direction")) {
+    const std::vector<double> v = d->Numbers(2);
+    const Eigen::Vector2d dir(v[0], v[1]);
+    if (!(dir.norm() > 0)) d->Fail("expected a non-zero direction [dx, dy]");
+    direction = dir.normalized();
+  }
+
+  Runout runout;
+  if (form == "distances" || form == "distances_file") {
+    if (!from) {
+      throw InputError(
+          node.where(),
+          "missing required key 'from' (the point [x, y] distances are measured from)");
+    }
+    if (!direction) {
+      throw InputError(node.where(),
+                       "missing required key 'direction' ([dx, dy] along which distances are "
+                       "measured)");
+    }
+    runout.from = *from;
+    runout.direction = *direction;
+    if (form == "distances") {
+      for (const JsonNode& d : node.Get("distances").Array(1))
+        runout.distances.push_back(Length(d.Number()));
+    } else {
+      const CsvTable table = ReadCsv(node.Get("distances_file"), {"distance"});
+      for (const CsvRow& row : table.rows)
+        runout.distances.push_back(Length(CsvNumber(table, row, 0, "distance")));
+    }
+    notes->push_back("runout: " + std::to_string(runout.distances.size()) + " distances from " +
+                     FormatPoint(runout.from) + " m along " + FormatPoint(runout.direction));
+    return runout;
+  }
+
+  if (form == "stop_points") {
+    for (const JsonNode& p : node.Get("stop_points").Array(1)) {
+      const std::vector<double> v = p.Numbers(2);
+      runout.stop_points.emplace_back(Length(v[0]), Length(v[1]));
+    }
+  } else {
+    const CsvTable table = ReadCsv(node.Get("stop_points_file"), {"x", "y"});
+    for (const CsvRow& row : table.rows) {
+      runout.stop_points.emplace_back(Length(CsvNumber(table, row, 0, "x")),
+                                      Length(CsvNumber(table, row, 1, "y")));
+    }
+  }
+
+  std::string from_note = "as given";
+  if (from) {
+    runout.from = *from;
+  } else {
+    if (scene_.groups.empty()) {
+      throw InputError(node.where(),
+                       "missing required key 'from': the site has no rock group whose release "
+                       "could be the origin of runout distances");
+    }
+    runout.from = ReleaseCentroid(scene_.groups[0].release);
+    from_note = "the release of the first rock group";
+  }
+  std::string direction_note = "as given";
+  if (direction) {
+    runout.direction = *direction;
+  } else {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const Eigen::Vector2d& p : runout.stop_points) mean += p;
+    mean /= static_cast<double>(runout.stop_points.size());
+    const Eigen::Vector2d d = mean - runout.from;
+    if (!(d.norm() > 1e-9 * (1.0 + runout.from.norm()))) {
+      throw InputError(node.where(), "cannot choose a runout direction: the mean stop point " +
+                                         FormatPoint(mean) + " m coincides with the origin " +
+                                         FormatPoint(runout.from) +
+                                         " m (expected 'direction' [dx, dy])");
+    }
+    runout.direction = d.normalized();
+    direction_note = "towards the mean stop point";
+  }
+  for (const Eigen::Vector2d& p : runout.stop_points) {
+    runout.distances.push_back(runout.Distance(p));
+    runout.lateral.push_back(runout.Lateral(p));
+  }
+  notes->push_back("runout: " + std::to_string(runout.stop_points.size()) +
+                   " stop points; distances from " + FormatPoint(runout.from) + " m (" + from_note +
+                   ") along " + FormatPoint(runout.direction) + " (" + direction_note +
+                   "), lateral offsets positive to the left");
+  return runout;
+}
+
+std::vector<Passing> Loader::ReadPassing(const JsonNode& node) const {
+  std::vector<Passing> out;
+  for (const JsonNode& e : node.Array(1)) {
+    e.Keys({"partition", "fraction"});
+    Passing p;
+    p.partition = FindPartition(e.Get("partition"));
+    p.fraction = e.Get("fraction").Number(0.0, 1.0);
+    p.label = "passing[" + std::to_string(out.size()) + "] " +
+              scene_.partitions[static_cast<std::size_t>(p.partition)].id;
+    out.push_back(p);
+  }
+  return out;
+}
+
+std::vector<Passing> Loader::ReadPassingFile(const JsonNode& ref) const {
+  const CsvTable table = ReadCsv(ref, {"partition", "fraction"});
+  std::vector<Passing> out;
+  for (const CsvRow& row : table.rows) {
+    Passing p;
+    p.partition = FindPartition(row.fields[0]);
+    if (p.partition < 0) {
+      CsvFail(table, row, "unknown partition id '" + row.fields[0] + "' (" + PartitionIds() + ")");
+    }
+    p.fraction = CsvNumber(table, row, 1, "fraction");
+    if (p.fraction < 0 || p.fraction > 1) {
+      CsvFail(table, row, "expected 'fraction' in [0, 1] (found " + row.fields[1] + ")");
+    }
+    p.label = "passing[" + std::to_string(out.size()) + "] " +
+              scene_.partitions[static_cast<std::size_t>(p.partition)].id;
+    out.push_back(p);
+  }
+  return out;
+}
+
+Observations Loader::Load() {
+  const nlohmann::json doc = sites::ReadJsonFile(path_);
+  const JsonNode root(&doc, path_, "$");
+  root.Keys({"units", "tree_scars", "runout", "passing", "passing_file", "error"});
+
+  Observations obs;
+  obs.path = path_;
+  units_ = sites::ReadUnits(root.Get("units"));
+  obs.units = units_;
+
+  if (const auto scars = root.Find("tree_scars")) {
+    const std::vector<JsonNode> sets = scars->Array(1);
+    for (std::size_t i = 0; i < sets.size(); ++i) obs.tree_scars.push_back(ReadScarSet(sets[i], i));
+    int probe = 0;
+    for (ScarSet& set : obs.tree_scars) {
+      for (Tree& tree : set.trees) tree.probe = probe++;
+      const std::size_t n = set.ObservedHeights().size();
+      obs.notes.push_back(set.label + ": " + std::to_string(n) + " scar height" +
+                          (n == 1 ? "" : "s") +
+                          (set.at_partition() ? ""
+                                              : " at " + std::to_string(set.trees.size()) +
+                                                    " tree" + (set.trees.size() == 1 ? "" : "s")));
+    }
+  }
+  if (const auto runout = root.Find("runout")) obs.runout = ReadRunout(*runout, &obs.notes);
+  if (root.Has("passing") && root.Has("passing_file")) {
+    throw InputError(root.where(),
+                     "keys 'passing' and 'passing_file' both given (expected at most one)");
+  }
+  if (const auto passing = root.Find("passing")) obs.passing = ReadPassing(*passing);
+  if (const auto passing = root.Find("passing_file")) obs.passing = ReadPassingFile(*passing);
+
+  if (obs.empty()) {
+    throw InputError(root.where(),
+                     "no observations (expected at least one of 'tree_scars', 'runout', "
+                     "'passing', 'passing_file')");
+  }
+
+  const auto error = root.Find("error");
+  bool has_height = false, has_runout = false;
+  if (error) {
+    error->Keys({"height", "runout", "passing"});
+    if (const auto h = error->Find("height")) {
+      obs.error.height = Length(h->Positive());
+      has_height = true;
+    }
+    if (const auto r = error->Find("runout")) {
+      obs.error.runout = Length(r->Positive());
+      has_runout = true;
+    }
+    if (const auto p = error->Find("passing")) {
+      obs.error.passing = p->Positive();
+      if (obs.error.passing > 1) p->Fail("expected a fraction in (0, 1]");
+    }
+  }
+  if (!error && (!obs.tree_scars.empty() || obs.runout)) {
+    throw InputError(root.where(),
+                     "missing required key 'error' (the one-sigma measurement errors in the "
+                     "file's units: 'height' for tree_scars, 'runout' for runout)");
+  }
+  const std::string error_where = error ? error->where() : root.where();
+  if (!obs.tree_scars.empty() && !has_height) {
+    throw InputError(error_where,
+                     "missing required key 'height' (the one-sigma error of scar heights, in "
+                     "the file's units; needed by 'tree_scars')");
+  }
+  if (obs.runout && !has_runout) {
+    throw InputError(error_where,
+                     "missing required key 'runout' (the one-sigma error of stop positions, in "
+                     "the file's units; needed by 'runout')");
+  }
+
+  for (const Passing& p : obs.passing) {
+    obs.notes.push_back(p.label + ": fraction " + FormatNumber(p.fraction));
+  }
+  return obs;
+}
+
+}  // namespace
+
+std::vector<double> ScarSet::ObservedHeights() const {
+  if (at_partition()) return heights;
+  std::vector<double> out;
+  for (const Tree& tree : trees) out.insert(out.end(), tree.heights.begin(), tree.heights.end());
+  return out;
+}
+
+Observations LoadObservations(const std::string& path, const core::Scene& scene) {
+  return Loader(path, scene).Load();
+}
+
+core::RecordOptions RequiredRecording(const Observations& observations, core::RecordOptions base) {
+  bool partitions = !observations.passing.empty();
+  base.trees.clear();
+  for (const ScarSet& set : observations.tree_scars) {
+    if (set.at_partition()) partitions = true;
+    for (const Tree& tree : set.trees) {
+      core::TreeProbe probe;
+      probe.x = tree.x;
+      probe.y = tree.y;
+      probe.radius = tree.radius;
+      base.trees.push_back(probe);
+    }
+  }
+  base.partitions = partitions;
+  return base;
+}
+
+Eigen::Vector2d ReleaseCentroid(const core::Release& release) {
+  const std::vector<Eigen::Vector2d>& zone = release.zone;
+  if (zone.empty()) return release.point;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& p : zone) mean += p;
+  mean /= static_cast<double>(zone.size());
+  // Area centroid (shoelace), relative to the vertex mean for accuracy.
+  double twice_area = 0.0;
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  double extent = 0.0;
+  for (std::size_t i = 0; i < zone.size(); ++i) {
+    const Eigen::Vector2d a = zone[i] - mean;
+    const Eigen::Vector2d b = zone[(i + 1) % zone.size()] - mean;
+    const double cross = a.x() * b.y() - b.x() * a.y();
+    twice_area += cross;
+    sum += (a + b) * cross;
+    extent = std::max(extent, a.norm());
+  }
+  if (!(std::abs(twice_area) > 1e-12 * extent * extent)) return mean;
+  return mean + sum / (3.0 * twice_area);
+}
+
+}  // namespace rockcal::observations

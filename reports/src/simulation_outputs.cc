@@ -1,0 +1,97 @@
+#include "rockcal/reports/simulation_outputs.h"
+
+#include <cstdio>
+#include <sstream>
+
+namespace rockcal::reports {
+namespace {
+
+nlohmann::json StatsJson(const core::Stats& s, double scale = 1.0) {
+  return {{"mean", s.mean * scale}, {"p50", s.p50 * scale}, {"p90", s.p90 * scale},
+          {"p95", s.p95 * scale},   {"max", s.max * scale}};
+}
+
+std::string Num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+}  // namespace
+
+nlohmann::json SummaryJson(const core::Scene& scene, const core::SimulationResult& result) {
+  const core::ResultStats stats = core::ComputeStats(scene, result);
+  nlohmann::json partitions = nlohmann::json::array();
+  for (const auto& p : stats.partitions) {
+    partitions.push_back({{"id", p.id},
+                          {"passed", p.passed},
+                          {"height_m", StatsJson(p.height)},
+                          {"velocity_mps", StatsJson(p.velocity)},
+                          {"energy_kj", StatsJson(p.energy, 1e-3)}});
+  }
+  return {{"site", scene.name},
+          {"rocks", static_cast<int>(result.rocks.size())},
+          {"seed", scene.options.seed},
+          {"wall_seconds", result.wall_seconds},
+          {"steps", result.steps},
+          {"dt_seconds", result.dt_min},
+          {"outcomes",
+           {{"stopped", result.count(core::Outcome::kStopped)},
+            {"left", result.count(core::Outcome::kLeft)},
+            {"timeout", result.count(core::Outcome::kTimeout)}}},
+          {"partitions", partitions},
+          {"runout", {{"x_m", StatsJson(stats.runout_x)}}},
+          {"energy_check", {{"max_relative_gain", result.max_relative_energy_gain}}}};
+}
+
+nlohmann::json DiagnosticsJson(const core::Scene& scene, const core::SimulationResult& result) {
+  return {{"dt_min_seconds", result.dt_min},
+          {"dt_max_seconds", result.dt_max},
+          {"steps_per_contact", scene.options.steps_per_contact},
+          {"rocks_with_step_shrunk_for_stability", result.dt_shrunk},
+          {"contact_steps", result.steps},
+          {"flights", result.flights},
+          {"max_penetration_over_radius", result.max_penetration},
+          {"max_relative_energy_gain", result.max_relative_energy_gain},
+          {"non_finite_rocks", result.non_finite},
+          {"tunneled_rocks", result.tunneled}};
+}
+
+std::string RocksCsv(const core::Scene& scene, const core::SimulationResult& result) {
+  std::ostringstream out;
+  out << "rock,group,shape,size_m,mass_kg,outcome,stop_x,stop_y,stop_z";
+  for (const auto& p : scene.partitions)
+    out << ',' << p.id << ".height_m," << p.id << ".velocity_mps," << p.id << ".energy_kj";
+  out << '\n';
+  for (const auto& r : result.rocks) {
+    out << r.rock << ',' << r.group << ',' << core::ShapeName(r.shape) << ',' << Num(r.size) << ','
+        << Num(r.mass) << ',' << core::OutcomeName(r.outcome) << ',' << Num(r.stop.x()) << ','
+        << Num(r.stop.y()) << ',' << Num(r.stop.z());
+    for (std::size_t p = 0; p < scene.partitions.size(); ++p) {
+      if (p < r.crossings.size() && r.crossings[p].crossed) {
+        const auto& c = r.crossings[p];
+        out << ',' << Num(c.height) << ',' << Num(c.speed) << ',' << Num(c.energy * 1e-3);
+      } else {
+        out << ",,,";
+      }
+    }
+    out << '\n';
+  }
+  return out.str();
+}
+
+std::string TrajectoriesCsv(const core::SimulationResult& result) {
+  std::ostringstream out;
+  out << "rock,t,x,y,z,vx,vy,vz,wx,wy,wz\n";
+  for (const auto& r : result.rocks) {
+    for (const auto& s : r.trajectory) {
+      out << r.rock << ',' << Num(s.t);
+      for (const Eigen::Vector3d* v : {&s.x, &s.v, &s.w})
+        for (int k = 0; k < 3; ++k) out << ',' << Num((*v)[k]);
+      out << '\n';
+    }
+  }
+  return out.str();
+}
+
+}  // namespace rockcal::reports

@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# rockcal's one entry point on a fresh Debian machine:
+#   ./run.sh demo   install what is missing, build, run the main job
+#   ./run.sh test   install what is missing, build with sanitizers, run the tests
+#   ./run.sh build  install what is missing and build (Release) into build/
+#   ./run.sh bench  build and run the benchmarks in bench/
+set -euo pipefail
+cd "$(dirname "$0")"
+
+PACKAGES=(build-essential cmake libeigen3-dev libnlopt-cxx-dev libceres-dev
+          nlohmann-json3-dev libgtest-dev)
+JOBS=$(nproc 2>/dev/null || echo 2)
+
+install_missing() {
+  local missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "run.sh: installing ${missing[*]}" >&2
+  local sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get update -qq
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
+}
+
+build() {  # build DIR TYPE [extra cmake args]
+  local dir=$1 type=$2
+  shift 2
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE="$type" "$@" >/dev/null
+  cmake --build "$dir" -j "$JOBS"
+}
+
+case "${1:-}" in
+  build)
+    install_missing
+    build build Release
+    ;;
+  demo)
+    install_missing
+    build build Release -DROCKCAL_BUILD_TESTS=OFF
+    out=${2:-out/authume}
+    mkdir -p "$(dirname "$out")"
+    ./build/cli/rockcal simulate sites/examples/authume/site.json --out "$out" --force
+    echo "run.sh: results in $out/ (summary.json, rocks.csv, diagnostics.json)"
+    ;;
+  test)
+    install_missing
+    # Address + undefined-behaviour sanitizers, optimised so the physics
+    # tests stay quick.
+    build build-asan RelWithDebInfo -DROCKCAL_SANITIZE=ON -DROCKCAL_BUILD_BENCH=OFF
+    ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+      ctest --test-dir build-asan --output-on-failure -j "$JOBS"
+    ;;
+  bench)
+    install_missing
+    build build Release
+    for b in build/bench/*_bench; do "$b"; done
+    ;;
+  *)
+    echo "usage: ./run.sh demo|test|build|bench" >&2
+    exit 2
+    ;;
+esac

@@ -1,0 +1,170 @@
+#include "rockcal/sites/esri_grid.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+
+#include "rockcal/sites/json_reader.h"
+#include "rockcal/sites/text_reader.h"
+
+namespace rockcal::sites {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr long kMaxCells = 100'000'000;
+
+std::string Lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+bool StartsWithLetter(const std::string& line) {
+  for (char c : line) {
+    if (c == ' ' || c == '\t') continue;
+    return std::isalpha(static_cast<unsigned char>(c)) != 0;
+  }
+  return false;
+}
+
+}  // namespace
+
+double EsriGrid::at(int i, int j) const {
+  const double v = values[static_cast<std::size_t>(nrows - 1 - j) * ncols + i];
+  return nodata && v == *nodata ? kNaN : v;
+}
+
+EsriGrid ReadEsriGrid(const std::string& path) {
+  LineReader reader(path);
+  std::optional<double> ncols, nrows, cellsize, nodata;
+  std::optional<double> xll, yll;
+  bool x_corner = false, y_corner = false;
+  std::string line;
+  bool have_data_line = false;
+  while (reader.Next(&line)) {
+    if (IsBlank(line)) continue;
+    if (!StartsWithLetter(line)) {
+      have_data_line = true;
+      break;
+    }
+    const std::vector<std::string> f = SplitFields(line);
+    if (f.size() != 2) reader.Fail("expected a header line 'key value', found '" + line + "'");
+    const std::string key = Lower(f[0]);
+    double v = 0.0;
+    if (!ParseNumber(f[1], &v))
+      reader.Fail("header '" + f[0] + "': '" + f[1] + "' is not a number");
+    std::optional<double>* slot = nullptr;
+    if (key == "ncols") {
+      slot = &ncols;
+    } else if (key == "nrows") {
+      slot = &nrows;
+    } else if (key == "cellsize") {
+      slot = &cellsize;
+    } else if (key == "nodata_value") {
+      slot = &nodata;
+    } else if (key == "xllcorner" || key == "xllcenter") {
+      slot = &xll;
+      x_corner = key == "xllcorner";
+    } else if (key == "yllcorner" || key == "yllcenter") {
+      slot = &yll;
+      y_corner = key == "yllcorner";
+    } else {
+      reader.Fail("unknown header key '" + f[0] +
+                  "' (allowed: ncols, nrows, xllcorner, xllcenter, yllcorner, yllcenter, "
+                  "cellsize, NODATA_value)");
+    }
+    if (slot->has_value())
+      reader.Fail("header key '" + f[0] + "' given twice (or both corner and center)");
+    *slot = v;
+  }
+  const char* missing = !ncols      ? "ncols"
+                        : !nrows    ? "nrows"
+                        : !xll      ? "xllcorner or xllcenter"
+                        : !yll      ? "yllcorner or yllcenter"
+                        : !cellsize ? "cellsize"
+                                    : nullptr;
+  if (missing) throw InputError(path, std::string("header lacks '") + missing + "'");
+  auto count = [&](double v, const char* name) {
+    if (!(v >= 2 && v <= kMaxCells && v == std::floor(v))) {
+      throw InputError(path, std::string("header '") + name + "' = " + FormatNumber(v) +
+                                 ": expected a whole number >= 2");
+    }
+    return static_cast<int>(v);
+  };
+  EsriGrid g;
+  g.ncols = count(*ncols, "ncols");
+  g.nrows = count(*nrows, "nrows");
+  if (static_cast<long>(g.ncols) * g.nrows > kMaxCells)
+    throw InputError(path, "grid of " + std::to_string(g.ncols) + " x " + std::to_string(g.nrows) +
+                               " cells is too large (limit 1e8 cells)");
+  if (!(*cellsize > 0)) throw InputError(path, "header 'cellsize' must be > 0");
+  g.cellsize = *cellsize;
+  g.x_center = *xll + (x_corner ? 0.5 * g.cellsize : 0.0);
+  g.y_center = *yll + (y_corner ? 0.5 * g.cellsize : 0.0);
+  g.nodata = nodata;
+  g.values.reserve(static_cast<std::size_t>(g.ncols) * g.nrows);
+  int rows = 0;
+  while (have_data_line) {
+    if (!IsBlank(line)) {
+      const std::vector<std::string> f = SplitFields(line);
+      if (rows == g.nrows) {
+        reader.Fail("more rows than nrows = " + std::to_string(g.nrows) + " declared");
+      }
+      if (f.size() != static_cast<std::size_t>(g.ncols)) {
+        reader.Fail("row " + std::to_string(rows + 1) + " has " + std::to_string(f.size()) +
+                    " values, expected ncols = " + std::to_string(g.ncols));
+      }
+      const std::vector<double> v = reader.Numbers(f);
+      g.values.insert(g.values.end(), v.begin(), v.end());
+      ++rows;
+    }
+    have_data_line = reader.Next(&line);
+  }
+  if (rows != g.nrows) {
+    throw InputError(reader.where(), "file ends after " + std::to_string(rows) +
+                                         " rows, expected nrows = " + std::to_string(g.nrows));
+  }
+  return g;
+}
+
+core::HeightGrid EsriToHeightGrid(const EsriGrid& grid, double length_scale, double spacing) {
+  core::HeightGrid out;
+  const double cs = grid.cellsize * length_scale;
+  out.x0 = grid.x_center * length_scale;
+  out.y0 = grid.y_center * length_scale;
+  out.spacing = spacing;
+  auto z_at = [&](int i, int j) { return grid.at(i, j) * length_scale; };
+  if (std::abs(spacing - cs) <= 1e-9 * cs) {
+    out.spacing = cs;
+    out.nx = grid.ncols;
+    out.ny = grid.nrows;
+    out.z.resize(static_cast<std::size_t>(out.nx) * out.ny);
+    for (int j = 0; j < out.ny; ++j)
+      for (int i = 0; i < out.nx; ++i) out.z[out.index(i, j)] = z_at(i, j);
+  } else {
+    out.nx = static_cast<int>(std::floor((grid.ncols - 1) * cs / spacing + 1e-6)) + 1;
+    out.ny = static_cast<int>(std::floor((grid.nrows - 1) * cs / spacing + 1e-6)) + 1;
+    out.z.resize(static_cast<std::size_t>(out.nx) * out.ny);
+    for (int j = 0; j < out.ny; ++j) {
+      const double fy = j * spacing / cs;
+      const int jy = std::min(static_cast<int>(fy), grid.nrows - 2);
+      const double ty = fy - jy;
+      for (int i = 0; i < out.nx; ++i) {
+        const double fx = i * spacing / cs;
+        const int ix = std::min(static_cast<int>(fx), grid.ncols - 2);
+        const double tx = fx - ix;
+        // A corner with zero weight is not used; a NODATA corner with a
+        // positive weight makes the node a hole (NaN propagates).
+        const double w[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty};
+        double z = 0.0;
+        for (int k = 0; k < 4; ++k)
+          if (w[k] > 0) z += w[k] * z_at(ix + (k & 1), jy + (k >> 1));
+        out.z[out.index(i, j)] = z;
+      }
+    }
+  }
+  out.material.assign(out.z.size(), 0);
+  return out;
+}
+
+}  // namespace rockcal::sites

@@ -1,0 +1,455 @@
+#include "rockcal/sites/site.h"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <optional>
+
+#include "rockcal/core/error.h"
+#include "rockcal/sites/geometry.h"
+#include "rockcal/sites/surface.h"
+#include "rockcal/sites/text_reader.h"
+
+namespace rockcal::sites {
+namespace {
+
+constexpr double kMaxContactTime = 1.0;  // s
+constexpr const char* kSettingFields = "hardness, roughness, contact_time";
+
+bool ValidId(const std::string& id) {
+  if (id.empty()) return false;
+  for (char c : id) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                    c == '_' || c == '-';
+    if (!ok) return false;
+  }
+  return true;
+}
+
+std::string ReadId(const JsonNode& node) {
+  const std::string id = node.String();
+  if (!ValidId(id)) node.Fail("expected an id of letters, digits, '_' and '-' (not empty)");
+  return id;
+}
+
+std::string Join(const std::vector<std::string>& items) {
+  std::string s;
+  for (const std::string& i : items) s += (s.empty() ? "" : ", ") + i;
+  return s;
+}
+
+const char* LengthUnit(Units units) { return units == Units::kUS ? "ft" : "m"; }
+
+// A plan polygon in file units -> SI; at least 3 vertices and a non-zero area.
+Polygon ReadPolygon(const JsonNode& node, Units units) {
+  if (!node.is_array() || node.raw().size() < 3)
+    node.Fail("expected a polygon: an array of at least 3 [x, y] vertices");
+  Polygon polygon;
+  double scale = 0.0;
+  for (const JsonNode& v : node.Array()) {
+    const std::vector<double> xy = v.Numbers(2);
+    polygon.emplace_back(LengthToSI(xy[0], units), LengthToSI(xy[1], units));
+  }
+  for (const Eigen::Vector2d& v : polygon) scale = std::max(scale, (v - polygon[0]).norm());
+  if (!(std::abs(SignedArea(polygon)) > 1e-9 * scale * scale))
+    node.Fail("degenerate polygon: its vertices enclose no area");
+  return polygon;
+}
+
+// Material fields whose checks need the grid spacing (roughness <= s/2).
+struct PendingMaterial {
+  JsonNode node;
+  std::optional<Polygon> zone;
+};
+
+// [lo, hi] of a calibrate entry, checked against [min, max] and the value.
+ParameterBound ReadBound(const JsonNode& node, const std::string& material, const char* name,
+                         double min, double max, bool open_min, double value, double to_si,
+                         const std::string& unit) {
+  const std::vector<double> b = node.Numbers(2);
+  if (!(b[0] < b[1])) node.Fail("expected [lower, upper] with lower < upper");
+  // (max may come from a unit conversion: allow for its rounding.)
+  if (b[0] < min || (open_min && b[0] <= min) || b[1] > max * (1 + 1e-12)) {
+    node.Fail(std::string("expected bounds within ") + (open_min ? "(" : "[") + FormatNumber(min) +
+              ", " + FormatNumber(max) + "]" + unit);
+  }
+  if (value < b[0] || value > b[1]) {
+    node.Fail(std::string("the material's ") + name + " " + FormatNumber(value) + unit +
+              " is outside its calibrate bounds; expected lower <= value <= upper");
+  }
+  return ParameterBound{material, name, b[0] * to_si, b[1] * to_si};
+}
+
+void ReadSimulation(const JsonNode& node, Units units, core::SimulationOptions* o) {
+  node.Keys({"seed", "max_time", "stop_speed", "stop_duration", "steps_per_contact", "safety",
+             "exact_flight", "threads"});
+  if (auto v = node.Find("seed")) o->seed = static_cast<std::uint64_t>(v->Integer(0, LONG_MAX));
+  if (auto v = node.Find("max_time")) o->max_time = v->Positive();
+  if (auto v = node.Find("stop_speed")) o->stop_speed = LengthToSI(v->Positive(), units);
+  if (auto v = node.Find("stop_duration")) o->stop_duration = v->Positive();
+  if (auto v = node.Find("steps_per_contact"))
+    o->steps_per_contact = static_cast<int>(v->Integer(4, 100000));
+  if (auto v = node.Find("safety")) {
+    o->safety = v->Number(0.0, 1.0);
+    if (!(o->safety > 0)) v->Fail("expected a number in (0, 1]");
+  }
+  if (auto v = node.Find("exact_flight")) o->exact_flight = v->Bool();
+  if (auto v = node.Find("threads")) o->threads = static_cast<int>(v->Integer(0, 4096));
+  std::string error;
+  if (!o->IsValid(&error)) throw InputError(node.where(), error);
+}
+
+core::Release ReadRelease(const JsonNode& node, Units units, const core::HeightGrid& grid,
+                          std::string* note) {
+  node.Keys({"zone", "point", "height", "velocity"});
+  core::Release r;
+  const bool has_zone = node.Has("zone"), has_point = node.Has("point");
+  if (has_zone == has_point)
+    node.Fail("expected exactly one of 'zone' (plan polygon) or 'point' ([x, y])");
+  const double to_file = 1.0 / LengthToSI(1.0, units);
+  auto where_text = [&](const Eigen::Vector2d& p) {
+    return "(" + FormatNumber(p.x() * to_file) + ", " + FormatNumber(p.y() * to_file) + ")";
+  };
+  const std::string grid_text = "the terrain spans x " + FormatNumber(grid.x(0) * to_file) +
+                                " to " + FormatNumber(grid.x(grid.nx - 1) * to_file) + ", y " +
+                                FormatNumber(grid.y(0) * to_file) + " to " +
+                                FormatNumber(grid.y(grid.ny - 1) * to_file);
+  Eigen::Vector2d centre;
+  if (has_zone) {
+    const JsonNode z = node.Get("zone");
+    r.zone = ReadPolygon(z, units);
+    if (auto off = FindOffTerrain(grid, r.zone, grid.spacing / 4)) {
+      z.Fail("release zone point " + where_text(*off) +
+             " is off the terrain (outside the grid or over a hole; " + grid_text +
+             "); expected a zone entirely on the terrain");
+    }
+    centre = Eigen::Vector2d::Zero();
+    for (const Eigen::Vector2d& v : r.zone) centre += v;
+    centre /= static_cast<double>(r.zone.size());
+    *note = "zone of " + std::to_string(r.zone.size()) + " vertices, area " +
+            FormatNumber(std::abs(SignedArea(r.zone))) + " m^2";
+  } else {
+    const JsonNode p = node.Get("point");
+    const std::vector<double> xy = p.Numbers(2);
+    r.point = Eigen::Vector2d(LengthToSI(xy[0], units), LengthToSI(xy[1], units));
+    if (!OnTerrain(grid, r.point.x(), r.point.y())) {
+      p.Fail("release point is off the terrain (outside the grid or over a hole; " + grid_text +
+             "); expected a point on the terrain");
+    }
+    centre = r.point;
+    *note = "point (" + FormatNumber(r.point.x()) + ", " + FormatNumber(r.point.y()) + ") m";
+  }
+  if (const std::optional<double> z = ElevationAt(grid, centre.x(), centre.y()))
+    *note += ", ground " + FormatNumber(*z) + " m";
+  if (auto h = node.Find("height")) r.height = LengthToSI(h->NonNegative(), units);
+  if (auto v = node.Find("velocity")) {
+    const std::vector<double> vel = v->Numbers(3);
+    r.velocity = Eigen::Vector3d(LengthToSI(vel[0], units), LengthToSI(vel[1], units),
+                                 LengthToSI(vel[2], units));
+  }
+  return r;
+}
+
+core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightGrid& grid,
+                          std::string* note) {
+  node.Keys({"count", "shape", "size", "unit_weight", "release"});
+  core::RockGroup g;
+  g.count = static_cast<int>(node.Get("count").Integer(1, 10'000'000));
+  const JsonNode shape = node.Get("shape");
+  if (!core::ParseShape(shape.String(), &g.shape))
+    shape.Fail(std::string("unknown shape (allowed: ") + core::ShapeNames() + ")");
+  const JsonNode size = node.Get("size");
+  if (size.is_array()) {
+    const std::vector<double> s = size.Numbers(2);
+    if (!(s[0] > 0)) size.Fail("expected [min, max] with 0 < min <= max");
+    if (s[0] > s[1]) size.Fail("expected [min, max] with min <= max");
+    g.size_min = LengthToSI(s[0], units);
+    g.size_max = LengthToSI(s[1], units);
+  } else {
+    if (!size.is_number()) size.Fail("expected a size > 0 or a range [min, max]");
+    g.size_min = g.size_max = LengthToSI(size.Positive(), units);
+  }
+  g.unit_weight = UnitWeightToSI(node.Get("unit_weight").Positive(), units);
+  std::string release_note;
+  g.release = ReadRelease(node.Get("release"), units, grid, &release_note);
+  *note = std::to_string(g.count) + " " + core::ShapeName(g.shape) + ", size " +
+          FormatNumber(g.size_min) +
+          (g.size_max > g.size_min ? "-" + FormatNumber(g.size_max) : "") + " m, unit weight " +
+          FormatNumber(g.unit_weight / 1000.0) + " kN/m^3, release " + release_note;
+  return g;
+}
+
+}  // namespace
+
+Site LoadSite(const std::string& path) {
+  const nlohmann::json json = ReadJsonFile(path);
+  const JsonNode root(&json, path, "$");
+  root.Keys({"name", "description", "units", "surface", "materials", "partitions", "rocks",
+             "simulation"});
+  Site site;
+  site.path = path;
+  site.units = ReadUnits(root.Get("units"));
+  const Units units = site.units;
+  const double to_file = 1.0 / LengthToSI(1.0, units);
+  const char* unit = LengthUnit(units);
+  core::Scene& scene = site.scene;
+  {
+    const JsonNode name = root.Get("name");
+    scene.name = name.String();
+    if (scene.name.empty()) name.Fail("expected a non-empty name");
+  }
+  if (auto d = root.Find("description")) d->String();
+
+  // Materials (their roughness limit needs the grid spacing: checked below).
+  std::vector<PendingMaterial> pending;
+  std::vector<std::string> ids;
+  const std::vector<JsonNode> materials = root.Get("materials").Array(1);
+  for (std::size_t k = 0; k < materials.size(); ++k) {
+    const JsonNode& m = materials[k];
+    m.Keys({"id", "hardness", "roughness", "contact_time", "restitution", "friction", "zone",
+            "calibrate"});
+    core::Material mat;
+    const JsonNode id = m.Get("id");
+    mat.id = ReadId(id);
+    if (std::find(ids.begin(), ids.end(), mat.id) != ids.end())
+      id.Fail("duplicate material id; expected each material id once");
+    ids.push_back(mat.id);
+    mat.hardness = m.Get("hardness").Number(0.0, 1.0);
+    mat.roughness_m = LengthToSI(m.Get("roughness").NonNegative(), units);
+    if (auto t = m.Find("contact_time")) {
+      mat.contact_time_s = t->Positive();
+      if (mat.contact_time_s > kMaxContactTime)
+        t->Fail("expected a contact time in seconds in (0, 1]");
+    }
+    if (auto e = m.Find("restitution")) {
+      const double v = e->Number(0.0, 1.0);
+      if (!(v > 0.0 && v < 1.0)) e->Fail("expected a restitution in (0, 1)");
+      mat.restitution = v;
+    }
+    if (auto f = m.Find("friction")) mat.friction = f->Number(0.0, 10.0);
+    PendingMaterial p{m, std::nullopt};
+    if (auto z = m.Find("zone")) {
+      if (k == 0) {
+        z->Fail(
+            "the first material covers everything no zone claims and takes no zone; "
+            "expected 'zone' only on later materials");
+      }
+      p.zone = ReadPolygon(*z, units);
+    }
+    scene.materials.push_back(mat);
+    pending.push_back(std::move(p));
+  }
+
+  // Surface.
+  const std::string base_dir = std::filesystem::path(path).parent_path().string();
+  Surface surface = ReadSurface(root.Get("surface"), units, base_dir, ids);
+  scene.grid = std::move(surface.grid);
+  core::HeightGrid& grid = scene.grid;
+  const double s = grid.spacing;
+  site.notes = surface.notes;
+
+  // Roughness and calibration bounds.
+  for (std::size_t k = 0; k < pending.size(); ++k) {
+    const JsonNode& m = pending[k].node;
+    core::Material& mat = scene.materials[k];
+    const double max_rough = s / 2 * to_file;
+    if (mat.roughness_m > s / 2 * (1 + 1e-12)) {
+      m.Get("roughness")
+          .Fail("roughness exceeds half the grid spacing (" + FormatNumber(max_rough) + " " + unit +
+                "): a virtual sphere cannot sag more than s/2; expected a "
+                "roughness in [0, " +
+                FormatNumber(max_rough) + "]");
+    }
+    if (auto c = m.Find("calibrate")) {
+      c->Keys({"hardness", "roughness", "contact_time"});
+      if (auto b = c->Find("hardness")) {
+        if (mat.restitution && mat.friction) {
+          b->Fail(
+              "hardness has no effect when both 'restitution' and 'friction' are given; "
+              "expected no hardness bounds for this material");
+        }
+        site.calibrate.push_back(
+            ReadBound(*b, mat.id, "hardness", 0.0, 1.0, false, mat.hardness, 1.0, ""));
+      }
+      if (auto b = c->Find("roughness")) {
+        site.calibrate.push_back(ReadBound(*b, mat.id, "roughness", 0.0, max_rough, false,
+                                           mat.roughness_m * to_file, 1.0 / to_file,
+                                           std::string(" ") + unit));
+      }
+      if (auto b = c->Find("contact_time")) {
+        site.calibrate.push_back(ReadBound(*b, mat.id, "contact_time", 0.0, kMaxContactTime, true,
+                                           mat.contact_time_s, 1.0, " s"));
+      }
+    }
+  }
+
+  // Material zones: the last zone holding a node wins.
+  for (std::size_t k = 1; k < pending.size(); ++k) {
+    if (!pending[k].zone) continue;
+    const Polygon& zone = *pending[k].zone;
+    int claimed = 0;
+    for (int j = 0; j < grid.ny; ++j) {
+      for (int i = 0; i < grid.nx; ++i) {
+        if (PointInPolygon(zone, Eigen::Vector2d(grid.x(i), grid.y(j)))) {
+          grid.material[grid.index(i, j)] = static_cast<int>(k);
+          ++claimed;
+        }
+      }
+    }
+    if (claimed == 0) {
+      pending[k].node.Get("zone").Fail(
+          "the zone contains no grid node (the terrain spans x " +
+          FormatNumber(grid.x(0) * to_file) + " to " + FormatNumber(grid.x(grid.nx - 1) * to_file) +
+          ", y " + FormatNumber(grid.y(0) * to_file) + " to " +
+          FormatNumber(grid.y(grid.ny - 1) * to_file) + "); expected a zone over the terrain");
+    }
+  }
+  std::vector<int> count(scene.materials.size(), 0);
+  int holes = 0;
+  double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
+  for (std::size_t n = 0; n < grid.z.size(); ++n) {
+    if (std::isnan(grid.z[n])) {
+      ++holes;
+      continue;
+    }
+    ++count[static_cast<std::size_t>(grid.material[n])];
+    zmin = std::min(zmin, grid.z[n]);
+    zmax = std::max(zmax, grid.z[n]);
+  }
+  // Rounding residue of the plane fits (e.g. -1e-16 for 0) would clutter messages.
+  const double zscale = 1e-12 * std::max({1.0, std::abs(zmin), std::abs(zmax)});
+  if (std::abs(zmin) < zscale) zmin = 0.0;
+  if (std::abs(zmax) < zscale) zmax = 0.0;
+  for (std::size_t k = 0; k < count.size(); ++k) {
+    if (count[k] == 0) {
+      pending[k].node.Fail("material '" + scene.materials[k].id +
+                           "' covers no terrain node (its zone is overridden by later zones, "
+                           "off the data, or no surface file names it); expected every "
+                           "material to cover part of the terrain");
+    }
+  }
+  site.notes.push_back("grid: " + std::to_string(grid.nx) + " x " + std::to_string(grid.ny) +
+                       " nodes at " + FormatNumber(s) + " m spacing, x " + FormatNumber(grid.x(0)) +
+                       " to " + FormatNumber(grid.x(grid.nx - 1)) + " m, y " +
+                       FormatNumber(grid.y(0)) + " to " + FormatNumber(grid.y(grid.ny - 1)) +
+                       " m, elevation " + FormatNumber(zmin) + " to " + FormatNumber(zmax) + " m");
+  site.notes.push_back("holes: " + std::to_string(holes) + " of " + std::to_string(grid.z.size()) +
+                       " nodes");
+  for (std::size_t k = 0; k < count.size(); ++k) {
+    const core::Material& mat = scene.materials[k];
+    site.notes.push_back(
+        "material " + mat.id + ": " + std::to_string(count[k]) + " nodes, hardness " +
+        FormatNumber(mat.hardness) + ", roughness " + FormatNumber(mat.roughness_m) +
+        " m, contact time " + FormatNumber(mat.contact_time_s) + " s" +
+        (mat.restitution ? ", restitution " + FormatNumber(*mat.restitution) : "") +
+        (mat.friction ? ", friction " + FormatNumber(*mat.friction) : ""));
+  }
+
+  // Partitions.
+  if (auto parts = root.Find("partitions")) {
+    std::vector<std::string> part_ids;
+    for (const JsonNode& p : parts->Array()) {
+      p.Keys({"id", "x", "z"});
+      core::Partition part;
+      const JsonNode id = p.Get("id");
+      part.id = ReadId(id);
+      if (std::find(part_ids.begin(), part_ids.end(), part.id) != part_ids.end())
+        id.Fail("duplicate partition id; expected each partition id once");
+      part_ids.push_back(part.id);
+      if (p.Has("x") == p.Has("z")) p.Fail("expected exactly one of 'x' or 'z'");
+      if (auto x = p.Find("x")) {
+        part.kind = core::Partition::Kind::kX;
+        part.value = LengthToSI(x->Number(), units);
+        const double lo = grid.x(0), hi = grid.x(grid.nx - 1);
+        if (part.value < lo || part.value > hi) {
+          x->Fail("the X partition lies off the terrain; expected x in [" +
+                  FormatNumber(lo * to_file) + ", " + FormatNumber(hi * to_file) + "]");
+        }
+      } else {
+        const JsonNode z = p.Get("z");
+        part.kind = core::Partition::Kind::kZ;
+        part.value = LengthToSI(z.Number(), units);
+        if (part.value < zmin || part.value > zmax) {
+          z.Fail("the Z partition is outside the terrain's elevations; expected z in [" +
+                 FormatNumber(zmin * to_file) + ", " + FormatNumber(zmax * to_file) + "]");
+        }
+      }
+      site.notes.push_back("partition " + part.id + ": " +
+                           (part.kind == core::Partition::Kind::kX ? "x" : "z") + " = " +
+                           FormatNumber(part.value) + " m");
+      scene.partitions.push_back(part);
+    }
+  }
+
+  // Rock groups.
+  const std::vector<JsonNode> rocks = root.Get("rocks").Array(1);
+  for (std::size_t k = 0; k < rocks.size(); ++k) {
+    std::string note;
+    scene.groups.push_back(ReadGroup(rocks[k], units, grid, &note));
+    site.notes.push_back("rock group " + std::to_string(k + 1) + ": " + note);
+  }
+
+  if (auto sim = root.Find("simulation")) ReadSimulation(*sim, units, &scene.options);
+  site.notes.push_back("simulation: seed " + std::to_string(scene.options.seed) + ", max time " +
+                       FormatNumber(scene.options.max_time) + " s, " +
+                       std::to_string(scene.total_rocks()) + " rocks in " +
+                       std::to_string(scene.groups.size()) + " group(s)");
+  if (!site.calibrate.empty()) {
+    std::string list;
+    for (const ParameterBound& b : site.calibrate) {
+      list += (list.empty() ? "" : ", ") + b.material + "." + b.name + " [" +
+              FormatNumber(b.lower) + ", " + FormatNumber(b.upper) + "]";
+    }
+    site.notes.push_back("calibrate (SI): " + list);
+  }
+  return site;
+}
+
+void ApplySetting(const std::string& key_value, Site* site) {
+  const std::string where = "--set " + key_value;
+  const std::size_t eq = key_value.find('=');
+  const std::string key = key_value.substr(0, eq);
+  const std::string prefix = "material.";
+  const std::size_t dot = key.rfind('.');
+  if (eq == std::string::npos || key.compare(0, prefix.size(), prefix) != 0 ||
+      dot < prefix.size()) {
+    throw InputError(where, std::string("expected material.<id>.<field>=VALUE with field one of ") +
+                                kSettingFields);
+  }
+  const std::string id = key.substr(prefix.size(), dot - prefix.size());
+  const std::string field = key.substr(dot + 1);
+  const std::string text = key_value.substr(eq + 1);
+  std::vector<core::Material>& materials = site->scene.materials;
+  auto it = std::find_if(materials.begin(), materials.end(),
+                         [&](const core::Material& m) { return m.id == id; });
+  if (it == materials.end()) {
+    std::vector<std::string> ids;
+    for (const core::Material& m : materials) ids.push_back(m.id);
+    throw InputError(where, "unknown material '" + id + "' (materials: " + Join(ids) + ")");
+  }
+  double value = 0.0;
+  if (!ParseNumber(text, &value))
+    throw InputError(where, "'" + text + "' is not a number; expected a finite number");
+  const Units units = site->units;
+  if (field == "hardness") {
+    if (value < 0 || value > 1) throw InputError(where, "expected a hardness in [0, 1]");
+    it->hardness = value;
+  } else if (field == "roughness") {
+    const double max_rough = site->scene.grid.spacing / 2 / LengthToSI(1.0, units);
+    if (value < 0 || value > max_rough * (1 + 1e-12)) {
+      throw InputError(where, "expected a roughness in [0, " + FormatNumber(max_rough) + "] " +
+                                  LengthUnit(units) + " (half the grid spacing)");
+    }
+    it->roughness_m = LengthToSI(value, units);
+  } else if (field == "contact_time") {
+    if (!(value > 0) || value > kMaxContactTime)
+      throw InputError(where, "expected a contact time in seconds in (0, 1]");
+    it->contact_time_s = value;
+  } else {
+    throw InputError(where, "unknown field '" + field + "' (allowed: " + kSettingFields + ")");
+  }
+}
+
+}  // namespace rockcal::sites

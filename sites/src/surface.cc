@@ -1,0 +1,213 @@
+#include "rockcal/sites/surface.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include "rockcal/sites/esri_grid.h"
+#include "rockcal/sites/gridding.h"
+#include "rockcal/sites/point_files.h"
+#include "rockcal/sites/stl.h"
+
+namespace rockcal::sites {
+namespace {
+
+constexpr const char* kSources[] = {"points", "points_file", "lidar", "grid_file", "stl"};
+
+std::string SourceList() {
+  std::string s;
+  for (const char* k : kSources) s += std::string(s.empty() ? "" : ", ") + k;
+  return s;
+}
+
+struct Box {
+  double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin;
+  double ymin = xmin, ymax = -xmin;
+  void Add(double x, double y) {
+    xmin = std::min(xmin, x);
+    xmax = std::max(xmax, x);
+    ymin = std::min(ymin, y);
+    ymax = std::max(ymax, y);
+  }
+};
+
+// Fails unless a grid of `spacing` over `box` has 2..kMaxGridNodes nodes.
+void CheckGridSize(const JsonNode& where, const Box& box, double spacing, double to_file) {
+  const long nx = NodeCount(box.xmax - box.xmin, spacing);
+  const long ny = NodeCount(box.ymax - box.ymin, spacing);
+  if (nx < 2 || ny < 2) {
+    where.Fail("the surface data span " + FormatNumber((box.xmax - box.xmin) * to_file) + " x " +
+               FormatNumber((box.ymax - box.ymin) * to_file) +
+               " (file units) in plan, less than one grid spacing (" +
+               FormatNumber(spacing * to_file) + ") along " + (nx < 2 ? "x" : "y") +
+               "; expected data covering at least 2 x 2 grid nodes");
+  }
+  if (static_cast<double>(nx) * static_cast<double>(ny) > static_cast<double>(kMaxGridNodes)) {
+    where.Fail("a grid of " + std::to_string(nx) + " x " + std::to_string(ny) +
+               " nodes at spacing " + FormatNumber(spacing * to_file) + " is too large (limit " +
+               std::to_string(kMaxGridNodes) + " nodes); expected a coarser resolution");
+  }
+}
+
+// Turns points (SI) into the grid, with notes.
+void GridInto(const std::vector<Eigen::Vector3d>& points, const JsonNode& where, double spacing,
+              double to_file, Surface* out) {
+  Box box;
+  for (const Eigen::Vector3d& p : points) box.Add(p.x(), p.y());
+  CheckGridSize(where, box, spacing, to_file);
+  GriddingReport rep;
+  out->grid = GridPoints(points, spacing, &rep);
+  out->notes.push_back(
+      "gridding: " + std::to_string(rep.from_cell) + " nodes from the points of their own cell, " +
+      std::to_string(rep.from_neighbours) + " filled from points around them, " +
+      std::to_string(rep.cell_mean) + " as the mean of their own points, " +
+      std::to_string(rep.holes) + " holes (data spacing " + FormatNumber(rep.data_spacing) +
+      " m, hole radius " + FormatNumber(rep.hole_radius) + " m)");
+}
+
+std::vector<Eigen::Vector3d> ToSI(std::vector<Eigen::Vector3d> points, Units units) {
+  for (Eigen::Vector3d& p : points)
+    for (int k = 0; k < 3; ++k) p[k] = LengthToSI(p[k], units);
+  return points;
+}
+
+void CheckPointCount(const JsonNode& where, const std::string& file, std::size_t n) {
+  if (n < 3) {
+    where.Fail("'" + file + "' holds " + std::to_string(n) +
+               " point(s); expected at least 3 points");
+  }
+}
+
+}  // namespace
+
+std::string ResolvePath(const std::string& base_dir, const std::string& file) {
+  const std::filesystem::path p(file);
+  if (p.is_absolute() || base_dir.empty()) return p.string();
+  return (std::filesystem::path(base_dir) / p).string();
+}
+
+Surface ReadSurface(const JsonNode& surface, Units units, const std::string& base_dir,
+                    const std::vector<std::string>& material_ids) {
+  surface.Keys({"resolution", "points", "points_file", "lidar", "grid_file", "stl"});
+  std::vector<const char*> present;
+  for (const char* k : kSources)
+    if (surface.Has(k)) present.push_back(k);
+  if (present.size() != 1) {
+    std::string found;
+    for (const char* k : present) found += std::string(found.empty() ? "" : ", ") + k;
+    surface.Fail("expected exactly one surface source (one of " + SourceList() + "), found " +
+                 (present.empty() ? std::string("none") : found));
+  }
+  Surface out;
+  out.source = present[0];
+  const double to_file = 1.0 / LengthToSI(1.0, units);  // m -> file units
+  const std::optional<JsonNode> resolution = surface.Find("resolution");
+  double spacing = resolution ? LengthToSI(resolution->Positive(), units) : kDefaultResolutionM;
+  const JsonNode where = resolution ? *resolution : surface;
+  const JsonNode src = surface.Get(present[0]);
+
+  if (out.source == "points") {
+    std::vector<Eigen::Vector3d> points;
+    for (const JsonNode& p : src.Array(3)) {
+      const std::vector<double> v = p.Numbers(3);
+      points.emplace_back(v[0], v[1], v[2]);
+    }
+    out.notes.push_back("surface: " + std::to_string(points.size()) + " inline points");
+    GridInto(ToSI(std::move(points), units), where, spacing, to_file, &out);
+  } else if (out.source == "points_file") {
+    const std::string file = ResolvePath(base_dir, src.String());
+    std::vector<Eigen::Vector3d> points = ReadPointsFile(file);
+    CheckPointCount(src, file, points.size());
+    out.notes.push_back("surface: " + std::to_string(points.size()) + " points from " + file);
+    GridInto(ToSI(std::move(points), units), where, spacing, to_file, &out);
+  } else if (out.source == "lidar") {
+    src.Keys({"file", "offset", "spin_deg"});
+    const std::string file = ResolvePath(base_dir, src.Get("file").String());
+    LidarTransform transform;
+    if (const std::optional<JsonNode> offset = src.Find("offset")) {
+      if (offset->is_string()) {
+        if (offset->String() != "auto") offset->Fail("expected \"auto\" or [x, y, z]");
+        transform.auto_offset = true;
+      } else {
+        if (!offset->is_array()) offset->Fail("expected \"auto\" or [x, y, z]");
+        const std::vector<double> v = offset->Numbers(3);
+        transform.offset = Eigen::Vector3d(v[0], v[1], v[2]);
+      }
+    }
+    if (const std::optional<JsonNode> spin = src.Find("spin_deg"))
+      transform.spin_deg = spin->Number(-360.0, 360.0);
+    std::vector<Eigen::Vector3d> points = ReadLidarFile(file);
+    CheckPointCount(src.Get("file"), file, points.size());
+    const Eigen::Vector3d offset = ApplyLidarTransform(transform, &points);
+    out.notes.push_back("surface: " + std::to_string(points.size()) + " LIDAR points from " + file +
+                        ", offset (" + FormatNumber(offset.x()) + ", " + FormatNumber(offset.y()) +
+                        ", " + FormatNumber(offset.z()) + ") subtracted, then spun " +
+                        FormatNumber(transform.spin_deg) + " deg about Z");
+    GridInto(ToSI(std::move(points), units), where, spacing, to_file, &out);
+  } else if (out.source == "grid_file") {
+    const std::string file = ResolvePath(base_dir, src.String());
+    const EsriGrid esri = ReadEsriGrid(file);
+    const double cell = LengthToSI(esri.cellsize, units);
+    if (!resolution) spacing = cell;
+    Box box;
+    box.Add(0, 0);
+    box.Add((esri.ncols - 1) * cell, (esri.nrows - 1) * cell);
+    CheckGridSize(where, box, spacing, to_file);
+    out.grid = EsriToHeightGrid(esri, LengthToSI(1.0, units), spacing);
+    out.notes.push_back("surface: ESRI grid " + file + ", " + std::to_string(esri.ncols) + " x " +
+                        std::to_string(esri.nrows) + " cells of " + FormatNumber(esri.cellsize) +
+                        (std::abs(out.grid.spacing - cell) <= 1e-9 * cell
+                             ? " (cell centres are the grid nodes)"
+                             : " resampled bilinearly to the resolution"));
+  } else {  // stl
+    src.Keys({"files", "axes"});
+    StlAxes axes = StlAxes::kXYZ;
+    if (const std::optional<JsonNode> a = src.Find("axes")) {
+      if (!ParseStlAxes(a->String(), &axes)) a->Fail("unknown axes (allowed: xyz, xzy)");
+    }
+    std::vector<TriangleSet> sets;
+    Box box;
+    for (const JsonNode& f : src.Get("files").Array(1)) {
+      f.Keys({"file", "material"});
+      const JsonNode m = f.Get("material");
+      const std::string id = m.String();
+      const auto it = std::find(material_ids.begin(), material_ids.end(), id);
+      if (it == material_ids.end()) {
+        std::string list;
+        for (const std::string& k : material_ids) list += (list.empty() ? "" : ", ") + k;
+        m.Fail("unknown material '" + id + "' (materials: " + list + ")");
+      }
+      const std::string file = ResolvePath(base_dir, f.Get("file").String());
+      TriangleSet set;
+      set.triangles = ReadStl(file, axes, LengthToSI(1.0, units));
+      set.material = static_cast<int>(it - material_ids.begin());
+      for (const Triangle& t : set.triangles)
+        for (const Eigen::Vector3d* p : {&t.a, &t.b, &t.c}) box.Add(p->x(), p->y());
+      out.notes.push_back("surface: " + std::to_string(set.triangles.size()) + " triangles from " +
+                          file + " (material " + id + ")");
+      sets.push_back(std::move(set));
+    }
+    CheckGridSize(where, box, spacing, to_file);
+    out.grid = SampleTriangles(sets, spacing);
+    out.materials_from_source = true;
+  }
+
+  // Something to stand on: at least one cell without a hole corner.
+  const core::HeightGrid& g = out.grid;
+  bool any_cell = false;
+  for (int j = 0; j + 1 < g.ny && !any_cell; ++j) {
+    for (int i = 0; i + 1 < g.nx && !any_cell; ++i) {
+      any_cell = !std::isnan(g.z[g.index(i, j)]) && !std::isnan(g.z[g.index(i + 1, j)]) &&
+                 !std::isnan(g.z[g.index(i, j + 1)]) && !std::isnan(g.z[g.index(i + 1, j + 1)]);
+    }
+  }
+  if (!any_cell) {
+    src.Fail(
+        "the surface has no grid cell with four valid corners (every cell touches a "
+        "hole); expected data dense enough for the resolution");
+  }
+  return out;
+}
+
+}  // namespace rockcal::sites

@@ -1,0 +1,175 @@
+// rockcal simulate / validate end to end, as a user runs them.
+#include <gtest/gtest.h>
+#include <gmock/gmock.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "rockcal/core/simulate.h"
+#include "rockcal/sites/site.h"
+
+namespace rockcal::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+struct RunResult {
+  int status;
+  std::string err;
+};
+
+RunResult Rockcal(const std::string& args) {
+  const std::string err_file = ::testing::TempDir() + "/rockcal_stderr.txt";
+  const std::string cmd = std::string(ROCKCAL_EXE) + " " + args + " > /dev/null 2> " + err_file;
+  const int raw = std::system(cmd.c_str());
+  std::ifstream in(err_file);
+  std::stringstream s;
+  s << in.rdbuf();
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, s.str()};
+}
+
+std::string Example(const std::string& name) {
+  return std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/" + name + "/site.json";
+}
+
+std::string FreshDir(const std::string& name) {
+  const std::string dir = ::testing::TempDir() + "/rockcal_cli_" + name;
+  fs::remove_all(dir);
+  return dir;
+}
+
+nlohmann::json ReadJson(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+void ExpectStats(const nlohmann::json& s, const std::string& what) {
+  for (const char* k : {"mean", "p50", "p90", "p95", "max"}) {
+    ASSERT_TRUE(s.contains(k) && s[k].is_number()) << what << " lacks " << k;
+    EXPECT_TRUE(std::isfinite(s[k].get<double>())) << what << "." << k;
+  }
+  EXPECT_EQ(s.size(), 5u) << what;
+}
+
+// The summary.json schema of DESIGN.md, key for key.
+void ExpectSummarySchema(const nlohmann::json& j, int rocks) {
+  const char* keys[] = {"site", "rocks", "seed", "wall_seconds", "steps", "dt_seconds",
+                        "outcomes", "partitions", "runout", "energy_check"};
+  EXPECT_EQ(j.size(), std::size(keys));
+  for (const char* k : keys) ASSERT_TRUE(j.contains(k)) << "summary lacks " << k;
+  EXPECT_EQ(j["rocks"].get<int>(), rocks);
+  const auto& o = j["outcomes"];
+  EXPECT_EQ(o["stopped"].get<int>() + o["left"].get<int>() + o["timeout"].get<int>(), rocks);
+  for (const auto& p : j["partitions"]) {
+    EXPECT_TRUE(p["id"].is_string());
+    EXPECT_TRUE(p["passed"].is_number_integer());
+    ExpectStats(p["height_m"], "height_m");
+    ExpectStats(p["velocity_mps"], "velocity_mps");
+    ExpectStats(p["energy_kj"], "energy_kj");
+  }
+  ExpectStats(j["runout"]["x_m"], "runout.x_m");
+  EXPECT_LT(j["energy_check"]["max_relative_gain"].get<double>(), 1e-3);
+  EXPECT_GT(j["dt_seconds"].get<double>(), 0.0);
+}
+
+class ExampleTest : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ExampleTest, SimulateWritesSummaryAndRocks) {
+  const std::string out = FreshDir(GetParam());
+  const RunResult run = Rockcal("simulate " + Example(GetParam()) + " --rocks 6 --seed 3 --quiet --out " + out);
+  ASSERT_EQ(run.status, 0) << run.err;
+  ExpectSummarySchema(ReadJson(out + "/summary.json"), 6);
+  std::ifstream rocks(out + "/rocks.csv");
+  std::string header, line;
+  std::getline(rocks, header);
+  EXPECT_THAT(header, HasSubstr("rock,group,shape,size_m,mass_kg,outcome,stop_x,stop_y,stop_z"));
+  int rows = 0;
+  while (std::getline(rocks, line)) ++rows;
+  EXPECT_EQ(rows, 6);
+  EXPECT_FALSE(fs::exists(out + "/trajectories.csv"));
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, ExampleTest, ::testing::Values("tutorial", "profile2d", "authume"));
+
+TEST(Simulate, AuthumeStopPointsLieOnTheTerrain) {
+  const std::string out = FreshDir("authume_stops");
+  ASSERT_EQ(Rockcal("simulate " + Example("authume") + " --rocks 8 --quiet --out " + out).status, 0);
+  const sites::Site site = sites::LoadSite(Example("authume"));
+  const core::Terrain terrain = core::BuildTerrain(site.scene);
+  std::ifstream rocks(out + "/rocks.csv");
+  std::string line;
+  std::getline(rocks, line);
+  int stopped = 0;
+  while (std::getline(rocks, line)) {
+    std::stringstream s(line);
+    std::vector<std::string> f;
+    for (std::string cell; std::getline(s, cell, ',');) f.push_back(cell);
+    if (f[5] != "stopped") continue;
+    ++stopped;
+    EXPECT_TRUE(terrain.OnSlope(std::stod(f[6]), std::stod(f[7]))) << line;
+  }
+  EXPECT_GT(stopped, 0);
+}
+
+TEST(Simulate, TrajectoriesWhenAsked) {
+  const std::string out = FreshDir("traj");
+  ASSERT_EQ(Rockcal("simulate " + Example("profile2d") +
+                    " --rocks 3 --trajectories 2 --sample-seconds 0.1 --quiet --out " + out)
+                .status,
+            0);
+  std::ifstream in(out + "/trajectories.csv");
+  std::string header, line;
+  std::getline(in, header);
+  EXPECT_EQ(header, "rock,t,x,y,z,vx,vy,vz,wx,wy,wz");
+  std::set<std::string> rocks;
+  while (std::getline(in, line)) rocks.insert(line.substr(0, line.find(',')));
+  EXPECT_EQ(rocks, (std::set<std::string>{"0", "1"}));
+}
+
+TEST(Simulate, ExistingOutputIsKeptWithoutForce) {
+  const std::string out = FreshDir("keep");
+  fs::create_directories(out);
+  std::ofstream(out + "/mine.txt") << "precious";
+  const RunResult run = Rockcal("simulate " + Example("profile2d") + " --rocks 2 --quiet --out " + out);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_THAT(run.err, HasSubstr("--force"));
+  EXPECT_TRUE(fs::exists(out + "/mine.txt"));
+  EXPECT_EQ(Rockcal("simulate " + Example("profile2d") + " --rocks 2 --quiet --force --out " + out).status, 0);
+  EXPECT_FALSE(fs::exists(out + "/mine.txt"));
+  EXPECT_TRUE(fs::exists(out + "/summary.json"));
+}
+
+TEST(Simulate, BadInputExitsTwoAndLeavesNothing) {
+  const std::string out = FreshDir("bad");
+  const std::string site = ::testing::TempDir() + "/rockcal_bad_site.json";
+  std::ofstream(site) << R"({"name": "x", "units": "si", "surface": {"points": [[0,0,0]]}})";
+  RunResult run = Rockcal("simulate " + site + " --out " + out);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_THAT(run.err, HasSubstr(site));
+  EXPECT_FALSE(fs::exists(out));
+  run = Rockcal("simulate " + Example("profile2d") + " --set material.nope.hardness=0.3 --out " + out);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_THAT(run.err, HasSubstr("nope"));
+  run = Rockcal("simulate " + Example("profile2d") + " --rocks zero --out " + out);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_THAT(run.err, HasSubstr("--rocks"));
+  EXPECT_FALSE(fs::exists(out));
+  for (const auto& e : fs::directory_iterator(::testing::TempDir()))
+    EXPECT_EQ(e.path().filename().string().find("rockcal_cli_bad.tmp"), std::string::npos);
+}
+
+TEST(Validate, PrintsWhatItFound) {
+  EXPECT_EQ(Rockcal("validate " + Example("tutorial")).status, 0);
+  EXPECT_EQ(Rockcal("validate /nonexistent/site.json").status, 2);
+}
+
+}  // namespace
+}  // namespace rockcal::cli

@@ -1,0 +1,452 @@
+#include "rockcal/observations/misfit.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rockcal::observations {
+namespace {
+
+using ::testing::HasSubstr;
+
+// Two X partitions and one rock group released at the origin; no terrain is
+// needed because the records are built by hand.
+core::Scene TwoPartitionScene() {
+  core::Scene scene;
+  scene.name = "hand-made";
+  core::Partition a;
+  a.id = "BP-1";
+  a.value = 50.0;
+  core::Partition b;
+  b.id = "BP-2";
+  b.value = 80.0;
+  scene.partitions = {a, b};
+  core::RockGroup group;
+  group.count = 40;
+  scene.groups = {group};
+  return scene;
+}
+
+core::RockRecord StoppedRock(int index, double stop_x, double stop_y) {
+  core::RockRecord rock;
+  rock.rock = index;
+  rock.outcome = core::Outcome::kStopped;
+  rock.stop = Eigen::Vector3d(stop_x, stop_y, 1.0);
+  rock.crossings.resize(2);
+  return rock;
+}
+
+// Rocks that cross `partition` at the given heights (each rock crosses once).
+core::SimulationResult CrossingAt(int partition, const std::vector<double>& heights) {
+  core::SimulationResult result;
+  for (std::size_t i = 0; i < heights.size(); ++i) {
+    core::RockRecord rock = StoppedRock(static_cast<int>(i), 100.0, 0.0);
+    core::Crossing& c = rock.crossings[static_cast<std::size_t>(partition)];
+    c.crossed = true;
+    c.height = heights[i];
+    c.speed = 5.0;
+    c.energy = 100.0;
+    result.rocks.push_back(rock);
+  }
+  return result;
+}
+
+Observations ScarsAt(int partition, std::vector<double> heights, double error) {
+  Observations obs;
+  ScarSet set;
+  set.label = "tree_scars[0] BP-" + std::to_string(partition + 1);
+  set.partition = partition;
+  set.heights = std::move(heights);
+  obs.tree_scars.push_back(set);
+  obs.error.height = error;
+  return obs;
+}
+
+// 40 heights from 0.2 to 4.1 m in a scrambled order.
+std::vector<double> SomeHeights() {
+  std::vector<double> h;
+  for (int i = 0; i < 40; ++i) h.push_back(0.2 + 0.1 * ((i * 17) % 40));
+  return h;
+}
+
+std::vector<double> Shifted(std::vector<double> v, double d) {
+  for (double& x : v) x += d;
+  return v;
+}
+
+TEST(MisfitTest, IdenticalDistributionsGiveZero) {
+  const core::Scene scene = TwoPartitionScene();
+  const std::vector<double> heights = SomeHeights();
+  std::vector<double> observed = heights;
+  std::sort(observed.begin(), observed.end());  // order does not matter
+  const Misfit m = ComputeMisfit(ScarsAt(0, observed, 0.3), scene, CrossingAt(0, heights));
+  EXPECT_FALSE(m.penalised) << m.message;
+  EXPECT_EQ(m.value, 0.0);
+  ASSERT_EQ(m.residuals.size(), 10u);  // p10 ... p90 and max
+  EXPECT_EQ(m.residuals[0].quantity, "p10");
+  EXPECT_EQ(m.residuals[8].quantity, "p90");
+  EXPECT_EQ(m.residuals[9].quantity, "max");
+  for (const Residual& r : m.residuals) {
+    EXPECT_EQ(r.observation, "tree_scars[0] BP-1");
+    EXPECT_EQ(r.value, 0.0) << r.quantity;
+    EXPECT_GE(r.sigma, 0.3);
+  }
+}
+
+TEST(MisfitTest, GrowsMonotonicallyWithAShiftAndResidualsFollowItsSign) {
+  const core::Scene scene = TwoPartitionScene();
+  const std::vector<double> heights = SomeHeights();
+  const Observations obs = ScarsAt(0, heights, 0.3);
+  double previous = 0.0;
+  for (const double shift : {0.02, 0.1, 0.3, 1.0, 3.0, 10.0}) {
+    const Misfit up = ComputeMisfit(obs, scene, CrossingAt(0, Shifted(heights, shift)));
+    const Misfit down = ComputeMisfit(obs, scene, CrossingAt(0, Shifted(heights, -shift)));
+    EXPECT_GT(up.value, previous) << "shift " << shift;
+    // The sigmas do not depend on the shift, so the misfit is symmetric.
+    EXPECT_NEAR(down.value, up.value, 1e-9 * up.value) << "shift " << shift;
+    for (std::size_t i = 0; i < up.residuals.size(); ++i) {
+      EXPECT_GT(up.residuals[i].value, 0.0) << up.residuals[i].quantity;
+      EXPECT_LT(down.residuals[i].value, 0.0) << down.residuals[i].quantity;
+      EXPECT_NEAR(up.residuals[i].simulated - up.residuals[i].observed, shift, 1e-9);
+    }
+    previous = up.value;
+  }
+}
+
+TEST(MisfitTest, SigmaCombinesMeasurementMonteCarloAndSamplingErrors) {
+  const core::Scene scene = TwoPartitionScene();
+  std::vector<double> simulated, observed;
+  for (int i = 0; i < 100; ++i) simulated.push_back(0.05 * i);
+  for (int i = 0; i < 10; ++i) observed.push_back(0.3 * i * i / 9.0);
+  const double e = 0.25;
+  const Misfit m = ComputeMisfit(ScarsAt(0, observed, e), scene, CrossingAt(0, simulated));
+  ASSERT_EQ(m.residuals.size(), 10u);
+  // p50: simulated sample 0, 0.05, ..., 4.95: centre 49.5, half width 5, so its
+  // error is 0.05 * 10 / 2 = 0.25; observed: n = 10, centre 4.5, half width
+  // h = sqrt(2.5) = 1.5811, between x(4.5 - h) and x(4.5 + h).
+  const double h = std::sqrt(2.5);
+  const double x_lo = 0.3 / 9.0 * (4.0 + (2.5 - h) * (9.0 - 4.0));     // x(4.5 - h)
+  const double x_hi = 0.3 / 9.0 * (36.0 + (h - 1.5) * (49.0 - 36.0));  // x(4.5 + h)
+  const double obs_error = 0.5 * (x_hi - x_lo);
+  const Residual& p50 = m.residuals[4];
+  EXPECT_EQ(p50.quantity, "p50");
+  EXPECT_NEAR(p50.sigma, std::sqrt(e * e + 0.25 * 0.25 + obs_error * obs_error), 1e-12);
+  EXPECT_NEAR(p50.simulated, 2.475, 1e-12);
+  EXPECT_NEAR(p50.observed, 0.3 * (16 + 0.5 * 9) / 9.0, 1e-12);
+  EXPECT_NEAR(p50.value, (p50.simulated - p50.observed) / p50.sigma, 1e-12);
+  // max: gaps between the two largest values, 0.05 and 0.3 * 17 / 9.
+  const Residual& max = m.residuals[9];
+  EXPECT_NEAR(max.sigma, std::sqrt(e * e + 0.05 * 0.05 + std::pow(0.3 * 17 / 9.0, 2)), 1e-12);
+  EXPECT_NEAR(max.simulated, 4.95, 1e-12);
+  EXPECT_NEAR(max.observed, 0.3 * 9, 1e-12);
+  double sum = 0.0;
+  for (const Residual& r : m.residuals) sum += r.value * r.value;
+  EXPECT_NEAR(m.value, 0.5 * sum, 1e-12 * m.value);
+}
+
+TEST(MisfitTest, SigmaHasAPositiveFloor) {
+  const core::Scene scene = TwoPartitionScene();
+  const std::vector<double> same(20, 1.5);
+  // A hand-built observation without a measurement error: no sigma is zero and
+  // every value stays finite.
+  const Observations obs = ScarsAt(0, same, 0.0);
+  const Misfit equal = ComputeMisfit(obs, scene, CrossingAt(0, same));
+  EXPECT_EQ(equal.value, 0.0);
+  const Misfit apart = ComputeMisfit(obs, scene, CrossingAt(0, Shifted(same, 1e-3)));
+  for (const Residual& r : apart.residuals) {
+    EXPECT_GT(r.sigma, 0.0);
+    EXPECT_TRUE(std::isfinite(r.value)) << r.value;
+  }
+  EXPECT_TRUE(std::isfinite(apart.value));
+  EXPECT_GT(apart.value, 0.0);
+}
+
+TEST(MisfitTest, NonFiniteResultIsPenalisedWithAFiniteValue) {
+  const core::Scene scene = TwoPartitionScene();
+  core::SimulationResult result = CrossingAt(0, SomeHeights());
+  result.non_finite = 1;
+  MisfitOptions options;
+  options.penalty = 42.0;
+  const Misfit m = ComputeMisfit(ScarsAt(0, SomeHeights(), 0.3), scene, result, options);
+  EXPECT_TRUE(m.penalised);
+  EXPECT_EQ(m.value, 42.0);
+  EXPECT_TRUE(m.residuals.empty());
+  EXPECT_THAT(m.message, HasSubstr("non-finite"));
+
+  // A non-finite value in a record counts too, even when non_finite is 0.
+  result.non_finite = 0;
+  result.rocks[3].crossings[0].height = std::numeric_limits<double>::quiet_NaN();
+  const Misfit n = ComputeMisfit(ScarsAt(0, SomeHeights(), 0.3), scene, result);
+  EXPECT_TRUE(n.penalised);
+  EXPECT_EQ(n.value, MisfitOptions().penalty);
+  EXPECT_TRUE(std::isfinite(n.value));
+}
+
+TEST(MisfitTest, NoCrossingsGiveAFiniteLargeMisfit) {
+  const core::Scene scene = TwoPartitionScene();
+  // Every rock crossed BP-2, none crossed BP-1 where the scars are.
+  const Observations obs = ScarsAt(0, SomeHeights(), 0.3);
+  for (const std::size_t crossed_bp1 : {0u, 1u}) {
+    core::SimulationResult result = CrossingAt(1, SomeHeights());
+    for (std::size_t i = 0; i < crossed_bp1; ++i) {
+      result.rocks[i].crossings[0].crossed = true;
+      result.rocks[i].crossings[0].height = 1.0;
+    }
+    const Misfit m = ComputeMisfit(obs, scene, result);
+    SCOPED_TRACE(crossed_bp1);
+    EXPECT_TRUE(m.penalised);
+    EXPECT_TRUE(std::isfinite(m.value));
+    EXPECT_NEAR(m.value, MisfitOptions().penalty, 1e-9 * MisfitOptions().penalty);
+    EXPECT_THAT(m.message, HasSubstr("tree_scars[0] BP-1"));
+    EXPECT_THAT(m.message, HasSubstr("fewer than 2"));
+    ASSERT_EQ(m.residuals.size(), 10u);
+    for (const Residual& r : m.residuals) {
+      EXPECT_TRUE(std::isfinite(r.value));
+      EXPECT_TRUE(std::isfinite(r.simulated));
+      EXPECT_GT(r.sigma, 0.0);
+    }
+  }
+}
+
+Observations RunoutAlongX(std::vector<Eigen::Vector2d> stops, double error) {
+  Observations obs;
+  Runout r;
+  r.from = Eigen::Vector2d(0, 0);
+  r.direction = Eigen::Vector2d(1, 0);
+  r.stop_points = std::move(stops);
+  for (const Eigen::Vector2d& p : r.stop_points) {
+    r.distances.push_back(r.Distance(p));
+    r.lateral.push_back(r.Lateral(p));
+  }
+  obs.runout = r;
+  obs.error.runout = error;
+  return obs;
+}
+
+TEST(MisfitTest, RunoutComparesDistanceAndLateralOffsetOfStoppedRocks) {
+  const core::Scene scene = TwoPartitionScene();
+  std::vector<Eigen::Vector2d> stops;
+  for (int i = 0; i < 30; ++i)
+    stops.emplace_back(100.0 + 3.0 * ((i * 7) % 30), -10.0 + (i % 5) * 5);
+  const Observations obs = RunoutAlongX(stops, 2.0);
+
+  auto simulate = [&](double dx, double dy) {
+    core::SimulationResult result;
+    for (std::size_t i = 0; i < stops.size(); ++i) {
+      result.rocks.push_back(
+          StoppedRock(static_cast<int>(i), stops[i].x() + dx, stops[i].y() + dy));
+    }
+    // Rocks that left the slope or timed out do not count for runout.
+    core::RockRecord left = StoppedRock(100, 1e4, 1e4);
+    left.outcome = core::Outcome::kLeft;
+    core::RockRecord timeout = StoppedRock(101, -1e4, 0);
+    timeout.outcome = core::Outcome::kTimeout;
+    result.rocks.push_back(left);
+    result.rocks.push_back(timeout);
+    return result;
+  };
+
+  const Misfit same = ComputeMisfit(obs, scene, simulate(0, 0));
+  EXPECT_FALSE(same.penalised) << same.message;
+  EXPECT_EQ(same.value, 0.0);
+  ASSERT_EQ(same.residuals.size(), 20u);
+  EXPECT_EQ(same.residuals[0].observation, "runout distance");
+  EXPECT_EQ(same.residuals[10].observation, "runout lateral");
+
+  const Misfit longer = ComputeMisfit(obs, scene, simulate(15, 0));
+  for (std::size_t i = 0; i < 10; ++i) EXPECT_GT(longer.residuals[i].value, 0.0);
+  for (std::size_t i = 10; i < 20; ++i) EXPECT_NEAR(longer.residuals[i].value, 0.0, 1e-12);
+
+  const Misfit right = ComputeMisfit(obs, scene, simulate(0, -8));
+  for (std::size_t i = 0; i < 10; ++i) EXPECT_NEAR(right.residuals[i].value, 0.0, 1e-12);
+  for (std::size_t i = 10; i < 20; ++i) EXPECT_LT(right.residuals[i].value, 0.0);
+
+  EXPECT_GT(ComputeMisfit(obs, scene, simulate(30, 0)).value, longer.value);
+
+  // No rock stopped: both runout distributions are penalised, finitely.
+  core::SimulationResult none = simulate(0, 0);
+  for (core::RockRecord& rock : none.rocks) rock.outcome = core::Outcome::kLeft;
+  const Misfit gone = ComputeMisfit(obs, scene, none);
+  EXPECT_TRUE(gone.penalised);
+  EXPECT_NEAR(gone.value, 2 * MisfitOptions().penalty, 1e-6);
+}
+
+TEST(MisfitTest, RunoutGivenAsDistancesHasNoLateralResiduals) {
+  const core::Scene scene = TwoPartitionScene();
+  Observations obs;
+  Runout r;
+  r.from = Eigen::Vector2d(10, 0);
+  r.direction = Eigen::Vector2d(0, 1);
+  r.distances = {20, 30, 40};
+  obs.runout = r;
+  obs.error.runout = 1.0;
+  core::SimulationResult result;
+  for (int i = 0; i < 3; ++i) result.rocks.push_back(StoppedRock(i, 50.0, 20.0 + 10 * i));
+  const Misfit m = ComputeMisfit(obs, scene, result);
+  ASSERT_EQ(m.residuals.size(), 10u);
+  for (const Residual& r2 : m.residuals) EXPECT_EQ(r2.observation, "runout distance");
+  EXPECT_EQ(m.value, 0.0);
+}
+
+TEST(MisfitTest, PassingFractionWithBinomialError) {
+  const core::Scene scene = TwoPartitionScene();
+  core::SimulationResult result = CrossingAt(1, std::vector<double>(4, 1.0));
+  for (int i = 0; i < 6; ++i) result.rocks.push_back(StoppedRock(10 + i, 60.0, 0.0));
+  Observations obs;
+  Passing p;
+  p.label = "passing[0] BP-2";
+  p.partition = 1;
+  p.fraction = 0.4;
+  obs.passing.push_back(p);
+  obs.error.passing = 0.05;
+
+  Misfit m = ComputeMisfit(obs, scene, result);
+  ASSERT_EQ(m.residuals.size(), 1u);  // no scars, no runout: nothing else
+  EXPECT_EQ(m.residuals[0].quantity, "fraction");
+  EXPECT_DOUBLE_EQ(m.residuals[0].simulated, 0.4);
+  EXPECT_NEAR(m.residuals[0].sigma, std::sqrt(0.05 * 0.05 + 0.4 * 0.6 / 10), 1e-12);
+  EXPECT_EQ(m.value, 0.0);
+
+  obs.passing[0].fraction = 0.3;
+  m = ComputeMisfit(obs, scene, result);
+  EXPECT_GT(m.residuals[0].value, 0.0);
+  EXPECT_NEAR(m.residuals[0].value, 0.1 / m.residuals[0].sigma, 1e-12);
+}
+
+TEST(MisfitTest, TreeScarsPoolTheTreesOfASet) {
+  const core::Scene scene = TwoPartitionScene();
+  Observations obs;
+  ScarSet set;
+  set.label = "tree_scars[0] trees";
+  Tree a;
+  a.probe = 0;
+  a.heights = {1.0, 2.0, 3.0};
+  Tree b;
+  b.probe = 1;
+  b.heights = {0.5, 1.5};
+  set.trees = {a, b};
+  obs.tree_scars.push_back(set);
+  obs.error.height = 0.2;
+
+  core::SimulationResult result;
+  const double at_a[] = {1.0, 2.0, 3.0, -1};  // -1: did not pass the tree
+  const double at_b[] = {0.5, -1, 1.5, -1};
+  for (int i = 0; i < 4; ++i) {
+    core::RockRecord rock = StoppedRock(i, 100, 0);
+    rock.crossings.clear();  // partitions not recorded
+    rock.trees.resize(2);
+    if (at_a[i] >= 0)
+      rock.trees[0] = core::Crossing{true, at_a[i], 1.0, 1.0, Eigen::Vector3d::Zero()};
+    if (at_b[i] >= 0)
+      rock.trees[1] = core::Crossing{true, at_b[i], 1.0, 1.0, Eigen::Vector3d::Zero()};
+    result.rocks.push_back(rock);
+  }
+  const Misfit m = ComputeMisfit(obs, scene, result);
+  EXPECT_FALSE(m.penalised) << m.message;
+  EXPECT_EQ(m.value, 0.0);
+
+  result.rocks[0].trees[1].height = 2.5;  // a higher pass at tree b
+  EXPECT_GT(ComputeMisfit(obs, scene, result).value, 0.0);
+}
+
+TEST(MisfitTest, MissingRecordsAreAProgrammerError) {
+  const core::Scene scene = TwoPartitionScene();
+  core::SimulationResult result = CrossingAt(0, SomeHeights());
+  for (core::RockRecord& rock : result.rocks) rock.crossings.clear();
+  EXPECT_THROW(ComputeMisfit(ScarsAt(0, SomeHeights(), 0.3), scene, result), std::invalid_argument);
+
+  Observations trees;
+  ScarSet set;
+  set.label = "tree_scars[0] trees";
+  Tree t;
+  t.probe = 0;
+  t.heights = {1};
+  set.trees = {t};
+  trees.tree_scars.push_back(set);
+  trees.error.height = 0.1;
+  EXPECT_THROW(ComputeMisfit(trees, scene, CrossingAt(0, SomeHeights())), std::invalid_argument);
+}
+
+TEST(MisfitOptionsTest, IsValidNamesTheFieldAndTheRule) {
+  std::string error;
+  EXPECT_TRUE(MisfitOptions().IsValid(&error)) << error;
+
+  MisfitOptions bad_level;
+  bad_level.levels = {0.5, 1.5};
+  EXPECT_FALSE(bad_level.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("levels[1] = 1.5"));
+  EXPECT_THROW(
+      ComputeMisfit(Observations(), TwoPartitionScene(), core::SimulationResult(), bad_level),
+      std::invalid_argument);
+
+  MisfitOptions bad_penalty;
+  bad_penalty.penalty = std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(bad_penalty.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("penalty = inf"));
+
+  MisfitOptions nothing;
+  nothing.levels.clear();
+  nothing.include_max = false;
+  EXPECT_FALSE(nothing.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("include_max"));
+
+  MisfitOptions bad_floor;
+  bad_floor.sigma_floor = 0.0;
+  EXPECT_FALSE(bad_floor.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("sigma_floor = 0"));
+}
+
+TEST(MisfitOptionsTest, LevelsAndMaxAreChosen) {
+  MisfitOptions options;
+  options.levels = {0.5, 0.975};
+  options.include_max = false;
+  const Misfit m = ComputeMisfit(ScarsAt(0, SomeHeights(), 0.3), TwoPartitionScene(),
+                                 CrossingAt(0, SomeHeights()), options);
+  ASSERT_EQ(m.residuals.size(), 2u);
+  EXPECT_EQ(m.residuals[0].quantity, "p50");
+  EXPECT_EQ(m.residuals[1].quantity, "p97.5");
+}
+
+TEST(QuantileErrorTest, OrderStatisticsOfASample) {
+  std::vector<double> s;
+  for (int i = 0; i < 100; ++i) s.push_back(i);
+  // p = 0.5: centre 49.5, half width sqrt(100 * 0.25) = 5.
+  EXPECT_NEAR(QuantileStandardError(s, 0.5), 5.0, 1e-12);
+  // p = 0.1: centre 9.9, half width sqrt(100 * 0.09) = 3.
+  EXPECT_NEAR(QuantileStandardError(s, 0.1), 3.0, 1e-12);
+  // p = 0.99: centre 98.01, half width sqrt(0.99) clamped at 99 above.
+  EXPECT_NEAR(QuantileStandardError(s, 0.99), 0.5 * (99.0 - (98.01 - std::sqrt(0.99))), 1e-12);
+  EXPECT_EQ(QuantileStandardError(s, 1.0), 0.0);
+  EXPECT_EQ(QuantileStandardError({3.0}, 0.5), 0.0);
+  EXPECT_EQ(QuantileStandardError({}, 0.5), 0.0);
+
+  EXPECT_EQ(MaxStandardError({1.0, 2.0, 7.0}), 5.0);
+  EXPECT_EQ(MaxStandardError({7.0}), 0.0);
+}
+
+TEST(QuantileErrorTest, LevelNames) {
+  EXPECT_EQ(LevelName(0.1), "p10");
+  EXPECT_EQ(LevelName(0.9), "p90");
+  EXPECT_EQ(LevelName(0.025), "p2.5");
+  EXPECT_EQ(LevelName(1.0), "p100");
+  EXPECT_EQ(LevelName(0.0), "p0");
+}
+
+TEST(MisfitTest, ReportListsEveryResidual) {
+  const Misfit m = ComputeMisfit(ScarsAt(0, SomeHeights(), 0.3), TwoPartitionScene(),
+                                 CrossingAt(0, Shifted(SomeHeights(), 0.5)));
+  const std::string report = m.Report();
+  EXPECT_THAT(report, HasSubstr("tree_scars[0] BP-1"));
+  EXPECT_THAT(report, HasSubstr("p10"));
+  EXPECT_THAT(report, HasSubstr("max"));
+  EXPECT_THAT(report, HasSubstr("misfit "));
+}
+
+}  // namespace
+}  // namespace rockcal::observations

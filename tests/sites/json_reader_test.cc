@@ -1,0 +1,94 @@
+#include "rockcal/sites/json_reader.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "test_files.h"
+
+namespace rockcal::sites {
+namespace {
+
+using testing::ErrorOf;
+using ::testing::HasSubstr;
+using testing::TempDir;
+
+TEST(ReadJsonFile, SyntaxErrorNamesFileLineAndColumn) {
+  TempDir dir;
+  const std::string path = dir.Write("bad.json", "{\n  \"a\": 1,\n  \"b\": \n}\n");
+  const std::string msg = ErrorOf([&] { ReadJsonFile(path); });
+  EXPECT_THAT(msg, HasSubstr(path + ":4:"));
+  EXPECT_THAT(msg, HasSubstr("invalid JSON"));
+}
+
+TEST(ReadJsonFile, MissingFileIsAnInputError) {
+  TempDir dir;
+  const std::string path = dir.path() + "/absent.json";
+  EXPECT_THAT(ErrorOf([&] { ReadJsonFile(path); }), HasSubstr(path + ": cannot open file"));
+}
+
+TEST(JsonNode, KeysRejectsUnknownKeyNamingPathAndAllowed) {
+  const nlohmann::json j = nlohmann::json::parse(R"({"a": 1, "colour": 2})");
+  const JsonNode node(&j, "site.json", "$.x");
+  const std::string msg = ErrorOf([&] { node.Keys({"a", "b"}); });
+  EXPECT_THAT(msg, HasSubstr("site.json: $.x.colour"));
+  EXPECT_THAT(msg, HasSubstr("unknown key 'colour'"));
+  EXPECT_THAT(msg, HasSubstr("allowed keys: a, b"));
+}
+
+TEST(JsonNode, GetMissingKeyNamesIt) {
+  const nlohmann::json j = nlohmann::json::parse(R"({"a": 1})");
+  const JsonNode node(&j, "f.json", "$");
+  EXPECT_THAT(ErrorOf([&] { node.Get("b"); }), HasSubstr("f.json: $: missing required key 'b'"));
+  EXPECT_TRUE(node.Find("a").has_value());
+  EXPECT_FALSE(node.Find("b").has_value());
+  EXPECT_EQ(node.Get("a").path(), "$.a");
+}
+
+TEST(JsonNode, NumbersCheckTypeAndRange) {
+  const nlohmann::json j = nlohmann::json::parse(R"({"s": "x", "n": 1.5, "neg": -1, "i": 2.5})");
+  const JsonNode node(&j, "f.json", "$");
+  EXPECT_THAT(ErrorOf([&] { node.Get("s").Number(); }),
+              HasSubstr("f.json: $.s: expected a number (found \"x\")"));
+  EXPECT_DOUBLE_EQ(node.Get("n").Number(0, 2), 1.5);
+  EXPECT_THAT(ErrorOf([&] { node.Get("n").Number(0, 1); }),
+              HasSubstr("$.n: expected a number in [0, 1] (found 1.5)"));
+  EXPECT_THAT(ErrorOf([&] { node.Get("neg").Positive(); }), HasSubstr("expected a number > 0"));
+  EXPECT_THAT(ErrorOf([&] { node.Get("neg").NonNegative(); }), HasSubstr("expected a number >= 0"));
+  EXPECT_THAT(ErrorOf([&] { node.Get("i").Integer(0, 9); }), HasSubstr("expected a whole number"));
+}
+
+TEST(JsonNode, ArraysNameTheirElements) {
+  const nlohmann::json j = nlohmann::json::parse(R"({"p": [[1, 2], [3, "y"]]})");
+  const JsonNode node(&j, "f.json", "$");
+  const std::vector<JsonNode> items = node.Get("p").Array(2);
+  ASSERT_EQ(items.size(), 2u);
+  EXPECT_EQ(items[1].path(), "$.p[1]");
+  EXPECT_EQ(items[0].Numbers(2), (std::vector<double>{1, 2}));
+  EXPECT_THAT(ErrorOf([&] { items[1].Numbers(2); }), HasSubstr("$.p[1][1]: expected a number"));
+  EXPECT_THAT(ErrorOf([&] { items[0].Numbers(3); }), HasSubstr("expected an array of 3 numbers"));
+  EXPECT_THAT(ErrorOf([&] { node.Get("p").Array(3); }),
+              HasSubstr("expected an array of at least 3 entries"));
+}
+
+TEST(Units, ReadAndConvert) {
+  const nlohmann::json j = nlohmann::json::parse(R"({"a": "us", "b": "si", "c": "metric"})");
+  const JsonNode node(&j, "f.json", "$");
+  EXPECT_EQ(ReadUnits(node.Get("a")), Units::kUS);
+  EXPECT_EQ(ReadUnits(node.Get("b")), Units::kSI);
+  EXPECT_THAT(ErrorOf([&] { ReadUnits(node.Get("c")); }),
+              HasSubstr("$.c: unknown units (allowed: us, si)"));
+  EXPECT_DOUBLE_EQ(LengthToSI(12.0, Units::kUS), 3.6576);
+  EXPECT_DOUBLE_EQ(LengthToSI(12.0, Units::kSI), 12.0);
+  // 165 lbf/ft^3 is about 25.92 kN/m^3.
+  EXPECT_NEAR(UnitWeightToSI(165.0, Units::kUS), 25919.43, 0.01);
+  EXPECT_DOUBLE_EQ(UnitWeightToSI(26.0, Units::kSI), 26000.0);
+}
+
+TEST(FormatNumber, ShortAndExact) {
+  EXPECT_EQ(FormatNumber(12.0), "12");
+  EXPECT_EQ(FormatNumber(0.3048), "0.3048");
+  EXPECT_EQ(FormatNumber(-2.5), "-2.5");
+}
+
+}  // namespace
+}  // namespace rockcal::sites

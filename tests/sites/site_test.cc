@@ -1,0 +1,430 @@
+#include "rockcal/sites/site.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "test_files.h"
+
+namespace rockcal::sites {
+namespace {
+
+using testing::ErrorOf;
+using ::testing::HasSubstr;
+using testing::TempDir;
+using Json = nlohmann::json;
+
+// A valid US site: a 200 ft x 100 ft plane from 100 ft down to 0, grid of 10 ft.
+Json BaseSite() {
+  return Json::parse(R"({
+    "name": "test slope",
+    "units": "us",
+    "surface": {"resolution": 10,
+                "points": [[0, 0, 100], [200, 0, 0], [0, 100, 100], [200, 100, 0]]},
+    "materials": [
+      {"id": "rock", "hardness": 0.6, "roughness": 1.0},
+      {"id": "talus", "hardness": 0.3, "roughness": 2.0, "contact_time": 0.004,
+       "zone": [[100, -5], [205, -5], [205, 105], [100, 105]],
+       "calibrate": {"hardness": [0.1, 0.6], "roughness": [0.5, 5.0],
+                     "contact_time": [0.002, 0.01]}}
+    ],
+    "partitions": [{"id": "BP-1", "x": 150}, {"id": "BP-2", "z": 40}],
+    "rocks": [
+      {"count": 10, "shape": "sphere", "size": [1, 3], "unit_weight": 165,
+       "release": {"zone": [[10, 40], [30, 40], [30, 60], [10, 60]], "height": 1,
+                   "velocity": [1, 0, -2]}},
+      {"count": 5, "shape": "cube", "size": 2, "unit_weight": 150,
+       "release": {"point": [20, 50]}}
+    ],
+    "simulation": {"seed": 7, "max_time": 30, "stop_speed": 0.5}
+  })");
+}
+
+std::string WriteSite(const TempDir& dir, const Json& site) {
+  return dir.Write("site.json", site.dump(2));
+}
+
+// The error of loading BaseSite() changed by `edit`.
+std::string LoadError(const std::function<void(Json&)>& edit) {
+  TempDir dir;
+  Json site = BaseSite();
+  edit(site);
+  const std::string path = WriteSite(dir, site);
+  const std::string msg = ErrorOf([&] { LoadSite(path); });
+  EXPECT_THAT(msg, HasSubstr(path + ": ")) << "the message must name the site file";
+  return msg;
+}
+
+TEST(LoadSite, BuildsTheSceneInSIUnits) {
+  TempDir dir;
+  const Site site = LoadSite(WriteSite(dir, BaseSite()));
+  const core::Scene& s = site.scene;
+  EXPECT_EQ(site.units, Units::kUS);
+  EXPECT_EQ(s.name, "test slope");
+  EXPECT_DOUBLE_EQ(s.grid.spacing, 3.048);
+  ASSERT_EQ(s.grid.nx, 21);
+  ASSERT_EQ(s.grid.ny, 11);
+  EXPECT_NEAR(s.grid.z[s.grid.index(5, 3)], 0.3048 * 75.0, 1e-9);
+  // Nodes at x >= 100 ft are talus.
+  int talus = 0;
+  for (int m : s.grid.material) talus += m == 1;
+  EXPECT_EQ(talus, 11 * 11);
+  EXPECT_EQ(s.grid.material[s.grid.index(9, 4)], 0);
+  EXPECT_EQ(s.grid.material[s.grid.index(10, 4)], 1);
+
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.materials[0].id, "rock");
+  EXPECT_DOUBLE_EQ(s.materials[0].roughness_m, 0.3048);
+  EXPECT_DOUBLE_EQ(s.materials[0].contact_time_s, 0.005);
+  EXPECT_DOUBLE_EQ(s.materials[1].contact_time_s, 0.004);
+  EXPECT_FALSE(s.materials[0].restitution.has_value());
+
+  ASSERT_EQ(s.partitions.size(), 2u);
+  EXPECT_EQ(s.partitions[0].kind, core::Partition::Kind::kX);
+  EXPECT_DOUBLE_EQ(s.partitions[0].value, 45.72);
+  EXPECT_EQ(s.partitions[1].kind, core::Partition::Kind::kZ);
+  EXPECT_DOUBLE_EQ(s.partitions[1].value, 12.192);
+
+  ASSERT_EQ(s.groups.size(), 2u);
+  const core::RockGroup& g = s.groups[0];
+  EXPECT_EQ(g.count, 10);
+  EXPECT_EQ(g.shape, core::Shape::kSphere);
+  EXPECT_DOUBLE_EQ(g.size_min, 0.3048);
+  EXPECT_DOUBLE_EQ(g.size_max, 0.9144);
+  EXPECT_NEAR(g.unit_weight, 25919.43, 0.01);
+  ASSERT_EQ(g.release.zone.size(), 4u);
+  EXPECT_DOUBLE_EQ(g.release.zone[1].x(), 9.144);
+  EXPECT_DOUBLE_EQ(g.release.height, 0.3048);
+  EXPECT_DOUBLE_EQ(g.release.velocity.z(), -0.6096);
+  EXPECT_EQ(s.groups[1].shape, core::Shape::kCube);
+  EXPECT_DOUBLE_EQ(s.groups[1].size_min, 0.6096);
+  EXPECT_DOUBLE_EQ(s.groups[1].size_max, 0.6096);
+  EXPECT_TRUE(s.groups[1].release.zone.empty());
+  EXPECT_DOUBLE_EQ(s.groups[1].release.point.y(), 15.24);
+  EXPECT_EQ(s.total_rocks(), 15);
+
+  EXPECT_EQ(s.options.seed, 7u);
+  EXPECT_DOUBLE_EQ(s.options.max_time, 30.0);
+  EXPECT_DOUBLE_EQ(s.options.stop_speed, 0.1524);
+  EXPECT_EQ(s.options.steps_per_contact, core::SimulationOptions().steps_per_contact);
+
+  ASSERT_EQ(site.calibrate.size(), 3u);
+  EXPECT_EQ(site.calibrate[0].material, "talus");
+  EXPECT_EQ(site.calibrate[0].name, "hardness");
+  EXPECT_EQ(site.calibrate[1].name, "roughness");
+  EXPECT_DOUBLE_EQ(site.calibrate[1].lower, 0.1524);
+  EXPECT_DOUBLE_EQ(site.calibrate[1].upper, 1.524);
+  EXPECT_EQ(site.calibrate[2].name, "contact_time");
+  EXPECT_DOUBLE_EQ(site.calibrate[2].upper, 0.01);
+
+  std::string notes;
+  for (const std::string& n : site.notes) notes += n + "\n";
+  EXPECT_THAT(notes, HasSubstr("grid: 21 x 11 nodes at 3.048 m spacing"));
+  EXPECT_THAT(notes, HasSubstr("material talus: 121 nodes"));
+  EXPECT_THAT(notes, HasSubstr("holes: 0 of 231 nodes"));
+  EXPECT_THAT(notes, HasSubstr("partition BP-2: z = 12.192 m"));
+  EXPECT_THAT(notes, HasSubstr("rock group 2: 5 cube"));
+}
+
+TEST(LoadSite, TheExampleOfDesignMdLoads) {
+  TempDir dir;
+  const std::string path = dir.Write("site.json", R"({
+    "name": "Tutorial slope",
+    "units": "us",
+    "surface": {
+      "resolution": 12,
+      "points": [[0, 0, 300], [400, 0, 20], [0, 200, 300], [400, 200, 20]]
+    },
+    "materials": [
+      {"id": "bedrock", "hardness": 0.6, "roughness": 1.0},
+      {"id": "talus", "hardness": 0.3, "roughness": 2.0,
+       "zone": [[250, 0], [400, 0], [400, 200], [250, 200]],
+       "calibrate": {"hardness": [0.1, 0.6], "roughness": [0.3, 6.0]}}
+    ],
+    "partitions": [{"id": "BP-1", "x": 300}, {"id": "BP-2", "z": 40}],
+    "rocks": [
+      {"count": 100, "shape": "sphere", "size": [1.0, 4.5], "unit_weight": 165,
+       "release": {"zone": [[0, 60], [30, 60], [30, 140], [0, 140]], "height": 0}}
+    ],
+    "simulation": {"seed": 1, "max_time": 60}
+  })");
+  const Site site = LoadSite(path);
+  const core::HeightGrid& g = site.scene.grid;
+  EXPECT_EQ(g.nx, 34);
+  EXPECT_EQ(g.ny, 17);
+  // The four corners define a plane; every node is on it, none is a hole.
+  for (int j = 0; j < g.ny; ++j) {
+    for (int i = 0; i < g.nx; ++i) {
+      EXPECT_NEAR(g.z[g.index(i, j)], 0.3048 * (300 - 0.7 * g.x(i) / 0.3048), 1e-9)
+          << i << "," << j;
+    }
+  }
+  EXPECT_EQ(site.calibrate.size(), 2u);
+  EXPECT_EQ(site.scene.total_rocks(), 100);
+}
+
+TEST(LoadSite, MaterialErrors) {
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][0]["hardness"] = 1.5; }),
+              HasSubstr("$.materials[0].hardness: expected a number in [0, 1] (found 1.5)"));
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][0]["roughness"] = -1; }),
+              HasSubstr("$.materials[0].roughness: expected a number >= 0 (found -1)"));
+  EXPECT_THAT(
+      LoadError([](Json& s) { s["materials"][0]["roughness"] = 6; }),
+      HasSubstr("$.materials[0].roughness: roughness exceeds half the grid spacing (5 ft)"));
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["contact_time"] = 0; }),
+              HasSubstr("$.materials[1].contact_time: expected a number > 0 (found 0)"));
+  EXPECT_THAT(
+      LoadError([](Json& s) { s["materials"][1]["contact_time"] = 5; }),
+      HasSubstr("$.materials[1].contact_time: expected a contact time in seconds in (0, 1]"));
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["restitution"] = 1.0; }),
+              HasSubstr("$.materials[1].restitution: expected a restitution in (0, 1)"));
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["id"] = "rock"; }),
+              HasSubstr("$.materials[1].id: duplicate material id"));
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][0]["id"] = "bed rock"; }),
+              HasSubstr("$.materials[0].id: expected an id of letters, digits"));
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][0]["colour"] = "red"; }),
+              HasSubstr("$.materials[0].colour: unknown key 'colour' (allowed keys: id, hardness"));
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][0].erase("hardness"); }),
+              HasSubstr("$.materials[0]: missing required key 'hardness'"));
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"] = Json::array(); }),
+              HasSubstr("$.materials: expected an array of at least 1 entries"));
+}
+
+TEST(LoadSite, ZoneErrors) {
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][0]["zone"] = s["materials"][1]["zone"]; }),
+              HasSubstr("$.materials[0].zone: the first material covers everything no zone "
+                        "claims and takes no zone"));
+  EXPECT_THAT(
+      LoadError([](Json& s) { s["materials"][1]["zone"] = Json::parse("[[0, 0], [1, 1]]"); }),
+      HasSubstr("$.materials[1].zone: expected a polygon: an array of at least 3 [x, y] "
+                "vertices"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["materials"][1]["zone"] = Json::parse("[[0, 0], [1, 1], [2, 2]]");
+              }),
+              HasSubstr("$.materials[1].zone: degenerate polygon"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["materials"][1]["zone"] = Json::parse("[[0, 0], [1, 1], [\"a\", 2]]");
+              }),
+              HasSubstr("$.materials[1].zone[2][0]: expected a number"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["materials"][1]["zone"] = Json::parse("[[300, 0], [400, 0], [400, 50]]");
+              }),
+              HasSubstr("$.materials[1].zone: the zone contains no grid node (the terrain spans x "
+                        "0 to 200, y 0 to 100)"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["materials"][1]["zone"] =
+                    Json::parse("[[-10, -10], [210, -10], [210, 110], [-10, 110]]");
+              }),
+              HasSubstr("$.materials[0]: material 'rock' covers no terrain node"));
+}
+
+TEST(LoadSite, CalibrateErrors) {
+  EXPECT_THAT(
+      LoadError([](Json& s) {
+        s["materials"][1]["calibrate"]["hardness"] = {0.6, 0.1};
+      }),
+      HasSubstr("$.materials[1].calibrate.hardness: expected [lower, upper] with lower < upper"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["materials"][1]["calibrate"]["hardness"] = {0.2, 1.2};
+              }),
+              HasSubstr("$.materials[1].calibrate.hardness: expected bounds within [0, 1]"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["materials"][1]["calibrate"]["hardness"] = {0.4, 0.6};
+              }),
+              HasSubstr("the material's hardness 0.3 is outside its calibrate bounds"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["materials"][1]["calibrate"]["roughness"] = {0.5, 8};
+              }),
+              HasSubstr("$.materials[1].calibrate.roughness: expected bounds within [0, 5] ft"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["materials"][1]["calibrate"]["contact_time"] = {0, 0.01};
+              }),
+              HasSubstr("$.materials[1].calibrate.contact_time: expected bounds within (0, 1] s"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["materials"][1]["calibrate"]["friction"] = {0, 1};
+              }),
+              HasSubstr("$.materials[1].calibrate.friction: unknown key 'friction' (allowed keys: "
+                        "hardness, roughness, contact_time)"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["materials"][1]["restitution"] = 0.4;
+                s["materials"][1]["friction"] = 0.6;
+              }),
+              HasSubstr("$.materials[1].calibrate.hardness: hardness has no effect"));
+}
+
+TEST(LoadSite, PartitionErrors) {
+  EXPECT_THAT(LoadError([](Json& s) { s["partitions"][0]["z"] = 40; }),
+              HasSubstr("$.partitions[0]: expected exactly one of 'x' or 'z'"));
+  EXPECT_THAT(LoadError([](Json& s) { s["partitions"][0].erase("x"); }),
+              HasSubstr("$.partitions[0]: expected exactly one of 'x' or 'z'"));
+  EXPECT_THAT(LoadError([](Json& s) { s["partitions"][0]["x"] = 500; }),
+              HasSubstr("$.partitions[0].x: the X partition lies off the terrain; expected x in "
+                        "[0, 200] (found 500)"));
+  EXPECT_THAT(LoadError([](Json& s) { s["partitions"][1]["z"] = 150; }),
+              HasSubstr("$.partitions[1].z: the Z partition is outside the terrain's elevations; "
+                        "expected z in [0, 100]"));
+  EXPECT_THAT(LoadError([](Json& s) { s["partitions"][1]["id"] = "BP-1"; }),
+              HasSubstr("$.partitions[1].id: duplicate partition id"));
+  EXPECT_THAT(LoadError([](Json& s) { s["partitions"][1]["x"] = "100"; }),
+              HasSubstr("$.partitions[1]: expected exactly one of 'x' or 'z'"));
+  EXPECT_THAT(LoadError([](Json& s) { s["partitions"][0]["x"] = "100"; }),
+              HasSubstr("$.partitions[0].x: expected a number (found \"100\")"));
+}
+
+TEST(LoadSite, RockGroupErrors) {
+  EXPECT_THAT(LoadError([](Json& s) { s["rocks"][0]["count"] = 0; }),
+              HasSubstr("$.rocks[0].count: expected a whole number in [1, 10000000] (found 0)"));
+  EXPECT_THAT(LoadError([](Json& s) { s["rocks"][0]["count"] = 2.5; }),
+              HasSubstr("$.rocks[0].count: expected a whole number"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["rocks"][0]["size"] = {3, 1};
+              }),
+              HasSubstr("$.rocks[0].size: expected [min, max] with min <= max (found [3,1])"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["rocks"][0]["size"] = {0, 1};
+              }),
+              HasSubstr("$.rocks[0].size: expected [min, max] with 0 < min <= max"));
+  EXPECT_THAT(LoadError([](Json& s) { s["rocks"][1]["size"] = -2; }),
+              HasSubstr("$.rocks[1].size: expected a number > 0"));
+  EXPECT_THAT(LoadError([](Json& s) { s["rocks"][1]["size"] = "big"; }),
+              HasSubstr("$.rocks[1].size: expected a size > 0 or a range [min, max]"));
+  EXPECT_THAT(LoadError([](Json& s) { s["rocks"][0]["shape"] = "boulder"; }),
+              HasSubstr("$.rocks[0].shape: unknown shape (allowed: sphere, cylinder, disc, "
+                        "tetrahedron, cube) (found \"boulder\")"));
+  EXPECT_THAT(LoadError([](Json& s) { s["rocks"][0]["unit_weight"] = 0; }),
+              HasSubstr("$.rocks[0].unit_weight: expected a number > 0"));
+  EXPECT_THAT(LoadError([](Json& s) { s["rocks"] = Json::array(); }),
+              HasSubstr("$.rocks: expected an array of at least 1 entries"));
+}
+
+TEST(LoadSite, ReleaseErrors) {
+  EXPECT_THAT(
+      LoadError([](Json& s) {
+        s["rocks"][0]["release"]["zone"] = Json::parse("[[190, 40], [250, 40], [250, 60]]");
+      }),
+      HasSubstr("$.rocks[0].release.zone: release zone point (250, 40) is off the terrain "
+                "(outside the grid or over a hole; the terrain spans x 0 to 200, y 0 to 100)"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["rocks"][1]["release"]["point"] = {20, -1};
+              }),
+              HasSubstr("$.rocks[1].release.point: release point is off the terrain"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["rocks"][1]["release"]["zone"] = s["rocks"][0]["release"]["zone"];
+              }),
+              HasSubstr("$.rocks[1].release: expected exactly one of 'zone' (plan polygon) or "
+                        "'point' ([x, y])"));
+  EXPECT_THAT(LoadError([](Json& s) { s["rocks"][1]["release"].erase("point"); }),
+              HasSubstr("$.rocks[1].release: expected exactly one of 'zone'"));
+  EXPECT_THAT(LoadError([](Json& s) { s["rocks"][0]["release"]["height"] = -1; }),
+              HasSubstr("$.rocks[0].release.height: expected a number >= 0"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["rocks"][0]["release"]["velocity"] = {1, 2};
+              }),
+              HasSubstr("$.rocks[0].release.velocity: expected an array of 3 numbers"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["rocks"][0]["release"]["zone"] = Json::parse("[[10, 40], [30, 40]]");
+              }),
+              HasSubstr("$.rocks[0].release.zone: expected a polygon"));
+}
+
+TEST(LoadSite, ReleaseOverAHoleIsAnError) {
+  TempDir dir;
+  // 5 x 5 nodes of 10 m; the node (20, 20) is NODATA.
+  dir.Write("g.asc",
+            "ncols 5\nnrows 5\nxllcenter 0\nyllcenter 0\ncellsize 10\nNODATA_value -9999\n"
+            "5 5 5 5 5\n5 5 5 5 5\n5 5 -9999 5 5\n5 5 5 5 5\n5 5 5 5 5\n");
+  Json site = Json::parse(R"({
+    "name": "holes", "units": "si", "surface": {"grid_file": "g.asc"},
+    "materials": [{"id": "m", "hardness": 0.5, "roughness": 0}],
+    "rocks": [{"count": 1, "shape": "sphere", "size": 1, "unit_weight": 26,
+               "release": {"point": [25, 25]}}]})");
+  const std::string path = WriteSite(dir, site);
+  EXPECT_THAT(ErrorOf([&] { LoadSite(path); }),
+              HasSubstr(path + ": $.rocks[0].release.point: release point is off the terrain "
+                               "(outside the grid or over a hole"));
+  site["rocks"][0]["release"] = Json::parse(R"({"zone": [[5, 5], [35, 5], [35, 15], [5, 15]]})");
+  WriteSite(dir, site);
+  EXPECT_THAT(ErrorOf([&] { LoadSite(path); }),
+              HasSubstr("$.rocks[0].release.zone: release zone point"));
+  site["rocks"][0]["release"] = Json::parse(R"({"point": [35, 35]})");
+  WriteSite(dir, site);
+  const Site ok = LoadSite(path);
+  EXPECT_DOUBLE_EQ(ok.scene.grid.spacing, 10.0);  // the grid's own cell size
+  EXPECT_TRUE(ok.scene.partitions.empty());
+}
+
+TEST(LoadSite, TopLevelErrors) {
+  EXPECT_THAT(LoadError([](Json& s) { s["units"] = "metric"; }),
+              HasSubstr("$.units: unknown units (allowed: us, si) (found \"metric\")"));
+  EXPECT_THAT(LoadError([](Json& s) { s.erase("units"); }),
+              HasSubstr("$: missing required key 'units'"));
+  EXPECT_THAT(LoadError([](Json& s) { s["colour"] = 1; }),
+              HasSubstr("$.colour: unknown key 'colour' (allowed keys: name, description, units"));
+  EXPECT_THAT(LoadError([](Json& s) { s.erase("rocks"); }),
+              HasSubstr("$: missing required key 'rocks'"));
+  EXPECT_THAT(LoadError([](Json& s) { s["name"] = 3; }), HasSubstr("$.name: expected a string"));
+  EXPECT_THAT(LoadError([](Json& s) { s["simulation"]["max_time"] = -1; }),
+              HasSubstr("$.simulation.max_time: expected a number > 0"));
+  EXPECT_THAT(LoadError([](Json& s) { s["simulation"]["stop_duration"] = 40; }),
+              HasSubstr("$.simulation: simulation.stop_duration = 40: must be below max_time"));
+  EXPECT_THAT(LoadError([](Json& s) { s["simulation"]["steps"] = 40; }),
+              HasSubstr("$.simulation.steps: unknown key 'steps'"));
+  EXPECT_THAT(LoadError([](Json& s) { s["simulation"]["seed"] = -1; }),
+              HasSubstr("$.simulation.seed: expected a whole number"));
+}
+
+TEST(LoadSite, RelativePathsFromTheSiteFolder) {
+  TempDir dir;
+  dir.Write("site/data/p.csv", "x y z\n0 0 10\n20 0 0\n0 20 10\n20 20 0\n");
+  Json site = Json::parse(R"({
+    "name": "relative", "units": "si", "surface": {"resolution": 5, "points_file": "data/p.csv"},
+    "materials": [{"id": "m", "hardness": 0.5, "roughness": 0.5}],
+    "rocks": [{"count": 3, "shape": "disc", "size": [0.5, 1], "unit_weight": 26,
+               "release": {"point": [2, 10]}}],
+    "simulation": {"seed": 2, "max_time": 20, "stop_speed": 0.2, "stop_duration": 2,
+                   "steps_per_contact": 80, "safety": 0.5, "exact_flight": false, "threads": 1}})");
+  const Site s = LoadSite(dir.Write("site/site.json", site.dump()));
+  EXPECT_EQ(s.scene.grid.nx, 5);
+  EXPECT_NEAR(s.scene.grid.z[s.scene.grid.index(2, 3)], 5.0, 1e-9);
+  EXPECT_EQ(s.scene.options.steps_per_contact, 80);
+  EXPECT_FALSE(s.scene.options.exact_flight);
+  EXPECT_EQ(s.scene.options.threads, 1);
+  EXPECT_DOUBLE_EQ(s.scene.options.stop_speed, 0.2);
+  EXPECT_TRUE(s.calibrate.empty());
+}
+
+TEST(ApplySetting, OverridesInSiteUnits) {
+  TempDir dir;
+  Site site = LoadSite(WriteSite(dir, BaseSite()));
+  ApplySetting("material.talus.hardness=0.45", &site);
+  ApplySetting("material.talus.roughness=3", &site);
+  ApplySetting("material.rock.contact_time=0.01", &site);
+  EXPECT_DOUBLE_EQ(site.scene.materials[1].hardness, 0.45);
+  EXPECT_DOUBLE_EQ(site.scene.materials[1].roughness_m, 0.9144);
+  EXPECT_DOUBLE_EQ(site.scene.materials[0].contact_time_s, 0.01);
+}
+
+TEST(ApplySetting, Errors) {
+  TempDir dir;
+  Site site = LoadSite(WriteSite(dir, BaseSite()));
+  auto error = [&](const std::string& kv) { return ErrorOf([&] { ApplySetting(kv, &site); }); };
+  EXPECT_THAT(error("material.granite.hardness=0.4"),
+              HasSubstr("--set material.granite.hardness=0.4: unknown material 'granite' "
+                        "(materials: rock, talus)"));
+  EXPECT_THAT(error("material.rock.colour=1"),
+              HasSubstr("unknown field 'colour' (allowed: hardness, roughness, contact_time)"));
+  EXPECT_THAT(error("material.rock.hardness=high"), HasSubstr("'high' is not a number"));
+  EXPECT_THAT(error("material.rock.hardness="), HasSubstr("'' is not a number"));
+  EXPECT_THAT(error("material.rock.hardness=1.5"), HasSubstr("expected a hardness in [0, 1]"));
+  EXPECT_THAT(error("material.rock.roughness=6"), HasSubstr("expected a roughness in [0, 5] ft"));
+  EXPECT_THAT(error("material.rock.contact_time=0"), HasSubstr("expected a contact time"));
+  EXPECT_THAT(error("rock.hardness=0.3"), HasSubstr("expected material.<id>.<field>=VALUE"));
+  EXPECT_THAT(error("material.rock.hardness"), HasSubstr("expected material.<id>.<field>=VALUE"));
+  EXPECT_THAT(error("material.hardness=0.3"), HasSubstr("expected material.<id>.<field>=VALUE"));
+  EXPECT_DOUBLE_EQ(site.scene.materials[0].hardness, 0.6);  // unchanged by the failures
+}
+
+}  // namespace
+}  // namespace rockcal::sites
