@@ -17,6 +17,8 @@ class Args final {
        const std::set<std::string>& options, const std::set<std::string>& multi = {});
 
   const std::vector<std::string>& positionals() const { return positionals_; }
+  // The one positional argument, named `what` in the error when not exactly one.
+  std::string OnlyPositional(const char* what) const;
   bool Flag(const std::string& name) const { return flags_.count(name) > 0; }
   bool Has(const std::string& name) const { return values_.count(name) > 0; }
   std::string Get(const std::string& name) const;  // required

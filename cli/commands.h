@@ -8,6 +8,7 @@ namespace rockcal::cli {
 
 int Simulate(const std::vector<std::string>& args);
 int Validate(const std::vector<std::string>& args);
+int Calibrate(const std::vector<std::string>& args);
 
 }  // namespace rockcal::cli
 

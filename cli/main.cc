@@ -15,6 +15,9 @@ constexpr const char* kUsage =
     "  rockcal simulate SITE.json [--rocks N] [--seed S] [--set KEY=VALUE ...]\n"
     "                   [--trajectories N --sample-seconds DT] [--threads N]\n"
     "                   [--force] [--quiet] --out DIR\n"
+    "  rockcal calibrate SITE.json --observations OBS.json [--method M | --methods M1,M2,...]\n"
+    "                   [--max-evals N] [--max-seconds T] [--rocks N] [--seed S] [--threads N]\n"
+    "                   [--loss none|huber|cauchy] [--resume | --force] [--quiet] --out DIR\n"
     "  rockcal validate SITE.json [--observations OBS.json]\n"
     "\n"
     "KEY for --set: material.<id>.hardness | .roughness | .contact_time (site units)\n";
@@ -32,8 +35,9 @@ int main(int argc, char** argv) {
   try {
     if (command == "simulate") return rockcal::cli::Simulate(args);
     if (command == "validate") return rockcal::cli::Validate(args);
+    if (command == "calibrate") return rockcal::cli::Calibrate(args);
     throw rockcal::InputError("", "unknown command '" + command +
-                                      "' (available: simulate, validate; see rockcal --help)");
+                                      "' (available: simulate, calibrate, validate; see rockcal --help)");
   } catch (const rockcal::InputError& e) {
     std::fprintf(stderr, "rockcal: error: %s\n", e.what());
     return 2;

@@ -66,6 +66,8 @@ ContactLaw DeriveContactLaw(const Material& material, const HardnessModel& model
                                model.restitution_max);
   law.friction = material.friction.value_or(model.friction_soft -
                                             (model.friction_soft - model.friction_hard) * h);
+  law.rolling_resistance = material.rolling_resistance.value_or(
+      model.rolling_soft - (model.rolling_soft - model.rolling_hard) * h);
   law.contact_time = material.contact_time_s;
   const double ln_e = std::log(law.restitution);
   const double tc = law.contact_time;

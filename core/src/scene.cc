@@ -27,6 +27,25 @@ bool SimulationOptions::IsValid(std::string* error) const {
   return true;
 }
 
+void Scene::SetTotalRocks(int total) {
+  const int old_total = total_rocks();
+  std::vector<double> share;
+  int assigned = 0;
+  for (auto& g : groups) {
+    share.push_back(static_cast<double>(total) * g.count / old_total);
+    g.count = static_cast<int>(std::floor(share.back()));
+    assigned += g.count;
+  }
+  while (assigned < total) {
+    std::size_t best = 0;
+    for (std::size_t k = 1; k < share.size(); ++k)
+      if (share[k] - groups[k].count > share[best] - groups[best].count) best = k;
+    ++groups[best].count;
+    share[best] = groups[best].count;  // its remainder is taken
+    ++assigned;
+  }
+}
+
 int Scene::total_rocks() const {
   int n = 0;
   for (const auto& g : groups) n += g.count;

@@ -68,6 +68,7 @@ class RockRun {
   RockRun(const SceneContext& ctx, const RockBody& body, double dt, RockRecord* rec)
       : ctx_(ctx), opt_(ctx.scene.options), body_(body), dt_(dt), rec_(rec) {
     inv_inertia_ = body.inertia.cwiseInverse();
+    inertia_min_ = body.inertia.minCoeff();
     g_ = ctx.gravity.norm();
     found_.reserve(16);
     contacts_.reserve(16);
@@ -301,6 +302,7 @@ class RockRun {
     const Eigen::Vector3d w_pred = w_half + 0.5 * dt * alpha_;
     const Eigen::Matrix3d rot = Rotation();
     Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+    Eigen::Vector3d rolling = Eigen::Vector3d::Zero();
     next_.clear();
     spring_energy_ = 0.0;
     const double m = body_.mass;
@@ -345,11 +347,24 @@ class RockRun {
         const Eigen::Vector3d f = fn * c.normal + ft;
         force += f;
         torque += arm.cross(f);
+        // Rolling resistance: a torque mu_r a N against rolling (not spin
+        // about the normal at this contact).
+        if (law.rolling_resistance > 0.0) {
+          const Eigen::Vector3d roll = w_half - c.normal * c.normal.dot(w_half);
+          const double rate = roll.norm();
+          if (rate > 0.0) rolling -= (law.rolling_resistance * a * fn / rate) * roll;
+        }
         spring_energy_ += 0.5 * kn * c.overlap * c.overlap + 0.5 * ks * u.squaredNorm();
         next_.push_back({c.key, static_cast<int>(e), u});
         rec_->max_penetration = std::max(rec_->max_penetration, c.overlap / a);
       }
     }
+    // The rolling torques together may at most stop the rotation in one step
+    // (each one opposes the rotation, so their sum only takes energy out).
+    const double rolling_norm = rolling.norm();
+    const double rolling_limit = inertia_min_ * w_half.norm() / dt;
+    if (rolling_norm > rolling_limit) rolling *= rolling_limit / rolling_norm;
+    torque += rolling;
     contacts_.swap(next_);
     a_ = ctx_.gravity + force / m;
     alpha_ = AngularAcceleration(torque, w_pred, rot);
@@ -450,6 +465,7 @@ class RockRun {
   State s_;
   Eigen::Vector3d a_, alpha_;  // accelerations at the current state
   Eigen::Vector3d inv_inertia_;
+  double inertia_min_ = 0.0;
   double g_ = 0.0;
   double spring_energy_ = 0.0, energy_min_ = 0.0, ke_max_ = 0.0;
   bool record_trajectory_ = false;

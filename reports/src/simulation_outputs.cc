@@ -1,5 +1,7 @@
 #include "rockcal/reports/simulation_outputs.h"
 
+#include "rockcal/reports/output_dir.h"
+
 #include <cstdio>
 #include <sstream>
 
@@ -92,6 +94,15 @@ std::string TrajectoriesCsv(const core::SimulationResult& result) {
     }
   }
   return out.str();
+}
+
+void WriteSimulationFiles(const std::string& folder, const core::Scene& scene,
+                          const core::SimulationResult& result) {
+  WriteFileAtomically(folder + "/summary.json", SummaryJson(scene, result).dump(2) + "\n");
+  WriteFileAtomically(folder + "/diagnostics.json", DiagnosticsJson(scene, result).dump(2) + "\n");
+  WriteFileAtomically(folder + "/rocks.csv", RocksCsv(scene, result));
+  if (scene.options.record.trajectories > 0)
+    WriteFileAtomically(folder + "/trajectories.csv", TrajectoriesCsv(result));
 }
 
 }  // namespace rockcal::reports

@@ -208,8 +208,8 @@ Site LoadSite(const std::string& path) {
   const std::vector<JsonNode> materials = root.Get("materials").Array(1);
   for (std::size_t k = 0; k < materials.size(); ++k) {
     const JsonNode& m = materials[k];
-    m.Keys({"id", "hardness", "roughness", "contact_time", "restitution", "friction", "zone",
-            "calibrate"});
+    m.Keys({"id", "hardness", "roughness", "contact_time", "restitution", "friction",
+            "rolling_resistance", "zone", "calibrate"});
     core::Material mat;
     const JsonNode id = m.Get("id");
     mat.id = ReadId(id);
@@ -229,6 +229,7 @@ Site LoadSite(const std::string& path) {
       mat.restitution = v;
     }
     if (auto f = m.Find("friction")) mat.friction = f->Number(0.0, 10.0);
+    if (auto r = m.Find("rolling_resistance")) mat.rolling_resistance = r->Number(0.0, 1.0);
     PendingMaterial p{m, std::nullopt};
     if (auto z = m.Find("zone")) {
       if (k == 0) {

@@ -29,8 +29,12 @@ inline Scene GridScene(int nx, int ny, double spacing, const std::function<doubl
   return scene;
 }
 
-inline Material SmoothMaterial(double restitution, double contact_time, double friction) {
+// A smooth material with explicit restitution and friction and no rolling
+// resistance (the pure CRSP-3D contact law) unless `rolling` is given.
+inline Material SmoothMaterial(double restitution, double contact_time, double friction,
+                               double rolling = 0.0) {
   Material m;
+  m.rolling_resistance = rolling;
   m.id = "m";
   m.hardness = restitution;
   m.roughness_m = 0.0;

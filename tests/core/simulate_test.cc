@@ -98,10 +98,10 @@ TEST(Simulate, VirtualSphereTopGivesSameRestitution) {
 
 // Smooth 30-degree incline along +x; returns the downslope acceleration of a
 // sphere released at rest, from its speed at two times.
-double InclineAcceleration(double friction) {
+double InclineAcceleration(double friction, double rolling = 0.0) {
   const double theta = 30.0 * M_PI / 180.0;
   Scene scene = GridScene(61, 5, 1.0, [&](double x, double) { return (60.0 - x) * std::tan(theta); },
-                          SmoothMaterial(0.3, 0.005, friction));
+                          SmoothMaterial(0.3, 0.005, friction, rolling));
   scene.groups = {PointGroup(Shape::kSphere, 0.4, 5.0, 2.0, 0.0)};
   scene.options.max_time = 3.0;
   scene.options.record.trajectories = 1;
@@ -121,6 +121,14 @@ TEST(Simulate, SphereRollsDownIncline) {
   const double theta = 30.0 * M_PI / 180.0;
   const double expected = 5.0 / 7.0 * kG * std::sin(theta);
   const double a = InclineAcceleration(1.0);
+  EXPECT_NEAR(a / expected, 1.0, 0.01) << "a = " << a << " expected " << expected;
+}
+
+// With rolling resistance mu_r (torque mu_r a N): a = 5/7 g (sin t - mu_r cos t).
+TEST(Simulate, SphereRollsAgainstRollingResistance) {
+  const double theta = 30.0 * M_PI / 180.0, mu_r = 0.05;
+  const double expected = 5.0 / 7.0 * kG * (std::sin(theta) - mu_r * std::cos(theta));
+  const double a = InclineAcceleration(1.0, mu_r);
   EXPECT_NEAR(a / expected, 1.0, 0.01) << "a = " << a << " expected " << expected;
 }
 

@@ -16,12 +16,18 @@ struct Material {
   double contact_time_s = 0.005;  // t_c > 0, duration of a normal impact
   std::optional<double> restitution;  // overrides e = H when set, in (0, 1)
   std::optional<double> friction;     // overrides f(H) when set, >= 0
+  std::optional<double> rolling_resistance;  // overrides mu_r(H) when set, >= 0
 };
 
 // Constants of the default hardness model.
 struct HardnessModel {
   double friction_soft = 0.9;  // f at H = 0
   double friction_hard = 0.4;  // f at H = 1
+  // Rolling resistance mu_r (a rockcal addition to the CRSP-3D law): a torque
+  // mu_r a N against rolling, a the element radius, N the normal force. Without
+  // it a rock can rock for ever in a trough between virtual spheres.
+  double rolling_soft = 0.15;  // mu_r at H = 0
+  double rolling_hard = 0.02;  // mu_r at H = 1
   double restitution_min = 0.01;
   double restitution_max = 0.99;
 };
@@ -31,6 +37,7 @@ struct HardnessModel {
 struct ContactLaw {
   double restitution = 0.5;   // e, rebound/impact speed ratio of a normal impact
   double friction = 0.65;     // Coulomb coefficient f
+  double rolling_resistance = 0.085;  // mu_r: rolling torque / (element radius * normal force)
   double contact_time = 0.005;     // t_c [s]
   double stiffness_per_mass = 0.0;  // k_n / m [1/s^2]
   double damping_per_mass = 0.0;    // C / m [1/s], chosen so the clamped contact gives e

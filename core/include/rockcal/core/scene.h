@@ -83,6 +83,9 @@ struct Scene {
   double gravity = kStandardGravity;
 
   int total_rocks() const;
+  // Spreads `total` rocks over the groups in proportion to their counts
+  // (largest remainder, ties to the earlier group), keeping their order.
+  void SetTotalRocks(int total);
 };
 
 }  // namespace rockcal::core

@@ -18,6 +18,8 @@ class OutputDir final {
 
   // Where to write file `name` now (inside the temporary folder).
   std::string File(const std::string& name) const;
+  // The temporary folder itself.
+  const std::string& folder() const { return temp_; }
   // Replaces `path` by the temporary folder (an existing one only with force).
   void Commit();
   const std::string& path() const { return path_; }

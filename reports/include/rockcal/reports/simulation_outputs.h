@@ -19,6 +19,10 @@ nlohmann::json DiagnosticsJson(const core::Scene& scene, const core::SimulationR
 std::string RocksCsv(const core::Scene& scene, const core::SimulationResult& result);
 // rock,t,x,y,z,vx,vy,vz,wx,wy,wz for the rocks that recorded a trajectory.
 std::string TrajectoriesCsv(const core::SimulationResult& result);
+// Writes summary.json, diagnostics.json, rocks.csv and (when recorded)
+// trajectories.csv into `folder`, each through a temporary file.
+void WriteSimulationFiles(const std::string& folder, const core::Scene& scene,
+                          const core::SimulationResult& result);
 
 }  // namespace rockcal::reports
 

@@ -1,0 +1,112 @@
+// Calibration methods (NLopt and Ceres) over an Objective, with an evaluation
+// log that a stopped calibration resumes from without repeating work.
+#ifndef ROCKCAL_CALIBRATE_CALIBRATION_H_
+#define ROCKCAL_CALIBRATE_CALIBRATION_H_
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "rockcal/calibrate/objective.h"
+
+namespace rockcal::calibrate {
+
+// One evaluation of the objective.
+struct Evaluation {
+  std::string method;
+  int index = 0;                   // 1-based within the method
+  std::vector<double> parameters;  // physical values
+  double misfit = 0.0;
+  std::vector<double> residuals;
+  bool penalised = false;
+  double seconds = 0.0;  // wall seconds of its simulation
+  double elapsed = 0.0;  // wall seconds since the method started, when it finished
+  bool replayed = false;  // taken from the log of an earlier run
+};
+
+// DIR/evaluations.jsonl: one JSON object per evaluation, appended (and
+// flushed) as each finishes.
+class EvaluationLog final {
+ public:
+  // Starts a new log at `path` (truncating it), or with `resume` reads the
+  // records already there first. A record that does not belong to this
+  // calibration (other parameters, seed or rock count) is an InputError.
+  EvaluationLog(std::string path, bool resume, const ParameterSpace& space, std::uint64_t seed,
+                int rocks);
+  // The logged evaluation of `method` at exactly `physical`, if any.
+  const Evaluation* Find(const std::string& method, const std::vector<double>& physical) const;
+  void Append(const Evaluation& evaluation);
+  int size() const { return static_cast<int>(records_.size()); }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  std::uint64_t seed_;
+  int rocks_;
+  std::vector<std::string> names_;
+  std::vector<Evaluation> records_;
+};
+
+// Options of one method run. Defaults in brackets.
+struct MethodOptions {
+  int max_evals = 100;            // evaluations (replayed ones count) [100], >= 2
+  double max_seconds = 0.0;       // wall seconds for the method, 0 = no limit [0]
+  std::uint64_t seed = 1;         // random seed of the stochastic global methods
+  double polish_fraction = 0.3;   // share of a global method's budget for the local polish, [0, 0.9]
+  double initial_step = 0.2;      // first step of the local methods, in the unit box, (0, 1]
+  // Ceres: finite-difference step in the unbounded parameters t (unit-box
+  // value u = 1 / (1 + exp(-t))). 0.2 moves a mid-range parameter by 5 % of
+  // its range: large enough to see through the jumps of a Monte Carlo
+  // objective, small enough to follow its trend. (0, 2]
+  double ceres_step = 0.2;
+  std::string ceres_loss = "none";  // none | huber | cauchy (scale 1: residuals are in sigmas)
+
+  bool IsValid(std::string* error) const;
+};
+
+// Standard errors and correlations of the calibrated parameters from the
+// Jacobian of the scaled residuals (Ceres).
+struct Uncertainty {
+  bool computed = false;
+  bool rank_deficient = false;
+  std::string message;
+  std::vector<double> std_error;                 // physical units
+  std::vector<std::vector<double>> correlation;  // n x n
+  std::vector<double> singular_values;           // of the Jacobian in the unit box
+};
+
+struct MethodResult {
+  std::string method;
+  std::string termination;  // why it stopped
+  std::vector<double> best;  // physical values
+  double best_misfit = 0.0;
+  int evaluations = 0;  // in all
+  int simulated = 0;    // that ran a simulation (the rest were replayed)
+  double wall_seconds = 0.0;
+  std::vector<Evaluation> trace;  // in order
+  Uncertainty uncertainty;
+};
+
+// The method names RunMethod accepts.
+const std::vector<std::string>& MethodNames();
+// A comma separated list of MethodNames (for messages).
+std::string MethodList();
+bool IsMethod(const std::string& name);
+
+// Called after every evaluation with (method, evaluation, best misfit so far).
+using CalibrationProgress = std::function<void(const Evaluation&, double best)>;
+
+// Runs `method` from `start` (physical values) within the options' budget.
+// Throws InputError for an unknown method or invalid options.
+MethodResult RunMethod(const std::string& method, const Objective& objective,
+                       const std::vector<double>& start, const MethodOptions& options,
+                       EvaluationLog* log, const CalibrationProgress& progress = nullptr);
+
+// Wall seconds at which a method's best misfit first came within `fraction`
+// of `target` (best_misfit <= target * (1 + fraction)); negative if never.
+double TimeToReach(const MethodResult& result, double target, double fraction = 0.1);
+
+}  // namespace rockcal::calibrate
+
+#endif  // ROCKCAL_CALIBRATE_CALIBRATION_H_

@@ -1,0 +1,54 @@
+// The calibrated parameters of a site, and the map between their physical
+// values and the unit box the optimisers search.
+#ifndef ROCKCAL_CALIBRATE_PARAMETER_SPACE_H_
+#define ROCKCAL_CALIBRATE_PARAMETER_SPACE_H_
+
+#include <string>
+#include <vector>
+
+#include "rockcal/core/scene.h"
+#include "rockcal/sites/site.h"
+
+namespace rockcal::calibrate {
+
+enum class ParameterKind { kHardness, kRoughness, kContactTime };
+
+struct Parameter {
+  std::string material;  // material id
+  int material_index = 0;
+  ParameterKind kind = ParameterKind::kHardness;
+  double lower = 0.0, upper = 1.0;  // SI (roughness m, contact time s)
+
+  std::string name() const;  // "hardness", "roughness", "contact_time"
+  std::string label() const;  // "talus.hardness"
+};
+
+class ParameterSpace final {
+ public:
+  ParameterSpace() = default;
+  explicit ParameterSpace(std::vector<Parameter> parameters);
+  // The parameters of the site's "calibrate" bounds. Throws InputError when
+  // there are none, or a bound cannot be searched (a roughness range touching
+  // 0 switches between virtual spheres and smooth facets: not continuous).
+  static ParameterSpace FromSite(const sites::Site& site);
+
+  int size() const { return static_cast<int>(parameters_.size()); }
+  const std::vector<Parameter>& parameters() const { return parameters_; }
+  // Unit box [0, 1]^n <-> physical values (linear within the bounds).
+  std::vector<double> ToPhysical(const std::vector<double>& unit) const;
+  std::vector<double> ToUnit(const std::vector<double>& physical) const;
+  // The scene's current values of the parameters, clamped into the bounds.
+  std::vector<double> Current(const core::Scene& scene) const;
+  // Sets the parameters of `scene` to `physical`.
+  void Apply(const std::vector<double>& physical, core::Scene* scene) const;
+  // True when only hardness or contact time change between a and b (the
+  // terrain's virtual spheres can be reused).
+  bool SameTerrain(const std::vector<double>& a, const std::vector<double>& b) const;
+
+ private:
+  std::vector<Parameter> parameters_;
+};
+
+}  // namespace rockcal::calibrate
+
+#endif  // ROCKCAL_CALIBRATE_PARAMETER_SPACE_H_

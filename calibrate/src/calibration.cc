@@ -1,0 +1,512 @@
+#include "rockcal/calibrate/calibration.h"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <nlopt.hpp>
+#include <sstream>
+
+#include "rockcal/core/error.h"
+
+namespace rockcal::calibrate {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Ceres holds t + kCeresOffset, so its relative step becomes an absolute step in t.
+constexpr double kCeresOffset = 100.0;
+
+struct MethodInfo {
+  const char* name;
+  bool ceres;
+  nlopt::algorithm algorithm;
+  bool global;
+};
+
+const MethodInfo kMethods[] = {
+    {"nlopt:bobyqa", false, nlopt::LN_BOBYQA, false},
+    {"nlopt:sbplx", false, nlopt::LN_SBPLX, false},
+    {"nlopt:neldermead", false, nlopt::LN_NELDERMEAD, false},
+    {"nlopt:cobyla", false, nlopt::LN_COBYLA, false},
+    {"nlopt:direct_l", false, nlopt::GN_DIRECT_L, true},
+    {"nlopt:crs2", false, nlopt::GN_CRS2_LM, true},
+    {"nlopt:isres", false, nlopt::GN_ISRES, true},
+    {"nlopt:mlsl", false, nlopt::G_MLSL_LDS, true},
+    {"ceres", true, nlopt::LN_BOBYQA, false},
+};
+
+const MethodInfo* FindMethod(const std::string& name) {
+  for (const auto& m : kMethods)
+    if (name == m.name) return &m;
+  return nullptr;
+}
+
+nlohmann::json ToJson(const Evaluation& e) {
+  return {{"method", e.method},     {"evaluation", e.index},   {"parameters", e.parameters},
+          {"misfit", e.misfit},     {"residuals", e.residuals}, {"penalised", e.penalised},
+          {"seconds", e.seconds},   {"elapsed", e.elapsed}};
+}
+
+// Everything a method asks of the objective: budget, log replay, trace, best.
+class Evaluator final {
+ public:
+  Evaluator(std::string method, const Objective& objective, const MethodOptions& options,
+            EvaluationLog* log, const CalibrationProgress& progress)
+      : method_(std::move(method)),
+        objective_(objective),
+        options_(options),
+        log_(log),
+        progress_(progress) {}
+
+  bool exhausted() const {
+    if (static_cast<int>(trace_.size()) >= options_.max_evals) return true;
+    return options_.max_seconds > 0 && Elapsed() >= options_.max_seconds;
+  }
+  int remaining() const { return options_.max_evals - static_cast<int>(trace_.size()); }
+
+  const Evaluation& Evaluate(const std::vector<double>& unit) {
+    const std::vector<double> x = objective_.space().ToPhysical(unit);
+    Evaluation e;
+    const Evaluation* logged = log_ ? log_->Find(method_, x) : nullptr;
+    if (logged) {
+      e = *logged;
+      e.replayed = true;
+      // New work continues the clock of the run this one resumes.
+      replayed_offset_ = e.elapsed;
+      resumed_ = Clock::now();
+    } else {
+      const auto t0 = Clock::now();
+      const observations::Misfit m = objective_.Evaluate(x);
+      e.method = method_;
+      e.parameters = x;
+      e.misfit = m.value;
+      e.penalised = m.penalised;
+      for (const auto& r : m.residuals) e.residuals.push_back(r.value);
+      e.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+      ++simulated_;
+    }
+    e.index = static_cast<int>(trace_.size()) + 1;
+    if (!logged) {
+      e.elapsed = Elapsed();
+      if (log_) log_->Append(e);
+    }
+    trace_.push_back(e);
+    if (e.misfit < best_misfit_) {
+      best_misfit_ = e.misfit;
+      best_ = x;
+      best_residuals_ = e.residuals;
+    }
+    if (progress_) progress_(trace_.back(), best_misfit_);
+    return trace_.back();
+  }
+
+  // Wall seconds of this method: those of the run it resumes, then this one's.
+  double Elapsed() const {
+    return replayed_offset_ + std::chrono::duration<double>(Clock::now() - resumed_).count();
+  }
+
+  MethodResult Finish(std::string termination) {
+    MethodResult r;
+    r.method = method_;
+    r.termination = std::move(termination);
+    r.best = best_;
+    r.best_misfit = best_misfit_;
+    r.evaluations = static_cast<int>(trace_.size());
+    r.simulated = simulated_;
+    r.wall_seconds = trace_.empty() ? 0.0 : trace_.back().elapsed;
+    r.trace = std::move(trace_);
+    return r;
+  }
+
+  const std::vector<double>& best() const { return best_; }
+  double best_misfit() const { return best_misfit_; }
+  const std::vector<double>& best_residuals() const { return best_residuals_; }
+
+ private:
+  std::string method_;
+  const Objective& objective_;
+  const MethodOptions& options_;
+  EvaluationLog* log_;
+  const CalibrationProgress& progress_;
+  Clock::time_point resumed_ = Clock::now();
+  double replayed_offset_ = 0.0;
+  std::vector<Evaluation> trace_;
+  std::vector<double> best_, best_residuals_;
+  double best_misfit_ = kInf;
+  int simulated_ = 0;
+};
+
+std::string NloptResultName(nlopt::result r) {
+  switch (r) {
+    case nlopt::SUCCESS:
+      return "success";
+    case nlopt::STOPVAL_REACHED:
+      return "target misfit reached";
+    case nlopt::FTOL_REACHED:
+      return "misfit converged (ftol)";
+    case nlopt::XTOL_REACHED:
+      return "parameters converged (xtol)";
+    case nlopt::MAXEVAL_REACHED:
+      return "evaluation budget used";
+    case nlopt::MAXTIME_REACHED:
+      return "time budget used";
+    default:
+      return "stopped (" + std::to_string(static_cast<int>(r)) + ")";
+  }
+}
+
+// Runs one NLopt algorithm from `unit` with at most `evals` evaluations.
+std::string RunNlopt(nlopt::algorithm algorithm, std::vector<double> unit, int evals,
+                     const MethodOptions& options, Evaluator* ev) {
+  const unsigned n = static_cast<unsigned>(unit.size());
+  nlopt::opt opt(algorithm, n);
+  opt.set_lower_bounds(std::vector<double>(n, 0.0));
+  opt.set_upper_bounds(std::vector<double>(n, 1.0));
+  opt.set_maxeval(evals);
+  opt.set_xtol_rel(1e-4);
+  opt.set_ftol_abs(1e-9);
+  if (algorithm == nlopt::G_MLSL_LDS) {
+    nlopt::opt local(nlopt::LN_BOBYQA, n);
+    local.set_xtol_rel(1e-3);
+    local.set_maxeval(std::max(10, evals / 5));
+    opt.set_local_optimizer(local);
+  }
+  if (algorithm == nlopt::LN_BOBYQA || algorithm == nlopt::LN_SBPLX ||
+      algorithm == nlopt::LN_NELDERMEAD || algorithm == nlopt::LN_COBYLA) {
+    std::vector<double> step(n, options.initial_step);
+    // Keep the first simplex inside the box.
+    for (unsigned k = 0; k < n; ++k)
+      if (unit[k] + step[k] > 1.0) step[k] = -step[k];
+    opt.set_initial_step(step);
+  }
+  nlopt::srand(options.seed);
+  struct Data {
+    Evaluator* ev;
+  } data{ev};
+  opt.set_min_objective(
+      [](const std::vector<double>& x, std::vector<double>& grad, void* p) -> double {
+        (void)grad;  // derivative-free methods only
+        Evaluator* e = static_cast<Data*>(p)->ev;
+        if (e->exhausted()) throw nlopt::forced_stop();
+        return e->Evaluate(x).misfit;
+      },
+      &data);
+  double f = 0.0;
+  try {
+    return NloptResultName(opt.optimize(unit, f));
+  } catch (const nlopt::forced_stop&) {
+    return ev->exhausted() ? "budget used" : "stopped";
+  } catch (const nlopt::roundoff_limited&) {
+    return "round-off limited";
+  } catch (const std::exception& e) {
+    return std::string("nlopt: ") + e.what();
+  }
+}
+
+// Ceres residual functor over the offset unbounded parameters.
+class CeresResiduals final {
+ public:
+  CeresResiduals(Evaluator* ev, int size) : ev_(ev), size_(size) {}
+  bool operator()(double const* const* parameters, double* residuals) const {
+    if (ev_->exhausted()) {
+      // Out of budget inside an iteration: answer with the best residuals (not
+      // an evaluation); the callback ends the solve at the iteration's end.
+      const std::vector<double>& best = ev_->best_residuals();
+      for (std::size_t k = 0; k < best.size(); ++k) residuals[k] = best[k];
+      return !best.empty();
+    }
+    std::vector<double> unit(static_cast<std::size_t>(size_));
+    for (int k = 0; k < size_; ++k) unit[k] = 1.0 / (1.0 + std::exp(-(parameters[0][k] - kCeresOffset)));
+    const Evaluation& e = ev_->Evaluate(unit);
+    for (std::size_t k = 0; k < e.residuals.size(); ++k) residuals[k] = e.residuals[k];
+    return true;
+  }
+
+ private:
+  Evaluator* ev_;
+  int size_;
+};
+
+class BudgetCallback final : public ceres::IterationCallback {
+ public:
+  explicit BudgetCallback(const Evaluator* ev) : ev_(ev) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+    return ev_->exhausted() ? ceres::SOLVER_TERMINATE_SUCCESSFULLY : ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const Evaluator* ev_;
+};
+
+// Standard errors from the Jacobian of the scaled residuals at the best
+// point: cov = (J^T J)^-1 in the unit box, mapped to physical units.
+Uncertainty JacobianUncertainty(const Eigen::MatrixXd& j_unit, double misfit,
+                                const ParameterSpace& space) {
+  Uncertainty u;
+  const int n = static_cast<int>(j_unit.cols());
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(j_unit, Eigen::ComputeThinV);
+  const Eigen::VectorXd s = svd.singularValues();
+  for (int k = 0; k < s.size(); ++k) u.singular_values.push_back(s[k]);
+  const double tol = 1e-6 * (s.size() ? s[0] : 0.0);
+  int rank = 0;
+  for (int k = 0; k < s.size(); ++k) rank += s[k] > tol;
+  u.computed = true;
+  if (rank < n || s.size() == 0 || s[0] == 0.0) {
+    u.rank_deficient = true;
+    std::ostringstream msg;
+    msg << "Jacobian rank " << rank << " of " << n
+        << ": some parameter combinations do not change the misfit (not separately identifiable)";
+    if (s.size() > 0) {
+      const Eigen::VectorXd v = svd.matrixV().col(n - 1);
+      msg << "; the least determined direction is";
+      for (int k = 0; k < n; ++k)
+        if (std::abs(v[k]) > 0.2)
+          msg << " " << (v[k] > 0 ? "+" : "-") << space.parameters()[k].label();
+    }
+    u.message = msg.str();
+    return u;
+  }
+  const Eigen::MatrixXd v = svd.matrixV();
+  // Scaled by the reduced chi-square when the fit is worse than the stated
+  // uncertainties imply.
+  const int dof = std::max<int>(1, static_cast<int>(j_unit.rows()) - n);
+  const double chi2 = std::max(1.0, 2.0 * misfit / dof);
+  const Eigen::MatrixXd cov = chi2 * v * s.cwiseInverse().cwiseAbs2().asDiagonal() * v.transpose();
+  for (int k = 0; k < n; ++k) {
+    const auto& p = space.parameters()[k];
+    u.std_error.push_back(std::sqrt(cov(k, k)) * (p.upper - p.lower));
+  }
+  u.correlation.assign(n, std::vector<double>(n, 0.0));
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) u.correlation[a][b] = cov(a, b) / std::sqrt(cov(a, a) * cov(b, b));
+  const double condition = s[0] / s[n - 1];
+  std::ostringstream msg;
+  msg << "linearised, from the Jacobian of the scaled residuals (condition number " << condition
+      << ", reduced chi-square " << chi2
+      << "); quantile residuals of one distribution are correlated, so these errors are a lower "
+         "bound";
+  u.message = msg.str();
+  return u;
+}
+
+MethodResult RunCeres(std::vector<double> unit, const MethodOptions& options, Evaluator* ev,
+                      const Objective& objective) {
+  const int n = static_cast<int>(unit.size());
+  // Unit box -> unbounded t = log(u / (1 - u)), kept away from the edges.
+  std::vector<double> w(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) {
+    const double u = std::clamp(unit[k], 0.02, 0.98);
+    w[k] = std::log(u / (1 - u)) + kCeresOffset;
+  }
+  ceres::NumericDiffOptions diff;
+  diff.relative_step_size = options.ceres_step / kCeresOffset;
+  auto* functor = new CeresResiduals(ev, n);
+  auto* cost = new ceres::DynamicNumericDiffCostFunction<CeresResiduals, ceres::CENTRAL>(
+      functor, ceres::TAKE_OWNERSHIP, diff);
+  cost->AddParameterBlock(n);
+  cost->SetNumResiduals(objective.residual_count());
+  ceres::Problem problem;
+  ceres::LossFunction* loss = nullptr;
+  if (options.ceres_loss == "huber") loss = new ceres::HuberLoss(1.0);
+  if (options.ceres_loss == "cauchy") loss = new ceres::CauchyLoss(1.0);
+  problem.AddResidualBlock(cost, loss, w.data());
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = std::max(1, options.max_evals);
+  so.minimizer_progress_to_stdout = false;
+  so.logging_type = ceres::SILENT;
+  so.num_threads = 1;  // parallelism is inside each simulation
+  BudgetCallback callback(ev);
+  so.callbacks.push_back(&callback);
+  so.update_state_every_iteration = false;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  std::string termination = ev->exhausted() ? "budget used" : summary.message;
+  MethodResult result = ev->Finish(termination);
+  // Uncertainty at the best point: the Jacobian by central differences in the
+  // unit box, with the same step as the solver (2n more evaluations, run
+  // outside the budget so the estimate exists).
+  if (!result.best.empty() && objective.residual_count() > 0) {
+    const std::vector<double> best_unit = objective.space().ToUnit(result.best);
+    const int m = objective.residual_count();
+    Eigen::MatrixXd j(m, n);
+    for (int k = 0; k < n; ++k) {
+      const double h = std::min(0.05, 0.5 * std::min(best_unit[k], 1 - best_unit[k]) + 1e-3);
+      std::vector<double> up = best_unit, down = best_unit;
+      up[k] = std::min(1.0, up[k] + h);
+      down[k] = std::max(0.0, down[k] - h);
+      const observations::Misfit a = objective.Evaluate(objective.space().ToPhysical(up));
+      const observations::Misfit b = objective.Evaluate(objective.space().ToPhysical(down));
+      for (int r = 0; r < m; ++r)
+        j(r, k) = (a.residuals[r].value - b.residuals[r].value) / (up[k] - down[k]);
+    }
+    result.uncertainty = JacobianUncertainty(j, result.best_misfit, objective.space());
+  }
+  return result;
+}
+
+}  // namespace
+
+bool MethodOptions::IsValid(std::string* error) const {
+  std::ostringstream s;
+  if (max_evals < 2) {
+    s << "max_evals = " << max_evals << ": must be >= 2";
+  } else if (!(max_seconds >= 0)) {
+    s << "max_seconds = " << max_seconds << ": must be >= 0 (0: no limit)";
+  } else if (!(polish_fraction >= 0 && polish_fraction <= 0.9)) {
+    s << "polish_fraction = " << polish_fraction << ": must be in [0, 0.9]";
+  } else if (!(initial_step > 0 && initial_step <= 1)) {
+    s << "initial_step = " << initial_step << ": must be in (0, 1]";
+  } else if (!(ceres_step > 0 && ceres_step <= 2)) {
+    s << "ceres_step = " << ceres_step << ": must be in (0, 2]";
+  } else if (ceres_loss != "none" && ceres_loss != "huber" && ceres_loss != "cauchy") {
+    s << "ceres_loss = '" << ceres_loss << "': must be none, huber or cauchy";
+  } else {
+    return true;
+  }
+  *error = s.str();
+  return false;
+}
+
+const std::vector<std::string>& MethodNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> v;
+    for (const auto& m : kMethods) v.push_back(m.name);
+    return v;
+  }();
+  return names;
+}
+
+std::string MethodList() {
+  std::string s;
+  for (const auto& n : MethodNames()) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+bool IsMethod(const std::string& name) { return FindMethod(name) != nullptr; }
+
+EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace& space,
+                             std::uint64_t seed, int rocks)
+    : path_(std::move(path)), seed_(seed), rocks_(rocks) {
+  for (const auto& p : space.parameters()) names_.push_back(p.label());
+  if (resume) {
+    std::ifstream in(path_);
+    if (!in) throw InputError(path_, "cannot resume: no evaluation log here");
+    std::string line;
+    int number = 0;
+    while (std::getline(in, line)) {
+      ++number;
+      if (line.empty()) continue;
+      const std::string where = path_ + ":" + std::to_string(number);
+      nlohmann::json j;
+      try {
+        j = nlohmann::json::parse(line);
+        if (j.at("seed").get<std::uint64_t>() != seed_ || j.at("rocks").get<int>() != rocks_ ||
+            j.at("names").get<std::vector<std::string>>() != names_)
+          throw InputError(where, "record of another calibration (different parameters, --seed or "
+                                  "--rocks); start afresh with --force instead of --resume");
+        Evaluation e;
+        e.method = j.at("method").get<std::string>();
+        e.index = j.at("evaluation").get<int>();
+        e.parameters = j.at("parameters").get<std::vector<double>>();
+        e.misfit = j.at("misfit").get<double>();
+        e.residuals = j.at("residuals").get<std::vector<double>>();
+        e.penalised = j.at("penalised").get<bool>();
+        e.seconds = j.at("seconds").get<double>();
+        e.elapsed = j.at("elapsed").get<double>();
+        records_.push_back(std::move(e));
+      } catch (const nlohmann::json::exception&) {
+        // A line cut short by a killed run is the only damage expected: the
+        // last line. Anything else is not ours.
+        if (in.peek() == EOF) break;
+        throw InputError(where, "not an evaluation record (expected one JSON object per line)");
+      }
+    }
+  }
+  // Rewrite the log with the good records only (drops a torn last line).
+  std::ofstream out(path_, std::ios::trunc);
+  if (!out) throw InputError(path_, "cannot write the evaluation log");
+  for (const Evaluation& e : records_) {
+    nlohmann::json j = ToJson(e);
+    j["seed"] = seed_;
+    j["rocks"] = rocks_;
+    j["names"] = names_;
+    out << j.dump() << '\n';
+  }
+}
+
+const Evaluation* EvaluationLog::Find(const std::string& method,
+                                      const std::vector<double>& physical) const {
+  for (const Evaluation& e : records_)
+    if (e.method == method && e.parameters == physical) return &e;
+  return nullptr;
+}
+
+void EvaluationLog::Append(const Evaluation& evaluation) {
+  nlohmann::json j = ToJson(evaluation);
+  j["seed"] = seed_;
+  j["rocks"] = rocks_;
+  j["names"] = names_;
+  std::ofstream out(path_, std::ios::app);
+  out << j.dump() << '\n';
+  out.flush();
+  if (!out) throw std::runtime_error("cannot append to " + path_);
+  records_.push_back(evaluation);
+}
+
+MethodResult RunMethod(const std::string& method, const Objective& objective,
+                       const std::vector<double>& start, const MethodOptions& options,
+                       EvaluationLog* log, const CalibrationProgress& progress) {
+  const MethodInfo* info = FindMethod(method);
+  if (!info) throw InputError("--method " + method, "unknown method (allowed: " + MethodList() + ")");
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("calibration options", error);
+  Evaluator ev(method, objective, options, log, progress);
+  const std::vector<double> unit = objective.space().ToUnit(start);
+  if (info->ceres) return RunCeres(unit, options, &ev, objective);
+  std::string termination;
+  if (!info->global) {
+    // A Monte Carlo misfit is rugged: a local method that converged may sit
+    // in a dip of the noise. Restart it from its best point with a fresh
+    // step while budget remains and restarts still improve.
+    termination = RunNlopt(info->algorithm, unit, options.max_evals, options, &ev);
+    const int n = objective.space().size();
+    int restarts = 0;
+    while (!ev.exhausted() && ev.remaining() >= n + 2) {
+      const double before = ev.best_misfit();
+      RunNlopt(info->algorithm, objective.space().ToUnit(ev.best()), ev.remaining(), options, &ev);
+      ++restarts;
+      if (!(ev.best_misfit() < before * (1 - 1e-6))) break;
+    }
+    if (restarts > 0) termination += "; " + std::to_string(restarts) + " restart(s) from the best point";
+    if (ev.exhausted()) termination += "; budget used";
+  } else {
+    // Global search, then a local polish from its best point.
+    const int global = std::max(2, static_cast<int>(options.max_evals * (1 - options.polish_fraction)));
+    termination = RunNlopt(info->algorithm, unit, global, options, &ev);
+    if (!ev.exhausted() && ev.remaining() >= 2 && !ev.best().empty()) {
+      termination += "; polished with nlopt:bobyqa: " +
+                     RunNlopt(nlopt::LN_BOBYQA, objective.space().ToUnit(ev.best()),
+                              ev.remaining(), options, &ev);
+    }
+  }
+  return ev.Finish(termination);
+}
+
+double TimeToReach(const MethodResult& result, double target, double fraction) {
+  double best = kInf;
+  for (const Evaluation& e : result.trace) {
+    best = std::min(best, e.misfit);
+    if (best <= target * (1 + fraction) + 1e-300) return e.elapsed;
+  }
+  return -1.0;
+}
+
+}  // namespace rockcal::calibrate

@@ -1,0 +1,81 @@
+#include "rockcal/calibrate/objective.h"
+
+#include <cmath>
+#include <exception>
+
+namespace rockcal::calibrate {
+namespace {
+
+// The roughness values of `physical` (the terrain's cache key).
+std::vector<double> RoughnessKey(const ParameterSpace& space, const std::vector<double>& physical) {
+  std::vector<double> key;
+  for (std::size_t k = 0; k < physical.size(); ++k)
+    if (space.parameters()[k].kind == ParameterKind::kRoughness) key.push_back(physical[k]);
+  return key;
+}
+
+}  // namespace
+
+Objective::Objective(core::Scene scene, ParameterSpace space,
+                     observations::Observations observations, observations::MisfitOptions misfit)
+    : scene_(std::move(scene)),
+      space_(std::move(space)),
+      observations_(std::move(observations)),
+      misfit_(std::move(misfit)) {
+  scene_.options.record = observations::RequiredRecording(observations_, scene_.options.record);
+  scene_.options.record.trajectories = 0;
+  // The number of residuals follows from the observations alone: count them
+  // on an empty result shaped like a real one.
+  core::SimulationResult shape;
+  shape.rocks.resize(2);
+  for (auto& r : shape.rocks) {
+    r.outcome = core::Outcome::kStopped;
+    r.crossings.assign(scene_.partitions.size(), core::Crossing{true, 1.0, 1.0, 1.0, {}});
+    r.trees.assign(scene_.options.record.trees.size(), core::Crossing{true, 1.0, 1.0, 1.0, {}});
+  }
+  shape.rocks[1].stop = Eigen::Vector3d(1, 1, 0);
+  residual_count_ = static_cast<int>(
+      observations::ComputeMisfit(observations_, scene_, shape, misfit_).residuals.size());
+}
+
+observations::Misfit Objective::Evaluate(const std::vector<double>& physical,
+                                         core::SimulationResult* result) const {
+  core::Scene scene = scene_;
+  space_.Apply(physical, &scene);
+  observations::Misfit misfit;
+  try {
+    std::shared_ptr<const core::Terrain> terrain;
+    {
+      std::lock_guard<std::mutex> lock(terrain_mutex_);
+      const std::vector<double> key = RoughnessKey(space_, physical);
+      if (!terrain_ || key != terrain_key_) {
+        terrain_ = std::make_shared<const core::Terrain>(core::BuildTerrain(scene));
+        terrain_key_ = key;
+      }
+      terrain = terrain_;
+    }
+    core::SimulationResult sim = core::Simulate(scene, *terrain);
+    misfit = observations::ComputeMisfit(observations_, scene, sim, misfit_);
+    if (result) *result = std::move(sim);
+  } catch (const std::exception& e) {
+    misfit = observations::Misfit{};
+    misfit.value = misfit_.penalty;
+    misfit.penalised = true;
+    misfit.message = std::string("simulation failed: ") + e.what();
+  }
+  if (!std::isfinite(misfit.value)) {
+    misfit.value = misfit_.penalty;
+    misfit.penalised = true;
+  }
+  // Keep the residual vector's length fixed: spread a penalty over it.
+  if (static_cast<int>(misfit.residuals.size()) != residual_count_) {
+    misfit.residuals.assign(static_cast<std::size_t>(residual_count_), observations::Residual{});
+    const double each = residual_count_ > 0 ? std::sqrt(2.0 * misfit.value / residual_count_) : 0.0;
+    for (auto& r : misfit.residuals) r.value = each;
+  }
+  for (auto& r : misfit.residuals)
+    if (!std::isfinite(r.value)) r.value = std::sqrt(2.0 * misfit_.penalty / std::max(residual_count_, 1));
+  return misfit;
+}
+
+}  // namespace rockcal::calibrate

@@ -1,0 +1,117 @@
+#include "rockcal/calibrate/parameter_space.h"
+
+#include <algorithm>
+#include <cassert>
+
+#include "rockcal/core/error.h"
+
+namespace rockcal::calibrate {
+
+std::string Parameter::name() const {
+  switch (kind) {
+    case ParameterKind::kHardness:
+      return "hardness";
+    case ParameterKind::kRoughness:
+      return "roughness";
+    case ParameterKind::kContactTime:
+      return "contact_time";
+  }
+  return "?";
+}
+
+std::string Parameter::label() const { return material + "." + name(); }
+
+ParameterSpace::ParameterSpace(std::vector<Parameter> parameters)
+    : parameters_(std::move(parameters)) {}
+
+ParameterSpace ParameterSpace::FromSite(const sites::Site& site) {
+  std::vector<Parameter> out;
+  const auto& materials = site.scene.materials;
+  for (const sites::ParameterBound& b : site.calibrate) {
+    Parameter p;
+    p.material = b.material;
+    p.lower = b.lower;
+    p.upper = b.upper;
+    auto it = std::find_if(materials.begin(), materials.end(),
+                           [&](const core::Material& m) { return m.id == b.material; });
+    assert(it != materials.end());  // the site reader checked the material
+    p.material_index = static_cast<int>(it - materials.begin());
+    if (b.name == "hardness") {
+      p.kind = ParameterKind::kHardness;
+    } else if (b.name == "roughness") {
+      p.kind = ParameterKind::kRoughness;
+      if (p.lower <= 0.0)
+        throw InputError(site.path, "material '" + b.material +
+                                        "': calibrate.roughness lower bound must be > 0 (roughness "
+                                        "0 switches from virtual spheres to smooth facets, which "
+                                        "no optimiser can search across)");
+    } else {
+      p.kind = ParameterKind::kContactTime;
+    }
+    out.push_back(p);
+  }
+  if (out.empty())
+    throw InputError(site.path,
+                     "nothing to calibrate: give a material a \"calibrate\" object with bounds, "
+                     "e.g. \"calibrate\": {\"hardness\": [0.1, 0.6]}");
+  return ParameterSpace(std::move(out));
+}
+
+std::vector<double> ParameterSpace::ToPhysical(const std::vector<double>& unit) const {
+  assert(unit.size() == parameters_.size());
+  std::vector<double> x(unit.size());
+  for (std::size_t k = 0; k < unit.size(); ++k) {
+    const Parameter& p = parameters_[k];
+    x[k] = p.lower + std::clamp(unit[k], 0.0, 1.0) * (p.upper - p.lower);
+  }
+  return x;
+}
+
+std::vector<double> ParameterSpace::ToUnit(const std::vector<double>& physical) const {
+  assert(physical.size() == parameters_.size());
+  std::vector<double> u(physical.size());
+  for (std::size_t k = 0; k < physical.size(); ++k) {
+    const Parameter& p = parameters_[k];
+    u[k] = std::clamp((physical[k] - p.lower) / (p.upper - p.lower), 0.0, 1.0);
+  }
+  return u;
+}
+
+std::vector<double> ParameterSpace::Current(const core::Scene& scene) const {
+  std::vector<double> x;
+  for (const Parameter& p : parameters_) {
+    const core::Material& m = scene.materials[static_cast<std::size_t>(p.material_index)];
+    const double v = p.kind == ParameterKind::kHardness    ? m.hardness
+                     : p.kind == ParameterKind::kRoughness ? m.roughness_m
+                                                           : m.contact_time_s;
+    x.push_back(std::clamp(v, p.lower, p.upper));
+  }
+  return x;
+}
+
+void ParameterSpace::Apply(const std::vector<double>& physical, core::Scene* scene) const {
+  assert(physical.size() == parameters_.size());
+  for (std::size_t k = 0; k < physical.size(); ++k) {
+    const Parameter& p = parameters_[k];
+    core::Material& m = scene->materials[static_cast<std::size_t>(p.material_index)];
+    switch (p.kind) {
+      case ParameterKind::kHardness:
+        m.hardness = physical[k];
+        break;
+      case ParameterKind::kRoughness:
+        m.roughness_m = physical[k];
+        break;
+      case ParameterKind::kContactTime:
+        m.contact_time_s = physical[k];
+        break;
+    }
+  }
+}
+
+bool ParameterSpace::SameTerrain(const std::vector<double>& a, const std::vector<double>& b) const {
+  for (std::size_t k = 0; k < parameters_.size(); ++k)
+    if (parameters_[k].kind == ParameterKind::kRoughness && a[k] != b[k]) return false;
+  return true;
+}
+
+}  // namespace rockcal::calibrate

@@ -1,0 +1,166 @@
+// rockcal calibrate: search the calibrated parameters of a site until its
+// simulation matches the observations, and write the tables and the trace.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "args.h"
+#include "commands.h"
+#include "progress.h"
+#include "rockcal/calibrate/calibration.h"
+#include "rockcal/core/error.h"
+#include "rockcal/reports/calibration_outputs.h"
+#include "rockcal/reports/output_dir.h"
+#include "rockcal/reports/simulation_outputs.h"
+#include "rockcal/sites/site.h"
+
+namespace rockcal::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> SplitList(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream s(text);
+  for (std::string item; std::getline(s, item, ',');)
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+// Prepares DIR: a new folder, or (with --resume) the folder of a stopped run,
+// or (with --force) a replaced one. Nothing is removed without --force.
+void PrepareFolder(const std::string& out, bool resume, bool force) {
+  std::error_code ec;
+  const bool exists = fs::exists(out, ec);
+  if (resume) {
+    if (!exists || !fs::exists(out + "/evaluations.jsonl", ec))
+      throw InputError(out, "nothing to resume: no evaluations.jsonl in this folder");
+    return;
+  }
+  if (exists) {
+    if (!force)
+      throw InputError(out, "output folder exists already (give --force to replace it, or "
+                            "--resume to continue the calibration it holds)");
+    fs::remove_all(out, ec);
+    if (ec) throw InputError(out, "cannot remove the old output folder: " + ec.message());
+  }
+  fs::path parent = fs::path(out).parent_path();
+  if (parent.empty()) parent = ".";
+  if (!fs::is_directory(parent, ec))
+    throw InputError(out, "the folder that should hold it does not exist: " + parent.string());
+  if (!fs::create_directory(out, ec))
+    throw InputError(out, "cannot create the output folder: " + ec.message());
+}
+
+}  // namespace
+
+int Calibrate(const std::vector<std::string>& argv) {
+  const auto start_time = std::chrono::steady_clock::now();
+  const Args args(argv, {"force", "quiet", "resume"},
+                  {"observations", "method", "methods", "max-evals", "max-seconds", "rocks", "seed",
+                   "threads", "loss", "out"});
+  const std::string site_path = args.OnlyPositional("SITE.json");
+  const std::string out = args.Get("out");
+  const std::string obs_path = args.Get("observations");
+  if (args.Has("method") && args.Has("methods"))
+    throw InputError("arguments", "give --method or --methods, not both");
+  std::vector<std::string> methods =
+      args.Has("methods") ? SplitList(args.Get("methods"))
+                          : std::vector<std::string>{args.Get("method", "nlopt:bobyqa")};
+  if (methods.empty()) throw InputError("argument --methods", "expected a comma separated list");
+  for (const std::string& m : methods)
+    if (!calibrate::IsMethod(m))
+      throw InputError("argument --method" + std::string(args.Has("methods") ? "s" : ""),
+                       "unknown method '" + m + "' (allowed: " + calibrate::MethodList() + ")");
+  if (args.Flag("resume") && args.Flag("force"))
+    throw InputError("arguments", "give --resume or --force, not both");
+
+  sites::Site site = sites::LoadSite(site_path);
+  core::Scene& scene = site.scene;
+  if (args.Has("rocks")) scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, 10000000)));
+  if (args.Has("seed"))
+    scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
+  scene.options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+  const observations::Observations obs = observations::LoadObservations(obs_path, scene);
+  const calibrate::ParameterSpace space = calibrate::ParameterSpace::FromSite(site);
+
+  calibrate::MethodOptions options;
+  options.max_evals = static_cast<int>(args.Integer("max-evals", 100, 2, 1000000));
+  options.max_seconds = args.Number("max-seconds", 0.0, 0.0, 1e9);
+  options.seed = scene.options.seed;
+  options.ceres_loss = args.Get("loss", "none");
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("arguments", error);
+
+  PrepareFolder(out, args.Flag("resume"), args.Flag("force"));
+  const calibrate::Objective objective(scene, space, obs, observations::MisfitOptions{});
+  calibrate::EvaluationLog log(out + "/evaluations.jsonl", args.Flag("resume"), space,
+                               scene.options.seed, scene.total_rocks());
+
+  reports::CalibrationRecord record;
+  record.site = scene.name;
+  record.units = site.units;
+  record.space = space;
+  record.rocks = scene.total_rocks();
+  record.seed = scene.options.seed;
+  record.start = space.Current(scene);
+  record.misfit_before = objective.Evaluate(record.start);
+  const bool quiet = args.Flag("quiet");
+  if (!quiet)
+    std::printf("%s: %d parameters, %d rocks per evaluation, misfit at the start %.4g\n",
+                scene.name.c_str(), space.size(), record.rocks, record.misfit_before.value);
+  for (const std::string& method : methods) {
+    Progress progress("calibrate " + method, quiet);
+    const calibrate::MethodResult result = calibrate::RunMethod(
+        method, objective, record.start, options, &log,
+        [&](const calibrate::Evaluation& e, double best) {
+          char extra[96];
+          std::snprintf(extra, sizeof extra, " best misfit %.4g, %.0f s", best, e.elapsed);
+          progress.Update(e.index, options.max_evals, extra);
+        });
+    if (!quiet)
+      std::printf("  %-18s misfit %.4g after %d evaluations (%d simulated) in %.1f s: %s\n",
+                  method.c_str(), result.best_misfit, result.evaluations, result.simulated,
+                  result.wall_seconds, result.termination.c_str());
+    record.methods.push_back(result);
+  }
+  for (std::size_t k = 1; k < record.methods.size(); ++k)
+    if (record.methods[k].best_misfit < record.methods[static_cast<std::size_t>(record.best)].best_misfit)
+      record.best = static_cast<int>(k);
+  const calibrate::MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
+  if (best.best.empty()) throw std::runtime_error("no evaluation finished; nothing to report");
+
+  // The full simulation at the calibrated values (everything recorded).
+  core::Scene calibrated = scene;
+  space.Apply(best.best, &calibrated);
+  calibrated.options.record = observations::RequiredRecording(obs, calibrated.options.record);
+  calibrated.options.record.partitions = true;
+  const core::SimulationResult sim = core::Simulate(calibrated);
+  record.misfit_after = observations::ComputeMisfit(obs, calibrated, sim);
+  record.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+
+  reports::WriteSimulationFiles(out, calibrated, sim);
+  reports::WriteFileAtomically(out + "/parameters.json", reports::ParametersJson(record).dump(2) + "\n");
+  reports::WriteFileAtomically(out + "/parameters.csv", reports::ParametersCsv(record));
+  reports::WriteFileAtomically(out + "/parameters.md", reports::ParametersMarkdown(record));
+  reports::WriteFileAtomically(out + "/trace.csv", reports::TraceCsv(record));
+  reports::WriteFileAtomically(out + "/calibration.json",
+                               reports::CalibrationJson(record).dump(2) + "\n");
+  if (record.methods.size() > 1) {
+    reports::WriteFileAtomically(out + "/comparison.csv", reports::ComparisonCsv(record));
+    reports::WriteFileAtomically(out + "/comparison.md", reports::ComparisonMarkdown(record));
+  }
+  if (!quiet) {
+    std::printf("\n%s", reports::ParametersMarkdown(record).c_str());
+    if (record.methods.size() > 1) std::printf("\n%s", reports::ComparisonMarkdown(record).c_str());
+    std::printf("\nwrote %s/ in %.1f s: parameters.{json,csv,md}, trace.csv, calibration.json, "
+                "evaluations.jsonl, summary.json, rocks.csv%s\n",
+                out.c_str(), record.wall_seconds,
+                record.methods.size() > 1 ? ", comparison.{csv,md}" : "");
+  }
+  return 0;
+}
+
+}  // namespace rockcal::cli

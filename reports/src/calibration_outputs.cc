@@ -1,0 +1,222 @@
+#include "rockcal/reports/calibration_outputs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+namespace rockcal::reports {
+namespace {
+
+using calibrate::MethodResult;
+using calibrate::Parameter;
+using calibrate::ParameterKind;
+
+std::string Num(double v, const char* format = "%.6g") {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+const char* SiUnit(const Parameter& p) {
+  switch (p.kind) {
+    case ParameterKind::kHardness:
+      return "";
+    case ParameterKind::kRoughness:
+      return "m";
+    case ParameterKind::kContactTime:
+      return "s";
+  }
+  return "";
+}
+
+// A value in the site's units for display (roughness in ft for US sites).
+std::string SiteValue(const Parameter& p, double v, sites::Units units) {
+  if (p.kind == ParameterKind::kRoughness && units == sites::Units::kUS)
+    return Num(v / 0.3048, "%.3g") + " ft";
+  if (p.kind == ParameterKind::kContactTime) return Num(v * 1e3, "%.3g") + " ms";
+  if (p.kind == ParameterKind::kRoughness) return Num(v, "%.3g") + " m";
+  return Num(v, "%.3f");
+}
+
+// The best method's standard error of parameter k, if computed.
+const double* StdError(const MethodResult& m, std::size_t k) {
+  const auto& u = m.uncertainty;
+  return u.computed && !u.rank_deficient && k < u.std_error.size() ? &u.std_error[k] : nullptr;
+}
+
+nlohmann::json ResidualsJson(const observations::Misfit& m) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& r : m.residuals)
+    out.push_back({{"observation", r.observation},
+                   {"quantity", r.quantity},
+                   {"simulated", r.simulated},
+                   {"observed", r.observed},
+                   {"sigma", r.sigma},
+                   {"residual", r.value}});
+  return out;
+}
+
+double BestOfAll(const CalibrationRecord& record) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& m : record.methods) best = std::min(best, m.best_misfit);
+  return best;
+}
+
+}  // namespace
+
+nlohmann::json ParametersJson(const CalibrationRecord& record) {
+  const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
+  nlohmann::json params = nlohmann::json::array();
+  const auto& ps = record.space.parameters();
+  for (std::size_t k = 0; k < ps.size(); ++k) {
+    const double* se = StdError(best, k);
+    params.push_back({{"material", ps[k].material},
+                      {"name", ps[k].name()},
+                      {"value", best.best[k]},
+                      {"lower", ps[k].lower},
+                      {"upper", ps[k].upper},
+                      {"std_error", se ? nlohmann::json(*se) : nlohmann::json(nullptr)}});
+  }
+  return {{"site", record.site},
+          {"method", best.method},
+          {"misfit", best.best_misfit},
+          {"evaluations", best.evaluations},
+          {"wall_seconds", best.wall_seconds},
+          {"parameters", params}};
+}
+
+std::string ParametersCsv(const CalibrationRecord& record) {
+  const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
+  std::ostringstream out;
+  out << "material,name,value,lower,upper,std_error,unit\n";
+  const auto& ps = record.space.parameters();
+  for (std::size_t k = 0; k < ps.size(); ++k) {
+    const double* se = StdError(best, k);
+    out << ps[k].material << ',' << ps[k].name() << ',' << Num(best.best[k], "%.10g") << ','
+        << Num(ps[k].lower, "%.10g") << ',' << Num(ps[k].upper, "%.10g") << ','
+        << (se ? Num(*se, "%.6g") : "") << ',' << SiUnit(ps[k]) << '\n';
+  }
+  return out.str();
+}
+
+std::string ParametersMarkdown(const CalibrationRecord& record) {
+  const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
+  std::ostringstream out;
+  out << "| material | parameter | calibrated | std. error | start | bounds |\n"
+      << "|---|---|---|---|---|---|\n";
+  const auto& ps = record.space.parameters();
+  for (std::size_t k = 0; k < ps.size(); ++k) {
+    const double* se = StdError(best, k);
+    out << "| " << ps[k].material << " | " << ps[k].name() << " | "
+        << SiteValue(ps[k], best.best[k], record.units) << " | "
+        << (se ? SiteValue(ps[k], *se, record.units) : std::string("-")) << " | "
+        << SiteValue(ps[k], record.start[k], record.units) << " | ["
+        << SiteValue(ps[k], ps[k].lower, record.units) << ", "
+        << SiteValue(ps[k], ps[k].upper, record.units) << "] |\n";
+  }
+  out << "\nSite " << record.site << "; method " << best.method << ", " << best.evaluations
+      << " evaluations in " << Num(best.wall_seconds, "%.1f") << " s; misfit "
+      << Num(record.misfit_before.value, "%.4g") << " before, " << Num(best.best_misfit, "%.4g")
+      << " after (half the sum of squared residuals in units of their uncertainty); "
+      << record.rocks << " rocks per evaluation, seed " << record.seed << ".\n";
+  if (best.uncertainty.computed && best.uncertainty.rank_deficient)
+    out << "\nStandard errors not available: " << best.uncertainty.message << ".\n";
+  return out.str();
+}
+
+std::string TraceCsv(const CalibrationRecord& record) {
+  std::ostringstream out;
+  out << "method,evaluation,wall_seconds,misfit,best_misfit";
+  for (const auto& p : record.space.parameters()) out << ',' << p.label();
+  out << ",replayed\n";
+  for (const MethodResult& m : record.methods) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& e : m.trace) {
+      best = std::min(best, e.misfit);
+      out << m.method << ',' << e.index << ',' << Num(e.elapsed, "%.4f") << ','
+          << Num(e.misfit, "%.8g") << ',' << Num(best, "%.8g");
+      for (double v : e.parameters) out << ',' << Num(v, "%.10g");
+      out << ',' << (e.replayed ? 1 : 0) << '\n';
+    }
+  }
+  return out.str();
+}
+
+nlohmann::json CalibrationJson(const CalibrationRecord& record) {
+  const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
+  const double best_all = BestOfAll(record);
+  nlohmann::json methods = nlohmann::json::array();
+  for (const MethodResult& m : record.methods) {
+    nlohmann::json u = nullptr;
+    if (m.uncertainty.computed) {
+      u = {{"rank_deficient", m.uncertainty.rank_deficient},
+           {"message", m.uncertainty.message},
+           {"std_error", m.uncertainty.std_error},
+           {"correlation", m.uncertainty.correlation},
+           {"singular_values", m.uncertainty.singular_values}};
+    }
+    const double reach = calibrate::TimeToReach(m, best_all, 0.1);
+    methods.push_back({{"method", m.method},
+                       {"termination", m.termination},
+                       {"misfit", m.best_misfit},
+                       {"parameters", m.best},
+                       {"evaluations", m.evaluations},
+                       {"simulated", m.simulated},
+                       {"wall_seconds", m.wall_seconds},
+                       {"seconds_to_within_10pct_of_best",
+                        reach >= 0 ? nlohmann::json(reach) : nlohmann::json(nullptr)},
+                       {"uncertainty", u}});
+  }
+  nlohmann::json names = nlohmann::json::array();
+  for (const auto& p : record.space.parameters()) names.push_back(p.label());
+  return {{"site", record.site},
+          {"method", best.method},
+          {"termination", best.termination},
+          {"evaluations", best.evaluations},
+          {"wall_seconds", record.wall_seconds},
+          {"rocks_per_evaluation", record.rocks},
+          {"seed", record.seed},
+          {"parameter_names", names},
+          {"start", record.start},
+          {"calibrated", best.best},
+          {"misfit_before", record.misfit_before.value},
+          {"misfit_after", record.misfit_after.value},
+          {"fit_before", ResidualsJson(record.misfit_before)},
+          {"fit", ResidualsJson(record.misfit_after)},
+          {"methods", methods}};
+}
+
+std::string ComparisonCsv(const CalibrationRecord& record) {
+  const double best_all = BestOfAll(record);
+  std::ostringstream out;
+  out << "method,misfit,evaluations,simulated,wall_seconds,seconds_to_within_10pct_of_best,"
+         "termination\n";
+  for (const MethodResult& m : record.methods) {
+    const double reach = calibrate::TimeToReach(m, best_all, 0.1);
+    std::string term = m.termination;
+    std::replace(term.begin(), term.end(), ',', ';');
+    out << m.method << ',' << Num(m.best_misfit, "%.6g") << ',' << m.evaluations << ','
+        << m.simulated << ',' << Num(m.wall_seconds, "%.2f") << ','
+        << (reach >= 0 ? Num(reach, "%.2f") : "") << ",\"" << term << "\"\n";
+  }
+  return out.str();
+}
+
+std::string ComparisonMarkdown(const CalibrationRecord& record) {
+  const double best_all = BestOfAll(record);
+  std::ostringstream out;
+  out << "| method | misfit | evaluations | wall s | s to within 10 % of best | stopped because |\n"
+      << "|---|---|---|---|---|---|\n";
+  for (const MethodResult& m : record.methods) {
+    const double reach = calibrate::TimeToReach(m, best_all, 0.1);
+    out << "| " << m.method << " | " << Num(m.best_misfit, "%.4g") << " | " << m.evaluations
+        << " | " << Num(m.wall_seconds, "%.1f") << " | "
+        << (reach >= 0 ? Num(reach, "%.1f") : std::string("never")) << " | " << m.termination
+        << " |\n";
+  }
+  return out.str();
+}
+
+}  // namespace rockcal::reports

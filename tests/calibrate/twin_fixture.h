@@ -1,0 +1,97 @@
+// A small synthetic site for calibration tests: a 35-degree slope ("slope")
+// onto a flat runout ("runout"), spheres released at the top, a partition on
+// the slope. Observations are drawn from a simulation at known parameters.
+#ifndef ROCKCAL_TESTS_CALIBRATE_TWIN_FIXTURE_H_
+#define ROCKCAL_TESTS_CALIBRATE_TWIN_FIXTURE_H_
+
+#include <cmath>
+
+#include "rockcal/calibrate/parameter_space.h"
+#include "rockcal/core/simulate.h"
+#include "rockcal/observations/observations.h"
+#include "rockcal/sites/site.h"
+
+namespace rockcal::calibrate::testing {
+
+inline sites::Site TwinSite(int rocks) {
+  sites::Site site;
+  site.path = "twin";
+  site.units = sites::Units::kSI;
+  core::Scene& scene = site.scene;
+  scene.name = "twin";
+  const double s = 2.0, theta = 35.0 * M_PI / 180.0;
+  scene.grid.spacing = s;
+  scene.grid.nx = 46;  // 90 m
+  scene.grid.ny = 11;  // 20 m
+  for (int j = 0; j < scene.grid.ny; ++j)
+    for (int i = 0; i < scene.grid.nx; ++i) {
+      const double x = i * s;
+      scene.grid.z.push_back(x < 30.0 ? (30.0 - x) * std::tan(theta) : 0.0);
+      scene.grid.material.push_back(x < 30.0 ? 0 : 1);
+    }
+  core::Material slope;
+  slope.id = "slope";
+  slope.hardness = 0.5;
+  slope.roughness_m = 0.3;
+  core::Material runout;
+  runout.id = "runout";
+  runout.hardness = 0.3;
+  runout.roughness_m = 0.3;
+  // A long contact (20 ms) keeps the test cheap: 4x fewer steps than 5 ms.
+  slope.contact_time_s = runout.contact_time_s = 0.02;
+  scene.materials = {slope, runout};
+  scene.partitions = {{"P", core::Partition::Kind::kX, 20.0}, {"Q", core::Partition::Kind::kX, 40.0}};
+  core::RockGroup g;
+  g.count = rocks;
+  g.shape = core::Shape::kSphere;
+  g.size_min = 0.4;
+  g.size_max = 0.8;
+  g.unit_weight = 26e3;
+  g.release.zone = {{1, 8}, {4, 8}, {4, 12}, {1, 12}};
+  scene.groups = {g};
+  scene.options.max_time = 20.0;
+  site.calibrate = {{"slope", "hardness", 0.2, 0.8},
+                    {"slope", "roughness", 0.1, 0.6},
+                    {"runout", "hardness", 0.1, 0.6},
+                    {"runout", "roughness", 0.1, 0.6}};
+  return site;
+}
+
+// Observations of bounce heights at P and of stop points, from a simulation
+// of `site` at `truth` with `seed`.
+inline observations::Observations TwinObservations(const sites::Site& site,
+                                                   const std::vector<double>& truth,
+                                                   std::uint64_t seed) {
+  core::Scene scene = site.scene;
+  ParameterSpace::FromSite(site).Apply(truth, &scene);
+  scene.options.seed = seed;
+  const core::SimulationResult sim = core::Simulate(scene);
+  observations::Observations obs;
+  obs.units = sites::Units::kSI;
+  observations::ScarSet scars, runout_scars;
+  scars.label = "tree_scars[0] P";
+  scars.partition = 0;
+  runout_scars.label = "tree_scars[1] Q";
+  runout_scars.partition = 1;
+  observations::Runout runout;
+  for (const auto& r : sim.rocks) {
+    if (r.crossings[0].crossed) scars.heights.push_back(r.crossings[0].height);
+    if (r.crossings[1].crossed) runout_scars.heights.push_back(r.crossings[1].height);
+    if (r.outcome == core::Outcome::kStopped) runout.stop_points.emplace_back(r.stop.x(), r.stop.y());
+  }
+  runout.from = Eigen::Vector2d(2.5, 10.0);
+  runout.direction = Eigen::Vector2d(1.0, 0.0);
+  for (const auto& p : runout.stop_points) {
+    runout.distances.push_back(runout.Distance(p));
+    runout.lateral.push_back(runout.Lateral(p));
+  }
+  obs.tree_scars = {scars, runout_scars};
+  obs.runout = runout;
+  obs.error.height = 0.1;
+  obs.error.runout = 1.0;
+  return obs;
+}
+
+}  // namespace rockcal::calibrate::testing
+
+#endif  // ROCKCAL_TESTS_CALIBRATE_TWIN_FIXTURE_H_
