@@ -117,6 +117,10 @@ class RockRun {
         break;
       }
       Events(before, flew);
+      if (opt_.record.passages) {
+        const int cell = ctx_.terrain.CellOf(s_.x.x(), s_.x.y());
+        if (cell >= 0 && (rec_->cells.empty() || rec_->cells.back() != cell)) rec_->cells.push_back(cell);
+      }
       if (opt_.record.energy_check && !flew) CheckEnergy();
       if (!ctx_.terrain.OnSlope(s_.x.x(), s_.x.y())) {
         outcome = Outcome::kLeft;
@@ -136,6 +140,10 @@ class RockRun {
       } else {
         slow_since = -1.0;
       }
+    }
+    if (opt_.record.passages) {
+      std::sort(rec_->cells.begin(), rec_->cells.end());
+      rec_->cells.erase(std::unique(rec_->cells.begin(), rec_->cells.end()), rec_->cells.end());
     }
     rec_->outcome = outcome;
     rec_->stop = s_.x;
@@ -290,6 +298,34 @@ class RockRun {
     alpha_ = AngularAcceleration(torque, s_.w, rot);
   }
 
+  // Clusters: the element centres, and once for all elements the candidate
+  // spheres of the cells under them that reach the rock's bounding sphere.
+  void GatherCandidates(const Eigen::Matrix3d& rot) {
+    const std::size_t n = body_.elements.size();
+    centres_.resize(n);
+    element_cells_.resize(n);
+    cells_.clear();
+    near_.clear();
+    for (std::size_t e = 0; e < n; ++e) {
+      centres_[e] = s_.x + rot * body_.elements[e];
+      element_cells_[e] = ctx_.terrain.CellOf(centres_[e].x(), centres_[e].y());
+      if (element_cells_[e] >= 0) cells_.push_back(element_cells_[e]);
+    }
+    std::sort(cells_.begin(), cells_.end());
+    cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
+    const double rb = body_.bounding_radius;
+    for (int cell : cells_) {
+      const int *begin, *end;
+      ctx_.terrain.Candidates(cell, &begin, &end);
+      for (const int* it = begin; it != end; ++it) {
+        const double reach = ctx_.terrain.sphere_radius(*it) + rb;
+        if ((s_.x - ctx_.terrain.sphere_centre(*it)).squaredNorm() < reach * reach) near_.push_back(*it);
+      }
+    }
+    std::sort(near_.begin(), near_.end());
+    near_.erase(std::unique(near_.begin(), near_.end()), near_.end());
+  }
+
   // One central-difference (kick-drift-kick) contact step.
   void Step() {
     const double dt = dt_;
@@ -307,11 +343,17 @@ class RockRun {
     spring_energy_ = 0.0;
     const double m = body_.mass;
     const double a = body_.element_radius;
+    if constexpr (kCluster) GatherCandidates(rot);
     for (std::size_t e = 0; e < body_.elements.size(); ++e) {
-      Eigen::Vector3d centre = s_.x;
-      if constexpr (kCluster) centre += rot * body_.elements[e];
       found_.clear();
-      ctx_.terrain.FindContacts(centre, a, &found_);
+      Eigen::Vector3d centre = s_.x;
+      if constexpr (kCluster) {
+        centre = centres_[e];
+        ctx_.terrain.SphereContacts(centre, a, near_.data(), near_.data() + near_.size(), &found_);
+        ctx_.terrain.FloorContacts(centre, a, element_cells_[e], &found_);
+      } else {
+        ctx_.terrain.FindContacts(centre, a, &found_);
+      }
       for (const TerrainContact& c : found_) {
         const ContactLaw& law = ctx_.laws[static_cast<std::size_t>(c.material)];
         const Eigen::Vector3d arm = c.point - s_.x;
@@ -473,6 +515,9 @@ class RockRun {
   double next_sample_ = 0.0;
   std::vector<TerrainContact> found_;
   std::vector<ContactState> contacts_, next_;
+  std::vector<Eigen::Vector3d> centres_;  // clusters: element centres this step
+  std::vector<int> element_cells_;        // clusters: the cell under each element
+  std::vector<int> cells_, near_;         // clusters: cells under them, candidate spheres
 };
 
 // Release: a random point of the zone, a random size and orientation, then
@@ -658,6 +703,12 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
     result.max_penetration = std::max(result.max_penetration, r.max_penetration);
   }
   if (result.rocks.empty()) result.dt_min = 0.0;
+  if (scene.options.record.passages) {
+    result.passages.assign(static_cast<std::size_t>(std::max(scene.grid.nx - 1, 0)) *
+                               std::max(scene.grid.ny - 1, 0), 0);
+    for (const RockRecord& r : result.rocks)
+      for (int cell : r.cells) ++result.passages[static_cast<std::size_t>(cell)];
+  }
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

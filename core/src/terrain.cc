@@ -66,7 +66,9 @@ bool HeightGrid::valid(int i, int j) const {
 
 Terrain::Terrain(HeightGrid grid, const std::vector<double>& roughness_m,
                  double max_element_radius)
-    : grid_(std::move(grid)), max_element_radius_(max_element_radius) {
+    : grid_(std::move(grid)),
+      inv_spacing_(1.0 / grid_.spacing),
+      max_element_radius_(max_element_radius) {
   BuildSpheres(roughness_m);
   BuildCandidates();
 }
@@ -234,13 +236,6 @@ double Terrain::FloorHeight(double x, double y) const {
   return catch_[static_cast<std::size_t>(cell)];
 }
 
-int Terrain::CellOf(double x, double y) const {
-  const double fx = (x - grid_.x0) / grid_.spacing, fy = (y - grid_.y0) / grid_.spacing;
-  if (!(fx >= 0.0 && fy >= 0.0 && fx <= grid_.nx - 1 && fy <= grid_.ny - 1)) return -1;
-  const int i = std::min(static_cast<int>(fx), grid_.nx - 2);
-  const int j = std::min(static_cast<int>(fy), grid_.ny - 2);
-  return j * (grid_.nx - 1) + i;
-}
 
 bool Terrain::OnSlope(double x, double y) const {
   const double fx = (x - grid_.x0) / grid_.spacing, fy = (y - grid_.y0) / grid_.spacing;
@@ -285,25 +280,44 @@ double Terrain::Ceiling(double xmin, double xmax, double ymin, double ymax) cons
 
 void Terrain::FindContacts(const Eigen::Vector3d& c, double a,
                            std::vector<TerrainContact>* out) const {
-  const double s = grid_.spacing;
   const int cell = CellOf(c.x(), c.y());
   if (has_rough_ && cell >= 0) {
-    for (int k = list_start_[cell]; k < list_start_[cell + 1]; ++k) {
-      const int n = list_[k];
-      const double r = radius_[n];
-      const Eigen::Vector3d d = c - centre_[n];
-      const double limit = a + r;
-      const double d2 = d.squaredNorm();
-      if (d2 >= limit * limit) continue;
-      const double dist = std::sqrt(d2);
-      TerrainContact contact;
-      contact.normal = d / dist;
-      contact.overlap = limit - dist;
-      contact.point = c - contact.normal * (a - 0.5 * contact.overlap);
-      contact.material = grid_.material[n];
-      contact.key = n;
-      out->push_back(contact);
-    }
+    const int* begin = list_.data() + list_start_[static_cast<std::size_t>(cell)];
+    const int* end = list_.data() + list_start_[static_cast<std::size_t>(cell) + 1];
+    SphereContacts(c, a, begin, end, out);
+  }
+  FloorContacts(c, a, cell, out);
+}
+
+void Terrain::Candidates(int cell, const int** begin, const int** end) const {
+  *begin = list_.data() + list_start_[static_cast<std::size_t>(cell)];
+  *end = list_.data() + list_start_[static_cast<std::size_t>(cell) + 1];
+}
+
+void Terrain::SphereContacts(const Eigen::Vector3d& c, double a, const int* begin, const int* end,
+                             std::vector<TerrainContact>* out) const {
+  for (const int* it = begin; it != end; ++it) {
+    const int n = *it;
+    const double r = radius_[static_cast<std::size_t>(n)];
+    const Eigen::Vector3d d = c - centre_[static_cast<std::size_t>(n)];
+    const double limit = a + r;
+    const double d2 = d.squaredNorm();
+    if (d2 >= limit * limit) continue;
+    const double dist = std::sqrt(d2);
+    TerrainContact contact;
+    contact.normal = d / dist;
+    contact.overlap = limit - dist;
+    contact.point = c - contact.normal * (a - 0.5 * contact.overlap);
+    contact.material = grid_.material[static_cast<std::size_t>(n)];
+    contact.key = n;
+    out->push_back(contact);
+  }
+}
+
+void Terrain::FloorContacts(const Eigen::Vector3d& c, double a, int cell,
+                            std::vector<TerrainContact>* out) const {
+  const double s = grid_.spacing;
+  if (has_rough_ && cell >= 0) {
     const double below = catch_[static_cast<std::size_t>(cell)] - (c.z() - a);
     if (below > 0.0) {
       TerrainContact contact;
@@ -366,7 +380,11 @@ double Terrain::Gap(const Eigen::Vector3d& c, double a, double reach) const {
         const int cell = j * cx + i;
         for (int k = list_start_[cell]; k < list_start_[cell + 1]; ++k) {
           const int n = list_[k];
-          gap = std::min(gap, (c - centre_[n]).norm() - radius_[n] - a);
+          // Only a sphere nearer than the gap found so far needs the root.
+          const double beat = gap + radius_[n] + a;
+          const double d2 = (c - centre_[n]).squaredNorm();
+          if (beat > 0.0 && d2 >= beat * beat) continue;
+          gap = std::min(gap, std::sqrt(d2) - radius_[n] - a);
         }
         gap = std::min(gap, c.z() - a - catch_[static_cast<std::size_t>(cell)]);
       }

@@ -1,4 +1,5 @@
-// Calibration: twin experiments, resume, the evaluation log and options.
+// Calibration bookkeeping: resume, the evaluation log, budgets, penalties and
+// options (the twin experiments are in twin_heavy_test.cc).
 #include "rockcal/calibrate/calibration.h"
 
 #include <gmock/gmock.h>
@@ -19,94 +20,19 @@ using testing::TwinObservations;
 using testing::TwinSite;
 
 // Known values inside the bounds (slope hardness, slope roughness, runout
-// hardness, runout roughness); the site starts elsewhere.
+// hardness, runout roughness).
 const std::vector<double> kTruth = {0.65, 0.25, 0.2, 0.45};
-constexpr int kRocks = 300;
-
-struct Twin {
-  sites::Site site = TwinSite(kRocks);
-  ParameterSpace space = ParameterSpace::FromSite(site);
-  // Observations from twice the rocks and seed 11; calibration with seed 2.
-  observations::Observations obs = TwinObservations(TwinSite(2 * kRocks), kTruth, 11);
-  core::Scene scene = [this] {
-    core::Scene s = site.scene;
-    s.options.seed = 2;
-    return s;
-  }();
-  Objective objective{scene, space, obs, {}};
-};
-
-Twin& SharedTwin() {
-  static Twin twin;
-  return twin;
-}
-
-double RangeError(const ParameterSpace& space, const std::vector<double>& x, int k) {
-  const Parameter& p = space.parameters()[static_cast<std::size_t>(k)];
-  return std::abs(x[static_cast<std::size_t>(k)] - kTruth[static_cast<std::size_t>(k)]) /
-         (p.upper - p.lower);
-}
-
-std::string Describe(const MethodResult& r, const ParameterSpace& space) {
-  std::string s = r.method + ": misfit " + std::to_string(r.best_misfit) + " after " +
-                  std::to_string(r.evaluations) + " (" + r.termination + ")";
-  for (int k = 0; k < space.size(); ++k)
-    s += "\n  " + space.parameters()[k].label() + " = " + std::to_string(r.best[k]) + " (truth " +
-         std::to_string(kTruth[k]) + ", error " + std::to_string(100 * RangeError(space, r.best, k)) +
-         " % of range)";
-  return s;
-}
-
-// The hardness of both materials is recovered within 10 % of its range.
-// Roughness is only weakly determined by bounce heights and runout: the
-// misfit at the recovered values is below the misfit at the truth, so Monte
-// Carlo noise, not the optimiser, limits it (10-25 % of its range here; see
-// the calibration notes). It is not asserted.
-void ExpectHardnessRecovered(const MethodResult& r, const ParameterSpace& space) {
-  for (int k : {0, 2})
-    EXPECT_LT(RangeError(space, r.best, k), 0.10) << Describe(r, space);
-}
-
-TEST(Calibration, TwinExperimentBobyqa) {
-  Twin& twin = SharedTwin();
-  MethodOptions options;
-  options.max_evals = 60;
-  const MethodResult r = RunMethod("nlopt:bobyqa", twin.objective, twin.space.Current(twin.scene),
-                                   options, nullptr);
-  std::printf("%s\n", Describe(r, twin.space).c_str());
-  EXPECT_LT(r.best_misfit, twin.objective.Evaluate(kTruth).value * 1.5) << Describe(r, twin.space);
-  ExpectHardnessRecovered(r, twin.space);
-}
-
-TEST(Calibration, TwinExperimentCeresWithUncertainty) {
-  Twin& twin = SharedTwin();
-  MethodOptions options;
-  options.max_evals = 60;
-  const MethodResult r =
-      RunMethod("ceres", twin.objective, twin.space.Current(twin.scene), options, nullptr);
-  std::printf("%s\n", Describe(r, twin.space).c_str());
-  ExpectHardnessRecovered(r, twin.space);
-  ASSERT_TRUE(r.uncertainty.computed) << r.uncertainty.message;
-  ASSERT_FALSE(r.uncertainty.rank_deficient) << r.uncertainty.message;
-  for (int k = 0; k < twin.space.size(); ++k) {
-    const double se = r.uncertainty.std_error[static_cast<std::size_t>(k)];
-    std::printf("  %s standard error %g\n", twin.space.parameters()[k].label().c_str(), se);
-    EXPECT_GT(se, 0.0);
-    EXPECT_TRUE(std::isfinite(se));
-  }
-  for (int a = 0; a < twin.space.size(); ++a)
-    EXPECT_NEAR(r.uncertainty.correlation[a][a], 1.0, 1e-9);
-}
 
 std::string TempPath(const std::string& name) {
   return ::testing::TempDir() + "/rockcal_calibration_" + name;
 }
 
-// A small, quick objective for the bookkeeping tests.
+// A small, quick objective for the bookkeeping tests (they also run under
+// the sanitizers): few rocks.
 struct Small {
-  sites::Site site = TwinSite(20);
+  sites::Site site = TwinSite(6);
   ParameterSpace space = ParameterSpace::FromSite(site);
-  observations::Observations obs = TwinObservations(TwinSite(40), kTruth, 5);
+  observations::Observations obs = TwinObservations(TwinSite(20), kTruth, 5);
   Objective objective{site.scene, space, obs, {}};
 };
 
@@ -115,7 +41,7 @@ TEST(Calibration, ResumeEndsLikeAStraightRunWithFewerSimulations) {
   MethodOptions options;
   options.max_evals = 14;
   const std::string straight_log = TempPath("straight.jsonl");
-  EvaluationLog straight_log_file(straight_log, false, small.space, 1, 20);
+  EvaluationLog straight_log_file(straight_log, false, small.space, 1, 6);
   const MethodResult straight = RunMethod("nlopt:bobyqa", small.objective,
                                           small.space.Current(small.site.scene), options,
                                           &straight_log_file);
@@ -124,10 +50,10 @@ TEST(Calibration, ResumeEndsLikeAStraightRunWithFewerSimulations) {
   MethodOptions first = options;
   first.max_evals = 6;
   {
-    EvaluationLog log(log_path, false, small.space, 1, 20);
+    EvaluationLog log(log_path, false, small.space, 1, 6);
     RunMethod("nlopt:bobyqa", small.objective, small.space.Current(small.site.scene), first, &log);
   }
-  EvaluationLog log(log_path, true, small.space, 1, 20);
+  EvaluationLog log(log_path, true, small.space, 1, 6);
   EXPECT_EQ(log.size(), 6);
   const MethodResult resumed = RunMethod("nlopt:bobyqa", small.objective,
                                          small.space.Current(small.site.scene), options, &log);
@@ -145,31 +71,31 @@ TEST(Calibration, LogOfAnotherCalibrationIsRefused) {
   Small small;
   const std::string path = TempPath("other.jsonl");
   {
-    EvaluationLog log(path, false, small.space, 1, 20);
+    EvaluationLog log(path, false, small.space, 1, 6);
     MethodOptions options;
     options.max_evals = 2;
     RunMethod("nlopt:sbplx", small.objective, small.space.Current(small.site.scene), options, &log);
   }
   try {
-    EvaluationLog log(path, true, small.space, 7, 20);  // another seed
+    EvaluationLog log(path, true, small.space, 7, 6);  // another seed
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr(path + ":1"));
     EXPECT_THAT(e.what(), HasSubstr("another calibration"));
   }
   std::ofstream(path, std::ios::app) << "{\"method\": \"nlopt:sb";  // a torn last line
-  EvaluationLog log(path, true, small.space, 1, 20);
+  EvaluationLog log(path, true, small.space, 1, 6);
   EXPECT_EQ(log.size(), 2);
 }
 
 TEST(Calibration, EveryMethodRunsWithinItsBudget) {
   Small small;
   MethodOptions options;
-  options.max_evals = 8;
+  options.max_evals = 5;
   for (const std::string& method : MethodNames()) {
     const MethodResult r =
         RunMethod(method, small.objective, small.space.Current(small.site.scene), options, nullptr);
-    EXPECT_LE(r.evaluations, method == "ceres" ? 8 : 8) << method;
+    EXPECT_LE(r.evaluations, 5) << method;
     EXPECT_GE(r.evaluations, 2) << method;
     EXPECT_TRUE(std::isfinite(r.best_misfit)) << method;
     EXPECT_EQ(r.best.size(), 4u) << method;
@@ -186,7 +112,6 @@ TEST(Calibration, EveryMethodRunsWithinItsBudget) {
 TEST(Calibration, NonFiniteSimulationIsAFinitePenalty) {
   Small small;
   core::Scene scene = small.site.scene;
-  scene.grid.z[3] = std::nan("");  // a hole does not make NaN; force a failure instead:
   scene.groups[0].release.zone.clear();
   scene.groups[0].release.point = Eigen::Vector2d(-100, -100);  // off the grid: every rock leaves
   Objective objective(scene, small.space, small.obs, {});

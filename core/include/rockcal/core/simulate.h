@@ -46,6 +46,7 @@ struct RockRecord {
   bool tunneled = false;    // centre went below Terrain::FloorHeight by more than its radius
   std::vector<Crossing> crossings;  // per partition, scene order (empty if not recorded)
   std::vector<Crossing> trees;      // per RecordOptions::trees entry; height = rock centre above ground
+  std::vector<int> cells;           // grid cells its centre passed over (RecordOptions::passages)
   std::vector<TrajectorySample> trajectory;
 };
 
@@ -58,6 +59,9 @@ struct SimulationResult {
   double max_relative_energy_gain = 0.0;
   double max_penetration = 0.0;
   int non_finite = 0;  // rocks whose state became non-finite (must be 0)
+  // With RecordOptions::passages: per grid cell (j * (nx - 1) + i), the
+  // number of rocks whose centre passed over it (the preferred paths).
+  std::vector<int> passages;
   int tunneled = 0;
   int count(Outcome o) const;
 };

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -50,6 +51,14 @@ class Terrain final {
   // False when (x, y) is outside the grid or in a cell with a hole corner:
   // a rock whose centre gets there has left the slope.
   bool OnSlope(double x, double y) const;
+  // Index j * (nx - 1) + i of the grid cell under (x, y); -1 off the grid.
+  int CellOf(double x, double y) const {
+    const double fx = (x - grid_.x0) * inv_spacing_, fy = (y - grid_.y0) * inv_spacing_;
+    if (!(fx >= 0.0 && fy >= 0.0 && fx <= grid_.nx - 1 && fy <= grid_.ny - 1)) return -1;
+    const int i = std::min(static_cast<int>(fx), grid_.nx - 2);
+    const int j = std::min(static_cast<int>(fy), grid_.ny - 2);
+    return j * (grid_.nx - 1) + i;
+  }
   // Material of the node nearest to (x, y) (clamped to the grid).
   int MaterialAt(double x, double y) const;
   // Upper bound of every obstacle (virtual sphere or facet) that an element
@@ -63,6 +72,17 @@ class Terrain final {
   // Smallest gap between an element sphere and any obstacle it may touch
   // while its centre moves by at most `reach` (negative: overlap); +inf when none.
   double Gap(const Eigen::Vector3d& c, double a, double reach) const;
+
+  // The pieces of FindContacts, for callers that gather candidate spheres
+  // once for several elements (clusters): the candidate sphere nodes of a
+  // cell; the contacts with the spheres of [begin, end); the contacts with
+  // the catch plane and the smooth facets under an element.
+  void Candidates(int cell, const int** begin, const int** end) const;
+  void SphereContacts(const Eigen::Vector3d& c, double a, const int* begin, const int* end,
+                      std::vector<TerrainContact>* out) const;
+  // `cell` is CellOf(c), when the caller has it already.
+  void FloorContacts(const Eigen::Vector3d& c, double a, int cell,
+                     std::vector<TerrainContact>* out) const;
 
   // Deepest sag of the virtual-sphere surface below the nodes: at a cell
   // centre, r - sqrt(r^2 - s^2/2) for the largest sphere radius r in use (r
@@ -92,10 +112,10 @@ class Terrain final {
   // Per cell: the virtual spheres an element centred in it may touch (those
   // reaching the cell that are not buried under the others), and the ceiling.
   void BuildCandidates();
-  int CellOf(double x, double y) const;  // -1 outside the grid
   bool CellValid(int i, int j) const;     // all four corners are data
 
   HeightGrid grid_;
+  double inv_spacing_ = 1.0;
   double max_element_radius_ = 0.0;
   std::vector<Eigen::Vector3d> centre_;  // per node
   std::vector<double> radius_;           // per node, +inf when smooth or hole
