@@ -1,5 +1,6 @@
 // rockcal calibrate: search the calibrated parameters of a site until its
 // simulation matches the observations, and write the tables and the trace.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -11,6 +12,7 @@
 #include "rockcal/calibrate/calibration.h"
 #include "rockcal/core/error.h"
 #include "rockcal/reports/calibration_outputs.h"
+#include "rockcal/reports/html_report.h"
 #include "rockcal/reports/output_dir.h"
 #include "rockcal/reports/simulation_outputs.h"
 #include "rockcal/sites/site.h"
@@ -136,18 +138,31 @@ int Calibrate(const std::vector<std::string>& argv) {
   space.Apply(best.best, &calibrated);
   calibrated.options.record = observations::RequiredRecording(obs, calibrated.options.record);
   calibrated.options.record.partitions = true;
+  calibrated.options.record.passages = true;  // the report's density map
+  calibrated.options.record.trajectories = std::min(calibrated.total_rocks(), 30);  // its profile
   const core::SimulationResult sim = core::Simulate(calibrated);
   record.misfit_after = observations::ComputeMisfit(obs, calibrated, sim);
   record.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
 
-  reports::WriteSimulationFiles(out, calibrated, sim);
+  core::Scene written = calibrated;  // no trajectories.csv: the trajectories are for the report
+  written.options.record.trajectories = 0;
+  reports::WriteSimulationFiles(out, written, sim);
   reports::WriteFileAtomically(out + "/parameters.json", reports::ParametersJson(record).dump(2) + "\n");
   reports::WriteFileAtomically(out + "/parameters.csv", reports::ParametersCsv(record));
   reports::WriteFileAtomically(out + "/parameters.md", reports::ParametersMarkdown(record));
   reports::WriteFileAtomically(out + "/trace.csv", reports::TraceCsv(record));
   reports::WriteFileAtomically(out + "/calibration.json",
                                reports::CalibrationJson(record).dump(2) + "\n");
+  reports::ReportInput report;
+  report.scene = &calibrated;
+  report.result = &sim;
+  report.site_file = site_path;
+  report.units = site.units;
+  report.notes = site.notes;
+  report.calibration = &record;
+  report.observations = &obs;
+  reports::WriteFileAtomically(out + "/report.html", reports::HtmlReport(report));
   if (record.methods.size() > 1) {
     reports::WriteFileAtomically(out + "/comparison.csv", reports::ComparisonCsv(record));
     reports::WriteFileAtomically(out + "/comparison.md", reports::ComparisonMarkdown(record));
@@ -156,7 +171,7 @@ int Calibrate(const std::vector<std::string>& argv) {
     std::printf("\n%s", reports::ParametersMarkdown(record).c_str());
     if (record.methods.size() > 1) std::printf("\n%s", reports::ComparisonMarkdown(record).c_str());
     std::printf("\nwrote %s/ in %.1f s: parameters.{json,csv,md}, trace.csv, calibration.json, "
-                "evaluations.jsonl, summary.json, rocks.csv%s\n",
+                "evaluations.jsonl, summary.json, rocks.csv, report.html%s\n",
                 out.c_str(), record.wall_seconds,
                 record.methods.size() > 1 ? ", comparison.{csv,md}" : "");
   }

@@ -1,5 +1,6 @@
 #include "commands.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -10,6 +11,7 @@
 #include "rockcal/core/error.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/observations/observations.h"
+#include "rockcal/reports/html_report.h"
 #include "rockcal/reports/output_dir.h"
 #include "rockcal/reports/simulation_outputs.h"
 #include "rockcal/sites/site.h"
@@ -40,16 +42,30 @@ int Simulate(const std::vector<std::string>& argv) {
   reports::OutputDir dir(out, args.Flag("force"));
   Progress progress("simulate", args.Flag("quiet"));
   const core::Terrain terrain = core::BuildTerrain(scene);
+  // The report's views need the passages per cell and a few trajectories;
+  // they are recorded on a copy so that trajectories.csv is still written
+  // only when --trajectories asks for it.
+  core::Scene recorded = scene;
+  recorded.options.record.passages = true;
+  if (recorded.options.record.trajectories == 0)
+    recorded.options.record.trajectories = std::min(scene.total_rocks(), 30);
   const core::SimulationResult result =
-      core::Simulate(scene, terrain, [&](int done, int total) { progress.Update(done, total); });
+      core::Simulate(recorded, terrain, [&](int done, int total) { progress.Update(done, total); });
   reports::WriteSimulationFiles(dir.folder(), scene, result);
+  reports::ReportInput report;
+  report.scene = &scene;
+  report.result = &result;
+  report.site_file = site_path;
+  report.units = site.units;
+  report.notes = site.notes;
+  reports::WriteFileAtomically(dir.File("report.html"), reports::HtmlReport(report));
   dir.Commit();
   if (!args.Flag("quiet")) {
     std::printf("%s: %zu rocks in %.2f s (%ld steps, %ld flights): %d stopped, %d left, %d timeout\n",
                 scene.name.c_str(), result.rocks.size(), result.wall_seconds, result.steps,
                 result.flights, result.count(core::Outcome::kStopped),
                 result.count(core::Outcome::kLeft), result.count(core::Outcome::kTimeout));
-    std::printf("wrote %s/summary.json, rocks.csv, diagnostics.json%s\n", out.c_str(),
+    std::printf("wrote %s/summary.json, rocks.csv, diagnostics.json, report.html%s\n", out.c_str(),
                 scene.options.record.trajectories > 0 ? ", trajectories.csv" : "");
   }
   if (result.non_finite > 0) {

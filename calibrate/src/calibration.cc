@@ -486,7 +486,8 @@ MethodResult RunMethod(const std::string& method, const Objective& objective,
       if (!(ev.best_misfit() < before * (1 - 1e-6))) break;
     }
     if (restarts > 0) termination += "; " + std::to_string(restarts) + " restart(s) from the best point";
-    if (ev.exhausted()) termination += "; budget used";
+    if (ev.exhausted() && termination.find("budget") == std::string::npos)
+      termination += "; budget used";
   } else {
     // Global search, then a local polish from its best point.
     const int global = std::max(2, static_cast<int>(options.max_evals * (1 - options.polish_fraction)));
