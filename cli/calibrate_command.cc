@@ -160,6 +160,8 @@ int Calibrate(const std::vector<std::string>& argv) {
   report.site_file = site_path;
   report.units = site.units;
   report.notes = site.notes;
+  report.options.barrier_height_m = site.barrier_height_m;
+  report.options.barrier_energy_j = site.barrier_energy_j;
   report.calibration = &record;
   report.observations = &obs;
   reports::WriteFileAtomically(out + "/report.html", reports::HtmlReport(report));

@@ -58,6 +58,8 @@ int Simulate(const std::vector<std::string>& argv) {
   report.site_file = site_path;
   report.units = site.units;
   report.notes = site.notes;
+  report.options.barrier_height_m = site.barrier_height_m;
+  report.options.barrier_energy_j = site.barrier_energy_j;
   reports::WriteFileAtomically(dir.File("report.html"), reports::HtmlReport(report));
   dir.Commit();
   if (!args.Flag("quiet")) {

@@ -187,7 +187,7 @@ Site LoadSite(const std::string& path) {
   const nlohmann::json json = ReadJsonFile(path);
   const JsonNode root(&json, path, "$");
   root.Keys({"name", "description", "units", "surface", "materials", "partitions", "rocks",
-             "simulation"});
+             "simulation", "report"});
   Site site;
   site.path = path;
   site.units = ReadUnits(root.Get("units"));
@@ -393,6 +393,14 @@ Site LoadSite(const std::string& path) {
   }
 
   if (auto sim = root.Find("simulation")) ReadSimulation(*sim, units, &scene.options);
+  if (auto report = root.Find("report")) {
+    // The barrier a designer checks: a fence height (site length units) and
+    // its energy capacity (kJ).
+    report->Keys({"barrier_height", "barrier_energy_kj"});
+    if (auto h = report->Find("barrier_height"))
+      site.barrier_height_m = LengthToSI(h->Positive(), units);
+    if (auto e = report->Find("barrier_energy_kj")) site.barrier_energy_j = e->Positive() * 1e3;
+  }
   site.notes.push_back("simulation: seed " + std::to_string(scene.options.seed) + ", max time " +
                        FormatNumber(scene.options.max_time) + " s, " +
                        std::to_string(scene.total_rocks()) + " rocks in " +

@@ -25,6 +25,10 @@ struct Site {
   std::vector<ParameterBound> calibrate;  // from each material's "calibrate"
   // What the reader found and did, for `rockcal validate` (one line each).
   std::vector<std::string> notes;
+  // The barrier of the report's barrier check ("report" in the site file):
+  // fence height [m] and energy capacity [J]; default a 10 ft, 500 kJ fence.
+  double barrier_height_m = 3.048;
+  double barrier_energy_j = 500e3;
 };
 
 // Reads, validates and builds the site at `path`. Throws InputError naming the

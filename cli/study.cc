@@ -1,0 +1,168 @@
+#include "study.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "args.h"
+#include "progress.h"
+#include "rockcal/calibrate/study.h"
+#include "rockcal/core/error.h"
+#include "rockcal/reports/output_dir.h"
+#include "rockcal/sites/site.h"
+
+namespace rockcal::cli {
+namespace {
+
+constexpr const char* kStudies = "stability, convergence";
+
+// A comma-separated list of whole numbers in [lo, hi] given to --name.
+std::vector<int> IntegerList(const Args& args, const std::string& name, long lo, long hi) {
+  const std::string text = args.Get(name);
+  std::vector<int> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    const std::string item =
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    char* end = nullptr;
+    const long x = std::strtol(item.c_str(), &end, 10);
+    if (item.empty() || *end != '\0' || x < lo || x > hi)
+      throw InputError("argument --" + name,
+                       "'" + item + "'" + (item == text ? "" : " in '" + text + "'") +
+                           " is not a whole number in [" + std::to_string(lo) + ", " +
+                           std::to_string(hi) +
+                           "] (expected a comma-separated list, e.g. 10,20,50)");
+    out.push_back(static_cast<int>(x));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+std::vector<std::string> NameList(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    out.push_back(
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+// Options that belong to the other study are errors, not silently ignored.
+void RejectOptions(const Args& args, const std::string& study,
+                   const std::vector<std::pair<const char*, const char*>>& options) {
+  for (const auto& [name, hint] : options)
+    if (args.Has(name))
+      throw InputError("argument --" + std::string(name),
+                       "not an option of 'study " + study + "' (" + hint + ")");
+}
+
+int Stability(const Args& args, sites::Site* site, const std::string& out) {
+  RejectOptions(args, "stability",
+                {{"steps-per-contact", "a convergence option"},
+                 {"rock-counts", "a convergence option; --rocks N sets the rocks per case"},
+                 {"target", "a convergence option"},
+                 {"bootstrap", "a convergence option"}});
+  calibrate::StabilityOptions opt;
+  opt.rocks = static_cast<int>(args.Integer("rocks", opt.rocks, 1, 1000000));
+  if (args.Has("seed")) opt.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
+  opt.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+  if (args.Has("cases")) opt.cases = NameList(args.Get("cases"));
+  std::string error;
+  if (!opt.IsValid(&error)) throw InputError("arguments", error);
+
+  reports::OutputDir dir(out, args.Flag("force"));
+  Progress progress("stability", args.Flag("quiet"));
+  opt.progress = [&](int done, int total, const std::string& what) {
+    progress.Update(done, total, what);
+  };
+  const std::vector<calibrate::StabilityCase> cases =
+      calibrate::RunStabilitySuite(site->scene, opt);
+  reports::WriteFileAtomically(
+      dir.File("stability.json"),
+      calibrate::StabilityJson(site->scene.name, opt, cases).dump(2) + "\n");
+  reports::WriteFileAtomically(dir.File("stability.csv"), calibrate::StabilityCsv(cases));
+  dir.Commit();
+  int failed = 0;
+  for (const auto& c : cases) failed += !c.pass;
+  if (!args.Flag("quiet")) {
+    std::printf("%s: stability suite, %d rocks per case\n", site->scene.name.c_str(), opt.rocks);
+    std::fputs(calibrate::StabilityReport(cases).c_str(), stdout);
+    std::printf("%zu cases: %zu PASS, %d FAIL; wrote %s/stability.json, stability.csv\n",
+                cases.size(), cases.size() - static_cast<std::size_t>(failed), failed, out.c_str());
+  } else {
+    for (const auto& c : cases)
+      if (!c.pass) std::printf("FAIL %s: %s\n", c.name.c_str(), c.reason.c_str());
+  }
+  return 0;
+}
+
+int Convergence(const Args& args, sites::Site* site, const std::string& out) {
+  RejectOptions(args, "convergence",
+                {{"rocks", "use --rock-counts LIST, e.g. --rock-counts 100,300,1000"},
+                 {"cases", "a stability option"}});
+  calibrate::ConvergenceOptions opt;
+  if (args.Has("steps-per-contact"))
+    opt.steps_per_contact = IntegerList(args, "steps-per-contact", 4, 100000);
+  if (args.Has("rock-counts")) opt.rock_counts = IntegerList(args, "rock-counts", 1, 100000000);
+  opt.target = args.Number("target", opt.target, 1e-9, 10.0);
+  opt.bootstrap = static_cast<int>(args.Integer("bootstrap", opt.bootstrap, 20, 1000000));
+  if (args.Has("seed")) opt.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
+  opt.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+  std::string error;
+  if (!opt.IsValid(&error)) throw InputError("arguments", error);
+
+  reports::OutputDir dir(out, args.Flag("force"));
+  calibrate::ConvergenceResult result;
+  {
+    Progress progress("convergence", args.Flag("quiet"));
+    opt.progress = [&](int done, int total, const std::string& what) {
+      progress.Update(done, total, what);
+    };
+    result = calibrate::RunConvergence(site->scene, opt);
+  }
+  const std::string& name = site->scene.name;
+  reports::WriteFileAtomically(dir.File("convergence.json"),
+                               calibrate::ConvergenceJson(name, result).dump(2) + "\n");
+  reports::WriteFileAtomically(dir.File("convergence.csv"), calibrate::ConvergenceCsv(result));
+  reports::WriteFileAtomically(dir.File("convergence.svg"),
+                               calibrate::ConvergenceSvg(name, result));
+  dir.Commit();
+  if (!args.Flag("quiet")) {
+    std::printf("%s: convergence study, %d threads\n", name.c_str(), result.threads);
+    std::fputs(calibrate::ConvergenceReport(result).c_str(), stdout);
+    std::printf("wrote %s/convergence.json, convergence.csv, convergence.svg\n", out.c_str());
+  } else {
+    std::printf("recommendation: %s\n", result.recommendation.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+int Study(const std::vector<std::string>& argv) {
+  const Args args(argv, {"force", "quiet"},
+                  {"rocks", "seed", "set", "cases", "steps-per-contact", "rock-counts", "target",
+                   "bootstrap", "threads", "out"},
+                  {"set"});
+  const auto& pos = args.positionals();
+  if (pos.empty() || (pos[0] != "stability" && pos[0] != "convergence"))
+    throw InputError("arguments", "expected the study (" + std::string(kStudies) + ")" +
+                                      (pos.empty() ? "" : ", found '" + pos[0] + "'"));
+  if (pos.size() != 2)
+    throw InputError("arguments", "expected the study and exactly one SITE.json (found " +
+                                      std::to_string(pos.size() - 1) + " files)");
+  const std::string out = args.Get("out");
+  sites::Site site = sites::LoadSite(pos[1]);
+  for (const std::string& kv : args.All("set")) sites::ApplySetting(kv, &site);
+  std::string error;
+  if (!site.scene.options.IsValid(&error)) throw InputError(pos[1], error);
+  return pos[0] == "stability" ? Stability(args, &site, out) : Convergence(args, &site, out);
+}
+
+}  // namespace rockcal::cli
