@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "study.h"
 #include "rockcal/core/error.h"
 
 namespace {
@@ -18,6 +19,11 @@ constexpr const char* kUsage =
     "  rockcal calibrate SITE.json --observations OBS.json [--method M | --methods M1,M2,...]\n"
     "                   [--max-evals N] [--max-seconds T] [--rocks N] [--seed S] [--threads N]\n"
     "                   [--loss none|huber|cauchy] [--resume | --force] [--quiet] --out DIR\n"
+    "  rockcal study stability SITE.json [--rocks N] [--seed S] [--cases A,B,...] [--set K=V ...]\n"
+    "                   [--threads N] [--force] [--quiet] --out DIR\n"
+    "  rockcal study convergence SITE.json [--steps-per-contact LIST] [--rock-counts LIST]\n"
+    "                   [--target F] [--bootstrap N] [--seed S] [--set K=V ...] [--threads N]\n"
+    "                   [--force] [--quiet] --out DIR\n"
     "  rockcal validate SITE.json [--observations OBS.json]\n"
     "\n"
     "KEY for --set: material.<id>.hardness | .roughness | .contact_time (site units)\n";
@@ -36,8 +42,9 @@ int main(int argc, char** argv) {
     if (command == "simulate") return rockcal::cli::Simulate(args);
     if (command == "validate") return rockcal::cli::Validate(args);
     if (command == "calibrate") return rockcal::cli::Calibrate(args);
+    if (command == "study") return rockcal::cli::Study(args);
     throw rockcal::InputError("", "unknown command '" + command +
-                                      "' (available: simulate, calibrate, validate; see rockcal --help)");
+                                      "' (available: simulate, calibrate, study, validate; see rockcal --help)");
   } catch (const rockcal::InputError& e) {
     std::fprintf(stderr, "rockcal: error: %s\n", e.what());
     return 2;

@@ -46,6 +46,7 @@ struct SceneContext {
   std::vector<ContactLaw> laws;
   Eigen::Vector3d gravity;
   bool has_x = false, has_z = false;  // partition kinds present
+  double max_contact_time = 0.0;      // longest contact time of the scene's materials
 };
 
 // Point in polygon (even-odd rule).
@@ -89,7 +90,7 @@ class RockRun {
     const double scale_floor = body_.mass * g_ * body_.bounding_radius;
     energy_min_ = Energy();
     ke_max_ = scale_floor;
-    double slow_since = -1.0;
+    double slow_since = -1.0, below_since = -1.0;
     Outcome outcome = Outcome::kTimeout;
     while (s_.t < opt_.max_time) {
       const State before = s_;
@@ -126,10 +127,18 @@ class RockRun {
         outcome = Outcome::kLeft;
         break;
       }
+      // Below the floor by more than its radius: a hard impact of a small
+      // rock overlaps for less than a contact time (about v t_c / pi deep,
+      // whatever its size); a rock still there after two has gone through.
       if (ctx_.terrain.FloorHeight(s_.x.x(), s_.x.y()) - s_.x.z() > body_.bounding_radius) {
-        rec_->tunneled = true;
-        outcome = Outcome::kLeft;
-        break;
+        if (below_since < 0) below_since = before.t;
+        if (s_.t - below_since > 2.0 * ctx_.max_contact_time) {
+          rec_->tunneled = true;
+          outcome = Outcome::kLeft;
+          break;
+        }
+      } else {
+        below_since = -1.0;
       }
       if (s_.v.norm() < opt_.stop_speed) {
         if (slow_since < 0) slow_since = before.t;
@@ -303,13 +312,12 @@ class RockRun {
   void GatherCandidates(const Eigen::Matrix3d& rot) {
     const std::size_t n = body_.elements.size();
     centres_.resize(n);
-    element_cells_.resize(n);
     cells_.clear();
     near_.clear();
     for (std::size_t e = 0; e < n; ++e) {
       centres_[e] = s_.x + rot * body_.elements[e];
-      element_cells_[e] = ctx_.terrain.CellOf(centres_[e].x(), centres_[e].y());
-      if (element_cells_[e] >= 0) cells_.push_back(element_cells_[e]);
+      const int cell = ctx_.terrain.CellOf(centres_[e].x(), centres_[e].y());
+      if (cell >= 0) cells_.push_back(cell);
     }
     std::sort(cells_.begin(), cells_.end());
     cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
@@ -350,7 +358,7 @@ class RockRun {
       if constexpr (kCluster) {
         centre = centres_[e];
         ctx_.terrain.SphereContacts(centre, a, near_.data(), near_.data() + near_.size(), &found_);
-        ctx_.terrain.FloorContacts(centre, a, element_cells_[e], &found_);
+        ctx_.terrain.FloorContacts(centre, a, &found_);
       } else {
         ctx_.terrain.FindContacts(centre, a, &found_);
       }
@@ -516,7 +524,6 @@ class RockRun {
   std::vector<TerrainContact> found_;
   std::vector<ContactState> contacts_, next_;
   std::vector<Eigen::Vector3d> centres_;  // clusters: element centres this step
-  std::vector<int> element_cells_;        // clusters: the cell under each element
   std::vector<int> cells_, near_;         // clusters: cells under them, candidate spheres
 };
 
@@ -621,7 +628,10 @@ SimulationResult Simulate(const Scene& scene) { return Simulate(scene, BuildTerr
 SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const ProgressFn& progress) {
   const auto start = std::chrono::steady_clock::now();
   SceneContext ctx{scene, terrain, {}, Eigen::Vector3d(0, 0, -scene.gravity)};
-  for (const auto& m : scene.materials) ctx.laws.push_back(DeriveContactLaw(m, scene.hardness_model));
+  for (const auto& m : scene.materials) {
+    ctx.laws.push_back(DeriveContactLaw(m, scene.hardness_model));
+    ctx.max_contact_time = std::max(ctx.max_contact_time, m.contact_time_s);
+  }
   for (const auto& p : scene.partitions) {
     ctx.has_x = ctx.has_x || p.kind == Partition::Kind::kX;
     ctx.has_z = ctx.has_z || p.kind == Partition::Kind::kZ;

@@ -127,7 +127,7 @@ void Terrain::BuildCandidates() {
   const double s = grid_.spacing, a = max_element_radius_;
   const std::size_t cells = static_cast<std::size_t>(cx) * cy;
   ceiling_.assign(cells, -kInf);
-  catch_.assign(cells, -kInf);
+  std::vector<double> cell_floor(cells, -kInf);
   list_start_.assign(cells + 1, 0);
   list_.clear();
   double r_max = 0.0;
@@ -193,10 +193,10 @@ void Terrain::BuildCandidates() {
         top = std::max(top, tops[k]);
       }
       list_start_[cell + 1] = static_cast<int>(list_.size());
-      // Catch plane closing holes of the sphere surface (R > 0.207 s, sharp
-      // concave breaks). Where a sphere covers the whole cell it lies at
-      // floor, never above the envelope; where none does (a hole), at the
-      // lowest corner less the largest roughness of the corners.
+      // The catch surface closes holes of the sphere surface (R > 0.207 s,
+      // sharp breaks). Over a rough cell it must stay below the envelope:
+      // below floor where a sphere covers the whole cell; where none does (a
+      // hole), below the lowest corner less the largest corner roughness.
       if (!smooth_cell_[cell] && CellValid(i, j)) {
         double lowest = kInf, roughness = 0.0;
         for (int k = 0; k < 4; ++k) {
@@ -206,18 +206,63 @@ void Terrain::BuildCandidates() {
           // R from r = (R^2 + (s/2)^2) / (2R): the sag between neighbours.
           if (!std::isinf(r)) roughness = std::max(roughness, r - std::sqrt(r * r - 0.25 * s * s));
         }
-        catch_[cell] = std::isfinite(floor) ? floor : lowest - roughness;
-        top = std::max(top, catch_[cell]);
+        cell_floor[cell] = std::isfinite(floor) ? floor : lowest - roughness;
       }
-      // Facets an element centred here may touch lie in the neighbouring cells.
-      for (int jj = std::max(j - 1, 0); jj <= std::min(j + 1, cy - 1); ++jj)
-        for (int ii = std::max(i - 1, 0); ii <= std::min(i + 1, cx - 1); ++ii)
-          if (smooth_cell_[static_cast<std::size_t>(jj) * cx + ii])
-            for (int k = 0; k < 4; ++k)
-              top = std::max(top, grid_.z[grid_.index(ii + (k & 1), jj + (k >> 1))]);
       ceiling_[cell] = top;
     }
   }
+  // The catch surface is the terrain's triangulation with every node lowered
+  // to the lowest floor of the rough cells around it: linear on each facet,
+  // so below floor wherever all its corners are, and continuous from cell to
+  // cell (no step for a rock to catch on).
+  catch_z_.assign(grid_.z.size(), kInf);
+  for (int j = 0; j < cy; ++j)
+    for (int i = 0; i < cx; ++i) {
+      const double f = cell_floor[static_cast<std::size_t>(j) * cx + i];
+      if (!std::isfinite(f)) continue;
+      for (int k = 0; k < 4; ++k) {
+        double& z = catch_z_[static_cast<std::size_t>(grid_.index(i + (k & 1), j + (k >> 1)))];
+        z = std::min(z, f);
+      }
+    }
+  // Per cell, the highest corner of its floor surface (facets or catch), and
+  // the ceiling grows by the floor surfaces an element centred there may touch.
+  floor_top_.assign(cells, -kInf);
+  for (int j = 0; j < cy; ++j)
+    for (int i = 0; i < cx; ++i) {
+      if (!CellValid(i, j)) continue;
+      double top = -kInf;
+      for (int k = 0; k < 4; ++k) top = std::max(top, CornerHeight(i, j, k));
+      floor_top_[static_cast<std::size_t>(j) * cx + i] = top;
+    }
+  for (int j = 0; j < cy; ++j)
+    for (int i = 0; i < cx; ++i) {
+      double& top = ceiling_[static_cast<std::size_t>(j) * cx + i];
+      for (int jj = std::max(j - 1, 0); jj <= std::min(j + 1, cy - 1); ++jj)
+        for (int ii = std::max(i - 1, 0); ii <= std::min(i + 1, cx - 1); ++ii)
+          top = std::max(top, floor_top_[static_cast<std::size_t>(jj) * cx + ii]);
+    }
+}
+
+double Terrain::CornerHeight(int i, int j, int k) const {
+  const int n = grid_.index(i + (k & 1), j + (k >> 1));
+  return smooth_cell_[static_cast<std::size_t>(j) * (grid_.nx - 1) + i]
+             ? grid_.z[static_cast<std::size_t>(n)]
+             : catch_z_[static_cast<std::size_t>(n)];
+}
+
+double Terrain::FloorDistance(const Eigen::Vector3d& c, int i, int j, Eigen::Vector3d* normal,
+                              int* triangle) const {
+  Eigen::Vector3d p[4];
+  for (int k = 0; k < 4; ++k)
+    p[k] = Eigen::Vector3d(grid_.x(i + (k & 1)), grid_.y(j + (k >> 1)), CornerHeight(i, j, k));
+  // Cells split along the (i, j)-(i+1, j+1) diagonal: (p0, p1, p3), (p0, p3, p2).
+  Eigen::Vector3d n0, n1;
+  const double d0 = FacetDistance(c, p[0], p[1], p[3], &n0);
+  const double d1 = FacetDistance(c, p[0], p[3], p[2], &n1);
+  *triangle = d0 <= d1 ? 0 : 1;
+  *normal = d0 <= d1 ? n0 : n1;
+  return std::min(d0, d1);
 }
 
 bool Terrain::CellValid(int i, int j) const {
@@ -226,14 +271,14 @@ bool Terrain::CellValid(int i, int j) const {
 }
 
 double Terrain::FloorHeight(double x, double y) const {
-  const int cell = CellOf(x, y);
-  if (cell < 0) return -kInf;
-  if (smooth_cell_[static_cast<std::size_t>(cell)]) {
-    double z = -kInf;
-    Elevation(x, y, &z);
-    return z;
-  }
-  return catch_[static_cast<std::size_t>(cell)];
+  if (!OnSlope(x, y)) return -kInf;
+  const double fx = (x - grid_.x0) * inv_spacing_, fy = (y - grid_.y0) * inv_spacing_;
+  const int i = std::min(static_cast<int>(fx), grid_.nx - 2);
+  const int j = std::min(static_cast<int>(fy), grid_.ny - 2);
+  const double u = fx - i, v = fy - j;
+  const double z00 = CornerHeight(i, j, 0), z10 = CornerHeight(i, j, 1);
+  const double z01 = CornerHeight(i, j, 2), z11 = CornerHeight(i, j, 3);
+  return u >= v ? z00 + u * (z10 - z00) + v * (z11 - z10) : z00 + v * (z01 - z00) + u * (z11 - z01);
 }
 
 
@@ -286,7 +331,7 @@ void Terrain::FindContacts(const Eigen::Vector3d& c, double a,
     const int* end = list_.data() + list_start_[static_cast<std::size_t>(cell) + 1];
     SphereContacts(c, a, begin, end, out);
   }
-  FloorContacts(c, a, cell, out);
+  FloorContacts(c, a, out);
 }
 
 void Terrain::Candidates(int cell, const int** begin, const int** end) const {
@@ -314,52 +359,36 @@ void Terrain::SphereContacts(const Eigen::Vector3d& c, double a, const int* begi
   }
 }
 
-void Terrain::FloorContacts(const Eigen::Vector3d& c, double a, int cell,
+void Terrain::FloorContacts(const Eigen::Vector3d& c, double a,
                             std::vector<TerrainContact>* out) const {
+  // The deepest contact with the floor surface (smooth facets, or the catch
+  // surface under rough cells) of the cells under the element.
   const double s = grid_.spacing;
-  if (has_rough_ && cell >= 0) {
-    const double below = catch_[static_cast<std::size_t>(cell)] - (c.z() - a);
-    if (below > 0.0) {
-      TerrainContact contact;
-      contact.normal = Eigen::Vector3d::UnitZ();
-      contact.overlap = below;
-      contact.point = Eigen::Vector3d(c.x(), c.y(), c.z() - a + 0.5 * below);
-      contact.material = MaterialAt(c.x(), c.y());
-      contact.key = kCatchKey - cell;
-      out->push_back(contact);
-    }
-  }
-  if (has_smooth_) {
-    const int cx = grid_.nx - 1;
-    const int i0 = std::max(static_cast<int>(std::floor((c.x() - a - grid_.x0) / s)), 0);
-    const int i1 = std::min(static_cast<int>(std::floor((c.x() + a - grid_.x0) / s)), grid_.nx - 2);
-    const int j0 = std::max(static_cast<int>(std::floor((c.y() - a - grid_.y0) / s)), 0);
-    const int j1 = std::min(static_cast<int>(std::floor((c.y() + a - grid_.y0) / s)), grid_.ny - 2);
-    TerrainContact best;
-    for (int j = j0; j <= j1; ++j) {
-      for (int i = i0; i <= i1; ++i) {
-        if (!smooth_cell_[static_cast<std::size_t>(j) * cx + i]) continue;
-        const Eigen::Vector3d p00(grid_.x(i), grid_.y(j), grid_.z[grid_.index(i, j)]);
-        const Eigen::Vector3d p10(grid_.x(i + 1), grid_.y(j), grid_.z[grid_.index(i + 1, j)]);
-        const Eigen::Vector3d p01(grid_.x(i), grid_.y(j + 1), grid_.z[grid_.index(i, j + 1)]);
-        const Eigen::Vector3d p11(grid_.x(i + 1), grid_.y(j + 1), grid_.z[grid_.index(i + 1, j + 1)]);
-        for (int t = 0; t < 2; ++t) {
-          Eigen::Vector3d normal;
-          const double dist = FacetDistance(c, p00, t == 0 ? p10 : p11, t == 0 ? p11 : p01, &normal);
-          const double overlap = a - dist;
-          if (overlap > best.overlap) {
-            best.overlap = overlap;
-            best.normal = normal;
-            best.point = c - normal * (a - 0.5 * overlap);
-            best.key = -(2 * (static_cast<std::int64_t>(j) * cx + i) + t + 1);
-          }
-        }
+  const int cx = grid_.nx - 1;
+  const int i0 = std::max(static_cast<int>(std::floor((c.x() - a - grid_.x0) / s)), 0);
+  const int i1 = std::min(static_cast<int>(std::floor((c.x() + a - grid_.x0) / s)), grid_.nx - 2);
+  const int j0 = std::max(static_cast<int>(std::floor((c.y() - a - grid_.y0) / s)), 0);
+  const int j1 = std::min(static_cast<int>(std::floor((c.y() + a - grid_.y0) / s)), grid_.ny - 2);
+  TerrainContact best;
+  for (int j = j0; j <= j1; ++j) {
+    for (int i = i0; i <= i1; ++i) {
+      const std::size_t id = static_cast<std::size_t>(j) * cx + i;
+      if (c.z() - a >= floor_top_[id]) continue;  // above every corner: no touch (or a hole cell)
+      Eigen::Vector3d normal;
+      int t = 0;
+      const double overlap = a - FloorDistance(c, i, j, &normal, &t);
+      if (overlap > best.overlap) {
+        best.overlap = overlap;
+        best.normal = normal;
+        best.point = c - normal * (a - 0.5 * overlap);
+        const std::int64_t facet = 2 * static_cast<std::int64_t>(id) + t;
+        best.key = smooth_cell_[id] ? -(facet + 1) : kCatchKey - facet;
       }
     }
-    if (best.overlap > 0.0) {
-      best.material = MaterialAt(best.point.x(), best.point.y());
-      out->push_back(best);
-    }
+  }
+  if (best.overlap > 0.0) {
+    best.material = MaterialAt(best.point.x(), best.point.y());
+    out->push_back(best);
   }
 }
 
@@ -386,28 +415,24 @@ double Terrain::Gap(const Eigen::Vector3d& c, double a, double reach) const {
           if (beat > 0.0 && d2 >= beat * beat) continue;
           gap = std::min(gap, std::sqrt(d2) - radius_[n] - a);
         }
-        gap = std::min(gap, c.z() - a - catch_[static_cast<std::size_t>(cell)]);
       }
     }
   }
-  if (has_smooth_) {
-    const double w = a + reach;
-    const int cx = grid_.nx - 1;
-    const int i0 = std::max(static_cast<int>(std::floor((c.x() - w - grid_.x0) / s)), 0);
-    const int i1 = std::min(static_cast<int>(std::floor((c.x() + w - grid_.x0) / s)), grid_.nx - 2);
-    const int j0 = std::max(static_cast<int>(std::floor((c.y() - w - grid_.y0) / s)), 0);
-    const int j1 = std::min(static_cast<int>(std::floor((c.y() + w - grid_.y0) / s)), grid_.ny - 2);
-    for (int j = j0; j <= j1; ++j) {
-      for (int i = i0; i <= i1; ++i) {
-        if (!smooth_cell_[static_cast<std::size_t>(j) * cx + i]) continue;
-        const Eigen::Vector3d p00(grid_.x(i), grid_.y(j), grid_.z[grid_.index(i, j)]);
-        const Eigen::Vector3d p10(grid_.x(i + 1), grid_.y(j), grid_.z[grid_.index(i + 1, j)]);
-        const Eigen::Vector3d p01(grid_.x(i), grid_.y(j + 1), grid_.z[grid_.index(i, j + 1)]);
-        const Eigen::Vector3d p11(grid_.x(i + 1), grid_.y(j + 1), grid_.z[grid_.index(i + 1, j + 1)]);
-        Eigen::Vector3d normal;
-        gap = std::min(gap, FacetDistance(c, p00, p10, p11, &normal) - a);
-        gap = std::min(gap, FacetDistance(c, p00, p11, p01, &normal) - a);
-      }
+  // The floor surface (facets and catch surface) of the cells within reach.
+  const double w = a + reach;
+  const int cx = grid_.nx - 1;
+  const int i0 = std::max(static_cast<int>(std::floor((c.x() - w - grid_.x0) / s)), 0);
+  const int i1 = std::min(static_cast<int>(std::floor((c.x() + w - grid_.x0) / s)), grid_.nx - 2);
+  const int j0 = std::max(static_cast<int>(std::floor((c.y() - w - grid_.y0) / s)), 0);
+  const int j1 = std::min(static_cast<int>(std::floor((c.y() + w - grid_.y0) / s)), grid_.ny - 2);
+  for (int j = j0; j <= j1; ++j) {
+    for (int i = i0; i <= i1; ++i) {
+      const std::size_t id = static_cast<std::size_t>(j) * cx + i;
+      // Vertically above every corner by more than the gap so far: not nearer.
+      if (c.z() - a - floor_top_[id] >= gap) continue;
+      Eigen::Vector3d normal;
+      int t = 0;
+      gap = std::min(gap, FloorDistance(c, i, j, &normal, &t) - a);
     }
   }
   return gap;

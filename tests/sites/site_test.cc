@@ -165,6 +165,22 @@ TEST(LoadSite, TheExampleOfDesignMdLoads) {
   EXPECT_EQ(site.scene.total_rocks(), 100);
 }
 
+TEST(LoadSite, ReportBarrier) {
+  TempDir dir;
+  const Site defaults = LoadSite(WriteSite(dir, BaseSite()));
+  EXPECT_DOUBLE_EQ(defaults.barrier_height_m, 3.048);
+  EXPECT_DOUBLE_EQ(defaults.barrier_energy_j, 500e3);
+  Json json = BaseSite();
+  json["report"] = Json::parse(R"({"barrier_height": 12, "barrier_energy_kj": 1000})");
+  const Site site = LoadSite(WriteSite(dir, json));
+  EXPECT_NEAR(site.barrier_height_m, 12 * 0.3048, 1e-12);  // feet in a US site
+  EXPECT_DOUBLE_EQ(site.barrier_energy_j, 1e6);
+  EXPECT_THAT(LoadError([](Json& j) { j["report"] = Json::parse(R"({"barrier_height": -1})"); }),
+              HasSubstr("$.report.barrier_height"));
+  EXPECT_THAT(LoadError([](Json& j) { j["report"] = Json::parse(R"({"fence": 3})"); }),
+              HasSubstr("unknown key 'fence'"));
+}
+
 TEST(LoadSite, MaterialErrors) {
   EXPECT_THAT(LoadError([](Json& s) { s["materials"][0]["hardness"] = 1.5; }),
               HasSubstr("$.materials[0].hardness: expected a number in [0, 1] (found 1.5)"));

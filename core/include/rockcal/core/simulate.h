@@ -43,7 +43,7 @@ struct RockRecord {
   double dt = 0.0;          // the rock's contact time step [s]
   double max_relative_energy_gain = 0.0;
   double max_penetration = 0.0;  // deepest overlap / element radius
-  bool tunneled = false;    // centre went below Terrain::FloorHeight by more than its radius
+  bool tunneled = false;    // centre stayed below Terrain::FloorHeight by more than its radius for 2 t_c
   std::vector<Crossing> crossings;  // per partition, scene order (empty if not recorded)
   std::vector<Crossing> trees;      // per RecordOptions::trees entry; height = rock centre above ground
   std::vector<int> cells;           // grid cells its centre passed over (RecordOptions::passages)

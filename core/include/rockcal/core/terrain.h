@@ -80,18 +80,16 @@ class Terrain final {
   void Candidates(int cell, const int** begin, const int** end) const;
   void SphereContacts(const Eigen::Vector3d& c, double a, const int* begin, const int* end,
                       std::vector<TerrainContact>* out) const;
-  // `cell` is CellOf(c), when the caller has it already.
-  void FloorContacts(const Eigen::Vector3d& c, double a, int cell,
-                     std::vector<TerrainContact>* out) const;
+  void FloorContacts(const Eigen::Vector3d& c, double a, std::vector<TerrainContact>* out) const;
 
   // Deepest sag of the virtual-sphere surface below the nodes: at a cell
   // centre, r - sqrt(r^2 - s^2/2) for the largest sphere radius r in use (r
   // itself where the four spheres leave a hole, R > 0.207 s); 0 when smooth.
   double sag() const { return sag_; }
   // The lowest support under (x, y): the facet surface in a smooth cell, the
-  // catch plane that closes holes of the virtual-sphere surface in a rough
-  // one; -inf off the grid. A rock centre below it by more than the rock's
-  // radius has tunneled.
+  // catch surface that closes holes of the virtual-sphere surface in a rough
+  // one (continuous, below the spheres); -inf off the slope. A rock centre
+  // below it by more than the rock's radius has tunneled.
   double FloorHeight(double x, double y) const;
   // Mean number of candidate virtual spheres per cell (cost of a contact search).
   double mean_candidates() const {
@@ -113,6 +111,12 @@ class Terrain final {
   // reaching the cell that are not buried under the others), and the ceiling.
   void BuildCandidates();
   bool CellValid(int i, int j) const;     // all four corners are data
+  // Corner k (bit 0: +i, bit 1: +j) of cell (i, j) on its floor surface: the
+  // terrain for a smooth cell, the catch surface for a rough one.
+  double CornerHeight(int i, int j, int k) const;
+  // Signed one-sided distance from c to the floor surface of cell (i, j).
+  double FloorDistance(const Eigen::Vector3d& c, int i, int j, Eigen::Vector3d* normal,
+                       int* triangle) const;
 
   HeightGrid grid_;
   double inv_spacing_ = 1.0;
@@ -122,7 +126,8 @@ class Terrain final {
   std::vector<std::uint8_t> smooth_cell_;  // per cell: a corner is smooth
   std::vector<double> ceiling_;          // per cell: no obstacle an element centred there may touch is higher
   std::vector<int> list_start_, list_;   // per cell, candidate sphere nodes (CSR)
-  std::vector<double> catch_;            // per rough cell, catch plane height (-inf: none)
+  std::vector<double> catch_z_;          // per node, height of the catch surface (+inf: no rough cell)
+  std::vector<double> floor_top_;        // per cell, highest corner of its floor surface (-inf: hole)
   bool has_rough_ = false, has_smooth_ = false;
   double sag_ = 0.0;
   double max_offset_ = 0.0;  // largest plan distance from a node to its sphere centre

@@ -1,0 +1,1106 @@
+#include "rockcal/calibrate/study.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "rockcal/core/random.h"
+#include "rockcal/core/rock_shape.h"
+#include "rockcal/core/simulate.h"
+#include "rockcal/core/statistics.h"
+
+namespace rockcal::calibrate {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kPi = 3.14159265358979323846;
+
+// ---- Small helpers -------------------------------------------------------------
+
+std::string Num(double v, const char* format = "%.6g") {
+  if (std::isnan(v)) return "";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+std::string Percent(double fraction) {
+  if (!std::isfinite(fraction)) return "unknown";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, fraction < 0.001 ? "%.2g %%" : "%.3g %%", 100.0 * fraction);
+  return buf;
+}
+
+// JSON number, null when not finite (JSON has no inf or NaN).
+nlohmann::json JsonNum(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+std::string XmlEscape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+// CSV field: quoted when it holds a comma, quote or newline.
+std::string CsvField(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+// Applies `f` to every material of the scene.
+template <typename F>
+void ForEachMaterial(core::Scene* scene, F f) {
+  for (auto& m : scene->materials) f(&m);
+}
+
+// Index of the material whose contact law has the highest (hard) or lowest
+// (soft) restitution; the first on ties. `rough_only` prefers materials with
+// roughness > 0 when there are any.
+int PickMaterial(const core::Scene& scene, bool hard, bool rough_only) {
+  int best = -1;
+  double best_e = 0.0;
+  for (int pass = 0; pass < 2 && best < 0; ++pass) {
+    for (std::size_t k = 0; k < scene.materials.size(); ++k) {
+      const core::Material& m = scene.materials[k];
+      if (pass == 0 && rough_only && !(m.roughness_m > 0.0)) continue;
+      const double e = core::DeriveContactLaw(m, scene.hardness_model).restitution;
+      if (best < 0 || (hard ? e > best_e : e < best_e)) {
+        best = static_cast<int>(k);
+        best_e = e;
+      }
+    }
+  }
+  return std::max(best, 0);
+}
+
+// ---- Stability variants ----------------------------------------------------------
+
+const char* const kSite = "site";
+const char* const kHardness0 = "hardness_0";
+const char* const kHardness1 = "hardness_1";
+const char* const kStiff = "contact_time_0.05ms";
+const char* const kSoft = "contact_time_50ms";
+const char* const kSizes = "sizes_1cm_10m";
+const char* const kCliff = "vertical_cliff";
+const char* const kFace = "near_vertical_face";
+const char* const kFlat = "flat_runout";
+const char* const kSmooth = "roughness_0";
+const char* const kRoughest = "roughness_max";
+const char* const kFast = "fast_release_hard";
+
+// Cliff height of the synthetic cliff and face [m], face angle, flat runout
+// release speed [m/s], fast release speed [m/s].
+constexpr double kCliffHeight = 30.0;
+constexpr double kFaceAngleDeg = 80.0;
+constexpr double kRunoutSpeed = 10.0;
+constexpr double kFastSpeed = 50.0;
+
+// The site's scene prepared for a stability case: few rocks, bounded time,
+// only the energy check recorded.
+core::Scene BaseScene(const core::Scene& site, const StabilityOptions& opt) {
+  core::Scene s = site;
+  s.options.max_time = std::min(site.options.max_time, opt.max_time);
+  if (opt.seed) s.options.seed = *opt.seed;
+  s.options.threads = opt.threads;
+  s.options.record = core::RecordOptions{};
+  s.options.record.partitions = false;
+  s.options.record.energy_check = true;
+  s.partitions.clear();
+  s.SetTotalRocks(opt.rocks);
+  return s;
+}
+
+// Hardness h on every material, restitution and friction from the hardness
+// model (overrides cleared).
+void SetHardness(double h, core::Scene* s) {
+  ForEachMaterial(s, [h](core::Material* m) {
+    m->hardness = h;
+    m->restitution.reset();
+    m->friction.reset();
+  });
+}
+
+// A strip along x, `width` m across, nodes every `spacing`, with elevation
+// z(i) and material material(i) of node column i.
+core::HeightGrid Strip(double spacing, int nx, double width, const std::function<double(int)>& z,
+                       const std::function<int(int)>& material) {
+  core::HeightGrid g;
+  g.spacing = spacing;
+  g.nx = nx;
+  g.ny = std::max(3, static_cast<int>(std::ceil(width / spacing)) + 1);
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) {
+      g.z.push_back(z(i));
+      g.material.push_back(material(i));
+    }
+  return g;
+}
+
+// Replaces every group's release by a thin band across the strip at x, from
+// rest or with `velocity`.
+void ReleaseAcross(const core::HeightGrid& g, double x, const Eigen::Vector3d& velocity,
+                   core::Scene* s) {
+  const double half_x = 0.1 * g.spacing;
+  const double width = (g.ny - 1) * g.spacing;
+  const double y0 = 0.3 * width, y1 = 0.7 * width;
+  for (auto& group : s->groups) {
+    group.release = core::Release{};
+    group.release.zone = {{x - half_x, y0}, {x + half_x, y0}, {x + half_x, y1}, {x - half_x, y1}};
+    group.release.height = 0.0;
+    group.release.velocity = velocity;
+  }
+}
+
+// A slope ending in a drop of kCliffHeight (vertical: between two neighbouring
+// nodes; or a face at kFaceAngleDeg), then a flat foot. The slope and the face
+// take the site's hardest material, the foot its softest.
+core::Scene CliffScene(const core::Scene& base, bool vertical) {
+  core::Scene s = base;
+  const double sp = base.grid.spacing;
+  const int hard = PickMaterial(base, true, false), soft = PickMaterial(base, false, false);
+  // 30-degree approach of at least 8 m, the face, a foot of at least 40 m.
+  const int n_top = std::max(2, static_cast<int>(std::ceil(8.0 / sp)));
+  const double face_run = vertical ? sp : kCliffHeight / std::tan(kFaceAngleDeg * kPi / 180.0);
+  const int n_face = std::max(1, static_cast<int>(std::ceil(face_run / sp - 1e-9)));
+  const int n_foot = std::max(10, static_cast<int>(std::ceil(40.0 / sp)));
+  const int edge = n_top, bottom = n_top + n_face;
+  const double slope = std::tan(30.0 * kPi / 180.0);
+  auto z = [=](int i) {
+    if (i <= edge) return kCliffHeight + (edge - i) * sp * slope;
+    if (i >= bottom) return 0.0;
+    // Face nodes: on the straight face from (edge, H) at the face angle.
+    return std::max(0.0, kCliffHeight * (1.0 - (i - edge) * sp / face_run));
+  };
+  auto material = [=](int i) { return i < bottom ? hard : soft; };
+  s.grid = Strip(sp, bottom + n_foot + 1, std::max(20.0, 4.0 * sp), z, material);
+  ReleaseAcross(s.grid, 0.5 * sp, Eigen::Vector3d(2.0, 0.0, 0.0), &s);
+  return s;
+}
+
+// A long flat of the site's softest rough material; rocks arrive at 10 m/s.
+core::Scene FlatScene(const core::Scene& base, double max_time) {
+  core::Scene s = base;
+  const double sp = base.grid.spacing;
+  const int soft = PickMaterial(base, false, true);
+  const int nx = std::max(40, static_cast<int>(std::ceil(200.0 / sp))) + 1;
+  s.grid = Strip(
+      sp, nx, std::max(20.0, 4.0 * sp), [](int) { return 0.0; }, [=](int) { return soft; });
+  ReleaseAcross(s.grid, 2.0 * sp, Eigen::Vector3d(kRunoutSpeed, 0.0, 0.0), &s);
+  s.options.max_time = max_time;
+  return s;
+}
+
+// The smallest contact step the engine will choose for any rock of the scene.
+double SmallestStep(const core::Scene& s) {
+  double dt = kInf;
+  for (const auto& g : s.groups) {
+    for (double size : {g.size_min, g.size_max}) {
+      const core::RockBody body = core::MakeRockBody(g.shape, size, g.unit_weight, s.gravity);
+      for (const auto& m : s.materials)
+        dt = std::min(dt, core::ContactTimeStep(body, core::DeriveContactLaw(m, s.hardness_model),
+                                                s.options));
+    }
+  }
+  return dt;
+}
+
+// Limits a scene's simulated time to `steps` contact steps of `dt` per rock;
+// a shorter stop duration keeps stopping possible.
+void CapTime(long steps, double dt, core::Scene* s) {
+  const double cap = static_cast<double>(steps) * dt;
+  if (!(cap < s->options.max_time)) return;
+  s->options.max_time = cap;
+  s->options.stop_duration = std::min(s->options.stop_duration, 0.5 * cap);
+}
+
+}  // namespace
+
+// ---- Stability -------------------------------------------------------------------
+
+const std::vector<std::string>& StabilityCaseNames() {
+  static const std::vector<std::string> names = {kSite, kHardness0, kHardness1, kStiff,
+                                                 kSoft, kSizes,     kCliff,     kFace,
+                                                 kFlat, kSmooth,    kRoughest,  kFast};
+  return names;
+}
+
+bool StabilityOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& field, const std::string& value, const std::string& rule) {
+    *error = "stability." + field + " = " + value + ": " + rule;
+    return false;
+  };
+  if (rocks < 1) return fail("rocks", std::to_string(rocks), "must be >= 1");
+  if (!(max_time > 0 && std::isfinite(max_time)))
+    return fail("max_time", Num(max_time), "must be > 0");
+  if (!(energy_tolerance >= 0 && std::isfinite(energy_tolerance)))
+    return fail("energy_tolerance", Num(energy_tolerance), "must be >= 0");
+  if (!(penetration_limit > 0 && std::isfinite(penetration_limit)))
+    return fail("penetration_limit", Num(penetration_limit), "must be > 0");
+  if (max_case_steps < 1000)
+    return fail("max_case_steps", std::to_string(max_case_steps), "must be >= 1000");
+  if (threads < 0) return fail("threads", std::to_string(threads), "must be >= 0 (0: all cores)");
+  const auto& names = StabilityCaseNames();
+  for (const auto& c : cases) {
+    if (std::find(names.begin(), names.end(), c) == names.end()) {
+      std::string list;
+      for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+      return fail("cases", "'" + c + "'", "unknown case (allowed: " + list + ")");
+    }
+  }
+  return true;
+}
+
+std::vector<StabilityVariant> StabilityVariants(const core::Scene& site,
+                                                const StabilityOptions& opt) {
+  std::string error;
+  if (!opt.IsValid(&error)) throw std::invalid_argument(error);
+  if (site.groups.empty()) throw std::invalid_argument("the scene has no rock groups");
+  const core::Scene base = BaseScene(site, opt);
+  const double sp = site.grid.spacing;
+  std::vector<StabilityVariant> out;
+  auto wanted = [&](const char* name) {
+    return opt.cases.empty() ||
+           std::find(opt.cases.begin(), opt.cases.end(), name) != opt.cases.end();
+  };
+  // Cases whose step is smaller than the site's get a budget of steps.
+  const double site_dt = SmallestStep(base);
+  auto add = [&](const char* name, std::string description, core::Scene scene,
+                 bool must_stop = false) {
+    const double dt = SmallestStep(scene);
+    if (dt < site_dt * (1.0 - 1e-9))
+      CapTime(opt.max_case_steps / std::max(scene.total_rocks(), 1), dt, &scene);
+    out.push_back({name, std::move(description), std::move(scene), must_stop});
+  };
+  if (wanted(kSite)) add(kSite, "the site's scene as given", base);
+  if (wanted(kHardness0)) {
+    core::Scene s = base;
+    SetHardness(0.0, &s);
+    add(kHardness0,
+        "every material hardness 0: restitution at its lower clamp, softest friction "
+        "(heavily overdamped contact)",
+        s);
+  }
+  if (wanted(kHardness1)) {
+    core::Scene s = base;
+    SetHardness(1.0, &s);
+    add(kHardness1, "every material hardness 1: restitution at its upper clamp, hardest friction",
+        s);
+  }
+  if (wanted(kStiff)) {
+    core::Scene s = base;
+    ForEachMaterial(&s, [](core::Material* m) { m->contact_time_s = 5e-5; });
+    add(kStiff, "every material contact time 0.05 ms (stiff: k_n/m 10^4 times the default)", s);
+  }
+  if (wanted(kSoft)) {
+    core::Scene s = base;
+    ForEachMaterial(&s, [](core::Material* m) { m->contact_time_s = 0.05; });
+    add(kSoft, "every material contact time 50 ms (soft)", s);
+  }
+  if (wanted(kSizes)) {
+    core::Scene s = base;
+    core::RockGroup small = base.groups.front();
+    small.size_min = small.size_max = 0.01;
+    core::RockGroup huge = small;
+    huge.size_min = huge.size_max = 10.0;
+    // A huge rock touches tens of virtual spheres at once and costs far more
+    // per step: a tenth of the rocks (at least one of each size).
+    huge.count = std::max(1, opt.rocks / 10);
+    small.count = std::max(1, opt.rocks - huge.count);
+    s.groups = {small, huge};
+    add(kSizes,
+        std::string("rocks of 1 cm and of 10 m (") + core::ShapeName(small.shape) +
+            ", 9 small to 1 huge) released together from the first group's release",
+        s);
+  }
+  if (wanted(kCliff))
+    add(kCliff,
+        "synthetic strip: 30-degree approach, a 30 m drop between two neighbouring nodes "
+        "(the steepest a height grid holds), flat foot; site's hardest and softest materials",
+        CliffScene(base, true));
+  if (wanted(kFace))
+    add(kFace,
+        "synthetic strip: 30-degree approach, a 30 m face at 80 degrees (no overhang), flat "
+        "foot; site's hardest and softest materials",
+        CliffScene(base, false));
+  if (wanted(kFlat)) {
+    core::Scene s = FlatScene(base, opt.max_time);
+    const core::Material& m = s.materials[static_cast<std::size_t>(s.grid.material.front())];
+    add(kFlat,
+        "synthetic flat of " + Num((s.grid.nx - 1) * sp, "%.0f") + " m of material '" + m.id +
+            "' (the site's softest" + (m.roughness_m > 0 ? " rough" : ", smooth") +
+            " material); rocks arrive at 10 m/s and must all stop",
+        s, /*must_stop=*/true);
+  }
+  if (wanted(kSmooth)) {
+    core::Scene s = base;
+    ForEachMaterial(&s, [](core::Material* m) { m->roughness_m = 0.0; });
+    add(kSmooth, "every material roughness 0 (rocks touch the terrain facets)", s);
+  }
+  if (wanted(kRoughest)) {
+    core::Scene s = base;
+    ForEachMaterial(&s, [sp](core::Material* m) { m->roughness_m = 0.5 * sp; });
+    add(kRoughest,
+        "every material roughness s/2 = " + Num(0.5 * sp, "%.3g") +
+            " m (virtual spheres of radius s/2, the roughest)",
+        s);
+  }
+  if (wanted(kFast)) {
+    core::Scene s = base;
+    SetHardness(1.0, &s);
+    ForEachMaterial(&s, [](core::Material* m) { m->contact_time_s = 5e-5; });
+    for (auto& g : s.groups) g.release.velocity = Eigen::Vector3d(0.0, 0.0, -kFastSpeed);
+    add(kFast,
+        "released straight down at 50 m/s onto the hardest material of the suite (hardness 1, "
+        "contact time 0.05 ms)",
+        s);
+  }
+  return out;
+}
+
+namespace {
+
+StabilityCase RunVariant(const StabilityVariant& v, const StabilityOptions& opt,
+                         const core::ProgressFn& progress) {
+  std::string error;
+  if (!v.scene.options.IsValid(&error)) throw std::invalid_argument(v.name + ": " + error);
+  const core::Terrain terrain = core::BuildTerrain(v.scene);
+  const core::SimulationResult r = core::Simulate(v.scene, terrain, progress);
+  StabilityCase c;
+  c.name = v.name;
+  c.description = v.description;
+  c.rocks = static_cast<int>(r.rocks.size());
+  c.max_time = v.scene.options.max_time;
+  c.dt_min = r.dt_min;
+  c.dt_max = r.dt_max;
+  c.dt_shrunk = r.dt_shrunk > 0;
+  c.shrunk_rocks = r.dt_shrunk;
+  c.steps = r.steps;
+  c.flights = r.flights;
+  c.wall_seconds = r.wall_seconds;
+  c.stopped = r.count(core::Outcome::kStopped);
+  c.left = r.count(core::Outcome::kLeft);
+  c.timeout = r.count(core::Outcome::kTimeout);
+  c.max_energy_gain = r.max_relative_energy_gain;
+  c.max_penetration = r.max_penetration;
+  c.non_finite = r.non_finite;
+  c.tunneled = r.tunneled;
+  c.must_stop = v.must_stop;
+  std::vector<std::string> reasons;
+  if (c.non_finite > 0) reasons.push_back(std::to_string(c.non_finite) + " rocks non-finite");
+  if (c.tunneled > 0) reasons.push_back(std::to_string(c.tunneled) + " rocks tunneled");
+  if (!(c.max_energy_gain <= opt.energy_tolerance))
+    reasons.push_back("energy gain " + Num(c.max_energy_gain, "%.3g") + " > tolerance " +
+                      Num(opt.energy_tolerance, "%.3g"));
+  if (v.must_stop && c.stopped < c.rocks)
+    reasons.push_back(std::to_string(c.rocks - c.stopped) + " of " + std::to_string(c.rocks) +
+                      " rocks did not stop (" + std::to_string(c.left) + " left, " +
+                      std::to_string(c.timeout) + " timeout)");
+  for (const auto& reason : reasons) c.reason += (c.reason.empty() ? "" : "; ") + reason;
+  c.pass = reasons.empty();
+  if (c.max_penetration > opt.penetration_limit)
+    c.warning = "overlap reached " + Num(c.max_penetration, "%.3g") +
+                " element radii (advisory limit " + Num(opt.penetration_limit, "%.3g") + ")";
+  return c;
+}
+
+}  // namespace
+
+StabilityCase RunStabilityVariant(const StabilityVariant& v, const StabilityOptions& opt) {
+  return RunVariant(v, opt, nullptr);
+}
+
+std::vector<StabilityCase> RunStabilitySuite(const core::Scene& site, const StabilityOptions& opt) {
+  const std::vector<StabilityVariant> variants = StabilityVariants(site, opt);
+  int total = 0, done_before = 0;
+  for (const auto& v : variants) total += v.scene.total_rocks();
+  std::vector<StabilityCase> cases;
+  for (const auto& v : variants) {
+    core::ProgressFn progress;
+    if (opt.progress)
+      progress = [&](int done, int) { opt.progress(done_before + done, total, v.name); };
+    cases.push_back(RunVariant(v, opt, progress));
+    done_before += v.scene.total_rocks();
+  }
+  return cases;
+}
+
+nlohmann::json StabilityJson(const std::string& site_name, const StabilityOptions& opt,
+                             const std::vector<StabilityCase>& cases) {
+  nlohmann::json rows = nlohmann::json::array();
+  int passed = 0;
+  for (const auto& c : cases) {
+    passed += c.pass;
+    rows.push_back(
+        {{"name", c.name},
+         {"description", c.description},
+         {"rocks", c.rocks},
+         {"max_time_seconds", c.max_time},
+         {"dt_min_seconds", c.dt_min},
+         {"dt_max_seconds", c.dt_max},
+         {"dt_shrunk", c.dt_shrunk},
+         {"rocks_with_step_shrunk", c.shrunk_rocks},
+         {"steps", c.steps},
+         {"flights", c.flights},
+         {"wall_seconds", c.wall_seconds},
+         {"outcomes", {{"stopped", c.stopped}, {"left", c.left}, {"timeout", c.timeout}}},
+         {"max_relative_energy_gain", JsonNum(c.max_energy_gain)},
+         {"max_penetration_over_radius", JsonNum(c.max_penetration)},
+         {"non_finite_rocks", c.non_finite},
+         {"tunneled_rocks", c.tunneled},
+         {"must_stop", c.must_stop},
+         {"result", c.pass ? "PASS" : "FAIL"},
+         {"reason", c.reason},
+         {"warning", c.warning}});
+  }
+  return {{"site", site_name},
+          {"study", "stability"},
+          {"limits",
+           {{"energy_tolerance", opt.energy_tolerance},
+            {"penetration_limit_over_radius", opt.penetration_limit},
+            {"max_time_seconds", opt.max_time},
+            {"max_case_steps", opt.max_case_steps},
+            {"rocks_per_case", opt.rocks}}},
+          {"criteria",
+           "PASS: no rock non-finite, no rock tunneled (centre below the terrain's floor by more "
+           "than its radius), largest relative energy gain <= energy_tolerance, and for cases with "
+           "must_stop every rock stopped. Penetration above penetration_limit is a warning only: "
+           "it follows from the contact law (overlap ~ v t_c / pi whatever the rock size)."},
+          {"passed", passed},
+          {"failed", static_cast<int>(cases.size()) - passed},
+          {"cases", rows}};
+}
+
+std::string StabilityCsv(const std::vector<StabilityCase>& cases) {
+  std::ostringstream out;
+  out << "case,rocks,max_time_s,dt_min_s,dt_max_s,dt_shrunk,rocks_with_step_shrunk,steps,flights,"
+         "wall_seconds,"
+         "stopped,left,timeout,max_relative_energy_gain,max_penetration_over_radius,"
+         "non_finite_rocks,tunneled_rocks,must_stop,result,reason,warning\n";
+  for (const auto& c : cases) {
+    out << CsvField(c.name) << ',' << c.rocks << ',' << Num(c.max_time) << ',' << Num(c.dt_min)
+        << ',' << Num(c.dt_max) << ',' << (c.dt_shrunk ? "true" : "false") << ',' << c.shrunk_rocks
+        << ',' << c.steps << ',' << c.flights << ',' << Num(c.wall_seconds, "%.4g") << ','
+        << c.stopped << ',' << c.left << ',' << c.timeout << ',' << Num(c.max_energy_gain) << ','
+        << Num(c.max_penetration) << ',' << c.non_finite << ',' << c.tunneled << ','
+        << (c.must_stop ? "true" : "false") << ',' << (c.pass ? "PASS" : "FAIL") << ','
+        << CsvField(c.reason) << ',' << CsvField(c.warning) << '\n';
+  }
+  return out.str();
+}
+
+std::string StabilityReport(const std::vector<StabilityCase>& cases) {
+  std::ostringstream out;
+  char line[256];
+  std::snprintf(line, sizeof line, "%-20s %5s %10s %10s %6s %10s %8s %5s %5s %5s %9s %9s  %s\n",
+                "case", "rocks", "dt_min_s", "dt_max_s", "shrunk", "steps", "wall_s", "stop",
+                "left", "tout", "E_gain", "pen/r", "result");
+  out << line;
+  for (const auto& c : cases) {
+    std::snprintf(line, sizeof line,
+                  "%-20s %5d %10.3g %10.3g %6d %10ld %8.3g %5d %5d %5d %9.2g %9.3g  %s\n",
+                  c.name.c_str(), c.rocks, c.dt_min, c.dt_max, c.shrunk_rocks, c.steps,
+                  c.wall_seconds, c.stopped, c.left, c.timeout, c.max_energy_gain,
+                  c.max_penetration, c.pass ? "PASS" : "FAIL");
+    out << line;
+  }
+  for (const auto& c : cases) {
+    if (!c.pass) out << "FAIL " << c.name << ": " << c.reason << '\n';
+    if (!c.warning.empty()) out << "warning " << c.name << ": " << c.warning << '\n';
+  }
+  return out.str();
+}
+
+// ---- Convergence -----------------------------------------------------------------
+
+namespace {
+
+constexpr double kLevels[] = {0.5, 0.9, 0.95};
+constexpr const char* kLevelNames[] = {"p50", "p90", "p95"};
+constexpr int kLevelCount = 3;
+
+// Per rock, the value of each source (partition heights, then runout travel),
+// NaN where the rock has none.
+struct RunSamples {
+  std::vector<std::vector<double>> values;  // [source][rock]
+};
+
+RunSamples Samples(const core::Scene& scene, const core::SimulationResult& r) {
+  const std::size_t np = scene.partitions.size();
+  RunSamples s;
+  s.values.assign(np + 1, std::vector<double>(r.rocks.size(), kNaN));
+  for (std::size_t k = 0; k < r.rocks.size(); ++k) {
+    const core::RockRecord& rock = r.rocks[k];
+    for (std::size_t p = 0; p < np && p < rock.crossings.size(); ++p)
+      if (rock.crossings[p].crossed) s.values[p][k] = rock.crossings[p].height;
+    if (rock.outcome == core::Outcome::kStopped) s.values[np][k] = rock.stop.x() - rock.start.x();
+  }
+  return s;
+}
+
+// Quantiles kLevels of the finite values of `v` picked by `pick` (all when
+// empty); NaN when there are none. *count gets how many there were.
+void SourceQuantiles(const std::vector<double>& v, const std::vector<std::size_t>& pick,
+                     std::vector<double>* scratch, double out[kLevelCount], int* count) {
+  scratch->clear();
+  if (pick.empty()) {
+    for (double x : v)
+      if (!std::isnan(x)) scratch->push_back(x);
+  } else {
+    for (std::size_t k : pick)
+      if (!std::isnan(v[k])) scratch->push_back(v[k]);
+  }
+  if (count) *count = static_cast<int>(scratch->size());
+  if (scratch->empty()) {
+    for (int l = 0; l < kLevelCount; ++l) out[l] = kNaN;
+    return;
+  }
+  std::sort(scratch->begin(), scratch->end());
+  for (int l = 0; l < kLevelCount; ++l) out[l] = core::Quantile(*scratch, kLevels[l]);
+}
+
+// Bootstrap replicates of every source quantile, resampling the run's rocks:
+// [source * kLevelCount + level][resample], NaN where a resample had no
+// value. Runs of the same rocks with the same stream draw the same resamples,
+// so replicates of two such runs pair up.
+std::vector<std::vector<double>> BootstrapReplicates(const RunSamples& s, int resamples,
+                                                     std::uint64_t seed, std::uint64_t stream) {
+  const std::size_t sources = s.values.size();
+  const std::size_t n = sources ? s.values[0].size() : 0;
+  std::vector<std::vector<double>> out(
+      sources * kLevelCount, std::vector<double>(static_cast<std::size_t>(resamples), kNaN));
+  if (n == 0) return out;
+  core::RandomStream rng(seed, stream);
+  std::vector<std::size_t> pick(n);
+  std::vector<double> scratch;
+  for (std::size_t b = 0; b < static_cast<std::size_t>(resamples); ++b) {
+    for (auto& k : pick) k = static_cast<std::size_t>(rng.Uniform() * static_cast<double>(n)) % n;
+    for (std::size_t src = 0; src < sources; ++src) {
+      double q[kLevelCount];
+      SourceQuantiles(s.values[src], pick, &scratch, q, nullptr);
+      for (int l = 0; l < kLevelCount; ++l) out[src * kLevelCount + l][b] = q[l];
+    }
+  }
+  return out;
+}
+
+// Half-width of the central `confidence` interval of the finite replicates;
+// NaN when fewer than half of them are finite.
+double HalfWidth(const std::vector<double>& replicates, double confidence) {
+  std::vector<double> d;
+  for (double x : replicates)
+    if (std::isfinite(x)) d.push_back(x);
+  if (d.empty() || 2 * d.size() < replicates.size()) return kNaN;
+  std::sort(d.begin(), d.end());
+  const double tail = 0.5 * (1.0 - confidence);
+  return 0.5 * (core::Quantile(d, 1.0 - tail) - core::Quantile(d, tail));
+}
+
+struct RunData {
+  int steps_per_contact = 0, rocks = 0;
+  core::SimulationResult result;
+  RunSamples samples;
+  std::vector<double> values;                   // [source * kLevelCount + level]
+  std::vector<int> counts;                      // [source]
+  std::vector<std::vector<double>> replicates;  // BootstrapReplicates
+};
+
+}  // namespace
+
+bool ConvergenceOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& field, const std::string& value, const std::string& rule) {
+    *error = "convergence." + field + " = " + value + ": " + rule;
+    return false;
+  };
+  if (steps_per_contact.empty()) return fail("steps_per_contact", "[]", "needs at least one value");
+  for (int n : steps_per_contact)
+    if (n < 4 || n > 100000)
+      return fail("steps_per_contact", std::to_string(n), "each must be in [4, 100000]");
+  if (rock_counts.empty()) return fail("rock_counts", "[]", "needs at least one value");
+  for (int n : rock_counts)
+    if (n < 1) return fail("rock_counts", std::to_string(n), "each must be >= 1");
+  if (!(target > 0 && target <= 10)) return fail("target", Num(target), "must be in (0, 10]");
+  if (bootstrap < 20 || bootstrap > 1000000)
+    return fail("bootstrap", std::to_string(bootstrap), "must be in [20, 1000000]");
+  if (!(confidence > 0.5 && confidence < 1))
+    return fail("confidence", Num(confidence), "must be in (0.5, 1)");
+  if (min_values < 2) return fail("min_values", std::to_string(min_values), "must be >= 2");
+  if (threads < 0) return fail("threads", std::to_string(threads), "must be >= 0 (0: all cores)");
+  return true;
+}
+
+ConvergenceResult RunConvergence(const core::Scene& site, const ConvergenceOptions& opt) {
+  std::string error;
+  if (!opt.IsValid(&error)) throw std::invalid_argument(error);
+  std::vector<int> ncs = opt.steps_per_contact, counts = opt.rock_counts;
+  std::sort(ncs.begin(), ncs.end());
+  ncs.erase(std::unique(ncs.begin(), ncs.end()), ncs.end());
+  std::sort(counts.begin(), counts.end());
+  counts.erase(std::unique(counts.begin(), counts.end()), counts.end());
+
+  core::Scene base = site;
+  if (opt.seed) base.options.seed = *opt.seed;
+  base.options.threads = opt.threads;
+  base.options.record = core::RecordOptions{};
+  base.options.record.partitions = !base.partitions.empty();
+  base.options.record.energy_check = false;  // the stability study's business
+  const core::Terrain terrain = core::BuildTerrain(base);
+
+  ConvergenceResult out;
+  out.target = opt.target;
+  out.bootstrap = opt.bootstrap;
+  out.confidence = opt.confidence;
+  out.seed = base.options.seed;
+  out.threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+
+  // Runs: rock count major so each count's N_c series shares its rocks.
+  const std::size_t sources = base.partitions.size() + 1;
+  long total_work = 0;
+  for (int n : counts) total_work += static_cast<long>(n) * static_cast<long>(ncs.size());
+  long done_before = 0;
+  std::vector<RunData> runs;  // index: count index * ncs.size() + nc index
+  for (int n : counts) {
+    core::Scene scene = base;
+    scene.SetTotalRocks(n);
+    for (int nc : ncs) {
+      scene.options.steps_per_contact = nc;
+      if (!scene.options.IsValid(&error)) throw std::invalid_argument(error);
+      RunData run;
+      run.steps_per_contact = nc;
+      run.rocks = scene.total_rocks();
+      const std::string what = "N_c " + std::to_string(nc) + ", " + std::to_string(n) + " rocks";
+      core::ProgressFn progress;
+      if (opt.progress) {
+        progress = [&](int done, int) {
+          const long total = std::min<long>(total_work, std::numeric_limits<int>::max());
+          opt.progress(static_cast<int>(std::min(done_before + done, total)),
+                       static_cast<int>(total), what);
+        };
+      }
+      run.result = core::Simulate(scene, terrain, progress);
+      done_before += run.rocks;
+      run.samples = Samples(scene, run.result);
+      run.values.assign(sources * kLevelCount, kNaN);
+      run.counts.assign(sources, 0);
+      std::vector<double> scratch;
+      for (std::size_t src = 0; src < sources; ++src)
+        SourceQuantiles(run.samples.values[src], {}, &scratch, &run.values[src * kLevelCount],
+                        &run.counts[src]);
+      // One bootstrap stream per rock count: the N_c series of a count
+      // resample the same rocks (paired differences, equal errors for equal runs).
+      const std::size_t count_index = runs.size() / ncs.size();
+      run.replicates = BootstrapReplicates(run.samples, opt.bootstrap, base.options.seed,
+                                           (std::uint64_t{1} << 48) + count_index);
+      runs.push_back(std::move(run));
+    }
+  }
+  auto run_at = [&](std::size_t count_index, std::size_t nc_index) -> const RunData& {
+    return runs[count_index * ncs.size() + nc_index];
+  };
+  const RunData& ref = run_at(counts.size() - 1, ncs.size() - 1);
+
+  // Quantities present at the reference with enough values and a non-zero value.
+  struct Quantity {
+    std::size_t index;  // source * kLevelCount + level
+    std::string name;
+    double scale;
+  };
+  std::vector<Quantity> quantities;
+  for (std::size_t src = 0; src < sources; ++src) {
+    const bool runout = src + 1 == sources;
+    const std::string source = runout ? "runout" : base.partitions[src].id + ".height";
+    const int count = ref.counts[src];
+    if (count < opt.min_values) {
+      out.notes.push_back(source + ": left out, only " + std::to_string(count) +
+                          (runout ? " stopped rocks" : " crossings") +
+                          " in the reference run (need " + std::to_string(opt.min_values) + ")");
+      continue;
+    }
+    for (int l = 0; l < kLevelCount; ++l) {
+      const std::size_t i = src * kLevelCount + l;
+      const double v = ref.values[i];
+      const std::string name = source + "." + kLevelNames[l];
+      if (!(std::abs(v) > 1e-9)) {
+        out.notes.push_back(name +
+                            ": left out, zero at the reference (no scale for a relative error)");
+        continue;
+      }
+      quantities.push_back({i, name, std::abs(v)});
+      out.quantities.push_back(name);
+    }
+  }
+  if (quantities.empty())
+    out.notes.push_back(
+        "no summary quantity to measure: no partition crossings or stopped rocks "
+        "enough at the reference");
+  out.notes.push_back(
+      "runout quantities are distances along x from each rock's release point to where it "
+      "stopped (stopped rocks only); heights are rock-centre heights above the ground at each "
+      "partition");
+
+  // Rows in N_c order, then rock count.
+  for (std::size_t ni = 0; ni < ncs.size(); ++ni) {
+    for (std::size_t ci = 0; ci < counts.size(); ++ci) {
+      const RunData& run = run_at(ci, ni);
+      const RunData& finest = run_at(ci, ncs.size() - 1);
+      // The discretisation error of this N_c does not depend on the rock
+      // count: the estimate takes it where it is best resolved, at the most rocks.
+      const RunData& most = run_at(counts.size() - 1, ni);
+      ConvergenceRow row;
+      row.steps_per_contact = run.steps_per_contact;
+      row.rocks = run.rocks;
+      row.dt_min = run.result.dt_min;
+      row.dt_max = run.result.dt_max;
+      row.dt_shrunk = run.result.dt_shrunk;
+      row.wall_seconds = run.result.wall_seconds;
+      row.steps = run.result.steps;
+      row.flights = run.result.flights;
+      row.stopped = run.result.count(core::Outcome::kStopped);
+      row.left = run.result.count(core::Outcome::kLeft);
+      row.timeout = run.result.count(core::Outcome::kTimeout);
+      for (const Quantity& q : quantities) {
+        QuantityError e;
+        e.name = q.name;
+        e.value = run.values[q.index];
+        e.count = run.counts[q.index / kLevelCount];
+        const double fine = finest.values[q.index];
+        const double hw = HalfWidth(run.replicates[q.index], opt.confidence);
+        std::vector<double> diff(run.replicates[q.index].size());
+        for (std::size_t b = 0; b < diff.size(); ++b)
+          diff[b] = run.replicates[q.index][b] - finest.replicates[q.index][b];
+        const double diff_hw = HalfWidth(diff, opt.confidence);
+        e.total_error =
+            std::isnan(e.value) ? kInf : std::abs(e.value - ref.values[q.index]) / q.scale;
+        e.discretisation_error =
+            std::isnan(e.value) || std::isnan(fine) ? kInf : std::abs(e.value - fine) / q.scale;
+        e.mc_error = e.count < opt.min_values || std::isnan(hw) ? kInf : hw / q.scale;
+        e.discretisation_noise = &run == &finest ? 0.0
+                                 : e.count < opt.min_values || std::isnan(diff_hw)
+                                     ? kInf
+                                     : diff_hw / q.scale;
+        const double most_value = most.values[q.index];
+        const double discretisation =
+            std::isnan(most_value) ? kInf : std::abs(most_value - ref.values[q.index]) / q.scale;
+        e.estimate = discretisation + e.mc_error;
+        row.max_total_error = std::max(row.max_total_error, e.total_error);
+        row.max_mc_error = std::max(row.max_mc_error, e.mc_error);
+        row.max_discretisation_error =
+            std::max(row.max_discretisation_error, e.discretisation_error);
+        row.max_discretisation_noise =
+            std::max(row.max_discretisation_noise, e.discretisation_noise);
+        row.max_estimate = std::max(row.max_estimate, e.estimate);
+        row.quantities.push_back(e);
+      }
+      if (quantities.empty()) row.max_estimate = kInf;
+      row.meets_target = row.max_estimate <= opt.target;
+      if (&run == &ref) out.reference = static_cast<int>(out.rows.size());
+      out.rows.push_back(std::move(row));
+    }
+  }
+  for (std::size_t k = 0; k < out.rows.size(); ++k) {
+    const ConvergenceRow& row = out.rows[k];
+    if (row.meets_target &&
+        (out.recommended < 0 ||
+         row.wall_seconds < out.rows[static_cast<std::size_t>(out.recommended)].wall_seconds))
+      out.recommended = static_cast<int>(k);
+  }
+  const ConvergenceRow& reference = out.rows[static_cast<std::size_t>(out.reference)];
+  std::ostringstream sentence;
+  if (out.recommended >= 0) {
+    const ConvergenceRow& r = out.rows[static_cast<std::size_t>(out.recommended)];
+    sentence << "N_c = " << r.steps_per_contact << " with " << r.rocks << " rocks: error estimate "
+             << Percent(r.max_estimate) << " <= target " << Percent(opt.target) << " in "
+             << Num(r.wall_seconds, "%.3g")
+             << " s (the reference, N_c = " << reference.steps_per_contact << " with "
+             << reference.rocks << " rocks, took " << Num(reference.wall_seconds, "%.3g") << " s)";
+  } else {
+    int best = -1;
+    for (std::size_t k = 0; k < out.rows.size(); ++k)
+      if (best < 0 ||
+          out.rows[k].max_estimate < out.rows[static_cast<std::size_t>(best)].max_estimate)
+        best = static_cast<int>(k);
+    const ConvergenceRow& b = out.rows[static_cast<std::size_t>(best)];
+    sentence << "none: no setting's error estimate is within the target " << Percent(opt.target);
+    if (std::isfinite(b.max_estimate))
+      sentence << " (smallest " << Percent(b.max_estimate) << " at N_c = " << b.steps_per_contact
+               << " with " << b.rocks << " rocks)";
+    // The reference's error is all Monte Carlo; it falls as 1 / sqrt(rocks).
+    if (std::isfinite(reference.max_mc_error) && reference.max_mc_error > 0) {
+      const double ratio = reference.max_mc_error / opt.target;
+      sentence << "; the Monte Carlo error alone would reach the target at about "
+               << Num(std::ceil(reference.rocks * ratio * ratio / 100.0) * 100.0, "%.0f")
+               << " rocks (if it falls as 1/sqrt(rocks))";
+    }
+  }
+  out.recommendation = sentence.str();
+  return out;
+}
+
+nlohmann::json ConvergenceJson(const std::string& site_name, const ConvergenceResult& result) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (std::size_t k = 0; k < result.rows.size(); ++k) {
+    const ConvergenceRow& r = result.rows[k];
+    nlohmann::json qs = nlohmann::json::array();
+    for (const auto& q : r.quantities)
+      qs.push_back({{"name", q.name},
+                    {"value", JsonNum(q.value)},
+                    {"count", q.count},
+                    {"total_error", JsonNum(q.total_error)},
+                    {"mc_error", JsonNum(q.mc_error)},
+                    {"discretisation_error", JsonNum(q.discretisation_error)},
+                    {"discretisation_noise", JsonNum(q.discretisation_noise)},
+                    {"estimate", JsonNum(q.estimate)}});
+    rows.push_back(
+        {{"steps_per_contact", r.steps_per_contact},
+         {"rocks", r.rocks},
+         {"dt_min_seconds", r.dt_min},
+         {"dt_max_seconds", r.dt_max},
+         {"rocks_with_step_shrunk", r.dt_shrunk},
+         {"wall_seconds", r.wall_seconds},
+         {"steps", r.steps},
+         {"flights", r.flights},
+         {"outcomes", {{"stopped", r.stopped}, {"left", r.left}, {"timeout", r.timeout}}},
+         {"max_total_error", JsonNum(r.max_total_error)},
+         {"max_mc_error", JsonNum(r.max_mc_error)},
+         {"max_discretisation_error", JsonNum(r.max_discretisation_error)},
+         {"max_discretisation_noise", JsonNum(r.max_discretisation_noise)},
+         {"max_estimate", JsonNum(r.max_estimate)},
+         {"meets_target", r.meets_target},
+         {"reference", static_cast<int>(k) == result.reference},
+         {"recommended", static_cast<int>(k) == result.recommended},
+         {"quantities", qs}});
+  }
+  const auto& ref = result.rows[static_cast<std::size_t>(result.reference)];
+  nlohmann::json recommended;
+  if (result.recommended >= 0) {
+    const auto& r = result.rows[static_cast<std::size_t>(result.recommended)];
+    recommended = {{"steps_per_contact", r.steps_per_contact},
+                   {"rocks", r.rocks},
+                   {"wall_seconds", r.wall_seconds},
+                   {"max_estimate", JsonNum(r.max_estimate)}};
+  }
+  return {{"site", site_name},
+          {"study", "convergence"},
+          {"target", result.target},
+          {"bootstrap", result.bootstrap},
+          {"confidence", result.confidence},
+          {"seed", result.seed},
+          {"threads", result.threads},
+          {"reference", {{"steps_per_contact", ref.steps_per_contact}, {"rocks", ref.rocks}}},
+          {"errors",
+           "relative to each quantity's value in the reference run (finest N_c, most rocks); "
+           "total_error = |value - reference|; discretisation_error = |value - value at the "
+           "finest N_c with the same rocks and seed|; discretisation_noise = half-width of the "
+           "paired bootstrap interval of that difference (a discretisation_error below it is not "
+           "resolved from the chaotic spread of single trajectories); mc_error = half-width of "
+           "the bootstrap interval of the quantile (rocks resampled) at this rock count; "
+           "estimate = the discretisation_error of this N_c at the largest rock count (where it "
+           "is best resolved; it does not depend on the count) + mc_error, used for the "
+           "recommendation; null = unknown"},
+          {"quantities", result.quantities},
+          {"notes", result.notes},
+          {"recommended", recommended},
+          {"recommendation", result.recommendation},
+          {"rows", rows}};
+}
+
+std::string ConvergenceCsv(const ConvergenceResult& result) {
+  std::ostringstream out;
+  out << "steps_per_contact,rocks,dt_min_s,wall_seconds,steps,quantity,value,count,total_error,"
+         "mc_error,discretisation_error,discretisation_noise,estimate,meets_target,reference,"
+         "recommended\n";
+  for (std::size_t k = 0; k < result.rows.size(); ++k) {
+    const ConvergenceRow& r = result.rows[k];
+    const std::string head = std::to_string(r.steps_per_contact) + ',' + std::to_string(r.rocks) +
+                             ',' + Num(r.dt_min) + ',' + Num(r.wall_seconds, "%.4g") + ',' +
+                             std::to_string(r.steps) + ',';
+    const std::string tail = std::string(",") + (r.meets_target ? "true" : "false") + ',' +
+                             (static_cast<int>(k) == result.reference ? "true" : "false") + ',' +
+                             (static_cast<int>(k) == result.recommended ? "true" : "false") + '\n';
+    for (const auto& q : r.quantities)
+      out << head << CsvField(q.name) << ',' << Num(q.value) << ',' << q.count << ','
+          << Num(q.total_error) << ',' << Num(q.mc_error) << ',' << Num(q.discretisation_error)
+          << ',' << Num(q.discretisation_noise) << ',' << Num(q.estimate) << tail;
+    out << head << "max,,," << Num(r.max_total_error) << ',' << Num(r.max_mc_error) << ','
+        << Num(r.max_discretisation_error) << ',' << Num(r.max_discretisation_noise) << ','
+        << Num(r.max_estimate) << tail;
+  }
+  return out.str();
+}
+
+std::string ConvergenceSvg(const std::string& site_name, const ConvergenceResult& result) {
+  constexpr double kW = 720, kH = 480, kLeft = 80, kRight = 150, kTop = 50, kBottom = 60;
+  const char* const kColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+                                  "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+  // Axis ranges (decades) over the plotted points and the target.
+  double xlo = kInf, xhi = 0, ylo = result.target, yhi = result.target;
+  auto plotted = [](const ConvergenceRow& r) {
+    return r.wall_seconds > 0 && std::isfinite(r.max_estimate) && r.max_estimate > 0;
+  };
+  for (const auto& r : result.rows) {
+    if (!plotted(r)) continue;
+    xlo = std::min(xlo, r.wall_seconds);
+    xhi = std::max(xhi, r.wall_seconds);
+    ylo = std::min(ylo, r.max_estimate);
+    yhi = std::max(yhi, r.max_estimate);
+  }
+  if (!(xlo < kInf)) xlo = xhi = 1.0;
+  const double lx0 = std::floor(std::log10(xlo)),
+               lx1 = std::max(std::ceil(std::log10(xhi)), lx0 + 1);
+  const double ly0 = std::floor(std::log10(ylo)),
+               ly1 = std::max(std::ceil(std::log10(yhi)), ly0 + 1);
+  const double pw = kW - kLeft - kRight, ph = kH - kTop - kBottom;
+  auto px = [&](double x) { return kLeft + (std::log10(x) - lx0) / (lx1 - lx0) * pw; };
+  auto py = [&](double y) { return kTop + (ly1 - std::log10(y)) / (ly1 - ly0) * ph; };
+  std::ostringstream s;
+  char buf[512];
+  std::snprintf(
+      buf, sizeof buf,
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%g\" height=\"%g\" viewBox=\"0 0 %g %g\" "
+      "font-family=\"sans-serif\" font-size=\"12\">\n",
+      kW, kH, kW, kH);
+  s << buf << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  s << "<text x=\"" << kW / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"14\">"
+    << XmlEscape(site_name) << ": error estimate against run time</text>\n";
+  // Grid, ticks and labels at decades.
+  for (double e = lx0; e <= lx1 + 1e-9; e += 1) {
+    const double x = px(std::pow(10.0, e));
+    std::snprintf(buf, sizeof buf,
+                  "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>\n"
+                  "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">%g</text>\n",
+                  x, kTop, x, kTop + ph, x, kTop + ph + 18, std::pow(10.0, e));
+    s << buf;
+  }
+  for (double e = ly0; e <= ly1 + 1e-9; e += 1) {
+    const double y = py(std::pow(10.0, e));
+    std::snprintf(buf, sizeof buf,
+                  "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>\n"
+                  "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">%g %%</text>\n",
+                  kLeft, y, kLeft + pw, y, kLeft - 6, y + 4, 100.0 * std::pow(10.0, e));
+    s << buf;
+  }
+  std::snprintf(
+      buf, sizeof buf,
+      "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"none\" "
+      "stroke=\"black\"/>\n"
+      "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">wall seconds</text>\n"
+      "<text x=\"18\" y=\"%.1f\" text-anchor=\"middle\" transform=\"rotate(-90 18 %.1f)\">"
+      "largest relative error (discretisation + Monte Carlo)</text>\n",
+      kLeft, kTop, pw, ph, kLeft + pw / 2, kH - 18, kTop + ph / 2, kTop + ph / 2);
+  s << buf;
+  // Target line.
+  const double yt = py(result.target);
+  std::snprintf(
+      buf, sizeof buf,
+      "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"red\" "
+      "stroke-dasharray=\"6 4\"/>\n<text x=\"%.1f\" y=\"%.1f\" fill=\"red\">target %s</text>\n",
+      kLeft, yt, kLeft + pw, yt, kLeft + 4, yt - 4, XmlEscape(Percent(result.target)).c_str());
+  s << buf;
+  // One series per N_c, points labelled with the rock count.
+  std::vector<int> ncs;
+  for (const auto& r : result.rows)
+    if (std::find(ncs.begin(), ncs.end(), r.steps_per_contact) == ncs.end())
+      ncs.push_back(r.steps_per_contact);
+  for (std::size_t i = 0; i < ncs.size(); ++i) {
+    const char* colour = kColours[i % (sizeof kColours / sizeof kColours[0])];
+    std::string points;
+    for (const auto& r : result.rows) {
+      if (r.steps_per_contact != ncs[i] || !plotted(r)) continue;
+      std::snprintf(buf, sizeof buf, "%.1f,%.1f ", px(r.wall_seconds), py(r.max_estimate));
+      points += buf;
+    }
+    if (!points.empty())
+      s << "<polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"1.5\" points=\""
+        << points << "\"/>\n";
+    for (const auto& r : result.rows) {
+      if (r.steps_per_contact != ncs[i] || !plotted(r)) continue;
+      std::snprintf(
+          buf, sizeof buf,
+          "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3.5\" fill=\"%s\"><title>N_c %d, %d rocks: "
+          "%.3g s, error %s</title></circle>\n"
+          "<text x=\"%.1f\" y=\"%.1f\" font-size=\"9\" fill=\"%s\">%d</text>\n",
+          px(r.wall_seconds), py(r.max_estimate), colour, r.steps_per_contact, r.rocks,
+          r.wall_seconds, XmlEscape(Percent(r.max_estimate)).c_str(), px(r.wall_seconds) + 5,
+          py(r.max_estimate) - 5, colour, r.rocks);
+      s << buf;
+    }
+    std::snprintf(
+        buf, sizeof buf,
+        "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" stroke-width=\"2\"/>\n"
+        "<text x=\"%.1f\" y=\"%.1f\">N_c = %d</text>\n",
+        kLeft + pw + 14, kTop + 10 + 18.0 * i, kLeft + pw + 34, kTop + 10 + 18.0 * i, colour,
+        kLeft + pw + 40, kTop + 14 + 18.0 * i, ncs[i]);
+    s << buf;
+  }
+  const double ly = kTop + 10 + 18.0 * ncs.size() + 10;
+  std::snprintf(buf, sizeof buf,
+                "<text x=\"%.1f\" y=\"%.1f\" font-size=\"10\">labels: rock count</text>\n",
+                kLeft + pw + 14, ly);
+  s << buf;
+  if (result.recommended >= 0) {
+    const ConvergenceRow& r = result.rows[static_cast<std::size_t>(result.recommended)];
+    if (plotted(r)) {
+      std::snprintf(buf, sizeof buf,
+                    "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"8\" fill=\"none\" stroke=\"black\" "
+                    "stroke-width=\"1.5\"/>\n<text x=\"%.1f\" y=\"%.1f\" font-size=\"10\">"
+                    "&#9675; recommended</text>\n",
+                    px(r.wall_seconds), py(r.max_estimate), kLeft + pw + 14, ly + 16);
+      s << buf;
+    }
+  }
+  s << "</svg>\n";
+  return s.str();
+}
+
+std::string ConvergenceReport(const ConvergenceResult& result) {
+  std::ostringstream out;
+  char line[256];
+  std::snprintf(line, sizeof line, "%6s %7s %9s %9s %7s %9s %9s %9s %9s %9s %9s  %s\n", "N_c",
+                "rocks", "dt_min_s", "dt_max_s", "shrunk", "wall_s", "total", "discr", "d.noise",
+                "mc", "estimate", "");
+  out << line;
+  for (std::size_t k = 0; k < result.rows.size(); ++k) {
+    const ConvergenceRow& r = result.rows[k];
+    std::string mark = static_cast<int>(k) == result.reference ? "reference" : "";
+    if (static_cast<int>(k) == result.recommended)
+      mark += mark.empty() ? "recommended" : ", recommended";
+    std::snprintf(line, sizeof line, "%6d %7d %9.3g %9.3g %7d %9.3g %9s %9s %9s %9s %9s  %s\n",
+                  r.steps_per_contact, r.rocks, r.dt_min, r.dt_max, r.dt_shrunk, r.wall_seconds,
+                  Percent(r.max_total_error).c_str(), Percent(r.max_discretisation_error).c_str(),
+                  Percent(r.max_discretisation_noise).c_str(), Percent(r.max_mc_error).c_str(),
+                  Percent(r.max_estimate).c_str(), mark.c_str());
+    out << line;
+  }
+  for (const auto& note : result.notes) out << "note: " << note << '\n';
+  out << "recommendation: " << result.recommendation << '\n';
+  return out.str();
+}
+
+}  // namespace rockcal::calibrate

@@ -1,0 +1,537 @@
+// The stability suite, the convergence study, and the time-step and
+// restitution properties they report on, on small scenes built in code.
+#include "rockcal/calibrate/study.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "rockcal/core/material.h"
+#include "rockcal/core/rock_shape.h"
+#include "rockcal/core/simulate.h"
+
+namespace rockcal::calibrate {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A small rough slope: 35 degrees down to x = 16 m, then a flat runout to
+// x = 30 m, 20 m across, 2 m grid. Hard rock on the slope, soft soil below.
+// The rocks (1-1.8 m) are larger than the holes the roughest variant
+// (R = s/2) leaves between virtual spheres (SmallRocksOnTheRoughestSlope
+// covers smaller ones), and start away from the lateral edges.
+core::Scene SmallSlope(double size_min = 1.0, double size_max = 1.6) {
+  core::Scene scene;
+  scene.name = "small slope";
+  auto& g = scene.grid;
+  g.spacing = 2.0;
+  g.nx = 16;
+  g.ny = 11;
+  const double slope = std::tan(35.0 * kPi / 180.0);
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) {
+      const double x = g.x(i);
+      g.z.push_back(x < 16.0 ? (16.0 - x) * slope : 0.0);
+      g.material.push_back(x < 14.0 ? 0 : 1);
+    }
+  core::Material rock;
+  rock.id = "rock";
+  rock.hardness = 0.6;
+  rock.roughness_m = 0.2;
+  core::Material soil;
+  soil.id = "soil";
+  soil.hardness = 0.2;
+  soil.roughness_m = 0.3;
+  scene.materials = {rock, soil};
+  core::RockGroup spheres;
+  spheres.count = 2;
+  spheres.shape = core::Shape::kSphere;
+  spheres.size_min = size_min;
+  spheres.size_max = size_max;
+  spheres.unit_weight = 26e3;
+  spheres.release.zone = {{1, 9}, {3, 9}, {3, 11}, {1, 11}};
+  core::RockGroup cubes = spheres;
+  cubes.shape = core::Shape::kCube;
+  cubes.size_min = size_min + 0.2;
+  cubes.size_max = size_max + 0.2;
+  scene.groups = {spheres, cubes};
+  scene.partitions = {{"P-slope", core::Partition::Kind::kX, 10.0}};
+  scene.options.max_time = 30.0;
+  return scene;
+}
+
+// ---- Stability suite ------------------------------------------------------------
+
+StabilityOptions QuickStability() {
+  StabilityOptions opt;
+  opt.rocks = 2;
+  opt.max_time = 8.0;
+  opt.max_case_steps = 300000;  // the stiff cases run 0.15 s per rock
+  return opt;
+}
+
+TEST(StabilitySuite, VariantsCoverTheIssueList) {
+  const core::Scene site = SmallSlope();
+  const std::vector<StabilityVariant> variants = StabilityVariants(site, QuickStability());
+  ASSERT_EQ(variants.size(), StabilityCaseNames().size());
+  auto find = [&](const std::string& name) -> const StabilityVariant& {
+    for (const auto& v : variants)
+      if (v.name == name) return v;
+    ADD_FAILURE() << "no case " << name;
+    return variants.front();
+  };
+  auto laws = [](const core::Scene& s) {
+    std::vector<core::ContactLaw> out;
+    for (const auto& m : s.materials) out.push_back(core::DeriveContactLaw(m, s.hardness_model));
+    return out;
+  };
+  for (const auto& law : laws(find("hardness_0").scene)) EXPECT_EQ(law.restitution, 0.01);
+  for (const auto& law : laws(find("hardness_1").scene)) EXPECT_EQ(law.restitution, 0.99);
+  for (const auto& m : find("contact_time_0.05ms").scene.materials)
+    EXPECT_EQ(m.contact_time_s, 5e-5);
+  for (const auto& m : find("contact_time_50ms").scene.materials) EXPECT_EQ(m.contact_time_s, 0.05);
+  std::set<double> sizes;
+  for (const auto& g : find("sizes_1cm_10m").scene.groups) {
+    sizes.insert(g.size_min);
+    sizes.insert(g.size_max);
+  }
+  EXPECT_EQ(sizes, (std::set<double>{0.01, 10.0}));
+  // The vertical cliff drops 30 m between two neighbouring nodes; the face is
+  // no steeper than 80 degrees. A height grid has no overhangs by construction.
+  auto steepest = [](const core::HeightGrid& g, double* drop) {
+    double grade = 0.0;
+    *drop = 0.0;
+    for (int i = 0; i + 1 < g.nx; ++i) {
+      const double dz = g.z[g.index(i, 0)] - g.z[g.index(i + 1, 0)];
+      *drop = std::max(*drop, dz);
+      grade = std::max(grade, dz / g.spacing);
+    }
+    return grade;
+  };
+  double drop = 0.0;
+  steepest(find("vertical_cliff").scene.grid, &drop);
+  EXPECT_NEAR(drop, 30.0, 1e-9);
+  const double face_grade = steepest(find("near_vertical_face").scene.grid, &drop);
+  EXPECT_LE(face_grade, std::tan(80.0 * kPi / 180.0) * (1 + 1e-9));
+  EXPECT_GT(face_grade, std::tan(70.0 * kPi / 180.0));
+  const StabilityVariant& flat = find("flat_runout");
+  EXPECT_TRUE(flat.must_stop);
+  for (double z : flat.scene.grid.z) EXPECT_EQ(z, 0.0);
+  for (const auto& m : find("roughness_0").scene.materials) EXPECT_EQ(m.roughness_m, 0.0);
+  for (const auto& m : find("roughness_max").scene.materials) EXPECT_EQ(m.roughness_m, 1.0);  // s/2
+  const StabilityVariant& fast = find("fast_release_hard");
+  for (const auto& g : fast.scene.groups) EXPECT_NEAR(g.release.velocity.norm(), 50.0, 1e-12);
+  for (const auto& law : laws(fast.scene)) EXPECT_EQ(law.restitution, 0.99);
+  // The stiff cases get 3e5 contact steps of 1 us in all: 0.15 s per rock.
+  EXPECT_NEAR(find("contact_time_0.05ms").scene.options.max_time, 0.15, 1e-9);
+  EXPECT_LT(find("contact_time_0.05ms").scene.options.stop_duration, 0.15);
+  EXPECT_EQ(find("site").scene.options.max_time, 8.0);
+  // Every case runs few rocks with only the energy check recorded.
+  for (const auto& v : variants) {
+    EXPECT_EQ(v.scene.total_rocks(), 2) << v.name;
+    EXPECT_FALSE(v.scene.options.record.partitions) << v.name;
+    EXPECT_LE(v.scene.options.max_time, 8.0) << v.name;
+  }
+}
+
+TEST(StabilitySuite, EveryCasePassesOnASmallScene) {
+  const core::Scene site = SmallSlope();
+  const std::vector<StabilityCase> cases = RunStabilitySuite(site, QuickStability());
+  ASSERT_EQ(cases.size(), StabilityCaseNames().size());
+  for (const auto& c : cases) {
+    EXPECT_TRUE(c.pass) << c.name << ": " << c.reason;
+    EXPECT_EQ(c.non_finite, 0) << c.name;
+    EXPECT_EQ(c.tunneled, 0) << c.name;
+    EXPECT_LE(c.max_energy_gain, 1e-3) << c.name;
+    EXPECT_EQ(c.rocks, 2) << c.name;
+    EXPECT_EQ(c.stopped + c.left + c.timeout, c.rocks) << c.name;
+    EXPECT_GT(c.dt_min, 0.0) << c.name;
+    EXPECT_GT(c.steps, 0) << c.name;
+  }
+  // The engine picks the step by itself: t_c / N_c, or less where the
+  // stability bound is tighter (the heavily damped hardness-0 contact).
+  auto by_name = [&](const std::string& name) {
+    return *std::find_if(cases.begin(), cases.end(), [&](const auto& c) { return c.name == name; });
+  };
+  EXPECT_NEAR(by_name("contact_time_0.05ms").dt_max, 5e-5 / 50, 1e-18);
+  EXPECT_NEAR(by_name("contact_time_50ms").dt_max, 0.05 / 50, 1e-15);
+  EXPECT_TRUE(by_name("hardness_0").dt_shrunk);
+  EXPECT_FALSE(by_name("site").dt_shrunk);
+  // One step serves 1 cm and 10 m rocks: stiffness scales with the mass.
+  EXPECT_EQ(by_name("sizes_1cm_10m").dt_min, by_name("sizes_1cm_10m").dt_max);
+}
+
+// With roughness R = s/2 the virtual spheres leave holes at cell centres;
+// rocks smaller than a hole drop in and rest on the catch surface. When that
+// surface was a horizontal plane per cell, the next cell's plane stood
+// s * tan(slope) higher, and a rock rolling across the cell edge was thrown
+// out with hundreds of times its kinetic energy (19 of 20 seeds failed). The
+// catch surface is now continuous; this case must pass for every seed.
+TEST(StabilitySuite, SmallRocksOnTheRoughestSlope) {
+  StabilityOptions opt = QuickStability();
+  opt.cases = {"roughness_max"};
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    opt.seed = seed;
+    const StabilityCase c = RunStabilitySuite(SmallSlope(0.4, 0.8), opt).front();
+    EXPECT_TRUE(c.pass) << "seed " << seed << ": " << c.reason;
+  }
+}
+
+TEST(StabilitySuite, JudgesAgainstTheLimits) {
+  const core::Scene site = SmallSlope();
+  StabilityOptions opt = QuickStability();
+  opt.cases = {"flat_runout"};
+  opt.max_time = 1.5;  // too short for rocks arriving at 10 m/s to stop
+  opt.penetration_limit = 1e-9;
+  const std::vector<StabilityCase> cases = RunStabilitySuite(site, opt);
+  ASSERT_EQ(cases.size(), 1u);
+  const StabilityCase& c = cases[0];
+  EXPECT_FALSE(c.pass);
+  EXPECT_NE(c.reason.find("did not stop"), std::string::npos) << c.reason;
+  // Penetration is advisory: a warning, not a reason.
+  EXPECT_NE(c.warning.find("advisory limit"), std::string::npos) << c.warning;
+  EXPECT_EQ(c.reason.find("overlap"), std::string::npos) << c.reason;
+}
+
+TEST(StabilitySuite, OptionsAreValidated) {
+  std::string error;
+  StabilityOptions opt;
+  EXPECT_TRUE(opt.IsValid(&error)) << error;
+  opt.rocks = 0;
+  EXPECT_FALSE(opt.IsValid(&error));
+  EXPECT_NE(error.find("stability.rocks = 0"), std::string::npos) << error;
+  opt = StabilityOptions{};
+  opt.cases = {"no_such_case"};
+  EXPECT_FALSE(opt.IsValid(&error));
+  EXPECT_NE(error.find("flat_runout"), std::string::npos) << "lists the allowed names: " << error;
+  EXPECT_THROW(StabilityVariants(SmallSlope(), opt), std::invalid_argument);
+}
+
+TEST(StabilitySuite, WritesTableAsJsonAndCsv) {
+  StabilityCase a;
+  a.name = "site";
+  a.rocks = 3;
+  a.pass = true;
+  StabilityCase b = a;
+  b.name = "hardness_1";
+  b.pass = false;
+  b.reason = "1 rocks tunneled";
+  b.warning = "overlap, \"deep\"";
+  const StabilityOptions opt;
+  const nlohmann::json j = StabilityJson("small", opt, {a, b});
+  EXPECT_EQ(j["site"], "small");
+  EXPECT_EQ(j["passed"], 1);
+  EXPECT_EQ(j["failed"], 1);
+  ASSERT_EQ(j["cases"].size(), 2u);
+  EXPECT_EQ(j["cases"][1]["result"], "FAIL");
+  EXPECT_EQ(j["limits"]["energy_tolerance"], opt.energy_tolerance);
+  const std::string csv = StabilityCsv({a, b});
+  std::istringstream lines(csv);
+  std::string header, row1, row2;
+  std::getline(lines, header);
+  std::getline(lines, row1);
+  std::getline(lines, row2);
+  EXPECT_EQ(header.rfind("case,rocks,max_time_s,dt_min_s,dt_max_s,", 0), 0u) << header;
+  EXPECT_EQ(row1.rfind("site,3,", 0), 0u) << row1;
+  EXPECT_NE(row2.find(",FAIL,1 rocks tunneled,\"overlap, \"\"deep\"\"\""), std::string::npos)
+      << row2;
+  EXPECT_NE(StabilityReport({a, b}).find("FAIL hardness_1: 1 rocks tunneled"), std::string::npos);
+}
+
+// ---- Time step ------------------------------------------------------------------
+
+core::Material MaterialWith(double hardness, double contact_time) {
+  core::Material m;
+  m.id = "m";
+  m.hardness = hardness;
+  m.contact_time_s = contact_time;
+  return m;
+}
+
+// The damped critical step of one linear spring-dashpot contact on a sphere
+// (central difference): (2 / omega) (sqrt(1 + zeta^2) - zeta), omega^2 = k/m.
+double DampedCriticalStep(const core::ContactLaw& law) {
+  const double omega = std::sqrt(law.stiffness_per_mass);
+  const double zeta = law.damping_ratio;
+  return 2.0 / omega * (std::sqrt(1.0 + zeta * zeta) - zeta);
+}
+
+TEST(ContactTimeStep, StaysBelowTheDampedCriticalStep) {
+  const core::RockBody sphere = core::MakeRockBody(core::Shape::kSphere, 1.0, 26e3, 9.81);
+  for (double hardness : {0.0, 0.2, 0.5, 0.8, 1.0}) {
+    for (double tc : {5e-5, 5e-3, 5e-2}) {
+      for (int nc : {4, 10, 50}) {
+        const core::ContactLaw law = core::DeriveContactLaw(MaterialWith(hardness, tc));
+        core::SimulationOptions opt;
+        opt.steps_per_contact = nc;
+        bool shrunk = false;
+        const double dt = core::ContactTimeStep(sphere, law, opt, &shrunk);
+        const double critical = DampedCriticalStep(law);
+        EXPECT_LT(dt, critical) << "H " << hardness << " t_c " << tc << " N_c " << nc;
+        EXPECT_LE(dt, tc / nc * (1 + 1e-15)) << "H " << hardness << " N_c " << nc;
+        EXPECT_EQ(shrunk, dt < tc / nc) << "H " << hardness << " N_c " << nc << " dt " << dt;
+      }
+    }
+  }
+  // Hardness 0 is overdamped (zeta about 4.8 for e = 0.01): the bound falls
+  // below t_c / 50 and the engine says so.
+  const core::ContactLaw soft = core::DeriveContactLaw(MaterialWith(0.0, 5e-3));
+  bool shrunk = false;
+  const double dt = core::ContactTimeStep(sphere, soft, core::SimulationOptions{}, &shrunk);
+  EXPECT_TRUE(shrunk);
+  EXPECT_LT(dt, 5e-3 / 50);
+  EXPECT_GT(soft.damping_ratio, 1.0);
+}
+
+TEST(ContactTimeStep, DoublingTheStiffnessShrinksTheStepBySqrt2) {
+  // k_n / m = (pi^2 + ln^2 e) / t_c^2: t_c / sqrt(2) doubles it at the same e.
+  for (const core::Shape shape : {core::Shape::kSphere, core::Shape::kCube}) {
+    const core::RockBody body = core::MakeRockBody(shape, 1.0, 26e3, 9.81);
+    for (double hardness : {0.0, 0.5, 0.99}) {
+      for (int nc : {4, 50, 400}) {  // stability-bound and t_c / N_c-bound regimes
+        const core::ContactLaw law = core::DeriveContactLaw(MaterialWith(hardness, 5e-3));
+        const core::ContactLaw stiff =
+            core::DeriveContactLaw(MaterialWith(hardness, 5e-3 / std::sqrt(2.0)));
+        ASSERT_NEAR(stiff.stiffness_per_mass / law.stiffness_per_mass, 2.0, 1e-12);
+        core::SimulationOptions opt;
+        opt.steps_per_contact = nc;
+        const double ratio =
+            core::ContactTimeStep(body, law, opt) / core::ContactTimeStep(body, stiff, opt);
+        EXPECT_NEAR(ratio / std::sqrt(2.0), 1.0, 1e-12)
+            << core::ShapeName(shape) << " H " << hardness << " N_c " << nc << " ratio " << ratio;
+      }
+    }
+  }
+}
+
+// ---- Restitution against N_c -------------------------------------------------------
+
+// Per-impact restitution error: spheres hit smooth flat ground at 20 m/s; the
+// rebound speed (where the overlap ends) over the impact speed, against e.
+// `phases` drops start at heights spread over more than one step, so the
+// contact begins at different points of a step; returns the mean |error|.
+double RestitutionError(double e, int steps_per_contact, bool exact_flight, bool* shrunk) {
+  constexpr int kPhases = 24;
+  // t_c = 1 ms: gravity acting during the contact shifts the rebound of a
+  // 20 m/s impact by only ~0.1 % (physics, not step error).
+  constexpr double kTc = 1e-3, kSpeed = 20.0, kRadius = 0.1;
+  core::Scene scene;
+  scene.name = "drop";
+  scene.grid.spacing = 1.0;
+  scene.grid.nx = scene.grid.ny = 5;
+  scene.grid.z.assign(25, 0.0);
+  scene.grid.material.assign(25, 0);
+  core::Material m = MaterialWith(e, kTc);
+  m.friction = 0.5;
+  scene.materials = {m};
+  // Heights over 1.618 steps of the coarsest N_c (20): every phase is hit.
+  const double span = 1.618 * kSpeed * kTc / 20.0;
+  for (int k = 0; k < kPhases; ++k) {
+    core::RockGroup g;
+    g.shape = core::Shape::kSphere;
+    g.size_min = g.size_max = 2 * kRadius;
+    g.release.point = Eigen::Vector2d(2.0, 2.0);
+    g.release.height = 0.05 + span * (k + 0.5) / kPhases;
+    g.release.velocity = Eigen::Vector3d(0, 0, -kSpeed);
+    scene.groups.push_back(g);
+  }
+  scene.options.max_time = 0.02;  // down, one contact, and up again
+  scene.options.stop_duration = 0.01;
+  scene.options.exact_flight = exact_flight;
+  scene.options.steps_per_contact = steps_per_contact;
+  scene.options.record.trajectories = kPhases;
+  scene.options.record.sample_seconds = 1.0;  // the first and the last state
+  const core::SimulationResult result = core::Simulate(scene);
+  *shrunk = result.dt_shrunk > 0;
+  double sum = 0.0;
+  for (int k = 0; k < kPhases; ++k) {
+    const core::TrajectorySample& end = result.rocks[static_cast<std::size_t>(k)].trajectory.back();
+    EXPECT_GT(end.v.z(), 0.0) << "rock " << k << " should be flying up";
+    // Flight is exact for constant gravity, so speeds at the touching height
+    // follow from energy.
+    const double g = scene.gravity;
+    const double h0 = scene.groups[static_cast<std::size_t>(k)].release.height;
+    const double impact = std::sqrt(kSpeed * kSpeed + 2 * g * h0);
+    const double rebound = std::sqrt(end.v.z() * end.v.z() + 2 * g * (end.x.z() - kRadius));
+    sum += std::abs(rebound / impact - e);
+  }
+  return sum / kPhases;
+}
+
+TEST(Restitution, StepOnlyErrorFallsFirstOrderWithStepsPerContact) {
+  // exact_flight = false: every advance is a contact step, and the contact
+  // begins anywhere inside a step, an O(dt) error in the rebound.
+  const double e = 0.5;
+  std::vector<double> errors;
+  std::ostringstream table;
+  for (int nc : {20, 40, 80, 160}) {
+    bool shrunk = true;
+    errors.push_back(RestitutionError(e, nc, false, &shrunk));
+    EXPECT_FALSE(shrunk) << "N_c " << nc << " should set the step, not the stability bound";
+    table << " N_c " << nc << ": " << errors.back();
+  }
+  for (std::size_t k = 1; k < errors.size(); ++k) {
+    const double ratio = errors[k - 1] / errors[k];
+    EXPECT_GT(ratio, 1.4) << "error should halve per doubling of N_c:" << table.str();
+    EXPECT_LT(ratio, 2.8) << "error should halve per doubling of N_c:" << table.str();
+  }
+  // About 1 % of e at N_c = 50 (DESIGN.md), by first order from N_c = 40.
+  EXPECT_LT(errors[1] * 40.0 / 50.0, 0.015 * e) << table.str();
+}
+
+TEST(Restitution, ExactFlightRemovesTheOnsetError) {
+  // The production path flies to the touching point and primes the dashpot,
+  // so the contact starts at the start of a step.
+  for (double e : {0.2, 0.5, 0.8}) {
+    bool shrunk = false;
+    const double step_only = RestitutionError(e, 20, false, &shrunk);
+    const double exact = RestitutionError(e, 20, true, &shrunk);
+    EXPECT_LT(exact, 0.25 * step_only)
+        << "e " << e << ": exact flight " << exact << ", steps only " << step_only;
+    EXPECT_LT(exact, 0.005) << "e " << e;
+  }
+}
+
+// ---- Convergence -------------------------------------------------------------------
+
+ConvergenceOptions QuickConvergence() {
+  ConvergenceOptions opt;
+  opt.steps_per_contact = {20, 10};  // any order
+  opt.rock_counts = {30, 12};
+  opt.bootstrap = 50;
+  opt.min_values = 5;
+  opt.seed = 7;
+  return opt;
+}
+
+core::Scene ConvergenceScene() {
+  core::Scene scene = SmallSlope();
+  scene.options.max_time = 4.0;
+  return scene;
+}
+
+TEST(Convergence, TinySceneGivesATableAndARecommendation) {
+  ConvergenceOptions opt = QuickConvergence();
+  opt.target = 10.0;  // generous: some setting must meet it
+  int calls = 0, last_done = 0, last_total = 0;
+  opt.progress = [&](int done, int total, const std::string&) {
+    ++calls;
+    EXPECT_GE(done, last_done);
+    last_done = done;
+    last_total = total;
+  };
+  const ConvergenceResult r = RunConvergence(ConvergenceScene(), opt);
+  EXPECT_EQ(calls, 2 * (12 + 30));
+  EXPECT_EQ(last_done, last_total);
+  ASSERT_EQ(r.rows.size(), 4u);
+  // N_c ascending, then rocks ascending; the reference is the last.
+  EXPECT_EQ(r.rows[0].steps_per_contact, 10);
+  EXPECT_EQ(r.rows[0].rocks, 12);
+  EXPECT_EQ(r.rows[1].rocks, 30);
+  EXPECT_EQ(r.rows[3].steps_per_contact, 20);
+  EXPECT_EQ(r.reference, 3);
+  EXPECT_EQ(r.seed, 7u);
+  ASSERT_FALSE(r.quantities.empty());
+  EXPECT_EQ(r.quantities[0], "P-slope.height.p50");
+  for (std::size_t k = 0; k < r.rows.size(); ++k) {
+    const ConvergenceRow& row = r.rows[k];
+    ASSERT_EQ(row.quantities.size(), r.quantities.size());
+    EXPECT_GT(row.wall_seconds, 0.0);
+    // t_c / N_c, or less where the stability bound of the soft soil (e = 0.2)
+    // is tighter (N_c = 10 and 20).
+    EXPECT_LE(row.dt_max, 5e-3 / row.steps_per_contact * (1 + 1e-15));
+    if (row.dt_shrunk == 0) {
+      EXPECT_NEAR(row.dt_max, 5e-3 / row.steps_per_contact, 1e-15);
+    }
+    for (const QuantityError& q : row.quantities) {
+      if (row.steps_per_contact == 20) {
+        EXPECT_EQ(q.discretisation_error, 0.0) << q.name;
+      }
+      if (static_cast<int>(k) == r.reference) {
+        EXPECT_EQ(q.total_error, 0.0) << q.name;
+      }
+      if (q.count >= opt.min_values) {
+        EXPECT_TRUE(std::isfinite(q.mc_error)) << q.name;
+      }
+      EXPECT_GE(q.mc_error, 0.0) << q.name;
+      // The discretisation part comes from the same N_c at the most rocks.
+      const ConvergenceRow& most = r.rows[k | 1];
+      ASSERT_EQ(most.steps_per_contact, row.steps_per_contact);
+      ASSERT_EQ(most.rocks, 30);
+      const QuantityError& m =
+          most.quantities[static_cast<std::size_t>(&q - row.quantities.data())];
+      EXPECT_EQ(q.estimate, m.discretisation_error + q.mc_error) << q.name;
+    }
+  }
+  ASSERT_GE(r.recommended, 0) << r.recommendation;
+  const ConvergenceRow& best = r.rows[static_cast<std::size_t>(r.recommended)];
+  EXPECT_TRUE(best.meets_target);
+  for (const auto& row : r.rows)
+    if (row.meets_target) {
+      EXPECT_LE(best.wall_seconds, row.wall_seconds);
+    }
+  EXPECT_EQ(r.recommendation.rfind("N_c = ", 0), 0u) << r.recommendation;
+
+  const nlohmann::json j = ConvergenceJson("small", r);
+  EXPECT_EQ(j["rows"].size(), 4u);
+  EXPECT_EQ(j["reference"]["steps_per_contact"], 20);
+  EXPECT_EQ(j["recommended"]["rocks"], best.rocks);
+  const std::string csv = ConvergenceCsv(r);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'),
+            static_cast<long>(1 + r.rows.size() * (r.quantities.size() + 1)));
+  const std::string svg = ConvergenceSvg("small <slope>", r);
+  EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+  EXPECT_NE(svg.find("<polyline"), std::string::npos);
+  EXPECT_NE(svg.find("target"), std::string::npos);
+  EXPECT_NE(svg.find("small &lt;slope&gt;"), std::string::npos);
+  EXPECT_EQ(svg.find("<script"), std::string::npos);
+  EXPECT_NE(ConvergenceReport(r).find("recommendation: N_c = "), std::string::npos);
+}
+
+TEST(Convergence, SaysNoneWhenNoSettingMeetsTheTarget) {
+  ConvergenceOptions opt = QuickConvergence();
+  opt.steps_per_contact = {10, 20};
+  opt.rock_counts = {12};
+  opt.target = 1e-9;
+  const ConvergenceResult r = RunConvergence(ConvergenceScene(), opt);
+  EXPECT_EQ(r.recommended, -1);
+  EXPECT_EQ(r.recommendation.rfind("none", 0), 0u) << r.recommendation;
+  EXPECT_TRUE(ConvergenceJson("small", r)["recommended"].is_null());
+}
+
+TEST(Convergence, SameSeedSameTable) {
+  ConvergenceOptions opt = QuickConvergence();
+  opt.steps_per_contact = {10};
+  opt.rock_counts = {12};
+  const ConvergenceResult a = RunConvergence(ConvergenceScene(), opt);
+  opt.threads = 1;
+  const ConvergenceResult b = RunConvergence(ConvergenceScene(), opt);
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  for (std::size_t q = 0; q < a.rows[0].quantities.size(); ++q) {
+    EXPECT_EQ(a.rows[0].quantities[q].value, b.rows[0].quantities[q].value);
+    EXPECT_EQ(a.rows[0].quantities[q].mc_error, b.rows[0].quantities[q].mc_error);
+  }
+}
+
+TEST(Convergence, OptionsAreValidated) {
+  std::string error;
+  ConvergenceOptions opt;
+  EXPECT_TRUE(opt.IsValid(&error)) << error;
+  opt.steps_per_contact = {10, 2};
+  EXPECT_FALSE(opt.IsValid(&error));
+  EXPECT_NE(error.find("convergence.steps_per_contact = 2"), std::string::npos) << error;
+  opt = ConvergenceOptions{};
+  opt.target = 0.0;
+  EXPECT_FALSE(opt.IsValid(&error));
+  EXPECT_NE(error.find("convergence.target"), std::string::npos) << error;
+  opt = ConvergenceOptions{};
+  opt.rock_counts = {};
+  EXPECT_FALSE(opt.IsValid(&error));
+  EXPECT_THROW(RunConvergence(ConvergenceScene(), opt), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rockcal::calibrate
