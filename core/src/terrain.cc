@@ -265,6 +265,14 @@ double Terrain::FloorDistance(const Eigen::Vector3d& c, int i, int j, Eigen::Vec
   return std::min(d0, d1);
 }
 
+void Terrain::CellWindow(const Eigen::Vector3d& c, double w, int* i0, int* i1, int* j0,
+                         int* j1) const {
+  *i0 = std::max(static_cast<int>(std::floor((c.x() - w - grid_.x0) * inv_spacing_)), 0);
+  *i1 = std::min(static_cast<int>(std::floor((c.x() + w - grid_.x0) * inv_spacing_)), grid_.nx - 2);
+  *j0 = std::max(static_cast<int>(std::floor((c.y() - w - grid_.y0) * inv_spacing_)), 0);
+  *j1 = std::min(static_cast<int>(std::floor((c.y() + w - grid_.y0) * inv_spacing_)), grid_.ny - 2);
+}
+
 bool Terrain::CellValid(int i, int j) const {
   return grid_.valid(i, j) && grid_.valid(i + 1, j) && grid_.valid(i, j + 1) &&
          grid_.valid(i + 1, j + 1);
@@ -363,12 +371,9 @@ void Terrain::FloorContacts(const Eigen::Vector3d& c, double a,
                             std::vector<TerrainContact>* out) const {
   // The deepest contact with the floor surface (smooth facets, or the catch
   // surface under rough cells) of the cells under the element.
-  const double s = grid_.spacing;
   const int cx = grid_.nx - 1;
-  const int i0 = std::max(static_cast<int>(std::floor((c.x() - a - grid_.x0) / s)), 0);
-  const int i1 = std::min(static_cast<int>(std::floor((c.x() + a - grid_.x0) / s)), grid_.nx - 2);
-  const int j0 = std::max(static_cast<int>(std::floor((c.y() - a - grid_.y0) / s)), 0);
-  const int j1 = std::min(static_cast<int>(std::floor((c.y() + a - grid_.y0) / s)), grid_.ny - 2);
+  int i0, i1, j0, j1;
+  CellWindow(c, a, &i0, &i1, &j0, &j1);
   TerrainContact best;
   for (int j = j0; j <= j1; ++j) {
     for (int i = i0; i <= i1; ++i) {
@@ -393,42 +398,25 @@ void Terrain::FloorContacts(const Eigen::Vector3d& c, double a,
 }
 
 double Terrain::Gap(const Eigen::Vector3d& c, double a, double reach) const {
-  const double s = grid_.spacing;
+  // Everything an element inside this sphere may touch once its centre moved
+  // by up to reach: the candidate spheres and the floor surface of the cells
+  // it may be centred over.
   double gap = kInf;
-  if (has_rough_) {
-    // Candidates of any cell where an element inside this sphere may be
-    // centred once it moved by up to reach.
-    const double w = a + reach;
-    const int cx = grid_.nx - 1;
-    const int i0 = std::max(static_cast<int>(std::floor((c.x() - w - grid_.x0) / s)), 0);
-    const int i1 = std::min(static_cast<int>(std::floor((c.x() + w - grid_.x0) / s)), grid_.nx - 2);
-    const int j0 = std::max(static_cast<int>(std::floor((c.y() - w - grid_.y0) / s)), 0);
-    const int j1 = std::min(static_cast<int>(std::floor((c.y() + w - grid_.y0) / s)), grid_.ny - 2);
-    for (int j = j0; j <= j1; ++j) {
-      for (int i = i0; i <= i1; ++i) {
-        const int cell = j * cx + i;
-        for (int k = list_start_[cell]; k < list_start_[cell + 1]; ++k) {
-          const int n = list_[k];
-          // Only a sphere nearer than the gap found so far needs the root.
-          const double beat = gap + radius_[n] + a;
-          const double d2 = (c - centre_[n]).squaredNorm();
-          if (beat > 0.0 && d2 >= beat * beat) continue;
-          gap = std::min(gap, std::sqrt(d2) - radius_[n] - a);
-        }
-      }
-    }
-  }
-  // The floor surface (facets and catch surface) of the cells within reach.
-  const double w = a + reach;
   const int cx = grid_.nx - 1;
-  const int i0 = std::max(static_cast<int>(std::floor((c.x() - w - grid_.x0) / s)), 0);
-  const int i1 = std::min(static_cast<int>(std::floor((c.x() + w - grid_.x0) / s)), grid_.nx - 2);
-  const int j0 = std::max(static_cast<int>(std::floor((c.y() - w - grid_.y0) / s)), 0);
-  const int j1 = std::min(static_cast<int>(std::floor((c.y() + w - grid_.y0) / s)), grid_.ny - 2);
+  int i0, i1, j0, j1;
+  CellWindow(c, a + reach, &i0, &i1, &j0, &j1);
   for (int j = j0; j <= j1; ++j) {
     for (int i = i0; i <= i1; ++i) {
       const std::size_t id = static_cast<std::size_t>(j) * cx + i;
-      // Vertically above every corner by more than the gap so far: not nearer.
+      for (int k = list_start_[id]; k < list_start_[id + 1]; ++k) {
+        const int n = list_[k];
+        // Only a sphere nearer than the gap found so far needs the root.
+        const double beat = gap + radius_[n] + a;
+        const double d2 = (c - centre_[n]).squaredNorm();
+        if (beat > 0.0 && d2 >= beat * beat) continue;
+        gap = std::min(gap, std::sqrt(d2) - radius_[n] - a);
+      }
+      // Vertically above every floor corner by more than the gap so far: not nearer.
       if (c.z() - a - floor_top_[id] >= gap) continue;
       Eigen::Vector3d normal;
       int t = 0;

@@ -111,6 +111,8 @@ class Terrain final {
   // reaching the cell that are not buried under the others), and the ceiling.
   void BuildCandidates();
   bool CellValid(int i, int j) const;     // all four corners are data
+  // The cells (i0..i1, j0..j1) overlapping the plan square of half-width w around c.
+  void CellWindow(const Eigen::Vector3d& c, double w, int* i0, int* i1, int* j0, int* j1) const;
   // Corner k (bit 0: +i, bit 1: +j) of cell (i, j) on its floor surface: the
   // terrain for a smooth cell, the catch surface for a rough one.
   double CornerHeight(int i, int j, int k) const;
