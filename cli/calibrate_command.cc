@@ -154,14 +154,7 @@ int Calibrate(const std::vector<std::string>& argv) {
   reports::WriteFileAtomically(out + "/trace.csv", reports::TraceCsv(record));
   reports::WriteFileAtomically(out + "/calibration.json",
                                reports::CalibrationJson(record).dump(2) + "\n");
-  reports::ReportInput report;
-  report.scene = &calibrated;
-  report.result = &sim;
-  report.site_file = site_path;
-  report.units = site.units;
-  report.notes = site.notes;
-  report.options.barrier_height_m = site.barrier_height_m;
-  report.options.barrier_energy_j = site.barrier_energy_j;
+  reports::ReportInput report = SiteReport(site, calibrated, sim);
   report.calibration = &record;
   report.observations = &obs;
   reports::WriteFileAtomically(out + "/report.html", reports::HtmlReport(report));

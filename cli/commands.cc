@@ -18,6 +18,19 @@
 
 namespace rockcal::cli {
 
+reports::ReportInput SiteReport(const sites::Site& site, const core::Scene& scene,
+                                const core::SimulationResult& result) {
+  reports::ReportInput report;
+  report.scene = &scene;
+  report.result = &result;
+  report.site_file = site.path;
+  report.units = site.units;
+  report.notes = site.notes;
+  report.options.barrier_height_m = site.barrier_height_m;
+  report.options.barrier_energy_j = site.barrier_energy_j;
+  return report;
+}
+
 // ---- simulate --------------------------------------------------------------
 
 int Simulate(const std::vector<std::string>& argv) {
@@ -52,15 +65,8 @@ int Simulate(const std::vector<std::string>& argv) {
   const core::SimulationResult result =
       core::Simulate(recorded, terrain, [&](int done, int total) { progress.Update(done, total); });
   reports::WriteSimulationFiles(dir.folder(), scene, result);
-  reports::ReportInput report;
-  report.scene = &scene;
-  report.result = &result;
-  report.site_file = site_path;
-  report.units = site.units;
-  report.notes = site.notes;
-  report.options.barrier_height_m = site.barrier_height_m;
-  report.options.barrier_energy_j = site.barrier_energy_j;
-  reports::WriteFileAtomically(dir.File("report.html"), reports::HtmlReport(report));
+  reports::WriteFileAtomically(dir.File("report.html"),
+                               reports::HtmlReport(SiteReport(site, scene, result)));
   dir.Commit();
   if (!args.Flag("quiet")) {
     std::printf("%s: %zu rocks in %.2f s (%ld steps, %ld flights): %d stopped, %d left, %d timeout\n",

@@ -4,7 +4,15 @@
 #include <string>
 #include <vector>
 
+#include "rockcal/reports/html_report.h"
+#include "rockcal/sites/site.h"
+
 namespace rockcal::cli {
+
+// The report of `result` (simulated from `scene`) with what the site file
+// gives it: the file, its units, the reader's notes and the barrier.
+reports::ReportInput SiteReport(const sites::Site& site, const core::Scene& scene,
+                                const core::SimulationResult& result);
 
 int Simulate(const std::vector<std::string>& args);
 int Validate(const std::vector<std::string>& args);
