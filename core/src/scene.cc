@@ -18,6 +18,8 @@ bool SimulationOptions::IsValid(std::string* error) const {
   if (stop_duration >= max_time)
     return fail("stop_duration", stop_duration, "must be below max_time");
   if (steps_per_contact < 4) return fail("steps_per_contact", steps_per_contact, "must be >= 4");
+  if (gentle_steps_per_contact != 0 && gentle_steps_per_contact < 2)
+    return fail("gentle_steps_per_contact", gentle_steps_per_contact, "must be 0 (off) or >= 2");
   if (!(safety > 0 && safety <= 1)) return fail("safety", safety, "must be in (0, 1]");
   if (threads < 0) return fail("threads", threads, "must be >= 0 (0: all cores)");
   if (record.trajectories < 0)

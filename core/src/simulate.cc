@@ -24,6 +24,12 @@ constexpr double kFlightReach = 0.98;
 constexpr double kMinFlight = 0.05;
 // Look-ahead of the near-ground flight test, in contact steps.
 constexpr double kGapHorizonSteps = 16.0;
+// Skin of the rock's neighbourhood list, in bounding radii: wider means
+// fewer rebuilds, each scanning more cells.
+constexpr double kSkin = 0.25;
+// A step is redone at most this many times with the shorter step its
+// contacts ask for.
+constexpr int kMaxRetries = 3;
 // Sub-step of the torque-free rotation of non-isotropic clusters in flight [s].
 constexpr double kFlightRotationStep = 1e-3;
 
@@ -49,6 +55,14 @@ struct SceneContext {
   double max_contact_time = 0.0;      // longest contact time of the scene's materials
 };
 
+// A rock's contact steps, per material: t_c / N_c within the stability
+// bound, and the longer one of gentle contact (GentleTimeStep).
+struct StepSizes {
+  std::vector<double> contact, gentle;
+  std::vector<double> gentle_speed;  // g t_c: a contact slower along its normal is gentle
+  double finest = 0.0;               // the shortest contact step
+};
+
 // Point in polygon (even-odd rule).
 bool InPolygon(const std::vector<Eigen::Vector2d>& poly, double x, double y) {
   bool inside = false;
@@ -66,8 +80,11 @@ bool InPolygon(const std::vector<Eigen::Vector2d>& poly, double x, double y) {
 template <bool kCluster>
 class RockRun {
  public:
-  RockRun(const SceneContext& ctx, const RockBody& body, double dt, RockRecord* rec)
-      : ctx_(ctx), opt_(ctx.scene.options), body_(body), dt_(dt), rec_(rec) {
+  // steps: the rock's contact steps per material.
+  RockRun(const SceneContext& ctx, const RockBody& body, const StepSizes& steps, RockRecord* rec)
+      : ctx_(ctx), opt_(ctx.scene.options), body_(body), steps_(steps), dt_(steps.finest),
+        exact_flight_(opt_.exact_flight && !opt_.reference_path), neighbours_(!opt_.reference_path),
+        rec_(rec) {
     inv_inertia_ = body.inertia.cwiseInverse();
     inertia_min_ = body.inertia.minCoeff();
     g_ = ctx.gravity.norm();
@@ -95,7 +112,7 @@ class RockRun {
     while (s_.t < opt_.max_time) {
       const State before = s_;
       bool flew = false;
-      if (contacts_.empty() && opt_.exact_flight) {
+      if (contacts_.empty() && exact_flight_) {
         const double tau = std::min(FlightTime(), opt_.max_time - s_.t);
         if (tau > kMinFlight * dt_) {
           Fly(tau);
@@ -109,7 +126,30 @@ class RockRun {
         // terrain: the contact force at the step start is the dashpot's.
         if (landing_ && contacts_.empty()) PrimeLanding();
         landing_ = false;
-        Step();
+        // The step the last one's contacts asked for (their materials, gentle
+        // or not). A step whose contacts ask for a shorter one is taken back
+        // and redone with that.
+        double dt = contacts_.empty() ? dt_ : needed_dt_;
+        if (dt > dt_) {
+          const State s0 = s_;
+          const Eigen::Vector3d a0 = a_, alpha0 = alpha_;
+          const double spring0 = spring_energy_, penetration0 = rec_->max_penetration;
+          Step(dt);
+          for (int retry = 0; needed_dt_ < dt && retry < kMaxRetries; ++retry) {
+            s_ = s0;
+            a_ = a0;
+            alpha_ = alpha0;
+            spring_energy_ = spring0;
+            rec_->max_penetration = penetration0;
+            contacts_.swap(next_);  // the contacts before the step
+            ++rec_->retried_steps;
+            dt = needed_dt_;
+            Step(dt);
+          }
+          if (dt > dt_) ++rec_->gentle_steps;
+        } else {
+          Step(dt);
+        }
         ++rec_->steps;
       }
       if (!s_.x.allFinite() || !s_.v.allFinite() || !s_.w.allFinite()) {
@@ -118,19 +158,21 @@ class RockRun {
         break;
       }
       Events(before, flew);
+      const int cell = ctx_.terrain.CellOf(s_.x.x(), s_.x.y());
       if (opt_.record.passages) {
-        const int cell = ctx_.terrain.CellOf(s_.x.x(), s_.x.y());
         if (cell >= 0 && (rec_->cells.empty() || rec_->cells.back() != cell)) rec_->cells.push_back(cell);
       }
       if (opt_.record.energy_check && !flew) CheckEnergy();
-      if (!ctx_.terrain.OnSlope(s_.x.x(), s_.x.y())) {
+      if (!ctx_.terrain.CellOnSlope(cell)) {
         outcome = Outcome::kLeft;
         break;
       }
       // Below the floor by more than its radius: a hard impact of a small
       // rock overlaps for less than a contact time (about v t_c / pi deep,
       // whatever its size); a rock still there after two has gone through.
-      if (ctx_.terrain.FloorHeight(s_.x.x(), s_.x.y()) - s_.x.z() > body_.bounding_radius) {
+      // A rock whose bounding sphere is known to clear the floor is not below it.
+      if (!FloorClear() &&
+          ctx_.terrain.FloorHeight(s_.x.x(), s_.x.y()) - s_.x.z() > body_.bounding_radius) {
         if (below_since < 0) below_since = before.t;
         if (s_.t - below_since > 2.0 * ctx_.max_contact_time) {
           rec_->tunneled = true;
@@ -227,7 +269,7 @@ class RockRun {
     if constexpr (kCluster) speed += s_.w.norm() * rb;
     const double horizon = kGapHorizonSteps * dt_;
     const double reach = speed * horizon + 0.5 * g_ * horizon * horizon;
-    const double gap = std::min(ctx_.terrain.Gap(s_.x, rb, reach), reach);
+    const double gap = std::min(NearGap(reach), reach);
     if (!(gap > 0.0)) return tau;
     const double d = kFlightReach * gap;
     const double t_gap = 2.0 * d / (speed + std::sqrt(speed * speed + 2.0 * g_ * d));
@@ -307,36 +349,48 @@ class RockRun {
     alpha_ = AngularAcceleration(torque, s_.w, rot);
   }
 
-  // Clusters: the element centres, and once for all elements the candidate
-  // spheres of the cells under them that reach the rock's bounding sphere.
-  void GatherCandidates(const Eigen::Matrix3d& rot) {
-    const std::size_t n = body_.elements.size();
-    centres_.resize(n);
-    cells_.clear();
-    near_.clear();
-    for (std::size_t e = 0; e < n; ++e) {
-      centres_[e] = s_.x + rot * body_.elements[e];
-      const int cell = ctx_.terrain.CellOf(centres_[e].x(), centres_[e].y());
-      if (cell >= 0) cells_.push_back(cell);
-    }
-    std::sort(cells_.begin(), cells_.end());
-    cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
+  // The neighbourhood of the rock (a Verlet list): the virtual spheres within
+  // a skin of its bounding sphere, and the clearance of the floor surface,
+  // measured at near_ref_. Every element stays inside the bounding sphere, so
+  // while the centre has moved less than the skin no other sphere can be
+  // touched, and less than floor_clear_, not the floor. Rebuilt when needed.
+  double UpdateNeighbours() {
+    if (!neighbours_) return kInf;  // reference path: the floor tested every step
+    const double moved = (s_.x - near_ref_).norm();
+    if (moved < skin_) return moved;
     const double rb = body_.bounding_radius;
-    for (int cell : cells_) {
-      const int *begin, *end;
-      ctx_.terrain.Candidates(cell, &begin, &end);
-      for (const int* it = begin; it != end; ++it) {
-        const double reach = ctx_.terrain.sphere_radius(*it) + rb;
-        if ((s_.x - ctx_.terrain.sphere_centre(*it)).squaredNorm() < reach * reach) near_.push_back(*it);
-      }
+    skin_ = kSkin * rb;
+    ctx_.terrain.NearSpheres(s_.x, rb, skin_, &near_);
+    floor_clear_ = ctx_.terrain.FloorGap(s_.x, rb, skin_, skin_);
+    near_ref_ = s_.x;
+    return 0.0;
+  }
+  // The bounding sphere clears the floor surface (as of the last neighbourhood).
+  bool FloorClear() const { return neighbours_ && (s_.x - near_ref_).norm() < floor_clear_; }
+
+  // Lower bound of the gap between the bounding sphere and anything it may
+  // touch while its centre moves by at most `reach` (FlightTime).
+  double NearGap(double reach) {
+    const double moved = UpdateNeighbours();
+    const double rb = body_.bounding_radius;
+    if (!(moved + reach < skin_)) return ctx_.terrain.Gap(s_.x, rb, reach);
+    double gap = floor_clear_ > moved ? floor_clear_ - moved
+                                      : ctx_.terrain.FloorGap(s_.x, rb, reach);
+    for (int n : near_) {
+      const double beat = gap + ctx_.terrain.sphere_radius(n) + rb;
+      const double d2 = (s_.x - ctx_.terrain.sphere_centre(n)).squaredNorm();
+      if (beat > 0.0 && d2 >= beat * beat) continue;
+      gap = std::min(gap, std::sqrt(d2) - ctx_.terrain.sphere_radius(n) - rb);
     }
-    std::sort(near_.begin(), near_.end());
-    near_.erase(std::unique(near_.begin(), near_.end()), near_.end());
+    return gap;
   }
 
-  // One central-difference (kick-drift-kick) contact step.
-  void Step() {
-    const double dt = dt_;
+  // One central-difference (kick-drift-kick) contact step of dt. Sets
+  // needed_dt_ to the step its contacts ask for: each its material's gentle
+  // step while it moves along its normal slower than g t_c, its contact step
+  // otherwise (the rock's shortest when there is none).
+  void Step(double dt) {
+    needed_dt_ = kInf;
     const Eigen::Vector3d v_half = s_.v + 0.5 * dt * a_;
     const Eigen::Vector3d w_half = s_.w + 0.5 * dt * alpha_;
     s_.x += dt * v_half;
@@ -351,14 +405,14 @@ class RockRun {
     spring_energy_ = 0.0;
     const double m = body_.mass;
     const double a = body_.element_radius;
-    if constexpr (kCluster) GatherCandidates(rot);
+    const bool floor = UpdateNeighbours() >= floor_clear_;
     for (std::size_t e = 0; e < body_.elements.size(); ++e) {
       found_.clear();
       Eigen::Vector3d centre = s_.x;
-      if constexpr (kCluster) {
-        centre = centres_[e];
+      if constexpr (kCluster) centre += rot * body_.elements[e];
+      if (neighbours_) {
         ctx_.terrain.SphereContacts(centre, a, near_.data(), near_.data() + near_.size(), &found_);
-        ctx_.terrain.FloorContacts(centre, a, &found_);
+        if (floor) ctx_.terrain.FloorContacts(centre, a, &found_);
       } else {
         ctx_.terrain.FindContacts(centre, a, &found_);
       }
@@ -373,6 +427,9 @@ class RockRun {
                            0.5 * dt * (law.stiffness_per_mass * c.overlap + ctx_.gravity.dot(c.normal))) /
                           (1.0 + 0.5 * dt * law.damping_per_mass);
         const double fn = std::max(0.0, kn * c.overlap - m * law.damping_per_mass * vn);
+        const std::size_t l = static_cast<std::size_t>(c.material);
+        needed_dt_ = std::min(needed_dt_, std::abs(vn) < steps_.gentle_speed[l] ? steps_.gentle[l]
+                                                                                : steps_.contact[l]);
         // Tangential spring: carry the displacement over, rotated into the
         // current tangent plane, and add this step's sliding.
         Eigen::Vector3d u = Eigen::Vector3d::Zero();
@@ -415,6 +472,7 @@ class RockRun {
     const double rolling_limit = inertia_min_ * w_half.norm() / dt;
     if (rolling_norm > rolling_limit) rolling *= rolling_limit / rolling_norm;
     torque += rolling;
+    if (next_.empty()) needed_dt_ = dt_;
     contacts_.swap(next_);
     a_ = ctx_.gravity + force / m;
     alpha_ = AngularAcceleration(torque, w_pred, rot);
@@ -510,7 +568,10 @@ class RockRun {
   const SceneContext& ctx_;
   const SimulationOptions& opt_;
   const RockBody& body_;
-  const double dt_;
+  const StepSizes& steps_;
+  const double dt_;  // the rock's shortest contact step (flight look-ahead, landing)
+  const bool exact_flight_, neighbours_;  // off on the reference path
+  double needed_dt_ = 0.0;  // the step the last step's contacts ask for
   RockRecord* rec_;
   State s_;
   Eigen::Vector3d a_, alpha_;  // accelerations at the current state
@@ -520,11 +581,14 @@ class RockRun {
   double spring_energy_ = 0.0, energy_min_ = 0.0, ke_max_ = 0.0;
   bool record_trajectory_ = false;
   bool landing_ = false;  // the last advance was a flight
+  // The neighbourhood (UpdateNeighbours): virtual spheres within skin_ of the
+  // bounding sphere at near_ref_, and the floor's clearance there.
+  Eigen::Vector3d near_ref_ = Eigen::Vector3d::Zero();
+  double skin_ = 0.0, floor_clear_ = 0.0;
+  std::vector<int> near_;
   double next_sample_ = 0.0;
   std::vector<TerrainContact> found_;
   std::vector<ContactState> contacts_, next_;
-  std::vector<Eigen::Vector3d> centres_;  // clusters: element centres this step
-  std::vector<int> cells_, near_;         // clusters: cells under them, candidate spheres
 };
 
 // Release: a random point of the zone, a random size and orientation, then
@@ -592,8 +656,10 @@ int SimulationResult::count(Outcome o) const {
   return n;
 }
 
-double ContactTimeStep(const RockBody& body, const ContactLaw& law, const SimulationOptions& opt,
-                       bool* shrunk) {
+namespace {
+
+// The stable step of `body` on `law`: opt.safety times the damped critical step.
+double StableTimeStep(const RockBody& body, const ContactLaw& law, const SimulationOptions& opt) {
   // An off-centre contact on a cluster acts on a smaller effective mass:
   // 1/m_eff = 1/m + l^2 / I_min for a lever arm l.
   double mass_ratio = 1.0;
@@ -606,10 +672,22 @@ double ContactTimeStep(const RockBody& body, const ContactLaw& law, const Simula
   const double omega = std::sqrt(law.stiffness_per_mass * mass_ratio * kParallelContacts);
   const double zeta = law.damping_ratio;
   const double critical = (2.0 / omega) * (std::sqrt(1.0 + zeta * zeta) - zeta);
+  return opt.safety * critical;
+}
+
+}  // namespace
+
+double ContactTimeStep(const RockBody& body, const ContactLaw& law, const SimulationOptions& opt,
+                       bool* shrunk) {
   const double by_contact = law.contact_time / opt.steps_per_contact;
-  const double stable = opt.safety * critical;
+  const double stable = StableTimeStep(body, law, opt);
   if (shrunk) *shrunk = stable < by_contact;
   return std::min(by_contact, stable);
+}
+
+double GentleTimeStep(const RockBody& body, const ContactLaw& law, const SimulationOptions& opt) {
+  if (opt.gentle_steps_per_contact <= 0 || opt.reference_path) return 0.0;
+  return std::min(law.contact_time / opt.gentle_steps_per_contact, StableTimeStep(body, law, opt));
 }
 
 Terrain BuildTerrain(const Scene& scene) {
@@ -665,13 +743,19 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
                                std::sqrt(u1) * std::sin(2 * kPi * u3),
                                std::sqrt(u1) * std::cos(2 * kPi * u3));
     const RockBody body = MakeRockBody(group.shape, size, group.unit_weight, scene.gravity);
-    double dt = kInf;
+    StepSizes steps;
+    steps.finest = kInf;
     bool any_shrunk = false;
     for (const auto& law : ctx.laws) {
       bool sh = false;
-      dt = std::min(dt, ContactTimeStep(body, law, scene.options, &sh));
+      const double dt = ContactTimeStep(body, law, scene.options, &sh);
+      steps.contact.push_back(dt);
+      steps.gentle.push_back(std::max(dt, GentleTimeStep(body, law, scene.options)));
+      steps.gentle_speed.push_back(scene.gravity * law.contact_time);
+      steps.finest = std::min(steps.finest, dt);
       any_shrunk = any_shrunk || sh;
     }
+    const double dt = steps.finest;
     shrunk[static_cast<std::size_t>(k)] = any_shrunk;
     RockRecord& rec = result.rocks[static_cast<std::size_t>(k)];
     rec.rock = job.rock;
@@ -680,14 +764,14 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
     rec.size = size;
     rec.mass = body.mass;
     rec.dt = dt;
-    const bool cluster = body.elements.size() > 1;
+    const bool cluster = body.elements.size() > 1 || scene.options.reference_path;
     const State s0 = ReleaseRock(ctx, group, body, &rng, u_pos,
                              cluster ? q.normalized() : Eigen::Quaterniond::Identity());
     rec.start = s0.x;
     if (cluster) {
-      RockRun<true>(ctx, body, dt, &rec).Run(s0);
+      RockRun<true>(ctx, body, steps, &rec).Run(s0);
     } else {
-      RockRun<false>(ctx, body, dt, &rec).Run(s0);
+      RockRun<false>(ctx, body, steps, &rec).Run(s0);
     }
     if (progress) {
 #pragma omp critical(rockcal_progress)
@@ -699,6 +783,8 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
   for (std::size_t k = 0; k < result.rocks.size(); ++k) {
     const RockRecord& r = result.rocks[k];
     result.steps += r.steps;
+    result.gentle_steps += r.gentle_steps;
+    result.retried_steps += r.retried_steps;
     result.flights += r.flights;
     result.dt_min = std::min(result.dt_min, r.dt);
     result.dt_max = std::max(result.dt_max, r.dt);

@@ -37,14 +37,17 @@ Eigen::Vector3d ClosestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Ve
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-// Signed distance from point c to the triangle (p0, b, d) of the terrain,
-// one-sided: positive above the surface; negative (minus the depth below the
-// facet plane) when c lies under the facet; +inf when c is under the plane but
-// not over this facet (a neighbour handles it). *normal points out of the terrain.
+// Signed distance from point c to the triangle (p0, b, d) of the terrain with
+// unit upward normal `up`, one-sided: positive above the surface; negative
+// (minus the depth below the facet plane) when c lies under the facet; +inf
+// when c is under the plane but not over this facet (a neighbour handles it).
+// When c is at least `limit` above the plane, returns that height (a lower
+// bound of the distance) without *normal. *normal points out of the terrain.
 double FacetDistance(const Eigen::Vector3d& c, const Eigen::Vector3d& p0, const Eigen::Vector3d& b,
-                     const Eigen::Vector3d& d, Eigen::Vector3d* normal) {
-  const Eigen::Vector3d up = (b - p0).cross(d - p0).normalized();
+                     const Eigen::Vector3d& d, const Eigen::Vector3d& up, double limit,
+                     Eigen::Vector3d* normal) {
   const double height = up.dot(c - p0);
+  if (height >= limit) return height;
   const Eigen::Vector3d q = ClosestPointOnTriangle(c, p0, b, d);
   if (height > 0.0) {
     const Eigen::Vector3d gap = c - q;
@@ -228,9 +231,16 @@ void Terrain::BuildCandidates() {
   // Per cell, the highest corner of its floor surface (facets or catch), and
   // the ceiling grows by the floor surfaces an element centred there may touch.
   floor_top_.assign(cells, -kInf);
+  floor_up_.assign(2 * cells, Eigen::Vector3d::UnitZ());
   for (int j = 0; j < cy; ++j)
     for (int i = 0; i < cx; ++i) {
       if (!CellValid(i, j)) continue;
+      Eigen::Vector3d p[4];
+      for (int k = 0; k < 4; ++k)
+        p[k] = Eigen::Vector3d(grid_.x(i + (k & 1)), grid_.y(j + (k >> 1)), CornerHeight(i, j, k));
+      const std::size_t id = 2 * (static_cast<std::size_t>(j) * cx + i);
+      floor_up_[id] = (p[1] - p[0]).cross(p[3] - p[0]).normalized();
+      floor_up_[id + 1] = (p[3] - p[0]).cross(p[2] - p[0]).normalized();
       double top = -kInf;
       for (int k = 0; k < 4; ++k) top = std::max(top, CornerHeight(i, j, k));
       floor_top_[static_cast<std::size_t>(j) * cx + i] = top;
@@ -251,15 +261,16 @@ double Terrain::CornerHeight(int i, int j, int k) const {
              : catch_z_[static_cast<std::size_t>(n)];
 }
 
-double Terrain::FloorDistance(const Eigen::Vector3d& c, int i, int j, Eigen::Vector3d* normal,
-                              int* triangle) const {
+double Terrain::FloorDistance(const Eigen::Vector3d& c, int i, int j, double limit,
+                              Eigen::Vector3d* normal, int* triangle) const {
   Eigen::Vector3d p[4];
   for (int k = 0; k < 4; ++k)
     p[k] = Eigen::Vector3d(grid_.x(i + (k & 1)), grid_.y(j + (k >> 1)), CornerHeight(i, j, k));
   // Cells split along the (i, j)-(i+1, j+1) diagonal: (p0, p1, p3), (p0, p3, p2).
+  const std::size_t id = 2 * (static_cast<std::size_t>(j) * (grid_.nx - 1) + i);
   Eigen::Vector3d n0, n1;
-  const double d0 = FacetDistance(c, p[0], p[1], p[3], &n0);
-  const double d1 = FacetDistance(c, p[0], p[3], p[2], &n1);
+  const double d0 = FacetDistance(c, p[0], p[1], p[3], floor_up_[id], limit, &n0);
+  const double d1 = FacetDistance(c, p[0], p[3], p[2], floor_up_[id + 1], limit, &n1);
   *triangle = d0 <= d1 ? 0 : 1;
   *normal = d0 <= d1 ? n0 : n1;
   return std::min(d0, d1);
@@ -290,13 +301,6 @@ double Terrain::FloorHeight(double x, double y) const {
 }
 
 
-bool Terrain::OnSlope(double x, double y) const {
-  const double fx = (x - grid_.x0) / grid_.spacing, fy = (y - grid_.y0) / grid_.spacing;
-  if (!(fx >= 0.0 && fy >= 0.0 && fx <= grid_.nx - 1 && fy <= grid_.ny - 1)) return false;
-  return CellValid(std::min(static_cast<int>(fx), grid_.nx - 2),
-                   std::min(static_cast<int>(fy), grid_.ny - 2));
-}
-
 bool Terrain::Elevation(double x, double y, double* z) const {
   if (!OnSlope(x, y)) return false;
   const double fx = (x - grid_.x0) / grid_.spacing, fy = (y - grid_.y0) / grid_.spacing;
@@ -311,10 +315,11 @@ bool Terrain::Elevation(double x, double y, double* z) const {
 }
 
 int Terrain::MaterialAt(double x, double y) const {
-  const int i = std::clamp(static_cast<int>(std::lround((x - grid_.x0) / grid_.spacing)), 0,
-                           grid_.nx - 1);
-  const int j = std::clamp(static_cast<int>(std::lround((y - grid_.y0) / grid_.spacing)), 0,
-                           grid_.ny - 1);
+  // Nearest node: floor(f + 1/2), clamped before the conversion to int.
+  const double fx = std::floor((x - grid_.x0) * inv_spacing_ + 0.5);
+  const double fy = std::floor((y - grid_.y0) * inv_spacing_ + 0.5);
+  const int i = static_cast<int>(std::clamp(fx, 0.0, static_cast<double>(grid_.nx - 1)));
+  const int j = static_cast<int>(std::clamp(fy, 0.0, static_cast<double>(grid_.ny - 1)));
   return grid_.material[grid_.index(i, j)];
 }
 
@@ -381,7 +386,7 @@ void Terrain::FloorContacts(const Eigen::Vector3d& c, double a,
       if (c.z() - a >= floor_top_[id]) continue;  // above every corner: no touch (or a hole cell)
       Eigen::Vector3d normal;
       int t = 0;
-      const double overlap = a - FloorDistance(c, i, j, &normal, &t);
+      const double overlap = a - FloorDistance(c, i, j, a - best.overlap, &normal, &t);
       if (overlap > best.overlap) {
         best.overlap = overlap;
         best.normal = normal;
@@ -416,11 +421,45 @@ double Terrain::Gap(const Eigen::Vector3d& c, double a, double reach) const {
         if (beat > 0.0 && d2 >= beat * beat) continue;
         gap = std::min(gap, std::sqrt(d2) - radius_[n] - a);
       }
+    }
+  }
+  return std::min(gap, FloorGap(c, a, reach, gap));
+}
+
+void Terrain::NearSpheres(const Eigen::Vector3d& c, double rb, double skin,
+                          std::vector<int>* out) const {
+  out->clear();
+  if (!has_rough_) return;
+  const int cx = grid_.nx - 1;
+  int i0, i1, j0, j1;
+  CellWindow(c, rb + skin, &i0, &i1, &j0, &j1);
+  for (int j = j0; j <= j1; ++j) {
+    for (int i = i0; i <= i1; ++i) {
+      const std::size_t id = static_cast<std::size_t>(j) * cx + i;
+      for (int k = list_start_[id]; k < list_start_[id + 1]; ++k) {
+        const int n = list_[k];
+        const double reach = radius_[n] + rb + skin;
+        if ((c - centre_[n]).squaredNorm() < reach * reach) out->push_back(n);
+      }
+    }
+  }
+  std::sort(out->begin(), out->end());
+  out->erase(std::unique(out->begin(), out->end()), out->end());
+}
+
+double Terrain::FloorGap(const Eigen::Vector3d& c, double a, double reach, double bound) const {
+  double gap = bound;
+  const int cx = grid_.nx - 1;
+  int i0, i1, j0, j1;
+  CellWindow(c, a + reach, &i0, &i1, &j0, &j1);
+  for (int j = j0; j <= j1; ++j) {
+    for (int i = i0; i <= i1; ++i) {
+      const std::size_t id = static_cast<std::size_t>(j) * cx + i;
       // Vertically above every floor corner by more than the gap so far: not nearer.
       if (c.z() - a - floor_top_[id] >= gap) continue;
       Eigen::Vector3d normal;
       int t = 0;
-      gap = std::min(gap, FloorDistance(c, i, j, &normal, &t) - a);
+      gap = std::min(gap, FloorDistance(c, i, j, gap + a, &normal, &t) - a);
     }
   }
   return gap;

@@ -83,19 +83,24 @@ ParameterBound ReadBound(const JsonNode& node, const std::string& material, cons
 }
 
 void ReadSimulation(const JsonNode& node, Units units, core::SimulationOptions* o) {
-  node.Keys({"seed", "max_time", "stop_speed", "stop_duration", "steps_per_contact", "safety",
-             "exact_flight", "threads"});
+  node.Keys({"seed", "max_time", "stop_speed", "stop_duration", "steps_per_contact",
+             "gentle_steps_per_contact", "safety", "exact_flight", "reference_path", "threads"});
   if (auto v = node.Find("seed")) o->seed = static_cast<std::uint64_t>(v->Integer(0, LONG_MAX));
   if (auto v = node.Find("max_time")) o->max_time = v->Positive();
   if (auto v = node.Find("stop_speed")) o->stop_speed = LengthToSI(v->Positive(), units);
   if (auto v = node.Find("stop_duration")) o->stop_duration = v->Positive();
   if (auto v = node.Find("steps_per_contact"))
     o->steps_per_contact = static_cast<int>(v->Integer(4, 100000));
+  if (auto v = node.Find("gentle_steps_per_contact")) {
+    o->gentle_steps_per_contact = static_cast<int>(v->Integer(0, 100000));
+    if (o->gentle_steps_per_contact == 1) v->Fail("expected 0 (off) or a whole number >= 2");
+  }
   if (auto v = node.Find("safety")) {
     o->safety = v->Number(0.0, 1.0);
     if (!(o->safety > 0)) v->Fail("expected a number in (0, 1]");
   }
   if (auto v = node.Find("exact_flight")) o->exact_flight = v->Bool();
+  if (auto v = node.Find("reference_path")) o->reference_path = v->Bool();
   if (auto v = node.Find("threads")) o->threads = static_cast<int>(v->Integer(0, 4096));
   std::string error;
   if (!o->IsValid(&error)) throw InputError(node.where(), error);

@@ -63,8 +63,19 @@ struct SimulationOptions {
   double stop_speed = 0.1;       // m/s
   double stop_duration = 1.0;    // s below stop_speed to count as stopped
   int steps_per_contact = 50;    // N_c: dt <= t_c / N_c
+  // Gentle contact (every contact's normal speed below g t_c: rolling,
+  // sliding, resting; most contact steps of a run) needs no impact
+  // resolution: it steps at t_c / this (within the same stability bound). A
+  // long step that meets a contact that is not gentle is taken back and redone
+  // at dt. 0 turns it off (every contact step t_c / N_c).
+  int gentle_steps_per_contact = 20;
   double safety = 0.2;           // fraction of the damped critical step
   bool exact_flight = true;      // advance free flight exactly between contacts
+  // Runs every rock on the general path with every lever off: spheres as
+  // one-element clusters, every contact step t_c / N_c, no exact flight, no
+  // neighbour list (the candidate spheres of the element's cell and the floor
+  // tested every step). The reference the fast paths are checked against.
+  bool reference_path = false;
   int threads = 0;               // 0: OpenMP default
   RecordOptions record;
 

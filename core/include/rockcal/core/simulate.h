@@ -39,6 +39,8 @@ struct RockRecord {
   Eigen::Vector3d stop = Eigen::Vector3d::Zero();  // final centre position
   double time = 0.0;        // simulated seconds
   long steps = 0;           // contact (small) steps
+  long gentle_steps = 0;    // of which at the gentle-contact step
+  long retried_steps = 0;   // gentle steps taken back and redone at dt
   long flights = 0;         // exact free-flight advances
   double dt = 0.0;          // the rock's contact time step [s]
   double max_relative_energy_gain = 0.0;
@@ -53,6 +55,7 @@ struct RockRecord {
 struct SimulationResult {
   std::vector<RockRecord> rocks;  // in rock order
   long steps = 0, flights = 0;
+  long gentle_steps = 0, retried_steps = 0;  // see RockRecord
   double wall_seconds = 0.0;
   double dt_min = 0.0, dt_max = 0.0;  // contact steps used
   int dt_shrunk = 0;   // rocks whose step was cut below t_c/N_c for stability
@@ -70,6 +73,11 @@ struct SimulationResult {
 // honours); sets *shrunk when the stability bound is below t_c / N_c.
 double ContactTimeStep(const RockBody& body, const ContactLaw& law, const SimulationOptions& opt,
                        bool* shrunk = nullptr);
+
+// The step of gentle contact (every contact's normal speed below g t_c:
+// rolling, sliding, resting): t_c / gentle_steps_per_contact within the same
+// stability bound; 0 when SimulationOptions::gentle_steps_per_contact is 0.
+double GentleTimeStep(const RockBody& body, const ContactLaw& law, const SimulationOptions& opt);
 
 // Called after each rock with (rocks done, rocks in all), one call at a time.
 using ProgressFn = std::function<void(int, int)>;

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace rockcal::core {
@@ -50,7 +51,11 @@ class Terrain final {
   bool Elevation(double x, double y, double* z) const;
   // False when (x, y) is outside the grid or in a cell with a hole corner:
   // a rock whose centre gets there has left the slope.
-  bool OnSlope(double x, double y) const;
+  bool OnSlope(double x, double y) const { return CellOnSlope(CellOf(x, y)); }
+  // The same for a cell index from CellOf (-1: off the grid).
+  bool CellOnSlope(int cell) const {
+    return cell >= 0 && floor_top_[static_cast<std::size_t>(cell)] > -kNoFloor;
+  }
   // Index j * (nx - 1) + i of the grid cell under (x, y); -1 off the grid.
   int CellOf(double x, double y) const {
     const double fx = (x - grid_.x0) * inv_spacing_, fy = (y - grid_.y0) * inv_spacing_;
@@ -72,7 +77,16 @@ class Terrain final {
   // Smallest gap between an element sphere and any obstacle it may touch
   // while its centre moves by at most `reach` (negative: overlap); +inf when none.
   double Gap(const Eigen::Vector3d& c, double a, double reach) const;
+  // The same for the floor surface alone (smooth facets and the catch surface
+  // under rough cells), never more than `bound`: while the sphere's centre
+  // moves by less than min(result, reach) it cannot touch the floor.
+  double FloorGap(const Eigen::Vector3d& c, double a, double reach,
+                  double bound = std::numeric_limits<double>::infinity()) const;
 
+  // The candidate virtual spheres (sorted node indices) that a body inside the
+  // sphere (c, rb) may touch while c moves by less than `skin`: a rock's
+  // neighbour list, valid until it has moved that far.
+  void NearSpheres(const Eigen::Vector3d& c, double rb, double skin, std::vector<int>* out) const;
   // The pieces of FindContacts, for callers that gather candidate spheres
   // once for several elements (clusters): the candidate sphere nodes of a
   // cell; the contacts with the spheres of [begin, end); the contacts with
@@ -116,9 +130,12 @@ class Terrain final {
   // Corner k (bit 0: +i, bit 1: +j) of cell (i, j) on its floor surface: the
   // terrain for a smooth cell, the catch surface for a rough one.
   double CornerHeight(int i, int j, int k) const;
-  // Signed one-sided distance from c to the floor surface of cell (i, j).
-  double FloorDistance(const Eigen::Vector3d& c, int i, int j, Eigen::Vector3d* normal,
-                       int* triangle) const;
+  // Signed one-sided distance from c to the floor surface of cell (i, j); a
+  // result >= limit is only a lower bound (and sets no normal).
+  double FloorDistance(const Eigen::Vector3d& c, int i, int j, double limit,
+                       Eigen::Vector3d* normal, int* triangle) const;
+
+  static constexpr double kNoFloor = std::numeric_limits<double>::infinity();
 
   HeightGrid grid_;
   double inv_spacing_ = 1.0;
@@ -130,6 +147,7 @@ class Terrain final {
   std::vector<int> list_start_, list_;   // per cell, candidate sphere nodes (CSR)
   std::vector<double> catch_z_;          // per node, height of the catch surface (+inf: no rough cell)
   std::vector<double> floor_top_;        // per cell, highest corner of its floor surface (-inf: hole)
+  std::vector<Eigen::Vector3d> floor_up_;  // per cell, unit upward normals of its two floor facets
   bool has_rough_ = false, has_smooth_ = false;
   double sag_ = 0.0;
   double max_offset_ = 0.0;  // largest plan distance from a node to its sphere centre
