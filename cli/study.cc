@@ -9,6 +9,7 @@
 #include "rockcal/calibrate/study.h"
 #include "rockcal/core/error.h"
 #include "rockcal/reports/output_dir.h"
+#include "rockcal/reports/study_report.h"
 #include "rockcal/sites/site.h"
 
 namespace rockcal::cli {
@@ -53,6 +54,16 @@ std::vector<std::string> NameList(const std::string& text) {
   return out;
 }
 
+// The site section of a study's report.html.
+reports::StudyReportInput ReportInput(const sites::Site& site) {
+  reports::StudyReportInput in;
+  in.scene = &site.scene;
+  in.site_file = site.path;
+  in.units = site.units;
+  in.notes = site.notes;
+  return in;
+}
+
 // Options that belong to the other study are errors, not silently ignored.
 void RejectOptions(const Args& args, const std::string& study,
                    const std::vector<std::pair<const char*, const char*>>& options) {
@@ -87,14 +98,17 @@ int Stability(const Args& args, sites::Site* site, const std::string& out) {
       dir.File("stability.json"),
       calibrate::StabilityJson(site->scene.name, opt, cases).dump(2) + "\n");
   reports::WriteFileAtomically(dir.File("stability.csv"), calibrate::StabilityCsv(cases));
+  reports::WriteFileAtomically(dir.File("report.html"),
+                               reports::StabilityHtmlReport(ReportInput(*site), opt, cases));
   dir.Commit();
   int failed = 0;
   for (const auto& c : cases) failed += !c.pass;
   if (!args.Flag("quiet")) {
     std::printf("%s: stability suite, %d rocks per case\n", site->scene.name.c_str(), opt.rocks);
     std::fputs(calibrate::StabilityReport(cases).c_str(), stdout);
-    std::printf("%zu cases: %zu PASS, %d FAIL; wrote %s/stability.json, stability.csv\n",
-                cases.size(), cases.size() - static_cast<std::size_t>(failed), failed, out.c_str());
+    std::printf(
+        "%zu cases: %zu PASS, %d FAIL; wrote %s/stability.json, stability.csv, report.html\n",
+        cases.size(), cases.size() - static_cast<std::size_t>(failed), failed, out.c_str());
   } else {
     for (const auto& c : cases)
       if (!c.pass) std::printf("FAIL %s: %s\n", c.name.c_str(), c.reason.c_str());
@@ -130,13 +144,15 @@ int Convergence(const Args& args, sites::Site* site, const std::string& out) {
   reports::WriteFileAtomically(dir.File("convergence.json"),
                                calibrate::ConvergenceJson(name, result).dump(2) + "\n");
   reports::WriteFileAtomically(dir.File("convergence.csv"), calibrate::ConvergenceCsv(result));
-  reports::WriteFileAtomically(dir.File("convergence.svg"),
-                               calibrate::ConvergenceSvg(name, result));
+  reports::WriteFileAtomically(dir.File("convergence.svg"), reports::ConvergenceSvg(name, result));
+  reports::WriteFileAtomically(dir.File("report.html"),
+                               reports::ConvergenceHtmlReport(ReportInput(*site), result));
   dir.Commit();
   if (!args.Flag("quiet")) {
     std::printf("%s: convergence study, %d threads\n", name.c_str(), result.threads);
     std::fputs(calibrate::ConvergenceReport(result).c_str(), stdout);
-    std::printf("wrote %s/convergence.json, convergence.csv, convergence.svg\n", out.c_str());
+    std::printf("wrote %s/convergence.json, convergence.csv, convergence.svg, report.html\n",
+                out.c_str());
   } else {
     std::printf("recommendation: %s\n", result.recommendation.c_str());
   }

@@ -12,6 +12,7 @@
 #include "rockcal/core/material.h"
 #include "rockcal/core/rock_shape.h"
 #include "rockcal/core/statistics.h"
+#include "rockcal/reports/html_page.h"
 #include "rockcal/reports/simulation_outputs.h"
 #include "rockcal/reports/svg.h"
 
@@ -22,11 +23,20 @@ using svg::Escape;
 using svg::Label;
 using svg::Px;
 
-constexpr double kFt = 0.3048;  // m
-constexpr double kFtTon =
-    2000.0 * 4.4482216152605 * 0.3048;  // J in 1 ft-ton (ft x short ton-force)
-constexpr double kLbfPerFt3 = 4.4482216152605 / (0.3048 * 0.3048 * 0.3048);  // N/m^3
-constexpr double kPound = 0.45359237;                                        // kg
+using html::Exact;
+using html::Figure;
+using html::kFt;
+using html::kFtTon;
+using html::Kv;
+using html::Length;
+using html::Percent;
+using html::Ref;
+using html::RefCell;
+using html::RefSpan;
+using html::Show;
+using html::Td;
+using html::Th;
+
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Passage density classes: share of the rocks whose centre passed over a cell.
@@ -46,53 +56,7 @@ std::string Printf(const char* format, double v) {
   return buf;
 }
 
-// A value as shown in tables: three significant digits, no exponent for
-// ordinary magnitudes ("1234", "56.7", "8.90", "0.0123").
-std::string Show(double v) {
-  if (std::isnan(v)) return "-";
-  if (!std::isfinite(v)) return v > 0 ? "inf" : "-inf";
-  const double a = std::fabs(v);
-  if (a == 0.0) return "0";
-  if (a >= 100.0) return Printf("%.0f", v);
-  if (a >= 10.0) return Printf("%.1f", v);
-  if (a >= 1.0) return Printf("%.2f", v);
-  return Printf("%.3g", v);
-}
-
-std::string Percent(double fraction) { return Printf("%.1f", 100.0 * fraction) + " %"; }
-
 std::string Int(long v) { return std::to_string(v); }
-
-// The exact value behind a shown number, for machines: %.10g as in the CSV files.
-std::string Exact(double v) { return Printf("%.10g", v); }
-
-// A table cell showing `shown` whose exact value is `value` at JSON pointer
-// `ref` ("summary.json#/partitions/0/passed").
-std::string RefCell(const std::string& ref, double value, const std::string& shown) {
-  return "<td class=\"n\" data-json=\"" + Escape(ref) + "\" data-value=\"" + Exact(value) + "\">" +
-         Escape(shown) + "</td>";
-}
-std::string RefSpan(const std::string& ref, double value, const std::string& shown) {
-  return "<span data-json=\"" + Escape(ref) + "\" data-value=\"" + Exact(value) + "\">" +
-         Escape(shown) + "</span>";
-}
-std::string Td(const std::string& text, bool numeric = false) {
-  return std::string(numeric ? "<td class=\"n\">" : "<td>") + Escape(text) + "</td>";
-}
-std::string Th(const std::string& text) { return "<th>" + Escape(text) + "</th>"; }
-std::string Kv(const std::string& key, const std::string& value_html) {
-  return "<tr><th>" + Escape(key) + "</th><td>" + value_html + "</td></tr>";
-}
-
-// A figure whose caption wraps at `width` px (the picture's width) when given.
-std::string Figure(const std::string& svg, const std::string& caption_html, double width = 0.0) {
-  return (width > 0 ? "<figure style=\"max-width:" + Px(width) + "px\">"
-                    : std::string("<figure>")) +
-         svg + "<figcaption>" + caption_html + "</figcaption></figure>";
-}
-
-// "12.3 m (40.4 ft)"
-std::string Length(double m) { return Show(m) + " m (" + Show(m / kFt) + " ft)"; }
 
 const char* KindName(core::Partition::Kind kind) {
   return kind == core::Partition::Kind::kX ? "X" : "Z";
@@ -772,133 +736,14 @@ std::string Histogram(const std::vector<double>& values, const std::string& x_la
 
 // ---- sections ----------------------------------------------------------------
 
-std::string Ref(const std::string& file, const std::string& pointer) {
-  return file + "#" + pointer;
-}
-
 std::string SiteSection(const Context& c) {
-  const core::Scene& sc = c.scene;
-  const core::HeightGrid& g = sc.grid;
-  const bool us = c.in.units == sites::Units::kUS;
-  std::string s = "<table class=\"kv\">";
-  s += Kv("Site", Escape(sc.name));
-  if (!c.in.site_file.empty()) s += Kv("Site file", "<code>" + Escape(c.in.site_file) + "</code>");
-  s += Kv("Units of the site file", us ? "US (ft, lbf/ft&#179;); this report shows SI and US units"
-                                       : "SI (m, kN/m&#179;); this report shows SI and US units");
-  int holes = 0;
-  for (double z : g.z) holes += std::isfinite(z) ? 0 : 1;
-  s += Kv("Terrain grid",
-          Escape(Int(g.nx) + " x " + Int(g.ny) + " nodes at a spacing of " + Length(g.spacing) +
-                 "; x " + Label(g.x0) + " to " + Label(g.x(g.nx - 1)) + " m, y " + Label(g.y0) +
-                 " to " + Label(g.y(g.ny - 1)) + " m, elevation " + Label(c.zmin) + " to " +
-                 Label(c.zmax) + " m" + (holes ? "; " + Int(holes) + " nodes without data" : "") +
-                 (c.one_cell_wide ? "; a 2D profile one cell wide" : "")));
-  s += "</table>";
-
-  // Materials.
-  std::vector<int> nodes(sc.materials.size(), 0);
-  int valid = 0;
-  for (std::size_t n = 0; n < g.z.size(); ++n)
-    if (std::isfinite(g.z[n])) ++nodes[static_cast<std::size_t>(g.material[n])], ++valid;
-  s += "<h3>Materials</h3><table><thead><tr>" + Th("material") + Th("share of the slope") +
-       Th("hardness H") + Th("roughness R") + Th("virtual sphere radius") + Th("restitution e") +
-       Th("friction f") + Th("rolling resistance") + Th("contact time") +
-       Th("damping ratio (eq. 13)") + "</tr></thead><tbody>";
-  bool overridden = false;
-  for (std::size_t k = 0; k < sc.materials.size(); ++k) {
-    const core::Material& m = sc.materials[k];
-    const core::ContactLaw law = core::DeriveContactLaw(m, sc.hardness_model);
-    const double r = core::VirtualSphereRadius(m.roughness_m, g.spacing);
-    auto mark = [&](bool b) {
-      overridden = overridden || b;
-      return std::string(b ? " *" : "");
-    };
-    s += "<tr>" + Td(m.id) +
-         Td(Percent(valid ? static_cast<double>(nodes[k]) / valid : 0.0), true) +
-         Td(Printf("%.3f", m.hardness), true) +
-         Td(m.roughness_m > 0 ? Length(m.roughness_m) : "0 (smooth facets)", true) +
-         Td(std::isfinite(r) ? Length(r) : "-", true) +
-         Td(Printf("%.3f", law.restitution) + mark(m.restitution.has_value()), true) +
-         Td(Printf("%.3f", law.friction) + mark(m.friction.has_value()), true) +
-         Td(Printf("%.3f", law.rolling_resistance) + mark(m.rolling_resistance.has_value()), true) +
-         Td(Show(law.contact_time * 1e3) + " ms", true) +
-         Td(Printf("%.3f", law.damping_ratio) + " (" + Printf("%.3f", law.eq13_damping_ratio) + ")",
-            true) +
-         "</tr>";
-  }
-  s += "</tbody></table><p class=\"note\">Derived from hardness by the default model: e = H, "
-       "friction " +
-       Printf("%.2f", sc.hardness_model.friction_soft) + " - (" +
-       Printf("%.2f", sc.hardness_model.friction_soft) + " - " +
-       Printf("%.2f", sc.hardness_model.friction_hard) + ") H, rolling resistance " +
-       Printf("%.2f", sc.hardness_model.rolling_soft) + " to " +
-       Printf("%.2f", sc.hardness_model.rolling_hard) + " with H" +
-       (overridden ? "; * set in the site file instead" : "") +
-       ". The damping ratio is the one that gives e with a contact that never pulls; the manual's "
-       "eq. 13 value is "
-       "shown beside it. Virtual sphere radius r = (R&#178; + (s/2)&#178;) / (2R).</p>";
-
-  // Rock groups.
-  s += "<h3>Rock groups</h3><table><thead><tr>" + Th("group") + Th("rocks") + Th("shape") +
-       Th("size") + Th("unit weight") + Th("mass") + Th("release") + "</tr></thead><tbody>";
-  for (std::size_t k = 0; k < sc.groups.size(); ++k) {
-    const core::RockGroup& grp = sc.groups[k];
-    const core::RockBody a =
-        core::MakeRockBody(grp.shape, grp.size_min, grp.unit_weight, sc.gravity);
-    const core::RockBody b =
-        core::MakeRockBody(grp.shape, grp.size_max, grp.unit_weight, sc.gravity);
-    const std::string size = grp.size_min == grp.size_max
-                                 ? Length(grp.size_min)
-                                 : Show(grp.size_min) + "-" + Show(grp.size_max) + " m (" +
-                                       Show(grp.size_min / kFt) + "-" + Show(grp.size_max / kFt) +
-                                       " ft)";
-    const std::string mass = grp.size_min == grp.size_max
-                                 ? Show(a.mass) + " kg (" + Show(a.mass / kPound) + " lb)"
-                                 : Show(a.mass) + "-" + Show(b.mass) + " kg (" +
-                                       Show(a.mass / kPound) + "-" + Show(b.mass / kPound) + " lb)";
-    std::string release;
-    if (!grp.release.zone.empty()) {
-      const Eigen::Vector2d cen = observations::ReleaseCentroid(grp.release);
-      release = "zone of " + Int(static_cast<long>(grp.release.zone.size())) +
-                " vertices around (" + Label(cen.x()) + ", " + Label(cen.y()) + ") m";
-    } else {
-      release =
-          "point (" + Label(grp.release.point.x()) + ", " + Label(grp.release.point.y()) + ") m";
-    }
-    if (grp.release.height > 0) release += ", " + Length(grp.release.height) + " above the ground";
-    if (grp.release.velocity.norm() > 0)
-      release += ", initial velocity (" + Label(grp.release.velocity.x()) + ", " +
-                 Label(grp.release.velocity.y()) + ", " + Label(grp.release.velocity.z()) + ") m/s";
-    s += "<tr>" + Td(Int(static_cast<long>(k + 1)), true) + Td(Int(grp.count), true) +
-         Td(core::ShapeName(grp.shape)) + Td(size) +
-         Td(Show(grp.unit_weight * 1e-3) + " kN/m³ (" + Show(grp.unit_weight / kLbfPerFt3) +
-            " lbf/ft³)") +
-         Td(mass) + Td(release) + "</tr>";
-  }
-  s += "</tbody></table>";
-
-  // Partitions.
-  if (!sc.partitions.empty()) {
-    s += "<h3>Partitions</h3><table><thead><tr>" + Th("partition") + Th("kind") + Th("at") +
-         Th("rocks passed") + "</tr></thead><tbody>";
-    for (std::size_t p = 0; p < sc.partitions.size(); ++p) {
-      const core::Partition& part = sc.partitions[p];
-      const int passed = c.stats.partitions[p].passed;
-      s += "<tr><td><a href=\"#" + Escape(PartitionSectionId(part.id)) + "\">" + Escape(part.id) +
-           "</a></td>" +
-           Td(part.kind == core::Partition::Kind::kX ? "X (vertical plane)"
-                                                     : "Z (ground elevation contour)") +
-           Td((part.kind == core::Partition::Kind::kX ? "x = " : "z = ") + Length(part.value)) +
-           Td(Int(passed) + " (" +
-                  Percent(Rocks(c) ? static_cast<double>(passed) / Rocks(c) : 0.0) + ")",
-              true) +
-           "</tr>";
-    }
-    s += "</tbody></table>";
-  }
+  html::PartitionPassage passage;
+  for (const auto& ps : c.stats.partitions) passage.passed.push_back(ps.passed);
+  passage.rocks = Rocks(c);
+  std::string s = html::SiteTables(c.scene, c.in.site_file, c.in.units, &passage);
 
   // The run.
-  const core::SimulationOptions& opt = sc.options;
+  const core::SimulationOptions& opt = c.scene.options;
   const core::SimulationResult& r = c.result;
   s += "<h3>Simulation</h3><table class=\"kv\">";
   s += Kv("Random seed", RefSpan(Ref("summary.json", "/seed"), static_cast<double>(opt.seed),
@@ -930,11 +775,7 @@ std::string SiteSection(const Context& c) {
                       r.max_relative_energy_gain, Label(r.max_relative_energy_gain, 3)) +
               " of the rock's largest kinetic energy (see the diagnostics)");
   s += "</table>";
-  if (!c.in.notes.empty()) {
-    s += "<h3>What the site reader did</h3><ul class=\"notes\">";
-    for (const std::string& n : c.in.notes) s += "<li>" + Escape(n) + "</li>";
-    s += "</ul>";
-  }
+  s += html::SiteNotes(c.in.notes);
   return s;
 }
 
@@ -1594,38 +1435,6 @@ std::vector<SectionInfo> Outline(const Context& c) {
   return out;
 }
 
-constexpr const char* kCss = R"(
-body{font-family:"DejaVu Sans",Helvetica,Arial,sans-serif;font-size:14px;line-height:1.4;color:#222;margin:0 auto;max-width:1060px;padding:16px 24px;}
-h1{font-size:24px;margin:8px 0 4px;}
-h2{font-size:19px;border-bottom:2px solid #6b8fb3;padding-bottom:3px;margin-top:32px;}
-h3{font-size:15px;margin:18px 0 6px;}
-p.lead{font-size:15px;margin:4px 0 10px;}
-nav ol{columns:3;margin:6px 0 0;padding-left:22px;}
-table{border-collapse:collapse;margin:6px 0 10px;font-size:13px;}
-th,td{border:1px solid #ccc;padding:3px 7px;vertical-align:top;}
-thead th{background:#eef2f6;}
-table.kv th{text-align:left;background:#f6f6f6;font-weight:normal;white-space:nowrap;}
-table.stats tbody th{text-align:left;font-weight:normal;background:#f6f6f6;}
-td.n{text-align:right;white-space:nowrap;}
-td.ok{color:#1a7f37;}td.bad{color:#b00020;font-weight:bold;}
-tr.best td{background:#f2f8ec;}
-figure{margin:10px 0;display:inline-block;vertical-align:top;}
-figcaption{font-size:12.5px;color:#444;max-width:860px;}
-div.figs figure{margin-right:10px;}
-svg{max-width:100%;height:auto;}
-ul.legend{list-style:none;padding:0;margin:4px 0;font-size:12.5px;}
-ul.legend li{display:inline-block;margin-right:14px;white-space:nowrap;}
-ul.legend svg{vertical-align:middle;}
-.halo{paint-order:stroke;stroke:#fff;stroke-width:3px;stroke-linejoin:round;}
-.small{font-size:9.5px;}
-p.note{font-size:12.5px;color:#444;}
-p.warn{color:#8a4b00;background:#fff4e0;padding:4px 8px;}
-code{font-size:12.5px;}
-footer{margin-top:30px;font-size:12px;color:#666;border-top:1px solid #ccc;padding-top:6px;}
-@page{size:A4;margin:14mm;}
-@media print{body{max-width:none;padding:0;font-size:11px;}nav{display:none;}h2{break-after:avoid;}figure,table{break-inside:avoid;}section{break-before:auto;}}
-)";
-
 }  // namespace
 
 bool ReportOptions::IsValid(std::string* error) const {
@@ -1663,84 +1472,75 @@ std::vector<std::string> ReportSections(const ReportInput& in) {
 
 std::string HtmlReport(const ReportInput& in) {
   const Context c = MakeContext(in);
-  const std::vector<SectionInfo> outline = Outline(c);
   const bool calibrated = in.calibration && !in.calibration->methods.empty();
-  std::string h =
-      "<!DOCTYPE html>\n<html xmlns=\"http://www.w3.org/1999/xhtml\" lang=\"en\">\n<head>\n"
-      "<meta charset=\"utf-8\"/>\n<title>rockcal report: " +
-      Escape(c.scene.name) + "</title>\n<style>" + kCss +
-      "</style>\n</head>\n<body>\n<header>\n<h1>" +
-      (calibrated ? "Rockfall calibration report: " : "Rockfall simulation report: ") +
-      "<span data-json=\"summary.json#/site\" data-value=\"" + Escape(c.scene.name) + "\">" +
-      Escape(c.scene.name) + "</span></h1>\n";
-  h += "<p class=\"lead\">" + Int(Rocks(c)) + " rocks: " + Int(c.stopped) + " stopped, " +
-       Int(c.left) + " left the slope, " + Int(c.timeout) + " still moving at the time limit";
+  html::Page page;
+  page.title = "rockcal report: " + c.scene.name;
+  page.heading_html =
+      std::string(calibrated ? "Rockfall calibration report: " : "Rockfall simulation report: ") +
+      html::RefText("summary.json#/site", c.scene.name);
+  std::string& lead = page.lead_html;
+  lead = Int(Rocks(c)) + " rocks: " + Int(c.stopped) + " stopped, " + Int(c.left) +
+         " left the slope, " + Int(c.timeout) + " still moving at the time limit";
   for (std::size_t p = 0; p < c.scene.partitions.size(); ++p) {
     const auto& ps = c.stats.partitions[p];
-    h += "; " + Escape(ps.id) + " passed by " +
-         Percent(Rocks(c) ? static_cast<double>(ps.passed) / Rocks(c) : 0.0);
+    lead += "; " + Escape(ps.id) + " passed by " +
+            Percent(Rocks(c) ? static_cast<double>(ps.passed) / Rocks(c) : 0.0);
   }
-  h += ". Simulated by rockcal (CRSP-3D method) in " + Escape(Show(c.result.wall_seconds)) +
-       " s wall time.";
+  lead += ". Simulated by rockcal (CRSP-3D method) in " + Escape(Show(c.result.wall_seconds)) +
+          " s wall time.";
   if (calibrated) {
     const auto& rec = *in.calibration;
-    h += " Parameters calibrated with " +
-         Escape(rec.methods[static_cast<std::size_t>(rec.best)].method) + ": misfit " +
-         Escape(Label(rec.misfit_before.value, 3)) + " at the start, " +
-         Escape(Label(rec.misfit_after.value, 3)) + " calibrated.";
+    lead += " Parameters calibrated with " +
+            Escape(rec.methods[static_cast<std::size_t>(rec.best)].method) + ": misfit " +
+            Escape(Label(rec.misfit_before.value, 3)) + " at the start, " +
+            Escape(Label(rec.misfit_after.value, 3)) + " calibrated.";
   }
-  h += "</p>\n<p class=\"note\">SI units with US units beside them: 1 ft = 0.3048 m; 1 ft/s = "
-       "0.3048 m/s; "
-       "1 ft-ton (foot times short ton-force, as CRSP reports kinetic energy) = 2.7116 kJ; "
-       "1 lbf/ft&#179; = 0.15709 kN/m&#179;. The machine-readable record is summary.json and "
-       "rocks.csv (SI).</p>\n";
-  h += "<nav><ol>";
-  for (const SectionInfo& s : outline)
-    h += "<li><a href=\"#" + Escape(s.id) + "\">" + Escape(s.title) + "</a></li>";
-  h += "</ol></nav>\n</header>\n<main>\n";
-  int number = 0;
-  for (const SectionInfo& s : outline) {
-    std::string body;
+  page.note_html =
+      "SI units with US units beside them: 1 ft = 0.3048 m; 1 ft/s = 0.3048 m/s; "
+      "1 ft-ton (foot times short ton-force, as CRSP reports kinetic energy) = 2.7116 kJ; "
+      "1 lbf/ft&#179; = 0.15709 kN/m&#179;. The machine-readable record is summary.json and "
+      "rocks.csv (SI).";
+  for (const SectionInfo& s : Outline(c)) {
+    html::Section section{s.id, s.title, "", ""};
     if (s.id == "site")
-      body = SiteSection(c);
+      section.body_html = SiteSection(c);
     else if (s.id == "plan")
-      body = PlanSection(c);
+      section.body_html = PlanSection(c);
     else if (s.id == "profile")
-      body = ProfileSection(c);
+      section.body_html = ProfileSection(c);
     else if (s.partition >= 0)
-      body = PartitionSection(c, s.partition);
+      section.body_html = PartitionSection(c, s.partition);
     else if (s.id == "barrier")
-      body = BarrierSection(c);
+      section.body_html = BarrierSection(c);
     else if (s.id == "runout")
-      body = RunoutSection(c);
+      section.body_html = RunoutSection(c);
     else if (s.id == "shapes")
-      body = ShapesSection(c);
+      section.body_html = ShapesSection(c);
     else if (s.id == "calibration")
-      body = CalibrationSection(c);
+      section.body_html = CalibrationSection(c);
     else if (s.id == "trace")
-      body = TraceSection(c);
+      section.body_html = TraceSection(c);
     else if (s.id == "fit")
-      body = FitSection(c);
+      section.body_html = FitSection(c);
     else if (s.id == "diagnostics")
-      body = DiagnosticsSection(c);
-    std::string title = Escape(s.title);
+      section.body_html = DiagnosticsSection(c);
     if (s.partition >= 0) {
       const core::Partition& part = c.scene.partitions[static_cast<std::size_t>(s.partition)];
-      title = "Partition <span data-json=\"summary.json#/partitions/" + Int(s.partition) +
-              "/id\" data-value=\"" + Escape(part.id) + "\">" + Escape(part.id) + "</span> (" +
-              KindName(part.kind) + " partition, " +
-              (part.kind == core::Partition::Kind::kX ? "x = " : "z = ") +
-              Escape(Length(part.value)) + ")";
+      section.heading_html =
+          "Partition " +
+          html::RefText("summary.json#/partitions/" + Int(s.partition) + "/id", part.id) + " (" +
+          KindName(part.kind) + " partition, " +
+          (part.kind == core::Partition::Kind::kX ? "x = " : "z = ") + Escape(Length(part.value)) +
+          ")";
     }
-    h += "<section id=\"" + Escape(s.id) + "\">\n<h2>" + Int(++number) + ". " + title + "</h2>\n" +
-         body + "\n</section>\n";
+    page.sections.push_back(std::move(section));
   }
-  h += "</main>\n<footer>Generated by rockcal, a rockfall simulator after CRSP-3D "
-       "(FHWA-CFL/TD-12-007, 2012). "
-       "Random seed " +
-       std::to_string(c.scene.options.seed) + ", " + Int(Rocks(c)) +
-       " rocks. This file is self-contained: no scripts, no network.</footer>\n</body>\n</html>\n";
-  return h;
+  page.footer_html =
+      "Generated by rockcal, a rockfall simulator after CRSP-3D (FHWA-CFL/TD-12-007, 2012). "
+      "Random seed " +
+      std::to_string(c.scene.options.seed) + ", " + Int(Rocks(c)) +
+      " rocks. This file is self-contained: no scripts, no network.";
+  return html::PageHtml(page);
 }
 
 }  // namespace rockcal::reports

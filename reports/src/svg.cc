@@ -19,6 +19,28 @@ std::string TrimZeros(std::string s) {
   return s;
 }
 
+// Widens an empty or bad range [*lo, *hi] of a linear or log axis.
+void WidenRange(bool log, double* lo, double* hi) {
+  if (log) {
+    if (!(*lo > 0.0)) *lo = *hi > 0.0 ? *hi * 1e-3 : 1e-3;
+    if (!(*hi > *lo)) {
+      *lo /= 2.0;
+      *hi = *lo * 4.0;
+    }
+  } else if (!(*hi > *lo)) {
+    const double pad = *lo != 0.0 ? std::fabs(*lo) * 0.1 : 1.0;
+    *lo -= pad;
+    *hi += pad;
+  }
+}
+
+// Where v lies between lo and hi, 0 to 1, on a linear or log axis.
+double Fraction(bool log, double v, double lo, double hi) {
+  if (log)
+    return (std::log10(std::max(v, 1e-300)) - std::log10(lo)) / (std::log10(hi) - std::log10(lo));
+  return (v - lo) / (hi - lo);
+}
+
 }  // namespace
 
 std::string Escape(const std::string& text) {
@@ -121,41 +143,28 @@ const char* Colour(int index) {
 
 Plot::Plot(double xlo, double xhi, double ylo, double yhi, const Options& options)
     : xlo_(xlo), xhi_(xhi), ylo_(ylo), yhi_(yhi), options_(options) {
-  if (!(xhi_ > xlo_)) {
-    const double pad = xlo_ != 0.0 ? std::fabs(xlo_) * 0.1 : 1.0;
-    xlo_ -= pad;
-    xhi_ += pad;
-  }
-  if (options_.log_y) {
-    if (!(ylo_ > 0.0)) ylo_ = yhi_ > 0.0 ? yhi_ * 1e-3 : 1e-3;
-    if (!(yhi_ > ylo_)) {
-      ylo_ /= 2.0;
-      yhi_ = ylo_ * 4.0;
-    }
-  } else if (!(yhi_ > ylo_)) {
-    const double pad = ylo_ != 0.0 ? std::fabs(ylo_) * 0.1 : 1.0;
-    ylo_ -= pad;
-    yhi_ += pad;
-  }
+  WidenRange(options_.log_x, &xlo_, &xhi_);
+  WidenRange(options_.log_y, &ylo_, &yhi_);
 }
 
-double Plot::X(double x) const { return left() + (x - xlo_) / (xhi_ - xlo_) * (right() - left()); }
+double Plot::X(double x) const {
+  return left() + Fraction(options_.log_x, x, xlo_, xhi_) * (right() - left());
+}
 
 double Plot::Y(double y) const {
-  double f;
-  if (options_.log_y) {
-    f = (std::log10(std::max(y, 1e-300)) - std::log10(ylo_)) /
-        (std::log10(yhi_) - std::log10(ylo_));
-  } else {
-    f = (y - ylo_) / (yhi_ - ylo_);
-  }
-  return bottom() - f * (bottom() - top());
+  return bottom() - Fraction(options_.log_y, y, ylo_, yhi_) * (bottom() - top());
+}
+
+bool Plot::Drawable(double x, double y) const {
+  return std::isfinite(x) && std::isfinite(y) && (!options_.log_x || x > 0.0) &&
+         (!options_.log_y || y > 0.0);
 }
 
 void Plot::Axes(const std::string& x_label, const std::string& y_label) {
   std::string g = "<g class=\"axes\">";
   const std::vector<double> xt =
-      Ticks(xlo_, xhi_, std::max(3, static_cast<int>((right() - left()) / 70)));
+      options_.log_x ? LogTicks(xlo_, xhi_)
+                     : Ticks(xlo_, xhi_, std::max(3, static_cast<int>((right() - left()) / 70)));
   const std::vector<double> yt =
       options_.log_y ? LogTicks(ylo_, yhi_)
                      : Ticks(ylo_, yhi_, std::max(3, static_cast<int>((bottom() - top()) / 45)));
@@ -189,7 +198,7 @@ void Plot::Axes(const std::string& x_label, const std::string& y_label) {
 }
 
 void Plot::TopAxis(double scale, const std::string& label) {
-  if (!(scale > 0.0)) return;
+  if (!(scale > 0.0) || options_.log_x) return;
   std::string g = "<g class=\"axis2\">";
   for (double u :
        Ticks(xlo_ * scale, xhi_ * scale, std::max(3, static_cast<int>((right() - left()) / 70)))) {
@@ -246,7 +255,7 @@ void Plot::Polyline(const std::vector<double>& xs, const std::vector<double>& ys
     n = 0;
   };
   for (std::size_t k = 0; k < xs.size() && k < ys.size(); ++k) {
-    if (!std::isfinite(xs[k]) || !std::isfinite(ys[k]) || (options_.log_y && !(ys[k] > 0.0))) {
+    if (!Drawable(xs[k], ys[k])) {
       flush();
       continue;
     }
@@ -276,8 +285,7 @@ void Plot::Points(const std::vector<double>& xs, const std::vector<double>& ys, 
   std::string g = "<g " + attributes + ">";
   const std::string rs = Px(r);
   for (std::size_t k = 0; k < xs.size() && k < ys.size(); ++k) {
-    if (!std::isfinite(xs[k]) || !std::isfinite(ys[k])) continue;
-    if (options_.log_y && !(ys[k] > 0.0)) continue;
+    if (!Drawable(xs[k], ys[k])) continue;
     const double x = X(xs[k]), y = Y(ys[k]);
     if (x < left() - 0.5 || x > right() + 0.5 || y < top() - 0.5 || y > bottom() + 0.5) continue;
     g += "<circle cx=\"" + Px(x) + "\" cy=\"" + Px(y) + "\" r=\"" + rs + "\"/>";

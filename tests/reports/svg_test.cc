@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -83,6 +84,41 @@ TEST(SvgTest, LogPlotWidensBadRanges) {
   EXPECT_GT(plot.ylo(), 0.0);
   EXPECT_TRUE(std::isfinite(plot.Y(1e-9)));
   EXPECT_NEAR(plot.Y(100.0), plot.top(), 1e-9);
+}
+
+TEST(SvgTest, LogLogPlotMapsDecadesEvenlyAndSkipsNonPositivePoints) {
+  Plot::Options o;
+  o.width = 200, o.height = 100, o.left = 20, o.right = 10, o.top = 10, o.bottom = 20;
+  o.log_x = o.log_y = true;
+  Plot plot(0.1, 10.0, 1.0, 100.0, o);
+  EXPECT_DOUBLE_EQ(plot.X(0.1), 20.0);
+  EXPECT_DOUBLE_EQ(plot.X(1.0), 105.0);
+  EXPECT_DOUBLE_EQ(plot.X(10.0), 190.0);
+  EXPECT_DOUBLE_EQ(plot.Y(10.0), 45.0);
+  plot.Axes("t [s]", "error [%]");
+  plot.TopAxis(2.0, "not on a log axis");
+  plot.Polyline({0.2, 0.0, 1.0, 2.0}, {5.0, 5.0, 20.0, 30.0}, "stroke=\"#000\"");
+  plot.Points({0.2, -1.0, 1.0}, {5.0, 5.0, 20.0}, 2, "fill=\"#0f0\"");
+  const std::string svg = plot.Svg();
+  std::string error;
+  const auto root = testing::ParseXml(svg, &error);
+  ASSERT_NE(root, nullptr) << error;
+  int polylines = 0, circles = 0;
+  std::vector<std::string> labels;
+  root->Visit([&](const testing::XmlNode& n) {
+    polylines += n.name == "polyline";
+    circles += n.name == "circle";
+    if (n.name == "text") labels.push_back(n.AllText());
+  });
+  EXPECT_EQ(polylines, 1) << "x = 0 breaks the line; a single point is no line";
+  EXPECT_EQ(circles, 2) << "x = -1 is not drawn";
+  for (const char* tick : {"0.1", "1", "10", "100"})
+    EXPECT_NE(std::find(labels.begin(), labels.end(), tick), labels.end()) << tick;
+  EXPECT_EQ(svg.find("not on a log axis"), std::string::npos);
+  // A bad lower bound is replaced, as on a log y axis.
+  Plot bad(0.0, 10.0, 1.0, 10.0, o);
+  EXPECT_GT(bad.xlo(), 0.0);
+  EXPECT_TRUE(std::isfinite(bad.X(1e-9)));
 }
 
 }  // namespace

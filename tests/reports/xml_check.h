@@ -5,6 +5,7 @@
 #ifndef ROCKCAL_TESTS_REPORTS_XML_CHECK_H_
 #define ROCKCAL_TESTS_REPORTS_XML_CHECK_H_
 
+#include <algorithm>
 #include <cctype>
 #include <functional>
 #include <map>
@@ -19,6 +20,7 @@ struct XmlNode {
   std::map<std::string, std::string> attributes;  // raw values (entities kept)
   std::string text;                               // direct text, raw
   std::vector<std::unique_ptr<XmlNode>> children;
+  std::vector<std::size_t> child_at;  // where in `text` each child appears
 
   std::string Attribute(const std::string& key) const {
     const auto it = attributes.find(key);
@@ -27,9 +29,14 @@ struct XmlNode {
   bool Has(const std::string& key) const { return attributes.count(key) > 0; }
   // All text below this node, in document order.
   std::string AllText() const {
-    std::string out = text;
-    for (const auto& c : children) out += c->AllText();
-    return out;
+    std::string out;
+    std::size_t from = 0;
+    for (std::size_t k = 0; k < children.size(); ++k) {
+      const std::size_t at = k < child_at.size() ? child_at[k] : text.size();
+      out += text.substr(from, at - from) + children[k]->AllText();
+      from = at;
+    }
+    return out + text.substr(std::min(from, text.size()));
   }
   // Every node below (and including) this one, depth first.
   void Visit(const std::function<void(const XmlNode&)>& f) const {
@@ -169,6 +176,7 @@ inline std::unique_ptr<XmlNode> ParseXml(const std::string& doc, std::string* er
     }
     XmlNode* raw = node.get();
     if (stack.size() == 1 && !stack.back()->children.empty()) return fail("a second root element");
+    stack.back()->child_at.push_back(stack.back()->text.size());
     stack.back()->children.push_back(std::move(node));
     if (!self_closing) stack.push_back(raw);
   }

@@ -7,7 +7,8 @@
 //    the rock count, and reports the error of the summary quantiles against
 //    the finest run, split into discretisation and Monte Carlo error, with
 //    the wall time of each setting and a recommendation.
-// Output formatting (JSON, CSV, SVG) lives here too. See calibrate/STUDIES.md.
+// The JSON and CSV tables and the console report are written here; the plot
+// and report.html by rockcal/reports/study_report.h. See calibrate/STUDIES.md.
 #ifndef ROCKCAL_CALIBRATE_STUDY_H_
 #define ROCKCAL_CALIBRATE_STUDY_H_
 
@@ -189,11 +190,10 @@ struct ConvergenceResult {
 ConvergenceResult RunConvergence(const core::Scene& scene, const ConvergenceOptions& options);
 
 // convergence.json / convergence.csv (one row per setting and quantity, plus
-// a "max" row per setting) / convergence.svg (error estimate against wall
-// seconds, log-log, one series per N_c, with the target line).
+// a "max" row per setting). The plot, convergence.svg, is
+// reports::ConvergenceSvg.
 nlohmann::json ConvergenceJson(const std::string& site_name, const ConvergenceResult& result);
 std::string ConvergenceCsv(const ConvergenceResult& result);
-std::string ConvergenceSvg(const std::string& site_name, const ConvergenceResult& result);
 // A human table, one line per setting, and the recommendation.
 std::string ConvergenceReport(const ConvergenceResult& result);
 

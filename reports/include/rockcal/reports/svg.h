@@ -1,5 +1,5 @@
 // A tiny SVG plotting helper for the HTML report: axes with nice ticks (linear
-// or log), a secondary axis in other units, bars, polylines, points, lines and
+// or log, on either axis), a secondary axis in other units, bars, polylines, points, lines and
 // text. Output is XML (every element closed, attributes quoted, text escaped).
 #ifndef ROCKCAL_REPORTS_SVG_H_
 #define ROCKCAL_REPORTS_SVG_H_
@@ -34,11 +34,12 @@ class Plot final {
   struct Options {
     double width = 380.0, height = 250.0;                         // px, the whole picture
     double left = 58.0, right = 16.0, top = 16.0, bottom = 44.0;  // margins, px
-    bool log_y = false;
-    std::string title;  // read by screen readers (<title>), not drawn
+    bool log_x = false;  // log scale on x: data x <= 0 is not drawn
+    bool log_y = false;  // log scale on y: data y <= 0 is not drawn
+    std::string title;   // read by screen readers (<title>), not drawn
   };
-  // A plot of [xlo, xhi] x [ylo, yhi]; empty ranges are widened. With log_y,
-  // ylo must be > 0.
+  // A plot of [xlo, xhi] x [ylo, yhi]; empty ranges are widened. With log_x
+  // (log_y), a bad xlo (ylo) <= 0 is replaced by xhi / 1000 (yhi / 1000).
   Plot(double xlo, double xhi, double ylo, double yhi, const Options& options);
 
   double X(double x) const;  // data -> px
@@ -56,22 +57,24 @@ class Plot final {
   // Frame, grid lines, ticks and axis labels (bottom and left).
   void Axes(const std::string& x_label, const std::string& y_label);
   // A secondary axis on top showing x * scale (e.g. feet beside metres);
-  // needs a top margin of about 36 px.
+  // needs a top margin of about 36 px. Not drawn on a log x axis.
   void TopAxis(double scale, const std::string& label);
   // A secondary axis on the right showing y * scale; needs a right margin of
-  // about 50 px.
+  // about 50 px. Not drawn on a log y axis.
   void RightAxis(double scale, const std::string& label);
   // Bars between consecutive `edges` (size heights + 1), from y = ylo.
   void Bars(const std::vector<double>& edges, const std::vector<double>& heights,
             const std::string& fill);
-  // A polyline through (xs[k], ys[k]); non-finite points break the line.
+  // A polyline through (xs[k], ys[k]); non-finite points (and points <= 0 on
+  // a log axis) break the line.
   // `attributes` is added verbatim (e.g. stroke="#000" stroke-width="1").
   void Polyline(const std::vector<double>& xs, const std::vector<double>& ys,
                 const std::string& attributes);
   // A step line (best so far): horizontal then vertical between points.
   void Steps(const std::vector<double>& xs, const std::vector<double>& ys,
              const std::string& attributes);
-  // Circles of radius r px at the points inside the plot.
+  // Circles of radius r px at the points inside the plot (finite, and > 0 on
+  // a log axis).
   void Points(const std::vector<double>& xs, const std::vector<double>& ys, double r,
               const std::string& attributes);
   // A vertical line at data x (clipped to the plot) with a label at its top.
@@ -93,6 +96,9 @@ class Plot final {
   std::string Svg() const;
 
  private:
+  // A finite point that a log axis can show (> 0 there).
+  bool Drawable(double x, double y) const;
+
   double xlo_, xhi_, ylo_, yhi_;
   Options options_;
   std::string body_;
