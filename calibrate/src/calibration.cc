@@ -475,15 +475,18 @@ MethodResult RunMethod(const std::string& method, const Objective& objective,
   if (!info->global) {
     // A Monte Carlo misfit is rugged: a local method that converged may sit
     // in a dip of the noise. Restart it from its best point with a fresh
-    // step while budget remains and restarts still improve.
+    // step while budget remains; a restart that finds nothing better halves
+    // the step, down to a sixteenth of the first.
     termination = RunNlopt(info->algorithm, unit, options.max_evals, options, &ev);
     const int n = objective.space().size();
     int restarts = 0;
-    while (!ev.exhausted() && ev.remaining() >= n + 2) {
+    MethodOptions restart = options;
+    while (!ev.exhausted() && ev.remaining() >= n + 2 &&
+           restart.initial_step >= options.initial_step / 16) {
       const double before = ev.best_misfit();
-      RunNlopt(info->algorithm, objective.space().ToUnit(ev.best()), ev.remaining(), options, &ev);
+      RunNlopt(info->algorithm, objective.space().ToUnit(ev.best()), ev.remaining(), restart, &ev);
       ++restarts;
-      if (!(ev.best_misfit() < before * (1 - 1e-6))) break;
+      if (!(ev.best_misfit() < before * (1 - 1e-6))) restart.initial_step /= 2;
     }
     if (restarts > 0) termination += "; " + std::to_string(restarts) + " restart(s) from the best point";
     if (ev.exhausted() && termination.find("budget") == std::string::npos)

@@ -19,7 +19,9 @@ using testing::TwinSite;
 // Known values inside the bounds (slope hardness, slope roughness, runout
 // hardness, runout roughness); the site starts elsewhere.
 const std::vector<double> kTruth = {0.65, 0.25, 0.2, 0.45};
-constexpr int kRocks = 300;
+// 1000 rocks per evaluation: at 300 the Monte Carlo noise of the misfit let
+// the runout hardness wander by 16-20 % of its range.
+constexpr int kRocks = 1000;
 
 struct Twin {
   sites::Site site = TwinSite(kRocks);
@@ -56,10 +58,11 @@ std::string Describe(const MethodResult& r, const ParameterSpace& space) {
 }
 
 // The hardness of both materials is recovered within 10 % of its range.
-// Roughness is only weakly determined by bounce heights and runout: the
-// misfit at the recovered values is below the misfit at the truth, so Monte
-// Carlo noise, not the optimiser, limits it (10-25 % of its range here; see
-// the calibration notes). It is not asserted.
+// Roughness is only weakly determined by bounce heights and runout: along the
+// valley of the misfit a rougher runout trades against a harder one, and the
+// misfit at the recovered values is at or below the misfit at the truth, so
+// the observations, not the optimiser, limit it (5-15 % of its range here,
+// over calibration seeds; see the calibration notes). It is not asserted.
 void ExpectHardnessRecovered(const MethodResult& r, const ParameterSpace& space) {
   for (int k : {0, 2})
     EXPECT_LT(RangeError(space, r.best, k), 0.10) << Describe(r, space);
@@ -68,7 +71,10 @@ void ExpectHardnessRecovered(const MethodResult& r, const ParameterSpace& space)
 TEST(Calibration, TwinExperimentBobyqa) {
   Twin& twin = SharedTwin();
   MethodOptions options;
-  options.max_evals = 60;
+  // BOBYQA reads the misfit alone, not its residuals: on this rugged
+  // four-parameter misfit it needs about 150 evaluations (with 100 it stopped
+  // at 1.9 and 2.7 times the truth's misfit for calibration seeds 2 and 3).
+  options.max_evals = 150;
   const MethodResult r = RunMethod("nlopt:bobyqa", twin.objective, twin.space.Current(twin.scene),
                                    options, nullptr);
   std::printf("%s\n", Describe(r, twin.space).c_str());
