@@ -407,22 +407,13 @@ double Terrain::Gap(const Eigen::Vector3d& c, double a, double reach) const {
   // by up to reach: the candidate spheres and the floor surface of the cells
   // it may be centred over.
   double gap = kInf;
-  const int cx = grid_.nx - 1;
-  int i0, i1, j0, j1;
-  CellWindow(c, a + reach, &i0, &i1, &j0, &j1);
-  for (int j = j0; j <= j1; ++j) {
-    for (int i = i0; i <= i1; ++i) {
-      const std::size_t id = static_cast<std::size_t>(j) * cx + i;
-      for (int k = list_start_[id]; k < list_start_[id + 1]; ++k) {
-        const int n = list_[k];
-        // Only a sphere nearer than the gap found so far needs the root.
-        const double beat = gap + radius_[n] + a;
-        const double d2 = (c - centre_[n]).squaredNorm();
-        if (beat > 0.0 && d2 >= beat * beat) continue;
-        gap = std::min(gap, std::sqrt(d2) - radius_[n] - a);
-      }
-    }
-  }
+  ForEachCandidate(c, a + reach, [&](int n) {
+    // Only a sphere nearer than the gap found so far needs the root.
+    const double beat = gap + radius_[n] + a;
+    const double d2 = (c - centre_[n]).squaredNorm();
+    if (beat > 0.0 && d2 >= beat * beat) return;
+    gap = std::min(gap, std::sqrt(d2) - radius_[n] - a);
+  });
   return std::min(gap, FloorGap(c, a, reach, gap));
 }
 
@@ -430,19 +421,10 @@ void Terrain::NearSpheres(const Eigen::Vector3d& c, double rb, double skin,
                           std::vector<int>* out) const {
   out->clear();
   if (!has_rough_) return;
-  const int cx = grid_.nx - 1;
-  int i0, i1, j0, j1;
-  CellWindow(c, rb + skin, &i0, &i1, &j0, &j1);
-  for (int j = j0; j <= j1; ++j) {
-    for (int i = i0; i <= i1; ++i) {
-      const std::size_t id = static_cast<std::size_t>(j) * cx + i;
-      for (int k = list_start_[id]; k < list_start_[id + 1]; ++k) {
-        const int n = list_[k];
-        const double reach = radius_[n] + rb + skin;
-        if ((c - centre_[n]).squaredNorm() < reach * reach) out->push_back(n);
-      }
-    }
-  }
+  ForEachCandidate(c, rb + skin, [&](int n) {
+    const double reach = radius_[n] + rb + skin;
+    if ((c - centre_[n]).squaredNorm() < reach * reach) out->push_back(n);
+  });
   std::sort(out->begin(), out->end());
   out->erase(std::unique(out->begin(), out->end()), out->end());
 }

@@ -1,7 +1,6 @@
 // rockcal simulate / validate end to end, as a user runs them.
 #include <gtest/gtest.h>
 #include <gmock/gmock.h>
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -12,6 +11,8 @@
 #include <sstream>
 #include <string>
 
+#include "cli_fixture.h"
+
 #include "rockcal/core/simulate.h"
 #include "rockcal/sites/site.h"
 
@@ -21,30 +22,11 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-struct RunResult {
-  int status;
-  std::string err;
-};
-
-RunResult Rockcal(const std::string& args) {
-  const std::string err_file = ::testing::TempDir() + "/rockcal_stderr.txt";
-  const std::string cmd = std::string(ROCKCAL_EXE) + " " + args + " > /dev/null 2> " + err_file;
-  const int raw = std::system(cmd.c_str());
-  std::ifstream in(err_file);
-  std::stringstream s;
-  s << in.rdbuf();
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, s.str()};
-}
-
-std::string Example(const std::string& name) {
-  return std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/" + name + "/site.json";
-}
-
-std::string FreshDir(const std::string& name) {
-  const std::string dir = ::testing::TempDir() + "/rockcal_cli_" + name;
-  fs::remove_all(dir);
-  return dir;
-}
+using testing::Example;
+using testing::FreshDir;
+using testing::ReadFile;
+using testing::Rockcal;
+using testing::RunResult;
 
 nlohmann::json ReadJson(const std::string& path) {
   std::ifstream in(path);

@@ -2,7 +2,6 @@
 // files each writes (report.html among them), what it prints, and bad input.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -11,44 +10,19 @@
 #include <sstream>
 #include <string>
 
+#include "cli_fixture.h"
+
 namespace rockcal::cli {
 namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-struct RunResult {
-  int status;
-  std::string out, err;
-};
-
-std::string ReadFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// Runs rockcal with `args`; stdout and stderr go to files named after the test.
-RunResult Rockcal(const std::string& args) {
-  const std::string base = ::testing::TempDir() + "/rockcal_study_" +
-                           ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  const std::string out_file = base + ".stdout", err_file = base + ".stderr";
-  const std::string cmd =
-      std::string(ROCKCAL_EXE) + " " + args + " > " + out_file + " 2> " + err_file;
-  const int raw = std::system(cmd.c_str());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, ReadFile(out_file), ReadFile(err_file)};
-}
-
-std::string Example(const std::string& name) {
-  return std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/" + name + "/site.json";
-}
-
-std::string FreshDir(const std::string& name) {
-  const std::string dir = ::testing::TempDir() + "/rockcal_study_" + name;
-  fs::remove_all(dir);
-  return dir;
-}
+using testing::Example;
+using testing::FreshDir;
+using testing::ReadFile;
+using testing::Rockcal;
+using testing::RunResult;
 
 TEST(Study, StabilityWritesTablesAndReport) {
   const std::string out = FreshDir("stability");

@@ -97,12 +97,16 @@ TEST(Simulate, VirtualSphereTopGivesSameRestitution) {
   }
 }
 
-// Smooth 30-degree incline along +x; returns the downslope acceleration of a
-// sphere released at rest, from its speed at two times.
-double InclineAcceleration(double friction, double rolling = 0.0) {
+// A smooth 30-degree incline down +x, 60 m long.
+Scene Incline30(const Material& m) {
   const double theta = 30.0 * M_PI / 180.0;
-  Scene scene = GridScene(61, 5, 1.0, [&](double x, double) { return (60.0 - x) * std::tan(theta); },
-                          SmoothMaterial(0.3, 0.005, friction, rolling));
+  return GridScene(61, 5, 1.0, [&](double x, double) { return (60.0 - x) * std::tan(theta); }, m);
+}
+
+// The downslope acceleration of a sphere released at rest on Incline30, from
+// its speed at two times.
+double InclineAcceleration(double friction, double rolling = 0.0) {
+  Scene scene = Incline30(SmoothMaterial(0.3, 0.005, friction, rolling));
   scene.groups = {PointGroup(Shape::kSphere, 0.4, 5.0, 2.0, 0.0)};
   scene.options.max_time = 3.0;
   scene.options.record.trajectories = 1;
@@ -366,9 +370,7 @@ TEST(Simulate, BouncingSphereFastPathsMatchReference) {
 // A sphere rolling down a smooth 30-degree incline (gentle contact all the
 // way): the same path within a millimetre over 20 m.
 TEST(Simulate, RollingSphereFastPathsMatchReference) {
-  const double theta = 30.0 * M_PI / 180.0;
-  Scene scene = GridScene(61, 5, 1.0, [&](double x, double) { return (60.0 - x) * std::tan(theta); },
-                          SmoothMaterial(0.3, 0.005, 1.0, 0.05));
+  Scene scene = Incline30(SmoothMaterial(0.3, 0.005, 1.0, 0.05));
   scene.groups = {PointGroup(Shape::kSphere, 0.4, 5.0, 2.0, 0.0)};
   scene.options.max_time = 3.0;
   const BothPaths p = RunBothPaths(scene, 0.1);
@@ -381,9 +383,7 @@ TEST(Simulate, RollingSphereFastPathsMatchReference) {
 
 // A cube (a sphere cluster) sliding down a smooth 30-degree incline.
 TEST(Simulate, SlidingClusterFastPathsMatchReference) {
-  const double theta = 30.0 * M_PI / 180.0;
-  Scene scene = GridScene(61, 5, 1.0, [&](double x, double) { return (60.0 - x) * std::tan(theta); },
-                          SmoothMaterial(0.3, 0.005, 0.2, 0.0));
+  Scene scene = Incline30(SmoothMaterial(0.3, 0.005, 0.2, 0.0));
   scene.groups = {PointGroup(Shape::kCube, 0.4, 5.0, 2.0, 0.0)};
   scene.options.max_time = 2.0;
   const BothPaths p = RunBothPaths(scene, 0.1);

@@ -127,6 +127,19 @@ class Terrain final {
   bool CellValid(int i, int j) const;     // all four corners are data
   // The cells (i0..i1, j0..j1) overlapping the plan square of half-width w around c.
   void CellWindow(const Eigen::Vector3d& c, double w, int* i0, int* i1, int* j0, int* j1) const;
+  // Calls f(node) for every candidate sphere of the cells within plan
+  // half-width w of c (a sphere may come once per cell that lists it).
+  template <class F>
+  void ForEachCandidate(const Eigen::Vector3d& c, double w, F f) const {
+    int i0, i1, j0, j1;
+    CellWindow(c, w, &i0, &i1, &j0, &j1);
+    const int cx = grid_.nx - 1;
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        const std::size_t id = static_cast<std::size_t>(j) * cx + i;
+        for (int k = list_start_[id]; k < list_start_[id + 1]; ++k) f(list_[static_cast<std::size_t>(k)]);
+      }
+  }
   // Corner k (bit 0: +i, bit 1: +j) of cell (i, j) on its floor surface: the
   // terrain for a smooth cell, the catch surface for a rough one.
   double CornerHeight(int i, int j, int k) const;

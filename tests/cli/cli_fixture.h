@@ -1,0 +1,55 @@
+// Running the rockcal executable from the command-line tests, as a user does.
+#ifndef ROCKCAL_TESTS_CLI_CLI_FIXTURE_H_
+#define ROCKCAL_TESTS_CLI_CLI_FIXTURE_H_
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace rockcal::cli::testing {
+
+struct RunResult {
+  int status;
+  std::string out, err;
+};
+
+inline std::string ReadFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Runs rockcal with `args`; stdout and stderr go to files named after the test.
+inline RunResult Rockcal(const std::string& args) {
+  std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  for (char& ch : name)
+    if (ch == '/') ch = '_';  // parameterised tests: "Name/0"
+  const std::string base = ::testing::TempDir() + "/rockcal_" + name;
+  const std::string out_file = base + ".stdout", err_file = base + ".stderr";
+  const std::string cmd =
+      std::string(ROCKCAL_EXE) + " " + args + " > " + out_file + " 2> " + err_file;
+  const int raw = std::system(cmd.c_str());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, ReadFile(out_file), ReadFile(err_file)};
+}
+
+// The site file of a bundled example.
+inline std::string Example(const std::string& name) {
+  return std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/" + name + "/site.json";
+}
+
+// An output folder under the test temp dir that does not exist yet.
+inline std::string FreshDir(const std::string& name) {
+  const std::string dir = ::testing::TempDir() + "/rockcal_cli_" + name;
+  std::filesystem::remove_all(dir);
+  return dir;
+}
+
+}  // namespace rockcal::cli::testing
+
+#endif  // ROCKCAL_TESTS_CLI_CLI_FIXTURE_H_
