@@ -1,0 +1,74 @@
+// Helpers shared by the benchmarks: medians of repeated simulations, and
+// sample quantiles with a Monte Carlo standard error.
+#ifndef ROCKCAL_BENCH_TIMING_H_
+#define ROCKCAL_BENCH_TIMING_H_
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "rockcal/core/simulate.h"
+#include "rockcal/core/statistics.h"
+
+namespace rockcal::bench {
+
+// Median of `v` (mean of the two middle values for an even count); 0 when empty.
+inline double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct TimedRuns {
+  std::vector<double> walls;      // wall seconds of each run (SimulationResult::wall_seconds)
+  double median_wall = 0.0;       // s
+  core::SimulationResult result;  // of the last run (runs are deterministic)
+};
+
+// Runs `scene` on `terrain` `runs` times at `threads` threads.
+inline TimedRuns TimeSimulation(core::Scene scene, const core::Terrain& terrain, int threads,
+                                int runs) {
+  scene.options.threads = threads;
+  TimedRuns timed;
+  for (int r = 0; r < runs; ++r) {
+    timed.result = core::Simulate(scene, terrain);
+    timed.walls.push_back(timed.result.wall_seconds);
+  }
+  timed.median_wall = Median(timed.walls);
+  return timed;
+}
+
+// The rock-steps a fixed-step engine would take for the same simulated rock
+// lives: the sum over rocks of (simulated time / the rock's contact step).
+inline double FixedStepRockSteps(const core::SimulationResult& result) {
+  double n = 0.0;
+  for (const core::RockRecord& r : result.rocks)
+    if (r.dt > 0.0) n += r.time / r.dt;
+  return n;
+}
+
+// A sample quantile (type 7) with a distribution-free standard error from the
+// order statistics: the number of values below the true p-quantile is
+// Binomial(n, p), so the sample quantiles at p -/+ sqrt(p (1 - p) / n) bracket
+// it with about 68 % probability; half that bracket is the standard error.
+struct QuantileEstimate {
+  bool valid = false;
+  double value = 0.0, se = 0.0;
+};
+
+inline QuantileEstimate EstimateQuantile(std::vector<double> v, double p) {
+  QuantileEstimate q;
+  if (v.size() < 2) return q;
+  std::sort(v.begin(), v.end());
+  const double half = std::sqrt(p * (1.0 - p) / static_cast<double>(v.size()));
+  q.valid = true;
+  q.value = core::Quantile(v, p);
+  q.se = 0.5 *
+         (core::Quantile(v, std::min(p + half, 1.0)) - core::Quantile(v, std::max(p - half, 0.0)));
+  return q;
+}
+
+}  // namespace rockcal::bench
+
+#endif  // ROCKCAL_BENCH_TIMING_H_
