@@ -668,6 +668,13 @@ ConvergenceResult RunConvergence(const core::Scene& site, const ConvergenceOptio
     scene.SetTotalRocks(n);
     for (int nc : ncs) {
       scene.options.steps_per_contact = nc;
+      // The gentle-contact step is refined with the impact step, in the
+      // site's ratio N_g / N_c (20 / 50 by default; 0 stays off).
+      const int ng = base.options.gentle_steps_per_contact;
+      if (ng > 0)
+        scene.options.gentle_steps_per_contact = std::max(
+            2, static_cast<int>(std::lround(static_cast<double>(ng) * nc /
+                                            base.options.steps_per_contact)));
       if (!scene.options.IsValid(&error)) throw std::invalid_argument(error);
       RunData run;
       run.steps_per_contact = nc;
