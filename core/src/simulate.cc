@@ -51,16 +51,18 @@ struct SceneContext {
   const Terrain& terrain;
   std::vector<ContactLaw> laws;
   Eigen::Vector3d gravity;
-  bool has_x = false, has_z = false;  // partition kinds present
   double max_contact_time = 0.0;      // longest contact time of the scene's materials
 };
 
-// A rock's contact steps, per material: t_c / N_c within the stability
+// A rock's contact steps on one material: t_c / N_c within the stability
 // bound, and the longer one of gentle contact (GentleTimeStep).
+struct MaterialSteps {
+  double contact = 0.0, gentle = 0.0;
+  double gentle_speed = 0.0;  // g t_c: a contact slower along its normal is gentle
+};
 struct StepSizes {
-  std::vector<double> contact, gentle;
-  std::vector<double> gentle_speed;  // g t_c: a contact slower along its normal is gentle
-  double finest = 0.0;               // the shortest contact step
+  std::vector<MaterialSteps> material;  // Scene::materials order
+  double finest = 0.0;                  // the shortest contact step
 };
 
 // Point in polygon (even-odd rule).
@@ -376,12 +378,7 @@ class RockRun {
     if (!(moved + reach < skin_)) return ctx_.terrain.Gap(s_.x, rb, reach);
     double gap = floor_clear_ > moved ? floor_clear_ - moved
                                       : ctx_.terrain.FloorGap(s_.x, rb, reach);
-    for (int n : near_) {
-      const double beat = gap + ctx_.terrain.sphere_radius(n) + rb;
-      const double d2 = (s_.x - ctx_.terrain.sphere_centre(n)).squaredNorm();
-      if (beat > 0.0 && d2 >= beat * beat) continue;
-      gap = std::min(gap, std::sqrt(d2) - ctx_.terrain.sphere_radius(n) - rb);
-    }
+    for (int n : near_) gap = ctx_.terrain.SphereGap(s_.x, rb, n, gap);
     return gap;
   }
 
@@ -427,9 +424,8 @@ class RockRun {
                            0.5 * dt * (law.stiffness_per_mass * c.overlap + ctx_.gravity.dot(c.normal))) /
                           (1.0 + 0.5 * dt * law.damping_per_mass);
         const double fn = std::max(0.0, kn * c.overlap - m * law.damping_per_mass * vn);
-        const std::size_t l = static_cast<std::size_t>(c.material);
-        needed_dt_ = std::min(needed_dt_, std::abs(vn) < steps_.gentle_speed[l] ? steps_.gentle[l]
-                                                                                : steps_.contact[l]);
+        const MaterialSteps& ms = steps_.material[static_cast<std::size_t>(c.material)];
+        needed_dt_ = std::min(needed_dt_, std::abs(vn) < ms.gentle_speed ? ms.gentle : ms.contact);
         // Tangential spring: carry the displacement over, rotated into the
         // current tangent plane, and add this step's sliding.
         Eigen::Vector3d u = Eigen::Vector3d::Zero();
@@ -712,10 +708,6 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
     ctx.laws.push_back(DeriveContactLaw(m, scene.hardness_model));
     ctx.max_contact_time = std::max(ctx.max_contact_time, m.contact_time_s);
   }
-  for (const auto& p : scene.partitions) {
-    ctx.has_x = ctx.has_x || p.kind == Partition::Kind::kX;
-    ctx.has_z = ctx.has_z || p.kind == Partition::Kind::kZ;
-  }
   struct Job {
     int group;
     int rock;
@@ -751,9 +743,8 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
     for (const auto& law : ctx.laws) {
       bool sh = false;
       const double dt = ContactTimeStep(body, law, scene.options, &sh);
-      steps.contact.push_back(dt);
-      steps.gentle.push_back(std::max(dt, GentleTimeStep(body, law, scene.options)));
-      steps.gentle_speed.push_back(scene.gravity * law.contact_time);
+      steps.material.push_back({dt, std::max(dt, GentleTimeStep(body, law, scene.options)),
+                                scene.gravity * law.contact_time});
       steps.finest = std::min(steps.finest, dt);
       any_shrunk = any_shrunk || sh;
     }

@@ -13,6 +13,12 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Contact keys of catch planes (below every node and facet key).
 constexpr std::int64_t kCatchKey = -(std::int64_t{1} << 40);
 
+// Height at (u, v) in [0, 1]^2 of a cell with corner heights z00 .. z11,
+// split along the (0, 0)-(1, 1) diagonal into two planar facets.
+double OnFacets(double u, double v, double z00, double z10, double z01, double z11) {
+  return u >= v ? z00 + u * (z10 - z00) + v * (z11 - z10) : z00 + v * (z01 - z00) + u * (z11 - z01);
+}
+
 // Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision
 // Detection, section 5.1.5: regions of the triangle by barycentric tests).
 Eigen::Vector3d ClosestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
@@ -236,14 +242,11 @@ void Terrain::BuildCandidates() {
     for (int i = 0; i < cx; ++i) {
       if (!CellValid(i, j)) continue;
       Eigen::Vector3d p[4];
-      for (int k = 0; k < 4; ++k)
-        p[k] = Eigen::Vector3d(grid_.x(i + (k & 1)), grid_.y(j + (k >> 1)), CornerHeight(i, j, k));
+      FloorCorners(i, j, p);
       const std::size_t id = 2 * (static_cast<std::size_t>(j) * cx + i);
       floor_up_[id] = (p[1] - p[0]).cross(p[3] - p[0]).normalized();
       floor_up_[id + 1] = (p[3] - p[0]).cross(p[2] - p[0]).normalized();
-      double top = -kInf;
-      for (int k = 0; k < 4; ++k) top = std::max(top, CornerHeight(i, j, k));
-      floor_top_[static_cast<std::size_t>(j) * cx + i] = top;
+      floor_top_[id / 2] = std::max({p[0].z(), p[1].z(), p[2].z(), p[3].z()});
     }
   for (int j = 0; j < cy; ++j)
     for (int i = 0; i < cx; ++i) {
@@ -261,11 +264,15 @@ double Terrain::CornerHeight(int i, int j, int k) const {
              : catch_z_[static_cast<std::size_t>(n)];
 }
 
+void Terrain::FloorCorners(int i, int j, Eigen::Vector3d p[4]) const {
+  for (int k = 0; k < 4; ++k)
+    p[k] = Eigen::Vector3d(grid_.x(i + (k & 1)), grid_.y(j + (k >> 1)), CornerHeight(i, j, k));
+}
+
 double Terrain::FloorDistance(const Eigen::Vector3d& c, int i, int j, double limit,
                               Eigen::Vector3d* normal, int* triangle) const {
   Eigen::Vector3d p[4];
-  for (int k = 0; k < 4; ++k)
-    p[k] = Eigen::Vector3d(grid_.x(i + (k & 1)), grid_.y(j + (k >> 1)), CornerHeight(i, j, k));
+  FloorCorners(i, j, p);
   // Cells split along the (i, j)-(i+1, j+1) diagonal: (p0, p1, p3), (p0, p3, p2).
   const std::size_t id = 2 * (static_cast<std::size_t>(j) * (grid_.nx - 1) + i);
   Eigen::Vector3d n0, n1;
@@ -295,9 +302,8 @@ double Terrain::FloorHeight(double x, double y) const {
   const int i = std::min(static_cast<int>(fx), grid_.nx - 2);
   const int j = std::min(static_cast<int>(fy), grid_.ny - 2);
   const double u = fx - i, v = fy - j;
-  const double z00 = CornerHeight(i, j, 0), z10 = CornerHeight(i, j, 1);
-  const double z01 = CornerHeight(i, j, 2), z11 = CornerHeight(i, j, 3);
-  return u >= v ? z00 + u * (z10 - z00) + v * (z11 - z10) : z00 + v * (z01 - z00) + u * (z11 - z01);
+  return OnFacets(u, v, CornerHeight(i, j, 0), CornerHeight(i, j, 1), CornerHeight(i, j, 2),
+                  CornerHeight(i, j, 3));
 }
 
 
@@ -307,10 +313,8 @@ bool Terrain::Elevation(double x, double y, double* z) const {
   const int i = std::min(static_cast<int>(fx), grid_.nx - 2);
   const int j = std::min(static_cast<int>(fy), grid_.ny - 2);
   const double u = fx - i, v = fy - j;
-  const double z00 = grid_.z[grid_.index(i, j)], z10 = grid_.z[grid_.index(i + 1, j)];
-  const double z01 = grid_.z[grid_.index(i, j + 1)], z11 = grid_.z[grid_.index(i + 1, j + 1)];
-  // Cells split along the (i, j)-(i+1, j+1) diagonal.
-  *z = u >= v ? z00 + u * (z10 - z00) + v * (z11 - z10) : z00 + v * (z01 - z00) + u * (z11 - z01);
+  *z = OnFacets(u, v, grid_.z[grid_.index(i, j)], grid_.z[grid_.index(i + 1, j)],
+                grid_.z[grid_.index(i, j + 1)], grid_.z[grid_.index(i + 1, j + 1)]);
   return true;
 }
 
@@ -345,11 +349,6 @@ void Terrain::FindContacts(const Eigen::Vector3d& c, double a,
     SphereContacts(c, a, begin, end, out);
   }
   FloorContacts(c, a, out);
-}
-
-void Terrain::Candidates(int cell, const int** begin, const int** end) const {
-  *begin = list_.data() + list_start_[static_cast<std::size_t>(cell)];
-  *end = list_.data() + list_start_[static_cast<std::size_t>(cell) + 1];
 }
 
 void Terrain::SphereContacts(const Eigen::Vector3d& c, double a, const int* begin, const int* end,
@@ -407,13 +406,7 @@ double Terrain::Gap(const Eigen::Vector3d& c, double a, double reach) const {
   // by up to reach: the candidate spheres and the floor surface of the cells
   // it may be centred over.
   double gap = kInf;
-  ForEachCandidate(c, a + reach, [&](int n) {
-    // Only a sphere nearer than the gap found so far needs the root.
-    const double beat = gap + radius_[n] + a;
-    const double d2 = (c - centre_[n]).squaredNorm();
-    if (beat > 0.0 && d2 >= beat * beat) return;
-    gap = std::min(gap, std::sqrt(d2) - radius_[n] - a);
-  });
+  ForEachCandidate(c, a + reach, [&](int n) { gap = SphereGap(c, a, n, gap); });
   return std::min(gap, FloorGap(c, a, reach, gap));
 }
 

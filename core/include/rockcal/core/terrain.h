@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -82,16 +83,23 @@ class Terrain final {
   // moves by less than min(result, reach) it cannot touch the floor.
   double FloorGap(const Eigen::Vector3d& c, double a, double reach,
                   double bound = std::numeric_limits<double>::infinity()) const;
+  // min(gap, the gap between the sphere (c, a) and virtual sphere n); the
+  // root is taken only when sphere n is nearer than `gap`.
+  double SphereGap(const Eigen::Vector3d& c, double a, int n, double gap) const {
+    const double beat = gap + radius_[static_cast<std::size_t>(n)] + a;
+    const double d2 = (c - centre_[static_cast<std::size_t>(n)]).squaredNorm();
+    if (beat > 0.0 && d2 >= beat * beat) return gap;
+    return std::min(gap, std::sqrt(d2) - radius_[static_cast<std::size_t>(n)] - a);
+  }
 
   // The candidate virtual spheres (sorted node indices) that a body inside the
   // sphere (c, rb) may touch while c moves by less than `skin`: a rock's
   // neighbour list, valid until it has moved that far.
   void NearSpheres(const Eigen::Vector3d& c, double rb, double skin, std::vector<int>* out) const;
-  // The pieces of FindContacts, for callers that gather candidate spheres
-  // once for several elements (clusters): the candidate sphere nodes of a
-  // cell; the contacts with the spheres of [begin, end); the contacts with
-  // the catch plane and the smooth facets under an element.
-  void Candidates(int cell, const int** begin, const int** end) const;
+  // The pieces of FindContacts, for callers that keep their own candidate
+  // list (a rock's neighbour list): the contacts with the spheres of
+  // [begin, end); the deepest contact with the floor surface (smooth facets,
+  // or the catch surface) under an element.
   void SphereContacts(const Eigen::Vector3d& c, double a, const int* begin, const int* end,
                       std::vector<TerrainContact>* out) const;
   void FloorContacts(const Eigen::Vector3d& c, double a, std::vector<TerrainContact>* out) const;
@@ -143,6 +151,8 @@ class Terrain final {
   // Corner k (bit 0: +i, bit 1: +j) of cell (i, j) on its floor surface: the
   // terrain for a smooth cell, the catch surface for a rough one.
   double CornerHeight(int i, int j, int k) const;
+  // The four corners of cell (i, j) on its floor surface, in CornerHeight order.
+  void FloorCorners(int i, int j, Eigen::Vector3d p[4]) const;
   // Signed one-sided distance from c to the floor surface of cell (i, j); a
   // result >= limit is only a lower bound (and sets no normal).
   double FloorDistance(const Eigen::Vector3d& c, int i, int j, double limit,
