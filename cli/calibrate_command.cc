@@ -61,7 +61,7 @@ int Calibrate(const std::vector<std::string>& argv) {
   const auto start_time = std::chrono::steady_clock::now();
   const Args args(argv, {"force", "quiet", "resume"},
                   {"observations", "method", "methods", "max-evals", "max-seconds", "rocks", "seed",
-                   "threads", "loss", "out"});
+                   "threads", "loss", "estimate", "out"});
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   const std::string obs_path = args.Get("observations");
@@ -92,6 +92,10 @@ int Calibrate(const std::vector<std::string>& argv) {
   options.max_seconds = args.Number("max-seconds", 0.0, 0.0, 1e9);
   options.seed = scene.options.seed;
   options.ceres_loss = args.Get("loss", "none");
+  options.estimate = args.Get("estimate", "smoothed");
+  if (options.estimate != "smoothed" && options.estimate != "lowest")
+    throw InputError("argument --estimate",
+                     "'" + options.estimate + "' is not an estimate (allowed: smoothed, lowest)");
   std::string error;
   if (!options.IsValid(&error)) throw InputError("arguments", error);
 

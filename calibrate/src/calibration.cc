@@ -9,6 +9,7 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <nlopt.hpp>
 #include <sstream>
@@ -65,11 +66,14 @@ class Evaluator final {
         log_(log),
         progress_(progress) {}
 
+  // The search's budget: the options' less the evaluations kept back for
+  // the smoothed estimate.
   bool exhausted() const {
-    if (static_cast<int>(trace_.size()) >= options_.max_evals) return true;
+    if (static_cast<int>(trace_.size()) >= limit()) return true;
     return options_.max_seconds > 0 && Elapsed() >= options_.max_seconds;
   }
-  int remaining() const { return options_.max_evals - static_cast<int>(trace_.size()); }
+  int remaining() const { return limit() - static_cast<int>(trace_.size()); }
+  void Reserve(int evaluations) { reserved_ = evaluations; }
 
   const Evaluation& Evaluate(const std::vector<double>& unit) {
     const std::vector<double> x = objective_.space().ToPhysical(unit);
@@ -116,8 +120,8 @@ class Evaluator final {
     MethodResult r;
     r.method = method_;
     r.termination = std::move(termination);
-    r.best = best_;
-    r.best_misfit = best_misfit_;
+    r.best = r.lowest = best_;
+    r.best_misfit = r.lowest_misfit = best_misfit_;
     r.evaluations = static_cast<int>(trace_.size());
     r.simulated = simulated_;
     r.wall_seconds = trace_.empty() ? 0.0 : trace_.back().elapsed;
@@ -128,8 +132,12 @@ class Evaluator final {
   const std::vector<double>& best() const { return best_; }
   double best_misfit() const { return best_misfit_; }
   const std::vector<double>& best_residuals() const { return best_residuals_; }
+  const std::vector<Evaluation>& trace() const { return trace_; }
+  int residual_count() const { return objective_.residual_count(); }
 
  private:
+  int limit() const { return options_.max_evals - reserved_; }
+
   std::string method_;
   const Objective& objective_;
   const MethodOptions& options_;
@@ -141,7 +149,9 @@ class Evaluator final {
   std::vector<double> best_, best_residuals_;
   double best_misfit_ = kInf;
   int simulated_ = 0;
+  int reserved_ = 0;
 };
+
 
 std::string NloptResultName(nlopt::result r) {
   switch (r) {
@@ -296,8 +306,8 @@ Uncertainty JacobianUncertainty(const Eigen::MatrixXd& j_unit, double misfit,
   return u;
 }
 
-MethodResult RunCeres(std::vector<double> unit, const MethodOptions& options, Evaluator* ev,
-                      const Objective& objective) {
+// Runs Ceres from `unit` within the evaluator's budget; returns why it stopped.
+std::string RunCeres(std::vector<double> unit, const MethodOptions& options, Evaluator* ev) {
   const int n = static_cast<int>(unit.size());
   // Unit box -> unbounded t = log(u / (1 - u)), kept away from the edges.
   std::vector<double> w(static_cast<std::size_t>(n));
@@ -311,7 +321,7 @@ MethodResult RunCeres(std::vector<double> unit, const MethodOptions& options, Ev
   auto* cost = new ceres::DynamicNumericDiffCostFunction<CeresResiduals, ceres::CENTRAL>(
       functor, ceres::TAKE_OWNERSHIP, diff);
   cost->AddParameterBlock(n);
-  cost->SetNumResiduals(objective.residual_count());
+  cost->SetNumResiduals(static_cast<int>(ev->residual_count()));
   ceres::Problem problem;
   ceres::LossFunction* loss = nullptr;
   if (options.ceres_loss == "huber") loss = new ceres::HuberLoss(1.0);
@@ -328,11 +338,14 @@ MethodResult RunCeres(std::vector<double> unit, const MethodOptions& options, Ev
   so.update_state_every_iteration = false;
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
-  std::string termination = ev->exhausted() ? "budget used" : summary.message;
-  MethodResult result = ev->Finish(termination);
-  // Uncertainty at the best point: the Jacobian by central differences in the
-  // unit box, with the same step as the solver (2n more evaluations, run
-  // outside the budget so the estimate exists).
+  return ev->exhausted() ? "budget used" : summary.message;
+}
+
+// Uncertainty at the calibrated values: the Jacobian by central differences
+// in the unit box (2n more evaluations, run outside the budget so the
+// estimate exists).
+Uncertainty CeresUncertainty(const MethodResult& result, const Objective& objective) {
+  const int n = objective.space().size();
   if (!result.best.empty() && objective.residual_count() > 0) {
     const std::vector<double> best_unit = objective.space().ToUnit(result.best);
     const int m = objective.residual_count();
@@ -347,12 +360,115 @@ MethodResult RunCeres(std::vector<double> unit, const MethodOptions& options, Ev
       for (int r = 0; r < m; ++r)
         j(r, k) = (a.residuals[r].value - b.residuals[r].value) / (up[k] - down[k]);
     }
-    result.uncertainty = JacobianUncertainty(j, result.best_misfit, objective.space());
+    return JacobianUncertainty(j, result.best_misfit, objective.space());
   }
+  return Uncertainty{};
+}
+
+// The result of a method run: with `smoothed`, the smoothed estimate
+// evaluated (the evaluation kept back for it) and taken as the calibrated
+// values; otherwise, or when the evaluations cannot determine it, the lowest.
+MethodResult Conclude(Evaluator* ev, std::string termination, bool smoothed,
+                      const MethodOptions& options, const Objective& objective) {
+  SmoothedEstimate info;
+  if (!smoothed || ev->best().empty()) {
+    MethodResult result = ev->Finish(std::move(termination));
+    if (options.estimate == "smoothed")
+      result.smoothed.message = "not used: a budget of " + std::to_string(options.max_evals) +
+                                " evaluations is too small to fit it (it needs " +
+                                std::to_string(2 * (objective.space().size() + 1) + 1) + ")";
+    return result;
+  }
+  const std::vector<double> lowest = ev->best();
+  const std::optional<std::vector<double>> unit = FitSmoothedEstimate(
+      ev->trace(), objective.space(), lowest, options.smoothing_radius, &info);
+  std::vector<double> estimate;
+  double misfit = 0.0;
+  if (unit) {
+    estimate = objective.space().ToPhysical(*unit);
+    misfit = estimate == lowest ? ev->best_misfit() : ev->Evaluate(*unit).misfit;
+    info.used = true;
+  }
+  MethodResult result = ev->Finish(std::move(termination));
+  if (info.used) {
+    result.best = estimate;
+    result.best_misfit = misfit;
+  }
+  result.smoothed = info;
   return result;
 }
 
+
 }  // namespace
+
+std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluation>& trace,
+                                                       const ParameterSpace& space,
+                                                       const std::vector<double>& lowest,
+                                                       double radius, SmoothedEstimate* info) {
+  const int n = space.size();
+  const std::vector<double> centre = space.ToUnit(lowest);
+  std::size_t m = 0;
+  std::vector<std::vector<double>> units;
+  for (const Evaluation& e : trace) {
+    units.push_back(space.ToUnit(e.parameters));
+    if (!e.penalised) m = std::max(m, e.residuals.size());
+  }
+  auto distance = [&](const std::vector<double>& u) {
+    double d = 0.0;
+    for (int k = 0; k < n; ++k) d = std::max(d, std::abs(u[k] - centre[k]));
+    return d;
+  };
+  const std::size_t wanted = 2 * static_cast<std::size_t>(n + 1);
+  std::vector<std::size_t> near;
+  for (;; radius = std::min(1.0, 1.5 * radius)) {
+    near.clear();
+    for (std::size_t i = 0; i < trace.size(); ++i)
+      if (!trace[i].penalised && trace[i].residuals.size() == m && distance(units[i]) <= radius)
+        near.push_back(i);
+    if (near.size() >= wanted || radius >= 1.0) break;
+  }
+  info->radius = radius;
+  info->points = static_cast<int>(near.size());
+  if (m == 0 || near.size() < wanted) {
+    info->message = "not used: " + std::to_string(near.size()) +
+                    " unpenalised evaluations, fewer than the " + std::to_string(wanted) +
+                    " a linear model of the residuals needs";
+    return std::nullopt;
+  }
+  Eigen::MatrixXd x(static_cast<Eigen::Index>(near.size()), n + 1);
+  Eigen::MatrixXd r(static_cast<Eigen::Index>(near.size()), static_cast<Eigen::Index>(m));
+  for (std::size_t a = 0; a < near.size(); ++a) {
+    const Eigen::Index row = static_cast<Eigen::Index>(a);
+    x(row, 0) = 1.0;
+    for (int k = 0; k < n; ++k) x(row, k + 1) = units[near[a]][k] - centre[k];
+    for (std::size_t b = 0; b < m; ++b)
+      r(row, static_cast<Eigen::Index>(b)) = trace[near[a]].residuals[b];
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(x);
+  if (qr.rank() < n + 1) {
+    info->message = "not used: the evaluations near the lowest do not span every parameter "
+                    "(they lie on a lower-dimensional set), so the model is undetermined";
+    return std::nullopt;
+  }
+  const Eigen::MatrixXd coef = qr.solve(r);  // (n + 1) x m
+  const Eigen::VectorXd a = coef.row(0).transpose();
+  const Eigen::MatrixXd j = coef.bottomRows(n).transpose();  // m x n
+  const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(j);
+  const Eigen::VectorXd d = -cod.solve(a);
+  std::vector<double> unit(static_cast<std::size_t>(n));
+  Eigen::VectorXd step(n);
+  for (int k = 0; k < n; ++k) {
+    unit[k] = std::clamp(centre[k] + std::clamp(d[k], -radius, radius), 0.0, 1.0);
+    step[k] = unit[k] - centre[k];
+  }
+  info->predicted_misfit = 0.5 * (a + j * step).squaredNorm();
+  std::ostringstream msg;
+  msg << "linear model of the residuals fitted to " << near.size()
+      << " evaluations within " << radius << " of the lowest (unit box)";
+  if (cod.rank() < n) msg << "; the model's Jacobian has rank " << cod.rank() << " of " << n;
+  info->message = msg.str();
+  return unit;
+}
 
 bool MethodOptions::IsValid(std::string* error) const {
   std::ostringstream s;
@@ -368,6 +484,10 @@ bool MethodOptions::IsValid(std::string* error) const {
     s << "ceres_step = " << ceres_step << ": must be in (0, 2]";
   } else if (ceres_loss != "none" && ceres_loss != "huber" && ceres_loss != "cauchy") {
     s << "ceres_loss = '" << ceres_loss << "': must be none, huber or cauchy";
+  } else if (estimate != "smoothed" && estimate != "lowest") {
+    s << "estimate = '" << estimate << "': must be smoothed or lowest";
+  } else if (!(smoothing_radius > 0 && smoothing_radius <= 1)) {
+    s << "smoothing_radius = " << smoothing_radius << ": must be in (0, 1]";
   } else {
     return true;
   }
@@ -469,16 +589,25 @@ MethodResult RunMethod(const std::string& method, const Objective& objective,
   std::string error;
   if (!options.IsValid(&error)) throw InputError("calibration options", error);
   Evaluator ev(method, objective, options, log, progress);
+  // The smoothed estimate needs 2(n + 1) evaluations to fit and one to
+  // evaluate; a smaller budget goes to the search whole.
+  const int n = objective.space().size();
+  const bool smoothed = options.estimate == "smoothed" && options.max_evals >= 2 * (n + 1) + 1;
+  if (smoothed) ev.Reserve(1);
   const std::vector<double> unit = objective.space().ToUnit(start);
-  if (info->ceres) return RunCeres(unit, options, &ev, objective);
+  if (info->ceres) {
+    const std::string termination = RunCeres(unit, options, &ev);
+    MethodResult result = Conclude(&ev, termination, smoothed, options, objective);
+    result.uncertainty = CeresUncertainty(result, objective);
+    return result;
+  }
   std::string termination;
   if (!info->global) {
     // A Monte Carlo misfit is rugged: a local method that converged may sit
     // in a dip of the noise. Restart it from its best point with a fresh
     // step while budget remains; a restart that finds nothing better halves
     // the step, down to a sixteenth of the first.
-    termination = RunNlopt(info->algorithm, unit, options.max_evals, options, &ev);
-    const int n = objective.space().size();
+    termination = RunNlopt(info->algorithm, unit, ev.remaining(), options, &ev);
     int restarts = 0;
     MethodOptions restart = options;
     while (!ev.exhausted() && ev.remaining() >= n + 2 &&
@@ -493,7 +622,7 @@ MethodResult RunMethod(const std::string& method, const Objective& objective,
       termination += "; budget used";
   } else {
     // Global search, then a local polish from its best point.
-    const int global = std::max(2, static_cast<int>(options.max_evals * (1 - options.polish_fraction)));
+    const int global = std::max(2, static_cast<int>(ev.remaining() * (1 - options.polish_fraction)));
     termination = RunNlopt(info->algorithm, unit, global, options, &ev);
     if (!ev.exhausted() && ev.remaining() >= 2 && !ev.best().empty()) {
       termination += "; polished with nlopt:bobyqa: " +
@@ -501,7 +630,7 @@ MethodResult RunMethod(const std::string& method, const Objective& objective,
                               ev.remaining(), options, &ev);
     }
   }
-  return ev.Finish(termination);
+  return Conclude(&ev, termination, smoothed, options, objective);
 }
 
 double TimeToReach(const MethodResult& result, double target, double fraction) {

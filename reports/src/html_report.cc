@@ -1141,13 +1141,25 @@ std::string CalibrationSection(const Context& c) {
           "at the start " +
               RefSpan(Ref(cj, "/misfit_before"), rec.misfit_before.value,
                       Label(rec.misfit_before.value, 4)) +
-              ", best found " +
+              ", at the calibrated values " +
               RefSpan(Ref(cj, "/methods/" + Int(rec.best) + "/misfit"), best.best_misfit,
                       Label(best.best_misfit, 4)) +
+              ", lowest evaluated " +
+              RefSpan(Ref(cj, "/methods/" + Int(rec.best) + "/lowest_misfit"), best.lowest_misfit,
+                      Label(best.lowest_misfit, 4)) +
               ", this report's simulation " +
               RefSpan(Ref(cj, "/misfit_after"), rec.misfit_after.value,
                       Label(rec.misfit_after.value, 4)) +
               " (half the sum of the squared residuals, each in units of its uncertainty)");
+  s += Kv("Calibrated values",
+          best.smoothed.used
+              ? "the smoothed estimate: " + Escape(best.smoothed.message) +
+                    ", at its Gauss-Newton minimum (the lowest evaluation sits in a dip of the "
+                    "Monte Carlo noise)"
+              : "the lowest evaluation" +
+                    (best.smoothed.message.empty()
+                         ? std::string()
+                         : " (smoothed estimate " + Escape(best.smoothed.message) + ")"));
   s += Kv("Each evaluation", Escape(Int(rec.rocks) + " rocks, seed " + std::to_string(rec.seed) +
                                     " (the same random numbers at every evaluation)"));
   s += Kv(
@@ -1207,9 +1219,9 @@ std::string CalibrationSection(const Context& c) {
   }
   if (rec.methods.size() > 1) {
     double best_all = kInf;
-    for (const auto& m : rec.methods) best_all = std::min(best_all, m.best_misfit);
+    for (const auto& m : rec.methods) best_all = std::min(best_all, m.lowest_misfit);
     s += "<h3>Methods compared</h3><table><thead><tr>" + Th("method") + Th("misfit") +
-         Th("evaluations") + Th("simulated") + Th("wall s") + Th("s to within 10 % of the best") +
+         Th("lowest evaluated") + Th("evaluations") + Th("simulated") + Th("wall s") + Th("s to within 10 % of the lowest") +
          Th("stopped because") + "</tr></thead><tbody>";
     for (std::size_t m = 0; m < rec.methods.size(); ++m) {
       const auto& mr = rec.methods[m];
@@ -1218,6 +1230,8 @@ std::string CalibrationSection(const Context& c) {
            "><td><code>" + Escape(mr.method) + "</code></td>" +
            RefCell(Ref(cj, "/methods/" + Int(static_cast<long>(m)) + "/misfit"), mr.best_misfit,
                    Label(mr.best_misfit, 4)) +
+           RefCell(Ref(cj, "/methods/" + Int(static_cast<long>(m)) + "/lowest_misfit"),
+                   mr.lowest_misfit, Label(mr.lowest_misfit, 4)) +
            Td(Int(mr.evaluations), true) + Td(Int(mr.simulated), true) +
            Td(Show(mr.wall_seconds), true) + Td(reach >= 0 ? Show(reach) : "never", true) +
            Td(mr.termination) + "</tr>";

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <random>
 
 #include "twin_fixture.h"
 
@@ -133,6 +134,129 @@ TEST(Calibration, OptionsAreChecked) {
   o.ceres_loss = "l1";
   EXPECT_FALSE(o.IsValid(&error));
   EXPECT_THAT(error, HasSubstr("none, huber or cauchy"));
+  o = MethodOptions{};
+  o.estimate = "mean";
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("smoothed or lowest"));
+  o = MethodOptions{};
+  o.smoothing_radius = 0.0;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("smoothing_radius = 0"));
+}
+
+// Two parameters and evaluations whose residuals are r(u) = A (u - u*) plus
+// `noise` (normal, standard deviation `noise`, fixed seed) at the points
+// `units` of the unit box.
+struct LinearResiduals {
+  ParameterSpace space{{Parameter{"a", 0, ParameterKind::kHardness, 0.0, 1.0},
+                        Parameter{"b", 1, ParameterKind::kRoughness, 0.1, 0.6}}};
+  Eigen::Vector2d optimum{0.4, 0.6};
+  Eigen::Matrix<double, 5, 2> a = (Eigen::Matrix<double, 5, 2>() << 8, 1, -3, 6, 5, 5, 0, -7, 2,
+                                   2).finished();
+
+  std::vector<Evaluation> Trace(const std::vector<Eigen::Vector2d>& units, double noise) const {
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> normal(0.0, noise);
+    std::vector<Evaluation> trace;
+    for (const Eigen::Vector2d& u : units) {
+      Evaluation e;
+      e.parameters = space.ToPhysical({u[0], u[1]});
+      Eigen::Matrix<double, 5, 1> r = a * (u - optimum);
+      for (int k = 0; k < 5; ++k) e.residuals.push_back(r[k] + (noise > 0 ? normal(rng) : 0.0));
+      e.misfit = 0.0;
+      for (double v : e.residuals) e.misfit += 0.5 * v * v;
+      trace.push_back(e);
+    }
+    return trace;
+  }
+  static const Evaluation& Lowest(const std::vector<Evaluation>& trace) {
+    return *std::min_element(trace.begin(), trace.end(), [](const Evaluation& x, const Evaluation& y) {
+      return x.misfit < y.misfit;
+    });
+  }
+};
+
+TEST(SmoothedEstimate, ExactForLinearResiduals) {
+  const LinearResiduals lin;
+  std::vector<Eigen::Vector2d> units;
+  for (double x : {0.3, 0.45, 0.6})
+    for (double y : {0.5, 0.65, 0.8}) units.emplace_back(x, y);
+  const std::vector<Evaluation> trace = lin.Trace(units, 0.0);
+  SmoothedEstimate info;
+  const auto u = FitSmoothedEstimate(trace, lin.space, LinearResiduals::Lowest(trace).parameters,
+                                     0.2, &info);
+  ASSERT_TRUE(u.has_value()) << info.message;
+  EXPECT_NEAR((*u)[0], 0.4, 1e-9);
+  EXPECT_NEAR((*u)[1], 0.6, 1e-9);
+  EXPECT_NEAR(info.predicted_misfit, 0.0, 1e-12);
+  EXPECT_EQ(info.points, 9);
+}
+
+TEST(SmoothedEstimate, AveragesNoiseThatFoolsTheLowestEvaluation) {
+  // 80 evaluations scattered around the optimum, residual noise 0.5: the
+  // lowest misfit falls where the noise happens to be small, not at u*. The
+  // least-squares fit sees through it: its error is about
+  // 0.5 / (|A| sqrt(80)) ~ 0.005 per parameter.
+  const LinearResiduals lin;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> offset(-0.15, 0.15);
+  std::vector<Eigen::Vector2d> units;
+  for (int k = 0; k < 80; ++k) units.emplace_back(0.4 + offset(rng), 0.6 + offset(rng));
+  const std::vector<Evaluation> trace = lin.Trace(units, 0.5);
+  const Evaluation& lowest = LinearResiduals::Lowest(trace);
+  SmoothedEstimate info;
+  const auto u = FitSmoothedEstimate(trace, lin.space, lowest.parameters, 0.2, &info);
+  ASSERT_TRUE(u.has_value()) << info.message;
+  const std::vector<double> low = lin.space.ToUnit(lowest.parameters);
+  const double error = std::hypot((*u)[0] - 0.4, (*u)[1] - 0.6);
+  const double lowest_error = std::hypot(low[0] - 0.4, low[1] - 0.6);
+  EXPECT_LT(error, 0.02) << "estimate " << (*u)[0] << ", " << (*u)[1];
+  EXPECT_LT(error, lowest_error) << "lowest evaluation " << low[0] << ", " << low[1];
+}
+
+TEST(SmoothedEstimate, SaysWhenTheEvaluationsCannotDetermineIt) {
+  const LinearResiduals lin;
+  SmoothedEstimate info;
+  // Five points: fewer than 2 (n + 1) = 6.
+  std::vector<Eigen::Vector2d> few = {{0.3, 0.5}, {0.4, 0.5}, {0.5, 0.5}, {0.3, 0.6}, {0.4, 0.7}};
+  std::vector<Evaluation> trace = lin.Trace(few, 0.0);
+  EXPECT_FALSE(FitSmoothedEstimate(trace, lin.space, trace[1].parameters, 0.2, &info));
+  EXPECT_THAT(info.message, HasSubstr("fewer than the 6"));
+  // Eight points on one line: the second parameter never varies.
+  std::vector<Eigen::Vector2d> line;
+  for (int k = 0; k < 8; ++k) line.emplace_back(0.3 + 0.02 * k, 0.5);
+  trace = lin.Trace(line, 0.0);
+  EXPECT_FALSE(FitSmoothedEstimate(trace, lin.space, trace[4].parameters, 0.2, &info));
+  EXPECT_THAT(info.message, HasSubstr("do not span every parameter"));
+  // A penalised evaluation does not count.
+  trace = lin.Trace({{0.3, 0.5}, {0.5, 0.5}, {0.3, 0.7}, {0.5, 0.7}, {0.4, 0.6}, {0.45, 0.55}}, 0.0);
+  ASSERT_TRUE(FitSmoothedEstimate(trace, lin.space, trace[4].parameters, 0.2, &info));
+  trace[0].penalised = true;
+  EXPECT_FALSE(FitSmoothedEstimate(trace, lin.space, trace[4].parameters, 0.2, &info));
+}
+
+TEST(Calibration, SmoothedEstimateIsEvaluatedAndReported) {
+  Small small;
+  MethodOptions options;
+  options.max_evals = 14;  // four parameters: 10 to fit, 1 kept back to evaluate the estimate
+  for (const std::string& method : {std::string("nlopt:bobyqa"), std::string("ceres")}) {
+    const MethodResult r = RunMethod(method, small.objective,
+                                     small.space.Current(small.site.scene), options, nullptr);
+    ASSERT_TRUE(r.smoothed.used) << method << ": " << r.smoothed.message;
+    EXPECT_EQ(r.evaluations, 14) << method;
+    EXPECT_GE(r.smoothed.points, 10) << method;
+    // The misfit reported is the one at the reported values; the lowest is
+    // kept beside it, and no evaluation was lower.
+    EXPECT_EQ(r.best_misfit, small.objective.Evaluate(r.best).value) << method;
+    EXPECT_EQ(r.trace.back().parameters, r.best) << method;
+    for (const Evaluation& e : r.trace) EXPECT_GE(e.misfit, r.lowest_misfit) << method;
+  }
+  options.estimate = "lowest";
+  const MethodResult r = RunMethod("nlopt:bobyqa", small.objective,
+                                   small.space.Current(small.site.scene), options, nullptr);
+  EXPECT_FALSE(r.smoothed.used);
+  EXPECT_EQ(r.best, r.lowest);
+  EXPECT_EQ(r.best_misfit, r.lowest_misfit);
 }
 
 TEST(ParameterSpace, UnitBoxRoundTripAndApply) {

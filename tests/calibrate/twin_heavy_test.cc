@@ -49,7 +49,8 @@ double RangeError(const ParameterSpace& space, const std::vector<double>& x, int
 
 std::string Describe(const MethodResult& r, const ParameterSpace& space) {
   std::string s = r.method + ": misfit " + std::to_string(r.best_misfit) + " after " +
-                  std::to_string(r.evaluations) + " (" + r.termination + ")";
+                  std::to_string(r.evaluations) + " (" + r.termination + "; lowest evaluated " +
+                  std::to_string(r.lowest_misfit) + "; " + r.smoothed.message + ")";
   for (int k = 0; k < space.size(); ++k)
     s += "\n  " + space.parameters()[k].label() + " = " + std::to_string(r.best[k]) + " (truth " +
          std::to_string(kTruth[k]) + ", error " + std::to_string(100 * RangeError(space, r.best, k)) +
@@ -57,20 +58,20 @@ std::string Describe(const MethodResult& r, const ParameterSpace& space) {
   return s;
 }
 
-// What these observations determine, and what the test asserts:
-//  - the slope's hardness, within 10 % of its range (0.2-5.5 % in every run);
-//  - the optimiser reaches the noise floor: its misfit is at most 1.5 times
-//    the misfit at the truth.
-// The runout's hardness and both roughness values are printed, not asserted.
-// The misfit has a valley along which a harder runout trades against a
-// rougher one and a rougher slope: over calibration seeds 2 and 3, 300 to
-// 2000 rocks and two rolling-resistance laws, the runout hardness landed
-// 3.7-20 % of its range from the truth and the roughness values 3-23 %, each
-// time at a misfit at or below 1.5 times the truth's. The observations (scars
-// at two partitions, runout distance and spread) do not pin them down; the
-// optimisers are not what limits them. See the calibration notes.
-void ExpectSlopeHardnessAndNoiseFloor(const MethodResult& r, const Twin& twin) {
-  EXPECT_LT(RangeError(twin.space, r.best, 0), 0.10) << Describe(r, twin.space);
+// The criterion: every parameter within 10 % of its range of the
+// truth. And the optimiser reaches the noise floor: the misfit at the
+// calibrated values is at most 1.5 times the misfit at the truth.
+//
+// The calibrated values are the smoothed estimate (MethodOptions::estimate).
+// The lowest evaluation alone misses the criterion: on this rugged misfit it
+// sits in a dip of the Monte Carlo noise far below the truth's misfit (BOBYQA
+// 4.6, Ceres 2.9, truth 10.1 at calibration seed 2), with the runout
+// hardness 20 % (BOBYQA) and 11 % (Ceres) of its range off.
+void ExpectTruthRecovered(const MethodResult& r, const Twin& twin) {
+  ASSERT_TRUE(r.smoothed.used) << r.smoothed.message;
+  for (int k = 0; k < twin.space.size(); ++k)
+    EXPECT_LT(RangeError(twin.space, r.best, k), 0.10)
+        << twin.space.parameters()[k].label() << "\n" << Describe(r, twin.space);
   EXPECT_LT(r.best_misfit, twin.objective.Evaluate(kTruth).value * 1.5) << Describe(r, twin.space);
 }
 
@@ -84,7 +85,7 @@ TEST(Calibration, TwinExperimentBobyqa) {
   const MethodResult r = RunMethod("nlopt:bobyqa", twin.objective, twin.space.Current(twin.scene),
                                    options, nullptr);
   std::printf("%s\n", Describe(r, twin.space).c_str());
-  ExpectSlopeHardnessAndNoiseFloor(r, twin);
+  ExpectTruthRecovered(r, twin);
 }
 
 TEST(Calibration, TwinExperimentCeresWithUncertainty) {
@@ -94,7 +95,7 @@ TEST(Calibration, TwinExperimentCeresWithUncertainty) {
   const MethodResult r =
       RunMethod("ceres", twin.objective, twin.space.Current(twin.scene), options, nullptr);
   std::printf("%s\n", Describe(r, twin.space).c_str());
-  ExpectSlopeHardnessAndNoiseFloor(r, twin);
+  ExpectTruthRecovered(r, twin);
   ASSERT_TRUE(r.uncertainty.computed) << r.uncertainty.message;
   ASSERT_FALSE(r.uncertainty.rank_deficient) << r.uncertainty.message;
   for (int k = 0; k < twin.space.size(); ++k) {

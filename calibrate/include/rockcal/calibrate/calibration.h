@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,18 @@ struct MethodOptions {
   // objective, small enough to follow its trend. (0, 2]
   double ceres_step = 0.2;
   std::string ceres_loss = "none";  // none | huber | cauchy (scale 1: residuals are in sigmas)
+  // How the calibrated values are taken from the evaluations:
+  //  - "smoothed": the Gauss-Newton minimiser of a linear model of the
+  //    residuals, fitted by least squares to the evaluations near the lowest
+  //    misfit, evaluated once more (one evaluation of the budget is kept for
+  //    it). A Monte Carlo misfit is rugged: its lowest evaluation sits in a
+  //    dip of the noise (the winner's curse), which the fit averages out;
+  //  - "lowest": the evaluation with the lowest misfit.
+  std::string estimate = "smoothed";
+  // Half-width, in the unit box, of the neighbourhood of the lowest
+  // evaluation whose evaluations the smoothed estimate fits (widened until it
+  // holds 2(n + 1) of them); also the largest move from it. (0, 1]
+  double smoothing_radius = 0.2;
 
   bool IsValid(std::string* error) const;
 };
@@ -76,11 +89,25 @@ struct Uncertainty {
   std::vector<double> singular_values;           // of the Jacobian in the unit box
 };
 
+// The smoothed estimate of a method run (MethodOptions::estimate).
+struct SmoothedEstimate {
+  bool used = false;    // false: the calibrated values are the lowest evaluation
+  std::string message;  // how it was made, or why it was not
+  int points = 0;       // evaluations the linear model was fitted to
+  double radius = 0.0;  // their neighbourhood's half-width in the unit box
+  double predicted_misfit = 0.0;  // the model's misfit at the estimate
+};
+
 struct MethodResult {
   std::string method;
   std::string termination;  // why it stopped
-  std::vector<double> best;  // physical values
-  double best_misfit = 0.0;
+  std::vector<double> best;  // the calibrated values (physical)
+  double best_misfit = 0.0;  // the misfit evaluated at `best`
+  // The evaluation with the lowest misfit (equal to best/best_misfit unless
+  // the smoothed estimate moved away from it).
+  std::vector<double> lowest;
+  double lowest_misfit = 0.0;
+  SmoothedEstimate smoothed;
   int evaluations = 0;  // in all
   int simulated = 0;    // that ran a simulation (the rest were replayed)
   double wall_seconds = 0.0;
@@ -102,6 +129,21 @@ using CalibrationProgress = std::function<void(const Evaluation&, double best)>;
 MethodResult RunMethod(const std::string& method, const Objective& objective,
                        const std::vector<double>& start, const MethodOptions& options,
                        EvaluationLog* log, const CalibrationProgress& progress = nullptr);
+
+// The smoothed estimate of MethodOptions::estimate, from the evaluations of
+// one method run: a linear model of the residual vector,
+// r(u) = a + J (u - u_lowest) in the unit box, fitted by least squares to the
+// unpenalised evaluations within `radius` (max norm) of `lowest` (physical
+// values), the radius widened by half until 2(n + 1) of them are inside; then
+// the Gauss-Newton minimiser of |a + J d|^2 (least norm where J is rank
+// deficient), each component of d clamped to the radius and the box.
+// Returns the estimate in the unit box, or nothing when the evaluations
+// cannot determine the model (too few, or not spanning every parameter);
+// *info receives the points, the radius, the predicted misfit and a message.
+std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluation>& trace,
+                                                       const ParameterSpace& space,
+                                                       const std::vector<double>& lowest,
+                                                       double radius, SmoothedEstimate* info);
 
 // Wall seconds at which a method's best misfit first came within `fraction`
 // of `target` (best_misfit <= target * (1 + fraction)); negative if never.
