@@ -365,29 +365,60 @@ Uncertainty CeresUncertainty(const MethodResult& result, const Objective& object
   return Uncertainty{};
 }
 
-// The result of a method run: with `smoothed`, the smoothed estimate
-// evaluated (the evaluation kept back for it) and taken as the calibrated
-// values; otherwise, or when the evaluations cannot determine it, the lowest.
+// The evaluations the smoothed estimate keeps back from the search: a
+// stencil of 2n + 1 points and the estimate itself.
+int SmoothingEvaluations(int n) { return 2 * n + 2; }
+// The smallest budget that also leaves the search 2(n + 1) evaluations.
+int SmoothingBudget(int n) { return 2 * (n + 1) + SmoothingEvaluations(n); }
+
+// The result of a method run. With `smoothed`, in two stages:
+//  1. a first estimate fitted to the search's evaluations near the lowest (or
+//     the lowest itself when they cannot determine it);
+//  2. a stencil around it, its centre and half the smoothing radius either
+//     way along each parameter (so the evaluations span every parameter at
+//     a step the noise cannot swamp), then the estimate refitted around the
+//     first one to the stencil and every evaluation nearby, and evaluated.
+// Otherwise the lowest evaluation.
 MethodResult Conclude(Evaluator* ev, std::string termination, bool smoothed,
                       const MethodOptions& options, const Objective& objective) {
-  SmoothedEstimate info;
+  const ParameterSpace& space = objective.space();
+  const int n = space.size();
   if (!smoothed || ev->best().empty()) {
     MethodResult result = ev->Finish(std::move(termination));
     if (options.estimate == "smoothed")
       result.smoothed.message = "not used: a budget of " + std::to_string(options.max_evals) +
-                                " evaluations is too small to fit it (it needs " +
-                                std::to_string(2 * (objective.space().size() + 1) + 1) + ")";
+                                " evaluations is too small for it (it needs " +
+                                std::to_string(SmoothingBudget(n)) + ")";
     return result;
   }
-  const std::vector<double> lowest = ev->best();
+  ev->Reserve(0);
+  SmoothedEstimate first;
+  const std::optional<std::vector<double>> first_unit =
+      FitSmoothedEstimate(ev->trace(), space, ev->best(), options.smoothing_radius, &first);
+  const std::vector<double> centre = first_unit ? *first_unit : space.ToUnit(ev->best());
+  const double h = 0.5 * options.smoothing_radius;
+  ev->Evaluate(centre);
+  for (int k = 0; k < n; ++k)
+    for (const double sign : {1.0, -1.0}) {
+      std::vector<double> u = centre;
+      u[k] = std::clamp(u[k] + sign * h, 0.0, 1.0);
+      ev->Evaluate(u);
+    }
+  SmoothedEstimate info;
   const std::optional<std::vector<double>> unit = FitSmoothedEstimate(
-      ev->trace(), objective.space(), lowest, options.smoothing_radius, &info);
+      ev->trace(), space, space.ToPhysical(centre), options.smoothing_radius, &info);
   std::vector<double> estimate;
   double misfit = 0.0;
   if (unit) {
-    estimate = objective.space().ToPhysical(*unit);
-    misfit = estimate == lowest ? ev->best_misfit() : ev->Evaluate(*unit).misfit;
+    estimate = space.ToPhysical(*unit);
+    misfit = ev->Evaluate(*unit).misfit;
     info.used = true;
+    std::ostringstream msg;
+    msg << (first_unit ? "first a " + first.message
+                       : "first the lowest evaluation (" + first.message + ")")
+        << "; then a stencil of " << 2 * n + 1 << " evaluations (" << h
+        << " either way along each parameter) and a " << info.message;
+    info.message = msg.str();
   }
   MethodResult result = ev->Finish(std::move(termination));
   if (info.used) {
@@ -398,15 +429,14 @@ MethodResult Conclude(Evaluator* ev, std::string termination, bool smoothed,
   return result;
 }
 
-
 }  // namespace
 
 std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluation>& trace,
                                                        const ParameterSpace& space,
-                                                       const std::vector<double>& lowest,
+                                                       const std::vector<double>& around,
                                                        double radius, SmoothedEstimate* info) {
   const int n = space.size();
-  const std::vector<double> centre = space.ToUnit(lowest);
+  const std::vector<double> centre = space.ToUnit(around);
   std::size_t m = 0;
   std::vector<std::vector<double>> units;
   for (const Evaluation& e : trace) {
@@ -430,7 +460,7 @@ std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluat
   info->radius = radius;
   info->points = static_cast<int>(near.size());
   if (m == 0 || near.size() < wanted) {
-    info->message = "not used: " + std::to_string(near.size()) +
+    info->message = std::to_string(near.size()) +
                     " unpenalised evaluations, fewer than the " + std::to_string(wanted) +
                     " a linear model of the residuals needs";
     return std::nullopt;
@@ -446,8 +476,8 @@ std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluat
   }
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(x);
   if (qr.rank() < n + 1) {
-    info->message = "not used: the evaluations near the lowest do not span every parameter "
-                    "(they lie on a lower-dimensional set), so the model is undetermined";
+    info->message = "the evaluations nearby do not span every parameter (they lie on a "
+                    "lower-dimensional set), so the model is undetermined";
     return std::nullopt;
   }
   const Eigen::MatrixXd coef = qr.solve(r);  // (n + 1) x m
@@ -463,8 +493,8 @@ std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluat
   }
   info->predicted_misfit = 0.5 * (a + j * step).squaredNorm();
   std::ostringstream msg;
-  msg << "linear model of the residuals fitted to " << near.size()
-      << " evaluations within " << radius << " of the lowest (unit box)";
+  msg << "linear model of the residuals fitted to the " << near.size()
+      << " evaluations within " << radius << " (unit box)";
   if (cod.rank() < n) msg << "; the model's Jacobian has rank " << cod.rank() << " of " << n;
   info->message = msg.str();
   return unit;
@@ -589,11 +619,11 @@ MethodResult RunMethod(const std::string& method, const Objective& objective,
   std::string error;
   if (!options.IsValid(&error)) throw InputError("calibration options", error);
   Evaluator ev(method, objective, options, log, progress);
-  // The smoothed estimate needs 2(n + 1) evaluations to fit and one to
-  // evaluate; a smaller budget goes to the search whole.
+  // The smoothed estimate keeps evaluations back from the search; a budget
+  // too small for it goes to the search whole.
   const int n = objective.space().size();
-  const bool smoothed = options.estimate == "smoothed" && options.max_evals >= 2 * (n + 1) + 1;
-  if (smoothed) ev.Reserve(1);
+  const bool smoothed = options.estimate == "smoothed" && options.max_evals >= SmoothingBudget(n);
+  if (smoothed) ev.Reserve(SmoothingEvaluations(n));
   const std::vector<double> unit = objective.space().ToUnit(start);
   if (info->ceres) {
     const std::string termination = RunCeres(unit, options, &ev);

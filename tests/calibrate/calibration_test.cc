@@ -40,7 +40,7 @@ struct Small {
 TEST(Calibration, ResumeEndsLikeAStraightRunWithFewerSimulations) {
   Small small;
   MethodOptions options;
-  options.max_evals = 14;
+  options.max_evals = 22;  // with the smoothed estimate's stencil (12 search, 10 kept back)
   const std::string straight_log = TempPath("straight.jsonl");
   EvaluationLog straight_log_file(straight_log, false, small.space, 1, 6);
   const MethodResult straight = RunMethod("nlopt:bobyqa", small.objective,
@@ -238,12 +238,14 @@ TEST(SmoothedEstimate, SaysWhenTheEvaluationsCannotDetermineIt) {
 TEST(Calibration, SmoothedEstimateIsEvaluatedAndReported) {
   Small small;
   MethodOptions options;
-  options.max_evals = 14;  // four parameters: 10 to fit, 1 kept back to evaluate the estimate
+  // Four parameters: at least 10 for the search, 10 kept back for the
+  // stencil (9) and the estimate (1).
+  options.max_evals = 20;
   for (const std::string& method : {std::string("nlopt:bobyqa"), std::string("ceres")}) {
     const MethodResult r = RunMethod(method, small.objective,
                                      small.space.Current(small.site.scene), options, nullptr);
     ASSERT_TRUE(r.smoothed.used) << method << ": " << r.smoothed.message;
-    EXPECT_EQ(r.evaluations, 14) << method;
+    EXPECT_LE(r.evaluations, 20) << method;
     EXPECT_GE(r.smoothed.points, 10) << method;
     // The misfit reported is the one at the reported values; the lowest is
     // kept beside it, and no evaluation was lower.
@@ -251,8 +253,15 @@ TEST(Calibration, SmoothedEstimateIsEvaluatedAndReported) {
     EXPECT_EQ(r.trace.back().parameters, r.best) << method;
     for (const Evaluation& e : r.trace) EXPECT_GE(e.misfit, r.lowest_misfit) << method;
   }
+  options.max_evals = 19;  // too small a budget: the lowest
+  MethodResult r = RunMethod("nlopt:bobyqa", small.objective, small.space.Current(small.site.scene),
+                             options, nullptr);
+  EXPECT_FALSE(r.smoothed.used);
+  EXPECT_THAT(r.smoothed.message, HasSubstr("too small for it (it needs 20)"));
+  EXPECT_EQ(r.best, r.lowest);
+  options.max_evals = 20;
   options.estimate = "lowest";
-  const MethodResult r = RunMethod("nlopt:bobyqa", small.objective,
+  r = RunMethod("nlopt:bobyqa", small.objective,
                                    small.space.Current(small.site.scene), options, nullptr);
   EXPECT_FALSE(r.smoothed.used);
   EXPECT_EQ(r.best, r.lowest);

@@ -64,15 +64,21 @@ struct MethodOptions {
   std::string ceres_loss = "none";  // none | huber | cauchy (scale 1: residuals are in sigmas)
   // How the calibrated values are taken from the evaluations:
   //  - "smoothed": the Gauss-Newton minimiser of a linear model of the
-  //    residuals, fitted by least squares to the evaluations near the lowest
-  //    misfit, evaluated once more (one evaluation of the budget is kept for
-  //    it). A Monte Carlo misfit is rugged: its lowest evaluation sits in a
+  //    residuals fitted by least squares to the evaluations near the best,
+  //    in two stages (FitSmoothedEstimate): a first estimate from the
+  //    search's evaluations near the lowest misfit; then a stencil of 2n + 1
+  //    evaluations around it (its centre, and smoothing_radius / 2 either way
+  //    along each parameter) and the estimate refitted to them and the
+  //    evaluations nearby, then evaluated. The search keeps 2n + 2
+  //    evaluations of max_evals back for this (of a budget below
+  //    4(n + 1), none: the lowest is taken); a time limit covers the search
+  //    only. A Monte Carlo misfit is rugged: its lowest evaluation sits in a
   //    dip of the noise (the winner's curse), which the fit averages out;
   //  - "lowest": the evaluation with the lowest misfit.
   std::string estimate = "smoothed";
-  // Half-width, in the unit box, of the neighbourhood of the lowest
-  // evaluation whose evaluations the smoothed estimate fits (widened until it
-  // holds 2(n + 1) of them); also the largest move from it. (0, 1]
+  // Half-width, in the unit box, of the neighbourhood whose evaluations the
+  // smoothed estimate fits (widened until it holds 2(n + 1) of them); also
+  // the largest move of each stage, and twice the stencil's step. (0, 1]
   double smoothing_radius = 0.2;
 
   bool IsValid(std::string* error) const;
@@ -130,19 +136,19 @@ MethodResult RunMethod(const std::string& method, const Objective& objective,
                        const std::vector<double>& start, const MethodOptions& options,
                        EvaluationLog* log, const CalibrationProgress& progress = nullptr);
 
-// The smoothed estimate of MethodOptions::estimate, from the evaluations of
-// one method run: a linear model of the residual vector,
-// r(u) = a + J (u - u_lowest) in the unit box, fitted by least squares to the
-// unpenalised evaluations within `radius` (max norm) of `lowest` (physical
-// values), the radius widened by half until 2(n + 1) of them are inside; then
-// the Gauss-Newton minimiser of |a + J d|^2 (least norm where J is rank
-// deficient), each component of d clamped to the radius and the box.
-// Returns the estimate in the unit box, or nothing when the evaluations
-// cannot determine the model (too few, or not spanning every parameter);
-// *info receives the points, the radius, the predicted misfit and a message.
+// One stage of the smoothed estimate of MethodOptions::estimate: a linear
+// model of the residual vector, r(u) = a + J (u - u_around) in the unit box,
+// fitted by least squares to the unpenalised evaluations of `trace` within
+// `radius` (max norm) of `around` (physical values), the radius widened by
+// half until 2(n + 1) of them are inside; then the Gauss-Newton minimiser of
+// |a + J d|^2 (least norm where J is rank deficient), each component of d
+// clamped to the radius and the box. Returns the estimate in the unit box,
+// or nothing when the evaluations cannot determine the model (too few, or
+// not spanning every parameter); *info receives the points, the radius, the
+// model's misfit at the estimate and a message.
 std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluation>& trace,
                                                        const ParameterSpace& space,
-                                                       const std::vector<double>& lowest,
+                                                       const std::vector<double>& around,
                                                        double radius, SmoothedEstimate* info);
 
 // Wall seconds at which a method's best misfit first came within `fraction`
