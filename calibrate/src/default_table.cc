@@ -290,10 +290,13 @@ DefaultTable BuildDefaultTable(const std::vector<CalibratedSite>& sites,
             FormatNumber(v.value) + " in [" + FormatNumber(v.lower) + ", " + FormatNumber(v.upper) +
             "]); " + (v.counted ? "counted (--include-at-bound)" : "left out of the statistics"));
       }
-      if (v.grid_spacing_m)
-        spacings.insert(*v.grid_spacing_m);
-      else
+      if (!v.grid_spacing_m) {
         spacing_unknown = true;
+      } else if (std::none_of(spacings.begin(), spacings.end(), [&](double s) {
+                   return std::abs(s - *v.grid_spacing_m) <= 1e-9 * s;  // 12 ft in m, rounded
+                 })) {
+        spacings.insert(*v.grid_spacing_m);
+      }
     }
     row.all = Statistics(all, all_sites);
     row.headline = Statistics(counted, counted_sites);

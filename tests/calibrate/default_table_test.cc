@@ -16,6 +16,7 @@ namespace {
 using sites::testing::ErrorOf;
 using sites::testing::TempDir;
 using ::testing::HasSubstr;
+using ::testing::Not;
 using Json = nlohmann::json;
 
 TEST(Median, OddAndEvenCounts) {
@@ -321,6 +322,10 @@ TEST(BuildDefaultTable, RoughnessFromDifferentGridSpacingsIsNoted) {
   for (const std::string& n : t.notes) notes += n + "\n";
   EXPECT_THAT(notes, HasSubstr("talus roughness: the values come from grids of different "
                                "spacings (1 m, 3.6576 m)"));
+  // 12 ft computed two ways is one spacing.
+  sites[0].grid_spacing_m = 3.6576000000000004;
+  for (const std::string& n : BuildDefaultTable(sites, {}).notes)
+    EXPECT_THAT(n, Not(HasSubstr("spacing")));
 }
 
 TEST(DefaultTableOptions, IsValid) {
