@@ -217,6 +217,14 @@ std::string DefaultTableMarkdown(const DefaultTable& table) {
           << " |\n";
     }
   }
+  out << "\n### Result folders\n\n"
+      << "| folder | site | method | evaluations | misfit | grid spacing |\n"
+      << "|---|---|---|---|---|---|\n";
+  for (const calibrate::CalibratedSite& s : table.sites) {
+    out << "| " << Cell(s.result_dir) << " | " << Cell(s.site) << " | " << Cell(s.method) << " | "
+        << s.evaluations << " | " << Num(s.misfit, "%.4g") << " | "
+        << (s.grid_spacing_m ? Num(*s.grid_spacing_m, "%.4g") + " m" : std::string("-")) << " |\n";
+  }
   if (!table.notes.empty()) {
     out << "\n### Notes\n\n";
     for (const std::string& n : table.notes) out << "- " << n << "\n";

@@ -132,6 +132,9 @@ TEST(DefaultTableMarkdown, ATableToPasteWithFeet) {
                             "[0.05, 0.5] m | upper, left out |"));
   EXPECT_THAT(md, HasSubstr("| soil | contact time | Site B | out/b,c | blue | 6 ms | 0.5 ms | "
                             "[2, 10] ms |  |"));
+  EXPECT_THAT(md, HasSubstr("### Result folders\n\n| folder | site | method | evaluations | "
+                            "misfit | grid spacing |\n|---|---|---|---|---|---|\n"
+                            "| out/a | Site A | nlopt:bobyqa | 0 | 0 | 1 m |\n"));
   EXPECT_THAT(md, HasSubstr("### Notes\n\n- talus roughness: Site B (out/b,c, material red) is "
                             "at its upper bound"));
 }

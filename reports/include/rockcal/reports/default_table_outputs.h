@@ -24,8 +24,9 @@ std::string DefaultTableCsv(const calibrate::DefaultTable& table);
 // class,parameter,unit,site,folder,material,value,lower,upper,std_error,at_bound,counted.
 std::string DefaultTableValuesCsv(const calibrate::DefaultTable& table);
 // table.md: the table a user pastes (class, parameter, sites, median,
-// min - max; roughness in m and ft, contact time in ms), then every value and
-// the notes.
+// min - max; roughness in m and ft, contact time in ms), then every value, the
+// result folders (site, method, evaluations, misfit, grid spacing) and the
+// notes.
 std::string DefaultTableMarkdown(const calibrate::DefaultTable& table);
 
 }  // namespace rockcal::reports
