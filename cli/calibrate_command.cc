@@ -107,6 +107,7 @@ int Calibrate(const std::vector<std::string>& argv) {
   reports::CalibrationRecord record;
   record.site = scene.name;
   record.units = site.units;
+  record.grid_spacing_m = scene.grid.spacing;
   record.space = space;
   record.rocks = scene.total_rocks();
   record.seed = scene.options.seed;

@@ -6,8 +6,9 @@
 #include <vector>
 
 #include "commands.h"
-#include "study.h"
 #include "rockcal/core/error.h"
+#include "study.h"
+#include "table.h"
 
 namespace {
 
@@ -24,6 +25,8 @@ constexpr const char* kUsage =
     "                   [--threads N] [--force] [--quiet] --out DIR\n"
     "  rockcal study convergence SITE.json [--steps-per-contact LIST] [--rock-counts LIST]\n"
     "                   [--target F] [--bootstrap N] [--seed S] [--set K=V ...] [--threads N]\n"
+    "                   [--force] [--quiet] --out DIR\n"
+    "  rockcal table RESULT_DIR... [--include-at-bound] [--bound-tolerance F]\n"
     "                   [--force] [--quiet] --out DIR\n"
     "  rockcal validate SITE.json [--observations OBS.json]\n"
     "\n"
@@ -44,8 +47,10 @@ int main(int argc, char** argv) {
     if (command == "validate") return rockcal::cli::Validate(args);
     if (command == "calibrate") return rockcal::cli::Calibrate(args);
     if (command == "study") return rockcal::cli::Study(args);
-    throw rockcal::InputError("", "unknown command '" + command +
-                                      "' (available: simulate, calibrate, study, validate; see rockcal --help)");
+    if (command == "table") return rockcal::cli::Table(args);
+    throw rockcal::InputError(
+        "", "unknown command '" + command +
+                "' (available: simulate, calibrate, study, table, validate; see rockcal --help)");
   } catch (const rockcal::InputError& e) {
     std::fprintf(stderr, "rockcal: error: %s\n", e.what());
     return 2;

@@ -21,6 +21,10 @@ std::string Parameter::name() const {
 
 std::string Parameter::label() const { return material + "." + name(); }
 
+const std::string& Parameter::class_name() const {
+  return material_class.empty() ? material : material_class;
+}
+
 ParameterSpace::ParameterSpace(std::vector<Parameter> parameters)
     : parameters_(std::move(parameters)) {}
 
@@ -30,6 +34,7 @@ ParameterSpace ParameterSpace::FromSite(const sites::Site& site) {
   for (const sites::ParameterBound& b : site.calibrate) {
     Parameter p;
     p.material = b.material;
+    p.material_class = b.material_class;
     p.lower = b.lower;
     p.upper = b.upper;
     auto it = std::find_if(materials.begin(), materials.end(),

@@ -74,30 +74,34 @@ nlohmann::json ParametersJson(const CalibrationRecord& record) {
   for (std::size_t k = 0; k < ps.size(); ++k) {
     const double* se = StdError(best, k);
     params.push_back({{"material", ps[k].material},
+                      {"class", ps[k].class_name()},
                       {"name", ps[k].name()},
                       {"value", best.best[k]},
                       {"lower", ps[k].lower},
                       {"upper", ps[k].upper},
                       {"std_error", se ? nlohmann::json(*se) : nlohmann::json(nullptr)}});
   }
-  return {{"site", record.site},
-          {"method", best.method},
-          {"misfit", best.best_misfit},
-          {"evaluations", best.evaluations},
-          {"wall_seconds", best.wall_seconds},
-          {"parameters", params}};
+  nlohmann::json out = {{"site", record.site},
+                        {"method", best.method},
+                        {"misfit", best.best_misfit},
+                        {"evaluations", best.evaluations},
+                        {"wall_seconds", best.wall_seconds}};
+  if (record.grid_spacing_m > 0) out["grid_spacing_m"] = record.grid_spacing_m;
+  out["parameters"] = params;
+  return out;
 }
 
 std::string ParametersCsv(const CalibrationRecord& record) {
   const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
   std::ostringstream out;
-  out << "material,name,value,lower,upper,std_error,unit\n";
+  out << "material,class,name,value,lower,upper,std_error,unit\n";
   const auto& ps = record.space.parameters();
   for (std::size_t k = 0; k < ps.size(); ++k) {
     const double* se = StdError(best, k);
-    out << ps[k].material << ',' << ps[k].name() << ',' << Num(best.best[k], "%.10g") << ','
-        << Num(ps[k].lower, "%.10g") << ',' << Num(ps[k].upper, "%.10g") << ','
-        << (se ? Num(*se, "%.6g") : "") << ',' << SiUnit(ps[k]) << '\n';
+    out << ps[k].material << ',' << ps[k].class_name() << ',' << ps[k].name() << ','
+        << Num(best.best[k], "%.10g") << ',' << Num(ps[k].lower, "%.10g") << ','
+        << Num(ps[k].upper, "%.10g") << ',' << (se ? Num(*se, "%.6g") : "") << ',' << SiUnit(ps[k])
+        << '\n';
   }
   return out.str();
 }
@@ -105,12 +109,12 @@ std::string ParametersCsv(const CalibrationRecord& record) {
 std::string ParametersMarkdown(const CalibrationRecord& record) {
   const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
   std::ostringstream out;
-  out << "| material | parameter | calibrated | std. error | start | bounds |\n"
-      << "|---|---|---|---|---|---|\n";
+  out << "| material | class | parameter | calibrated | std. error | start | bounds |\n"
+      << "|---|---|---|---|---|---|---|\n";
   const auto& ps = record.space.parameters();
   for (std::size_t k = 0; k < ps.size(); ++k) {
     const double* se = StdError(best, k);
-    out << "| " << ps[k].material << " | " << ps[k].name() << " | "
+    out << "| " << ps[k].material << " | " << ps[k].class_name() << " | " << ps[k].name() << " | "
         << SiteValue(ps[k], best.best[k], record.units) << " | "
         << (se ? SiteValue(ps[k], *se, record.units) : std::string("-")) << " | "
         << SiteValue(ps[k], record.start[k], record.units) << " | ["

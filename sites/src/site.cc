@@ -65,8 +65,9 @@ struct PendingMaterial {
 };
 
 // [lo, hi] of a calibrate entry, checked against [min, max] and the value.
-ParameterBound ReadBound(const JsonNode& node, const std::string& material, const char* name,
-                         double min, double max, bool open_min, double value, double to_si,
+ParameterBound ReadBound(const JsonNode& node, const std::string& material,
+                         const std::string& material_class, const char* name, double min,
+                         double max, bool open_min, double value, double to_si,
                          const std::string& unit) {
   const std::vector<double> b = node.Numbers(2);
   if (!(b[0] < b[1])) node.Fail("expected [lower, upper] with lower < upper");
@@ -79,7 +80,7 @@ ParameterBound ReadBound(const JsonNode& node, const std::string& material, cons
     node.Fail(std::string("the material's ") + name + " " + FormatNumber(value) + unit +
               " is outside its calibrate bounds; expected lower <= value <= upper");
   }
-  return ParameterBound{material, name, b[0] * to_si, b[1] * to_si};
+  return ParameterBound{material, name, b[0] * to_si, b[1] * to_si, material_class};
 }
 
 void ReadSimulation(const JsonNode& node, Units units, core::SimulationOptions* o) {
@@ -214,13 +215,21 @@ Site LoadSite(const std::string& path) {
   for (std::size_t k = 0; k < materials.size(); ++k) {
     const JsonNode& m = materials[k];
     m.Keys({"id", "hardness", "roughness", "contact_time", "restitution", "friction",
-            "rolling_resistance", "zone", "calibrate"});
+            "rolling_resistance", "class", "zone", "calibrate"});
     core::Material mat;
     const JsonNode id = m.Get("id");
     mat.id = ReadId(id);
     if (std::find(ids.begin(), ids.end(), mat.id) != ids.end())
       id.Fail("duplicate material id; expected each material id once");
     ids.push_back(mat.id);
+    if (auto c = m.Find("class")) {
+      // Same rule as ids: the class goes into CSV and Markdown tables as it is.
+      site.material_classes.push_back(c->String());
+      if (!ValidId(site.material_classes.back()))
+        c->Fail("expected a class name of letters, digits, '_' and '-' (not empty)");
+    } else {
+      site.material_classes.push_back(mat.id);
+    }
     mat.hardness = m.Get("hardness").Number(0.0, 1.0);
     mat.roughness_m = LengthToSI(m.Get("roughness").NonNegative(), units);
     if (auto t = m.Find("contact_time")) {
@@ -260,6 +269,7 @@ Site LoadSite(const std::string& path) {
   for (std::size_t k = 0; k < pending.size(); ++k) {
     const JsonNode& m = pending[k].node;
     core::Material& mat = scene.materials[k];
+    const std::string& mat_class = site.material_classes[k];
     const double max_rough = s / 2 * to_file;
     if (mat.roughness_m > s / 2 * (1 + 1e-12)) {
       m.Get("roughness")
@@ -277,16 +287,16 @@ Site LoadSite(const std::string& path) {
               "expected no hardness bounds for this material");
         }
         site.calibrate.push_back(
-            ReadBound(*b, mat.id, "hardness", 0.0, 1.0, false, mat.hardness, 1.0, ""));
+            ReadBound(*b, mat.id, mat_class, "hardness", 0.0, 1.0, false, mat.hardness, 1.0, ""));
       }
       if (auto b = c->Find("roughness")) {
-        site.calibrate.push_back(ReadBound(*b, mat.id, "roughness", 0.0, max_rough, false,
-                                           mat.roughness_m * to_file, 1.0 / to_file,
+        site.calibrate.push_back(ReadBound(*b, mat.id, mat_class, "roughness", 0.0, max_rough,
+                                           false, mat.roughness_m * to_file, 1.0 / to_file,
                                            std::string(" ") + unit));
       }
       if (auto b = c->Find("contact_time")) {
-        site.calibrate.push_back(ReadBound(*b, mat.id, "contact_time", 0.0, kMaxContactTime, true,
-                                           mat.contact_time_s, 1.0, " s"));
+        site.calibrate.push_back(ReadBound(*b, mat.id, mat_class, "contact_time", 0.0,
+                                           kMaxContactTime, true, mat.contact_time_s, 1.0, " s"));
       }
     }
   }
@@ -346,10 +356,10 @@ Site LoadSite(const std::string& path) {
   for (std::size_t k = 0; k < count.size(); ++k) {
     const core::Material& mat = scene.materials[k];
     site.notes.push_back(
-        "material " + mat.id + ": " + std::to_string(count[k]) + " nodes, hardness " +
-        FormatNumber(mat.hardness) + ", roughness " + FormatNumber(mat.roughness_m) +
-        " m, contact time " + FormatNumber(mat.contact_time_s) + " s" +
-        (mat.restitution ? ", restitution " + FormatNumber(*mat.restitution) : "") +
+        "material " + mat.id + ": " + std::to_string(count[k]) + " nodes, class " +
+        site.material_classes[k] + ", hardness " + FormatNumber(mat.hardness) + ", roughness " +
+        FormatNumber(mat.roughness_m) + " m, contact time " + FormatNumber(mat.contact_time_s) +
+        " s" + (mat.restitution ? ", restitution " + FormatNumber(*mat.restitution) : "") +
         (mat.friction ? ", friction " + FormatNumber(*mat.friction) : ""));
   }
 

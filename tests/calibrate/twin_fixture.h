@@ -50,10 +50,10 @@ inline sites::Site TwinSite(int rocks) {
   g.release.zone = {{1, 8}, {4, 8}, {4, 12}, {1, 12}};
   scene.groups = {g};
   scene.options.max_time = 20.0;
-  site.calibrate = {{"slope", "hardness", 0.2, 0.8},
-                    {"slope", "roughness", 0.1, 0.6},
-                    {"runout", "hardness", 0.1, 0.6},
-                    {"runout", "roughness", 0.1, 0.6}};
+  site.calibrate = {{"slope", "hardness", 0.2, 0.8, "slope"},
+                    {"slope", "roughness", 0.1, 0.6, "slope"},
+                    {"runout", "hardness", 0.1, 0.6, "runout"},
+                    {"runout", "roughness", 0.1, 0.6, "runout"}};
   return site;
 }
 

@@ -208,6 +208,35 @@ TEST(LoadSite, MaterialErrors) {
               HasSubstr("$.materials: expected an array of at least 1 entries"));
 }
 
+TEST(LoadSite, MaterialClassDefaultsToTheId) {
+  TempDir dir;
+  Json json = BaseSite();
+  json["materials"][1]["class"] = "scree";
+  const Site site = LoadSite(WriteSite(dir, json));
+  EXPECT_EQ(site.material_classes, (std::vector<std::string>{"rock", "scree"}));
+  ASSERT_EQ(site.calibrate.size(), 3u);
+  for (const ParameterBound& b : site.calibrate) {
+    EXPECT_EQ(b.material, "talus");
+    EXPECT_EQ(b.material_class, "scree") << b.name;
+  }
+  std::string notes;
+  for (const std::string& n : site.notes) notes += n + "\n";
+  EXPECT_THAT(notes, HasSubstr("material talus: 121 nodes, class scree,"));
+  EXPECT_THAT(notes, HasSubstr("material rock: 110 nodes, class rock,"));
+}
+
+TEST(LoadSite, MaterialClassErrors) {
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["class"] = ""; }),
+              HasSubstr("$.materials[1].class: expected a class name of letters, digits, '_' "
+                        "and '-' (not empty) (found \"\")"));
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][0]["class"] = "hard rock"; }),
+              HasSubstr("$.materials[0].class: expected a class name"));
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][0]["class"] = 3; }),
+              HasSubstr("$.materials[0].class: expected a string (found 3)"));
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][0]["class"] = Json(nullptr); }),
+              HasSubstr("$.materials[0].class: expected a string (found null)"));
+}
+
 TEST(LoadSite, ZoneErrors) {
   EXPECT_THAT(LoadError([](Json& s) { s["materials"][0]["zone"] = s["materials"][1]["zone"]; }),
               HasSubstr("$.materials[0].zone: the first material covers everything no zone "

@@ -15,12 +15,17 @@ enum class ParameterKind { kHardness, kRoughness, kContactTime };
 
 struct Parameter {
   std::string material;  // material id
+  // The material's class for default tables (sites::Site::material_classes);
+  // empty means the material id.
+  std::string material_class;
   int material_index = 0;
   ParameterKind kind = ParameterKind::kHardness;
   double lower = 0.0, upper = 1.0;  // SI (roughness m, contact time s)
 
   std::string name() const;  // "hardness", "roughness", "contact_time"
   std::string label() const;  // "talus.hardness"
+  // material_class, or the material id when it is empty.
+  const std::string& class_name() const;
 };
 
 class ParameterSpace final {

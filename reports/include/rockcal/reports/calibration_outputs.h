@@ -18,6 +18,7 @@ namespace rockcal::reports {
 struct CalibrationRecord {
   std::string site;
   sites::Units units = sites::Units::kSI;
+  double grid_spacing_m = 0.0;  // the terrain grid's spacing (0: not known)
   calibrate::ParameterSpace space;
   std::vector<double> start;           // physical values before
   observations::Misfit misfit_before;  // at start
@@ -29,9 +30,11 @@ struct CalibrationRecord {
   double wall_seconds = 0.0;           // whole command
 };
 
-// parameters.json of DESIGN.md (SI), for the best method.
+// parameters.json of DESIGN.md (SI), for the best method, with each
+// parameter's material "class" and the grid's "grid_spacing_m" (when known)
+// added: a roughness means the same virtual spheres only at the same spacing.
 nlohmann::json ParametersJson(const CalibrationRecord& record);
-// parameters.csv: material,name,value,lower,upper,std_error,unit.
+// parameters.csv: material,class,name,value,lower,upper,std_error,unit.
 std::string ParametersCsv(const CalibrationRecord& record);
 // parameters.md: a Markdown table ready for a report (site units beside SI).
 std::string ParametersMarkdown(const CalibrationRecord& record);

@@ -16,12 +16,17 @@ struct ParameterBound {
   std::string material;  // material id
   std::string name;      // "hardness", "roughness" or "contact_time"
   double lower = 0.0, upper = 0.0;
+  std::string material_class;  // the material's class ("class"; empty: the id)
 };
 
 struct Site {
   std::string path;  // the site file
   Units units = Units::kUS;
   core::Scene scene;
+  // The class of each material of scene.materials (same order): the
+  // material's "class" in the site file, default its id. A label for the
+  // default tables built across sites; the simulation never uses it.
+  std::vector<std::string> material_classes;
   std::vector<ParameterBound> calibrate;  // from each material's "calibrate"
   // What the reader found and did, for `rockcal validate` (one line each).
   std::vector<std::string> notes;

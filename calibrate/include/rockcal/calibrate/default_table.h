@@ -1,0 +1,116 @@
+// Default tables: the calibrated parameters of many sites (each a
+// `rockcal calibrate` result folder with its parameters.json) pooled per
+// material class and parameter into a median, a range and a count of sites.
+#ifndef ROCKCAL_CALIBRATE_DEFAULT_TABLE_H_
+#define ROCKCAL_CALIBRATE_DEFAULT_TABLE_H_
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace rockcal::calibrate {
+
+// Where a calibrated value sits against the bounds it was searched within.
+enum class BoundPosition { kInside, kAtLower, kAtUpper };
+
+// kAtLower (kAtUpper) when `value` is within `fraction` of the range
+// (upper - lower) of the lower (upper) bound, else kInside. A value pinned at
+// a bound was stopped by the bound, not by the data: it is no calibrated value.
+BoundPosition AtBound(double value, double lower, double upper, double fraction);
+const char* BoundName(BoundPosition position);  // "", "lower", "upper"
+
+// One entry of a parameters.json, SI units (roughness m, contact time s).
+struct CalibratedParameter {
+  std::string material;        // material id at its site
+  std::string material_class;  // "class", or the material id when the file has none
+  bool class_given = true;     // false: the file has no "class" (written before classes)
+  std::string name;            // "hardness", "roughness" or "contact_time"
+  double value = 0.0, lower = 0.0, upper = 0.0;
+  std::optional<double> std_error;  // null in the file: not computed
+};
+
+// One calibrated site: RESULT_DIR/parameters.json.
+struct CalibratedSite {
+  std::string result_dir;  // as given
+  std::string file;        // result_dir + "/parameters.json"
+  std::string site;        // the site's name
+  std::string method;
+  double misfit = 0.0;
+  int evaluations = 0;
+  std::optional<double> grid_spacing_m;  // absent in files written before it
+  std::vector<CalibratedParameter> parameters;
+};
+
+// Reads RESULT_DIR/parameters.json strictly: a missing folder or file, bad
+// JSON, a missing, unknown or mistyped key, an unknown parameter name, bounds
+// with lower >= upper, a value outside its bounds, a negative standard error
+// or a parameter given twice are each an InputError naming the file, the JSON
+// path, the value and what was expected.
+CalibratedSite ReadCalibratedSite(const std::string& result_dir);
+
+struct DefaultTableOptions {
+  // A value within this fraction of its range from a bound is "at a bound".
+  // In [0, 0.5). Default 1 %.
+  double bound_fraction = 0.01;
+  // false (default): the headline statistics leave out values at a bound;
+  // true: they count every value. Both sets are always computed.
+  bool include_at_bound = false;
+
+  // Checks the fields; on failure sets *error (field, value, rule).
+  bool IsValid(std::string* error) const;
+};
+
+// Median (mean of the two middle values for an even count), min and max.
+struct ValueStatistics {
+  int values = 0;                             // entries counted
+  int sites = 0;                              // distinct site names among them
+  double median = 0.0, min = 0.0, max = 0.0;  // meaningless when values == 0
+};
+
+// Median of `values` (not empty): the middle one of the sorted values, or the
+// mean of the two middle ones.
+double Median(std::vector<double> values);
+// The statistics of `values`, whose k-th entry came from site `sites[k]`.
+ValueStatistics Statistics(const std::vector<double>& values,
+                           const std::vector<std::string>& sites);
+
+// One value in a row, with where it came from.
+struct TableValue {
+  std::string site;        // site name
+  std::string result_dir;  // the folder it was read from
+  std::string material;    // material id at that site
+  double value = 0.0, lower = 0.0, upper = 0.0;
+  std::optional<double> std_error;
+  std::optional<double> grid_spacing_m;
+  BoundPosition bound = BoundPosition::kInside;
+  bool counted = true;  // in the headline statistics
+};
+
+// One (class, parameter) row.
+struct TableRow {
+  std::string material_class;
+  std::string name;                // "hardness", "roughness", "contact_time"
+  std::vector<TableValue> values;  // in the order of the result folders
+  ValueStatistics headline;        // the values counted (see options)
+  ValueStatistics all;             // every value, at a bound or not
+  int at_bound = 0;                // values at a bound
+};
+
+struct DefaultTable {
+  DefaultTableOptions options;
+  std::vector<CalibratedSite> sites;  // as given, in order
+  // Sorted by class, then hardness, roughness, contact_time.
+  std::vector<TableRow> rows;
+  // What a user should know: old files without classes, a site met in
+  // several folders, values at a bound, roughness from different grid spacings.
+  std::vector<std::string> notes;
+};
+
+// Pools the calibrated sites (in the order given) into the table. The same
+// result folder twice is an InputError (it would count one calibration twice).
+DefaultTable BuildDefaultTable(const std::vector<CalibratedSite>& sites,
+                               const DefaultTableOptions& options);
+
+}  // namespace rockcal::calibrate
+
+#endif  // ROCKCAL_CALIBRATE_DEFAULT_TABLE_H_

@@ -1,0 +1,318 @@
+#include "rockcal/calibrate/default_table.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <system_error>
+
+#include "rockcal/core/error.h"
+#include "rockcal/sites/json_reader.h"
+
+namespace rockcal::calibrate {
+namespace {
+
+namespace fs = std::filesystem;
+using sites::FormatNumber;
+using sites::JsonNode;
+
+constexpr const char* kNames[] = {"hardness", "roughness", "contact_time"};
+
+int NameOrder(const std::string& name) {
+  for (int k = 0; k < 3; ++k)
+    if (name == kNames[k]) return k;
+  return 3;
+}
+
+// A bound of parameter `name`, checked against its valid range (SI, as the
+// site reader checks it; the roughness limit of half the grid spacing is
+// checked when the file gives the spacing).
+double ReadBoundValue(const JsonNode& node, const std::string& name) {
+  if (name == "hardness") return node.Number(0.0, 1.0);
+  if (name == "roughness") return node.NonNegative();
+  const double t = node.Positive();
+  if (t > 1.0) node.Fail("expected a contact time in seconds in (0, 1]");
+  return t;
+}
+
+std::string Quote(const std::string& s) { return "'" + s + "'"; }
+
+CalibratedParameter ReadParameter(const JsonNode& p) {
+  p.Keys({"material", "class", "name", "value", "lower", "upper", "std_error"});
+  CalibratedParameter out;
+  {
+    const JsonNode m = p.Get("material");
+    out.material = m.String();
+    if (out.material.empty()) m.Fail("expected a material id (not empty)");
+  }
+  if (auto c = p.Find("class")) {
+    out.material_class = c->String();
+    if (out.material_class.empty()) c->Fail("expected a class name (not empty)");
+  } else {
+    out.material_class = out.material;
+    out.class_given = false;
+  }
+  const JsonNode name = p.Get("name");
+  out.name = name.String();
+  if (NameOrder(out.name) > 2)
+    name.Fail("unknown parameter name (allowed: hardness, roughness, contact_time)");
+  out.lower = ReadBoundValue(p.Get("lower"), out.name);
+  const JsonNode upper = p.Get("upper");
+  out.upper = ReadBoundValue(upper, out.name);
+  if (!(out.lower < out.upper))
+    upper.Fail("expected upper > lower (lower is " + FormatNumber(out.lower) + ")");
+  const JsonNode value = p.Get("value");
+  out.value = value.Number();
+  // The optimisers keep within the bounds; allow for the rounding of %.17g.
+  const double slack = 1e-9 * (out.upper - out.lower);
+  if (out.value < out.lower - slack || out.value > out.upper + slack)
+    value.Fail("expected a value within its bounds [" + FormatNumber(out.lower) + ", " +
+               FormatNumber(out.upper) + "]");
+  const JsonNode se = p.Get("std_error");
+  if (!se.raw().is_null()) {
+    if (!se.is_number()) se.Fail("expected a standard error >= 0 or null (not computed)");
+    out.std_error = se.NonNegative();
+  }
+  return out;
+}
+
+// The folder's absolute path with links and "..", "." and a trailing '/'
+// resolved, so that two spellings of one folder compare equal.
+std::string Canonical(const std::string& path) {
+  std::error_code ec;
+  fs::path p = fs::weakly_canonical(fs::absolute(fs::path(path), ec), ec);
+  if (ec) return path;
+  if (!p.has_filename()) p = p.parent_path();
+  return p.string();
+}
+
+// Same calibration: same site, method, misfit, evaluations and values.
+bool SameCalibration(const CalibratedSite& a, const CalibratedSite& b) {
+  if (a.site != b.site || a.method != b.method || a.misfit != b.misfit ||
+      a.evaluations != b.evaluations || a.parameters.size() != b.parameters.size())
+    return false;
+  for (std::size_t k = 0; k < a.parameters.size(); ++k) {
+    const CalibratedParameter &p = a.parameters[k], &q = b.parameters[k];
+    if (p.material != q.material || p.name != q.name || p.value != q.value) return false;
+  }
+  return true;
+}
+
+std::string Join(const std::vector<std::string>& items) {
+  std::string s;
+  for (const std::string& i : items) s += (s.empty() ? "" : ", ") + i;
+  return s;
+}
+
+}  // namespace
+
+BoundPosition AtBound(double value, double lower, double upper, double fraction) {
+  const double tolerance = fraction * (upper - lower);
+  if (value - lower <= tolerance) return BoundPosition::kAtLower;
+  if (upper - value <= tolerance) return BoundPosition::kAtUpper;
+  return BoundPosition::kInside;
+}
+
+const char* BoundName(BoundPosition position) {
+  switch (position) {
+    case BoundPosition::kInside:
+      return "";
+    case BoundPosition::kAtLower:
+      return "lower";
+    case BoundPosition::kAtUpper:
+      return "upper";
+  }
+  return "";
+}
+
+CalibratedSite ReadCalibratedSite(const std::string& result_dir) {
+  CalibratedSite out;
+  out.result_dir = result_dir;
+  std::error_code ec;
+  if (!fs::is_directory(result_dir, ec))
+    throw InputError(result_dir,
+                     "no such result folder; expected the --out folder of a "
+                     "rockcal calibrate run");
+  out.file = (fs::path(result_dir) / "parameters.json").string();
+  if (!fs::is_regular_file(out.file, ec))
+    throw InputError(out.file,
+                     "missing; expected the parameters.json that rockcal calibrate "
+                     "writes (did the calibration finish?)");
+  const nlohmann::json json = sites::ReadJsonFile(out.file);
+  const JsonNode root(&json, out.file, "$");
+  root.Keys(
+      {"site", "method", "misfit", "evaluations", "wall_seconds", "grid_spacing_m", "parameters"});
+  {
+    const JsonNode site = root.Get("site");
+    out.site = site.String();
+    if (out.site.empty()) site.Fail("expected a site name (not empty)");
+  }
+  out.method = root.Get("method").String();
+  out.misfit = root.Get("misfit").NonNegative();
+  out.evaluations = static_cast<int>(root.Get("evaluations").Integer(0, 1'000'000'000));
+  root.Get("wall_seconds").NonNegative();
+  if (auto s = root.Find("grid_spacing_m")) out.grid_spacing_m = s->Positive();
+  const std::vector<JsonNode> params = root.Get("parameters").Array(1);
+  for (const JsonNode& p : params) {
+    CalibratedParameter param = ReadParameter(p);
+    for (const CalibratedParameter& q : out.parameters) {
+      if (q.material == param.material && q.name == param.name)
+        p.Fail("parameter " + param.material + "." + param.name +
+               " given twice; expected each material's parameter once");
+    }
+    if (param.name == "roughness" && out.grid_spacing_m &&
+        param.upper > *out.grid_spacing_m / 2 * (1 + 1e-9))
+      p.Get("upper").Fail("expected a roughness bound <= half the grid spacing (" +
+                          FormatNumber(*out.grid_spacing_m / 2) + " m)");
+    out.parameters.push_back(std::move(param));
+  }
+  return out;
+}
+
+bool DefaultTableOptions::IsValid(std::string* error) const {
+  if (!(bound_fraction >= 0.0 && bound_fraction < 0.5)) {
+    *error = "bound_fraction " + FormatNumber(bound_fraction) + " must lie in [0, 0.5)";
+    return false;
+  }
+  return true;
+}
+
+double Median(std::vector<double> values) {
+  assert(!values.empty());
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+ValueStatistics Statistics(const std::vector<double>& values,
+                           const std::vector<std::string>& sites) {
+  assert(values.size() == sites.size());
+  ValueStatistics s;
+  s.values = static_cast<int>(values.size());
+  s.sites = static_cast<int>(std::set<std::string>(sites.begin(), sites.end()).size());
+  if (values.empty()) return s;
+  s.median = Median(values);
+  s.min = *std::min_element(values.begin(), values.end());
+  s.max = *std::max_element(values.begin(), values.end());
+  return s;
+}
+
+DefaultTable BuildDefaultTable(const std::vector<CalibratedSite>& sites,
+                               const DefaultTableOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("table options", error);
+  DefaultTable table;
+  table.options = options;
+  table.sites = sites;
+
+  // The same folder twice, or two folders holding one calibration, would
+  // count a calibration twice.
+  for (std::size_t a = 0; a < sites.size(); ++a) {
+    for (std::size_t b = 0; b < a; ++b) {
+      if (Canonical(sites[a].result_dir) == Canonical(sites[b].result_dir)) {
+        throw InputError(sites[a].result_dir, "result folder given twice (also as " +
+                                                  sites[b].result_dir +
+                                                  "); expected each calibration once");
+      }
+      if (SameCalibration(sites[a], sites[b])) {
+        throw InputError(sites[a].file,
+                         "holds the same calibration as " + sites[b].file +
+                             " (same site, method, misfit, evaluations and values); expected "
+                             "each calibration once");
+      }
+    }
+  }
+
+  // Notes on the inputs.
+  std::map<std::string, std::vector<std::string>> folders_of_site;
+  for (const CalibratedSite& s : sites) {
+    folders_of_site[s.site].push_back(s.result_dir);
+    std::vector<std::string> fallback;
+    for (const CalibratedParameter& p : s.parameters)
+      if (!p.class_given &&
+          std::find(fallback.begin(), fallback.end(), p.material) == fallback.end())
+        fallback.push_back(p.material);
+    if (!fallback.empty()) {
+      table.notes.push_back(s.file + ": no \"class\" on " + Join(fallback) +
+                            " (a file written before material classes); each material id stands "
+                            "for its class");
+    }
+  }
+  for (const auto& [site, folders] : folders_of_site) {
+    if (folders.size() > 1) {
+      table.notes.push_back("site " + Quote(site) + " comes from " +
+                            std::to_string(folders.size()) + " result folders (" + Join(folders) +
+                            "): each of its values is listed and enters the median, but the "
+                            "site counts once in \"sites\"");
+    }
+  }
+
+  // Rows.
+  std::map<std::pair<std::string, int>, TableRow> rows;
+  for (const CalibratedSite& s : sites) {
+    for (const CalibratedParameter& p : s.parameters) {
+      TableRow& row = rows[{p.material_class, NameOrder(p.name)}];
+      row.material_class = p.material_class;
+      row.name = p.name;
+      TableValue v;
+      v.site = s.site;
+      v.result_dir = s.result_dir;
+      v.material = p.material;
+      v.value = p.value;
+      v.lower = p.lower;
+      v.upper = p.upper;
+      v.std_error = p.std_error;
+      v.grid_spacing_m = s.grid_spacing_m;
+      v.bound = AtBound(p.value, p.lower, p.upper, options.bound_fraction);
+      v.counted = options.include_at_bound || v.bound == BoundPosition::kInside;
+      row.values.push_back(v);
+    }
+  }
+  for (auto& [key, row] : rows) {
+    std::vector<double> all, counted;
+    std::vector<std::string> all_sites, counted_sites;
+    std::set<double> spacings;
+    bool spacing_unknown = false;
+    for (const TableValue& v : row.values) {
+      all.push_back(v.value);
+      all_sites.push_back(v.site);
+      if (v.counted) {
+        counted.push_back(v.value);
+        counted_sites.push_back(v.site);
+      }
+      if (v.bound != BoundPosition::kInside) {
+        ++row.at_bound;
+        table.notes.push_back(
+            row.material_class + " " + row.name + ": " + v.site + " (" + v.result_dir +
+            ", material " + v.material + ") is at its " + BoundName(v.bound) + " bound (" +
+            FormatNumber(v.value) + " in [" + FormatNumber(v.lower) + ", " + FormatNumber(v.upper) +
+            "]); " + (v.counted ? "counted (--include-at-bound)" : "left out of the statistics"));
+      }
+      if (!v.grid_spacing_m) {
+        spacing_unknown = true;
+      } else if (std::none_of(spacings.begin(), spacings.end(), [&](double s) {
+                   return std::abs(s - *v.grid_spacing_m) <= 1e-9 * s;  // 12 ft in m, rounded
+                 })) {
+        spacings.insert(*v.grid_spacing_m);
+      }
+    }
+    row.all = Statistics(all, all_sites);
+    row.headline = Statistics(counted, counted_sites);
+    if (row.name == "roughness" && row.values.size() > 1 &&
+        (spacings.size() > 1 || spacing_unknown)) {
+      std::vector<std::string> list;
+      for (double s : spacings) list.push_back(FormatNumber(s) + " m");
+      table.notes.push_back(
+          row.material_class + " roughness: the values come from grids of " +
+          (spacings.size() > 1 ? "different spacings (" + Join(list) + ")"
+                               : std::string("unknown spacing (files without grid_spacing_m)")) +
+          "; a roughness means the same virtual spheres only at the same spacing");
+    }
+    table.rows.push_back(std::move(row));
+  }
+  return table;
+}
+
+}  // namespace rockcal::calibrate

@@ -1,0 +1,235 @@
+#include "rockcal/reports/default_table_outputs.h"
+
+#include <cstdio>
+#include <sstream>
+
+namespace rockcal::reports {
+namespace {
+
+using calibrate::BoundPosition;
+using calibrate::DefaultTable;
+using calibrate::TableRow;
+using calibrate::TableValue;
+using calibrate::ValueStatistics;
+
+constexpr double kFoot = 0.3048;  // m
+
+std::string Num(double v, const char* format = "%.10g") {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+const char* SiUnit(const std::string& name) {
+  if (name == "roughness") return "m";
+  if (name == "contact_time") return "s";
+  return "";
+}
+
+std::string Label(const std::string& name) {
+  return name == "contact_time" ? "contact time" : name;
+}
+
+// A value for reading: hardness as it is, roughness in m, contact time in ms.
+std::string Show(const std::string& name, double v) {
+  if (name == "contact_time") return Num(v * 1e3, "%.3g");
+  return Num(v, "%.3g");
+}
+std::string Unit(const std::string& name) {
+  if (name == "roughness") return " m";
+  if (name == "contact_time") return " ms";
+  return "";
+}
+// "0.21 m (0.69 ft)", "0.4", "5 ms".
+std::string ShowOne(const std::string& name, double v) {
+  std::string s = Show(name, v) + Unit(name);
+  if (name == "roughness") s += " (" + Num(v / kFoot, "%.3g") + " ft)";
+  return s;
+}
+// "0.15 – 0.3 m (0.49 – 0.98 ft)".
+std::string ShowRange(const std::string& name, double lo, double hi) {
+  std::string s = Show(name, lo) + " – " + Show(name, hi) + Unit(name);
+  if (name == "roughness")
+    s += " (" + Num(lo / kFoot, "%.3g") + " – " + Num(hi / kFoot, "%.3g") + " ft)";
+  return s;
+}
+
+// A CSV field, quoted when it holds a comma, a quote or a line break.
+std::string Field(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+// Markdown cell text: '|' would end the cell.
+std::string Cell(const std::string& s) {
+  std::string out;
+  for (char c : s) out += c == '|' ? std::string("\\|") : std::string(1, c);
+  return out;
+}
+
+nlohmann::json StatsJson(const ValueStatistics& s) {
+  const bool any = s.values > 0;
+  return {{"sites", s.sites},
+          {"values", s.values},
+          {"median", any ? nlohmann::json(s.median) : nlohmann::json(nullptr)},
+          {"min", any ? nlohmann::json(s.min) : nlohmann::json(nullptr)},
+          {"max", any ? nlohmann::json(s.max) : nlohmann::json(nullptr)}};
+}
+
+std::string StatsCsv(const ValueStatistics& s) {
+  const bool any = s.values > 0;
+  return std::to_string(s.sites) + ',' + std::to_string(s.values) + ',' +
+         (any ? Num(s.median) : "") + ',' + (any ? Num(s.min) : "") + ',' + (any ? Num(s.max) : "");
+}
+
+nlohmann::json Optional(const std::optional<double>& v) {
+  return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+std::string Percent(double fraction) { return Num(fraction * 100, "%.3g") + " %"; }
+
+// The Markdown summary table of `stats` (headline or all) per row.
+void SummaryTable(const DefaultTable& table, bool headline, std::ostringstream& out) {
+  out << "| class | parameter | sites | values | median | min – max | at a bound |\n"
+      << "|---|---|---|---|---|---|---|\n";
+  for (const TableRow& row : table.rows) {
+    const ValueStatistics& s = headline ? row.headline : row.all;
+    out << "| " << Cell(row.material_class) << " | " << Label(row.name) << " | " << s.sites << " | "
+        << s.values << " | " << (s.values > 0 ? ShowOne(row.name, s.median) : std::string("–"))
+        << " | " << (s.values > 0 ? ShowRange(row.name, s.min, s.max) : std::string("–")) << " | "
+        << row.at_bound << " of " << row.values.size() << " |\n";
+  }
+}
+
+}  // namespace
+
+nlohmann::json DefaultTableJson(const DefaultTable& table) {
+  nlohmann::json folders = nlohmann::json::array();
+  for (const calibrate::CalibratedSite& s : table.sites) {
+    folders.push_back({{"folder", s.result_dir},
+                       {"file", s.file},
+                       {"site", s.site},
+                       {"method", s.method},
+                       {"misfit", s.misfit},
+                       {"evaluations", s.evaluations},
+                       {"grid_spacing_m", Optional(s.grid_spacing_m)}});
+  }
+  nlohmann::json rows = nlohmann::json::array();
+  for (const TableRow& row : table.rows) {
+    nlohmann::json values = nlohmann::json::array();
+    for (const TableValue& v : row.values) {
+      values.push_back({{"site", v.site},
+                        {"folder", v.result_dir},
+                        {"material", v.material},
+                        {"value", v.value},
+                        {"lower", v.lower},
+                        {"upper", v.upper},
+                        {"std_error", Optional(v.std_error)},
+                        {"grid_spacing_m", Optional(v.grid_spacing_m)},
+                        {"at_bound", v.bound == BoundPosition::kInside
+                                         ? nlohmann::json(nullptr)
+                                         : nlohmann::json(calibrate::BoundName(v.bound))},
+                        {"counted", v.counted}});
+    }
+    nlohmann::json j = StatsJson(row.headline);
+    j["class"] = row.material_class;
+    j["parameter"] = row.name;
+    j["unit"] = SiUnit(row.name);
+    j["at_bound"] = row.at_bound;
+    j["all"] = StatsJson(row.all);
+    j["entries"] = values;
+    rows.push_back(j);
+  }
+  return {{"bound_fraction", table.options.bound_fraction},
+          {"include_at_bound", table.options.include_at_bound},
+          {"result_folders", folders},
+          {"rows", rows},
+          {"notes", table.notes}};
+}
+
+std::string DefaultTableCsv(const DefaultTable& table) {
+  std::ostringstream out;
+  out << "class,parameter,unit,sites,values,median,min,max,at_bound,"
+         "sites_all,values_all,median_all,min_all,max_all\n";
+  for (const TableRow& row : table.rows) {
+    out << Field(row.material_class) << ',' << row.name << ',' << SiUnit(row.name) << ','
+        << StatsCsv(row.headline) << ',' << row.at_bound << ',' << StatsCsv(row.all) << '\n';
+  }
+  return out.str();
+}
+
+std::string DefaultTableValuesCsv(const DefaultTable& table) {
+  std::ostringstream out;
+  out << "class,parameter,unit,site,folder,material,value,lower,upper,std_error,at_bound,counted\n";
+  for (const TableRow& row : table.rows) {
+    for (const TableValue& v : row.values) {
+      out << Field(row.material_class) << ',' << row.name << ',' << SiUnit(row.name) << ','
+          << Field(v.site) << ',' << Field(v.result_dir) << ',' << Field(v.material) << ','
+          << Num(v.value) << ',' << Num(v.lower) << ',' << Num(v.upper) << ','
+          << (v.std_error ? Num(*v.std_error) : "") << ',' << calibrate::BoundName(v.bound) << ','
+          << (v.counted ? 1 : 0) << '\n';
+    }
+  }
+  return out.str();
+}
+
+std::string DefaultTableMarkdown(const DefaultTable& table) {
+  std::ostringstream out;
+  out << "## Default parameters per material class\n\n";
+  SummaryTable(table, true, out);
+  const std::string tolerance = Percent(table.options.bound_fraction);
+  out << "\nMedian, min and max over the calibrated values of " << table.sites.size()
+      << " result folder" << (table.sites.size() == 1 ? "" : "s")
+      << "; \"sites\" counts distinct sites, \"values\" the values counted. ";
+  if (table.options.include_at_bound) {
+    out << "Values within " << tolerance
+        << " of the range of a calibration bound are counted (--include-at-bound).\n";
+  } else {
+    out << "Values within " << tolerance
+        << " of the range of a calibration bound were stopped by the bound, not by the data, "
+           "and are left out (--include-at-bound counts them).\n";
+  }
+  bool any_left_out = false;
+  for (const TableRow& row : table.rows)
+    any_left_out = any_left_out || row.headline.values != row.all.values;
+  if (any_left_out) {
+    out << "\n### With the values at a bound\n\n";
+    SummaryTable(table, false, out);
+  }
+  out << "\n### Values\n\n"
+      << "| class | parameter | site | folder | material | value | std. error | bounds | at a "
+         "bound "
+         "|\n"
+      << "|---|---|---|---|---|---|---|---|---|\n";
+  for (const TableRow& row : table.rows) {
+    for (const TableValue& v : row.values) {
+      out << "| " << Cell(row.material_class) << " | " << Label(row.name) << " | " << Cell(v.site)
+          << " | " << Cell(v.result_dir) << " | " << Cell(v.material) << " | "
+          << ShowOne(row.name, v.value) << " | "
+          << (v.std_error ? ShowOne(row.name, *v.std_error) : std::string("-")) << " | ["
+          << Show(row.name, v.lower) << ", " << Show(row.name, v.upper) << "]" << Unit(row.name)
+          << " | "
+          << (v.bound == BoundPosition::kInside
+                  ? std::string("")
+                  : std::string(calibrate::BoundName(v.bound)) + (v.counted ? "" : ", left out"))
+          << " |\n";
+    }
+  }
+  out << "\n### Result folders\n\n"
+      << "| folder | site | method | evaluations | misfit | grid spacing |\n"
+      << "|---|---|---|---|---|---|\n";
+  for (const calibrate::CalibratedSite& s : table.sites) {
+    out << "| " << Cell(s.result_dir) << " | " << Cell(s.site) << " | " << Cell(s.method) << " | "
+        << s.evaluations << " | " << Num(s.misfit, "%.4g") << " | "
+        << (s.grid_spacing_m ? Num(*s.grid_spacing_m, "%.4g") + " m" : std::string("-")) << " |\n";
+  }
+  if (!table.notes.empty()) {
+    out << "\n### Notes\n\n";
+    for (const std::string& n : table.notes) out << "- " << n << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace rockcal::reports
