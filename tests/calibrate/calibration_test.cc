@@ -148,8 +148,19 @@ TEST(Calibration, OptionsAreChecked) {
 // `noise` (normal, standard deviation `noise`, fixed seed) at the points
 // `units` of the unit box.
 struct LinearResiduals {
-  ParameterSpace space{{Parameter{"a", 0, ParameterKind::kHardness, 0.0, 1.0},
-                        Parameter{"b", 1, ParameterKind::kRoughness, 0.1, 0.6}}};
+  ParameterSpace space{{Bound("a", 0, ParameterKind::kHardness, 0.0, 1.0),
+                        Bound("b", 1, ParameterKind::kRoughness, 0.1, 0.6)}};
+
+  static Parameter Bound(const char* material, int index, ParameterKind kind, double lower,
+                         double upper) {
+    Parameter p;
+    p.material = material;
+    p.material_index = index;
+    p.kind = kind;
+    p.lower = lower;
+    p.upper = upper;
+    return p;
+  }
   Eigen::Vector2d optimum{0.4, 0.6};
   Eigen::Matrix<double, 5, 2> a = (Eigen::Matrix<double, 5, 2>() << 8, 1, -3, 6, 5, 5, 0, -7, 2,
                                    2).finished();
