@@ -371,6 +371,21 @@ int SmoothingEvaluations(int n) { return 2 * n + 2; }
 // The smallest budget that also leaves the search 2(n + 1) evaluations.
 int SmoothingBudget(int n) { return 2 * (n + 1) + SmoothingEvaluations(n); }
 
+// Whether an estimate's evaluated misfit agrees with its model: at most 3
+// standard deviations of the fitted evaluations' scatter above the model's
+// misfit plus the noise's share.
+bool Holds(const SmoothedEstimate& s) {
+  return s.evaluated_misfit <=
+         s.predicted_misfit + s.offset + 3.0 * s.scatter + 1e-9 * (1.0 + std::abs(s.predicted_misfit));
+}
+
+std::string Disagreement(const SmoothedEstimate& s) {
+  std::ostringstream out;
+  out << "misfit " << s.evaluated_misfit << " evaluated there against " << s.predicted_misfit + s.offset
+      << " +- " << s.scatter << " from the model";
+  return out.str();
+}
+
 // The result of a method run. With `smoothed`, in two stages:
 //  1. a first estimate fitted to the search's evaluations near the lowest (or
 //     the lowest itself when they cannot determine it);
@@ -378,7 +393,10 @@ int SmoothingBudget(int n) { return 2 * (n + 1) + SmoothingEvaluations(n); }
 //     way along each parameter (so the evaluations span every parameter at
 //     a step the noise cannot swamp), then the estimate refitted around the
 //     first one to the stencil and every evaluation nearby, and evaluated.
-// Otherwise the lowest evaluation.
+// Each stage's estimate is evaluated and kept only where it Holds: where the
+// misfit there agrees with its model. A misfit far from linear residuals
+// (few rocks, a curved valley) fails that, and the lowest evaluation stands.
+// Without `smoothed`, the lowest evaluation.
 MethodResult Conclude(Evaluator* ev, std::string termination, bool smoothed,
                       const MethodOptions& options, const Objective& objective) {
   const ParameterSpace& space = objective.space();
@@ -395,9 +413,14 @@ MethodResult Conclude(Evaluator* ev, std::string termination, bool smoothed,
   SmoothedEstimate first;
   const std::optional<std::vector<double>> first_unit =
       FitSmoothedEstimate(ev->trace(), space, ev->best(), options.smoothing_radius, &first);
-  const std::vector<double> centre = first_unit ? *first_unit : space.ToUnit(ev->best());
+  std::vector<double> centre = first_unit ? *first_unit : space.ToUnit(ev->best());
   const double h = 0.5 * options.smoothing_radius;
-  ev->Evaluate(centre);
+  bool first_holds = first_unit.has_value();
+  if (first_unit) {
+    first.evaluated_misfit = ev->Evaluate(centre).misfit;
+    first_holds = Holds(first);
+    if (!first_holds) centre = space.ToUnit(ev->best());
+  }
   for (int k = 0; k < n; ++k)
     for (const double sign : {1.0, -1.0}) {
       std::vector<double> u = centre;
@@ -407,19 +430,32 @@ MethodResult Conclude(Evaluator* ev, std::string termination, bool smoothed,
   SmoothedEstimate info;
   const std::optional<std::vector<double>> unit = FitSmoothedEstimate(
       ev->trace(), space, space.ToPhysical(centre), options.smoothing_radius, &info);
+  std::ostringstream msg;
+  if (!first_unit)
+    msg << "first the lowest evaluation (" << first.message << ")";
+  else if (!first_holds)
+    msg << "first a " << first.message << ", which did not hold (" << Disagreement(first)
+        << "), so the lowest evaluation";
+  else
+    msg << "first a " << first.message;
+  msg << "; then a stencil of " << 2 * n + 1 << " evaluations (" << h
+      << " either way along each parameter) and a ";
   std::vector<double> estimate;
   double misfit = 0.0;
   if (unit) {
     estimate = space.ToPhysical(*unit);
-    misfit = ev->Evaluate(*unit).misfit;
-    info.used = true;
-    std::ostringstream msg;
-    msg << (first_unit ? "first a " + first.message
-                       : "first the lowest evaluation (" + first.message + ")")
-        << "; then a stencil of " << 2 * n + 1 << " evaluations (" << h
-        << " either way along each parameter) and a " << info.message;
-    info.message = msg.str();
+    info.evaluated_misfit = misfit = ev->Evaluate(*unit).misfit;
+    info.used = Holds(info);
+    msg << info.message;
+    if (!info.used)
+      msg << "; its minimiser did not hold (" << Disagreement(info)
+          << "): the misfit is not near enough to linear residuals there, so the calibrated "
+             "values are the lowest evaluation";
+  } else {
+    msg << "model that could not be fitted: " << info.message
+        << "; the calibrated values are the lowest evaluation";
   }
+  info.message = msg.str();
   MethodResult result = ev->Finish(std::move(termination));
   if (info.used) {
     result.best = estimate;
@@ -492,6 +528,16 @@ std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluat
     step[k] = unit[k] - centre[k];
   }
   info->predicted_misfit = 0.5 * (a + j * step).squaredNorm();
+  double sum = 0.0, sum2 = 0.0;
+  for (std::size_t p = 0; p < near.size(); ++p) {
+    const Eigen::VectorXd di = x.row(static_cast<Eigen::Index>(p)).tail(n).transpose();
+    const double delta = trace[near[p]].misfit - 0.5 * (a + j * di).squaredNorm();
+    sum += delta;
+    sum2 += delta * delta;
+  }
+  const double count = static_cast<double>(near.size());
+  info->offset = sum / count;
+  info->scatter = std::sqrt(std::max(0.0, sum2 / count - info->offset * info->offset));
   std::ostringstream msg;
   msg << "linear model of the residuals fitted to the " << near.size()
       << " evaluations within " << radius << " (unit box)";

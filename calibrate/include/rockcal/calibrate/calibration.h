@@ -102,6 +102,12 @@ struct SmoothedEstimate {
   int points = 0;       // evaluations the linear model was fitted to
   double radius = 0.0;  // their neighbourhood's half-width in the unit box
   double predicted_misfit = 0.0;  // the model's misfit at the estimate
+  // How the fitted evaluations' misfits m_i stand to the model's, 0.5 |a + J
+  // d_i|^2: the mean of m_i - model_i (the noise's own share, > 0) and its
+  // standard deviation. An evaluation at the estimate more than 3 standard
+  // deviations above model + offset shows the model does not hold there.
+  double offset = 0.0, scatter = 0.0;
+  double evaluated_misfit = 0.0;  // the misfit evaluated at the estimate
 };
 
 struct MethodResult {
