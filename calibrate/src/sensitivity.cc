@@ -214,7 +214,10 @@ bool SobolOptions::IsValid(std::string* error) const {
 namespace {
 
 // The indices of one output from the rows `pick` (indices into the N rows,
-// repeats allowed): fa[n], fb[n], fab[i][n].
+// repeats allowed): fa[n], fb[n], fab[i][n]. S_i = mean((f(B) - f0) (f(A_B^i)
+// - f(A))) / V (Saltelli et al. 2010, table 2, with f(B) centred on the mean
+// f0 of f(A) and f(B)); ST_i = mean((f(A) - f(A_B^i))^2) / (2 V) (Jansen
+// 1999); V the variance of the 2N values of f(A) and f(B).
 void SobolEstimate(const std::vector<double>& fa, const std::vector<double>& fb,
                    const std::vector<std::vector<double>>& fab,
                    const std::vector<std::size_t>& pick, std::vector<double>* first,
@@ -235,7 +238,9 @@ void SobolEstimate(const std::vector<double>& fa, const std::vector<double>& fb,
   for (std::size_t i = 0; i < k; ++i) {
     double v1 = 0.0, vt = 0.0;
     for (std::size_t r : pick) {
-      v1 += fb[r] * (fab[i][r] - fa[r]);
+      // f(B) centred: the same expectation (the differences average to 0),
+      // far less spread when the output's mean is large against its spread.
+      v1 += (fb[r] - mean) * (fab[i][r] - fa[r]);
       vt += (fa[r] - fab[i][r]) * (fa[r] - fab[i][r]);
     }
     (*first)[i] = v1 / n / var;
@@ -609,6 +614,17 @@ SensitivityResult RunSensitivity(const sites::Site& site, const observations::Ob
       res.notes.push_back(out.name +
                           ": no Monte Carlo noise seen at the current parameters (every "
                           "resample gave the same value), so effect / noise is unknown");
+  }
+  for (std::size_t o = 0; o < res.outputs.size(); ++o) {
+    bool constant = true;
+    if (opt.method == SensitivityMethod::kMorris) {
+      for (const auto& idx : res.morris.index[o]) constant = constant && idx.mu_star == 0.0;
+    } else {
+      constant = !(res.sobol.variance[o] > 0.0);
+    }
+    if (constant)
+      res.notes.push_back(res.outputs[o].name +
+                          ": the same at every point of the design (no parameter moves it)");
   }
   if (res.non_finite_runs > 0)
     res.notes.push_back(std::to_string(res.non_finite_runs) +
