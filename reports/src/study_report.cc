@@ -644,18 +644,20 @@ std::string SensitivitySvg(const calibrate::SensitivityResult& r, int output) {
   const double noise = morris ? EffectNoise(r, o) : 0.0;
   if (morris && std::isfinite(noise)) yhi = std::max(yhi, noise);
   if (!(yhi > ylo)) yhi = ylo + 1.0;
-  yhi += 0.12 * (yhi - ylo);  // room for the legend
+  yhi += 0.3 * (yhi - ylo);  // room for the legend above the bars
 
   svg::Plot::Options opt;
-  opt.width = std::max(330.0, 110.0 + 85.0 * static_cast<double>(k));
-  opt.height = 260;
-  opt.left = 64, opt.right = 16, opt.top = 30, opt.bottom = 62;
+  opt.width = std::max(330.0, 80.0 + 110.0 * static_cast<double>(k));
+  opt.height = 250;
+  opt.left = 64, opt.right = 16, opt.top = 30, opt.bottom = 44;
+  for (std::size_t i = 0; i < k; ++i)
+    opt.x_ticks.emplace_back(static_cast<double>(i) + 1.0, r.parameters[i].label());
   const std::string& name = r.outputs[o].name;
   const std::string unit = r.outputs[o].unit;
   opt.title = name + ": sensitivity to each parameter";
   svg::Plot plot(0.5, static_cast<double>(k) + 0.5, ylo, yhi, opt);
   plot.Axes("parameter",
-            morris ? "mu* +- sigma" + (unit.empty() || unit == "fraction" ? std::string()
+            morris ? "μ* ± σ" + (unit.empty() || unit == "fraction" ? std::string()
                                                                           : " [" + unit + "]")
                    : "Sobol index");
   plot.Text(opt.width / 2, 18, name, "text-anchor=\"middle\" font-size=\"13\"");
@@ -672,20 +674,18 @@ std::string SensitivitySvg(const calibrate::SensitivityResult& r, int output) {
       Bar(&plot, x + 0.02, x + 0.34, e.sobol.total, kTotalColour);
       Whisker(&plot, x + 0.18, e.sobol.total_low, e.sobol.total_high);
     }
-    plot.Text(plot.X(x), plot.bottom() + 28, r.parameters[i].label(),
-              "text-anchor=\"middle\" font-size=\"9\"");
   }
   if (!morris && ylo < 0) plot.HLine(0.0, "stroke=\"#000\" stroke-width=\"0.8\"");
   std::vector<svg::Plot::LegendEntry> legend;
   if (morris) {
-    legend.push_back({kFirstColour, "mu*", "bar"});
+    legend.push_back({kFirstColour, "μ*", "bar"});
     if (std::isfinite(noise) && noise > 0) {
       plot.HLine(noise, "stroke=\"" + std::string(kNoiseColour) +
                             "\" stroke-width=\"1.5\" stroke-dasharray=\"6 4\"");
       legend.push_back({kNoiseColour, "noise of one effect", "dash"});
     }
   } else {
-    legend = {{kFirstColour, "S_i (first order)", "bar"}, {kTotalColour, "ST_i (total)", "bar"}};
+    legend = {{kFirstColour, "S1 (first order)", "bar"}, {kTotalColour, "ST (total)", "bar"}};
   }
   plot.Legend(legend, true);
   std::string out = plot.Svg();
