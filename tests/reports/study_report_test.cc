@@ -395,7 +395,10 @@ calibrate::SensitivityResult SmallStudy(const sites::Site& site, calibrate::Sens
 
 TEST(SensitivityReport, EveryNumberComesFromSensitivityJson) {
   sites::Site site = Example("profile2d");
-  site.scene.SetTotalRocks(4);
+  site.scene.SetTotalRocks(2);
+  site.scene.options.max_time = 15.0;
+  site.calibrate.resize(1);  // the talus hardness: one terrain for the whole study
+  ASSERT_EQ(site.calibrate[0].name, "hardness");
   for (const auto method :
        {calibrate::SensitivityMethod::kMorris, calibrate::SensitivityMethod::kSobol}) {
     const calibrate::SensitivityResult r = SmallStudy(site, method);
