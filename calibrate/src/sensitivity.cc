@@ -72,9 +72,9 @@ void CheckShape(const char* what, int parameters, int outputs) {
 // fewer than half are finite.
 std::pair<double, double> Interval(std::vector<double> values, double confidence) {
   const std::size_t all = values.size();
-  values.erase(std::remove_if(values.begin(), values.end(),
-                              [](double v) { return !std::isfinite(v); }),
-               values.end());
+  values.erase(
+      std::remove_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); }),
+      values.end());
   if (values.empty() || 2 * values.size() < all) return {kNaN, kNaN};
   std::sort(values.begin(), values.end());
   const double tail = 0.5 * (1.0 - confidence);
@@ -354,8 +354,7 @@ double QuantileOf(std::vector<double> v, double q) {
 
 }  // namespace
 
-std::vector<SiteOutput> SiteOutputs(const core::Scene& scene,
-                                    const observations::Observations* obs,
+std::vector<SiteOutput> SiteOutputs(const core::Scene& scene, const observations::Observations* obs,
                                     const observations::MisfitOptions& misfit) {
   std::vector<SiteOutput> out;
   for (std::size_t p = 0; p < scene.partitions.size(); ++p) {
@@ -526,8 +525,8 @@ SensitivityResult RunSensitivity(const sites::Site& site, const observations::Ob
   res.threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
   res.parameters = space.parameters();
   res.current = space.Current(base);
-  const int design_runs = opt.method == SensitivityMethod::kMorris ? res.samples * (k + 1)
-                                                                   : res.samples * (k + 2);
+  const int design_runs =
+      opt.method == SensitivityMethod::kMorris ? res.samples * (k + 1) : res.samples * (k + 2);
   const int total_runs = design_runs + 1;
 
   // One simulation at physical values `x`; the terrain is rebuilt only when
@@ -690,9 +689,8 @@ nlohmann::json SensitivityJson(const std::string& site_name, const SensitivityRe
   }
   nlohmann::json entries = nlohmann::json::array();
   for (const SensitivityEntry& e : r.entries) {
-    nlohmann::json j = {
-        {"parameter", r.parameters[static_cast<std::size_t>(e.parameter)].label()},
-        {"output", r.outputs[static_cast<std::size_t>(e.output)].name}};
+    nlohmann::json j = {{"parameter", r.parameters[static_cast<std::size_t>(e.parameter)].label()},
+                        {"output", r.outputs[static_cast<std::size_t>(e.output)].name}};
     if (morris) {
       j["mu"] = JsonNum(e.morris.mu);
       j["mu_star"] = JsonNum(e.morris.mu_star);
@@ -764,22 +762,23 @@ std::string SensitivityCsv(const SensitivityResult& r) {
   const bool morris = r.method == SensitivityMethod::kMorris;
   std::ostringstream out;
   out << "method,parameter,output,unit,value,noise,";
-  out << (morris ? "mu,mu_star,sigma,effects," : "first,first_low,first_high,total,total_low,"
-                                                 "total_high,variance,rows,");
+  out << (morris ? "mu,mu_star,sigma,effects,"
+                 : "first,first_low,first_high,total,total_low,"
+                   "total_high,variance,rows,");
   out << "effect_over_noise\n";
   for (const SensitivityEntry& e : r.entries) {
     const SensitivityOutputInfo& o = r.outputs[static_cast<std::size_t>(e.output)];
     out << SensitivityMethodName(r.method) << ','
         << CsvField(r.parameters[static_cast<std::size_t>(e.parameter)].label()) << ','
-        << CsvField(o.name) << ',' << CsvField(o.unit) << ',' << Num(o.value) << ','
-        << Num(o.noise) << ',';
+        << CsvField(o.name) << ',' << CsvField(o.unit) << ',' << Num(o.value) << ',' << Num(o.noise)
+        << ',';
     if (morris) {
       out << Num(e.morris.mu) << ',' << Num(e.morris.mu_star) << ',' << Num(e.morris.sigma) << ','
           << e.morris.effects << ',';
     } else {
-      out << Num(e.sobol.first) << ',' << Num(e.sobol.first_low) << ','
-          << Num(e.sobol.first_high) << ',' << Num(e.sobol.total) << ','
-          << Num(e.sobol.total_low) << ',' << Num(e.sobol.total_high) << ','
+      out << Num(e.sobol.first) << ',' << Num(e.sobol.first_low) << ',' << Num(e.sobol.first_high)
+          << ',' << Num(e.sobol.total) << ',' << Num(e.sobol.total_low) << ','
+          << Num(e.sobol.total_high) << ','
           << Num(r.sobol.variance[static_cast<std::size_t>(e.output)]) << ','
           << r.sobol.rows[static_cast<std::size_t>(e.output)] << ',';
     }
@@ -793,8 +792,8 @@ std::string SensitivityReport(const SensitivityResult& r) {
   std::ostringstream out;
   char line[256];
   if (morris)
-    std::snprintf(line, sizeof line, "%-22s %-20s %10s %10s %10s %10s %8s\n", "parameter",
-                  "output", "mu", "mu*", "sigma", "noise", "mu*/n");
+    std::snprintf(line, sizeof line, "%-22s %-20s %10s %10s %10s %10s %8s\n", "parameter", "output",
+                  "mu", "mu*", "sigma", "noise", "mu*/n");
   else
     std::snprintf(line, sizeof line, "%-22s %-20s %8s %17s %8s %17s %8s\n", "parameter", "output",
                   "S1", "interval", "ST", "interval", "eff/n");
@@ -803,9 +802,9 @@ std::string SensitivityReport(const SensitivityResult& r) {
     const std::string p = r.parameters[static_cast<std::size_t>(e.parameter)].label();
     const SensitivityOutputInfo& o = r.outputs[static_cast<std::size_t>(e.output)];
     if (morris) {
-      std::snprintf(line, sizeof line, "%-22s %-20s %10.4g %10.4g %10.4g %10.4g %8.3g\n",
-                    p.c_str(), o.name.c_str(), e.morris.mu, e.morris.mu_star, e.morris.sigma,
-                    o.noise, e.effect_over_noise);
+      std::snprintf(line, sizeof line, "%-22s %-20s %10.4g %10.4g %10.4g %10.4g %8.3g\n", p.c_str(),
+                    o.name.c_str(), e.morris.mu, e.morris.mu_star, e.morris.sigma, o.noise,
+                    e.effect_over_noise);
     } else {
       std::snprintf(line, sizeof line,
                     "%-22s %-20s %8.3f [%6.3f, %6.3f] %8.3f [%6.3f, %6.3f] %8.3g\n", p.c_str(),

@@ -473,8 +473,8 @@ std::string ConvergenceSvg(const std::string& site_name,
 
 namespace {
 
-constexpr const char* kFirstColour = "#0072b2";   // Morris mu*, Sobol S_i
-constexpr const char* kTotalColour = "#e69f00";   // Sobol ST_i
+constexpr const char* kFirstColour = "#0072b2";  // Morris mu*, Sobol S_i
+constexpr const char* kTotalColour = "#e69f00";  // Sobol ST_i
 constexpr const char* kNoiseColour = "#d62728";
 
 bool IsMorris(const calibrate::SensitivityResult& r) {
@@ -512,8 +512,10 @@ std::string SensitivityBody(const JsonFile& j, const calibrate::SensitivityResul
   s += "<p>Every simulation used the same seed " + j.Span("/seed", Int) + " and " +
        j.Span("/rocks", Int) +
        " rocks (common random numbers): differences come from the parameters. Cost: " +
-       j.Span("/simulations", Int) + " simulations (the design and one at the site's current "
-       "parameters) in " + j.Span("/wall_seconds", Show) + " s of wall time, " +
+       j.Span("/simulations", Int) +
+       " simulations (the design and one at the site's current "
+       "parameters) in " +
+       j.Span("/wall_seconds", Show) + " s of wall time, " +
        j.Span("/simulations_per_second", Show) + " simulations per second, " +
        j.Span("/threads", Int) + " threads.</p>";
 
@@ -618,10 +620,9 @@ void Whisker(svg::Plot* plot, double x, double lo, double hi) {
   lo = std::max(lo, plot->ylo());
   hi = std::min(hi, plot->yhi());
   const double px = plot->X(x);
-  plot->Raw("<path d=\"M" + svg::Px(px) + " " + svg::Px(plot->Y(lo)) + "V" +
-            svg::Px(plot->Y(hi)) + "M" + svg::Px(px - 4) + " " + svg::Px(plot->Y(lo)) + "h8M" +
-            svg::Px(px - 4) + " " + svg::Px(plot->Y(hi)) +
-            "h8\" stroke=\"#000\" stroke-width=\"1.2\" fill=\"none\"/>");
+  plot->Raw("<path d=\"M" + svg::Px(px) + " " + svg::Px(plot->Y(lo)) + "V" + svg::Px(plot->Y(hi)) +
+            "M" + svg::Px(px - 4) + " " + svg::Px(plot->Y(lo)) + "h8M" + svg::Px(px - 4) + " " +
+            svg::Px(plot->Y(hi)) + "h8\" stroke=\"#000\" stroke-width=\"1.2\" fill=\"none\"/>");
 }
 
 }  // namespace
@@ -656,10 +657,10 @@ std::string SensitivitySvg(const calibrate::SensitivityResult& r, int output) {
   const std::string unit = r.outputs[o].unit;
   opt.title = name + ": sensitivity to each parameter";
   svg::Plot plot(0.5, static_cast<double>(k) + 0.5, ylo, yhi, opt);
-  plot.Axes("parameter",
-            morris ? "μ* ± σ" + (unit.empty() || unit == "fraction" ? std::string()
-                                                                          : " [" + unit + "]")
-                   : "Sobol index");
+  plot.Axes(
+      "parameter",
+      morris ? "μ* ± σ" + (unit.empty() || unit == "fraction" ? std::string() : " [" + unit + "]")
+             : "Sobol index");
   plot.Text(opt.width / 2, 18, name, "text-anchor=\"middle\" font-size=\"13\"");
   for (std::size_t i = 0; i < k; ++i) {
     const double x = static_cast<double>(i) + 1.0;
@@ -704,15 +705,14 @@ std::string SensitivityHtmlReport(const StudyReportInput& in,
   page.heading_html = "Sensitivity study: " + j.Text("/site");
   page.lead_html = std::string(IsMorris(result) ? "Morris elementary effects" : "Sobol indices") +
                    " of " + std::to_string(result.parameters.size()) + " parameters on " +
-                   std::to_string(result.outputs.size()) + " outputs: " +
-                   std::to_string(result.simulations) + " simulations of " +
-                   std::to_string(result.rocks) + " rocks in " +
-                   Escape(Show(result.wall_seconds)) + " s.";
+                   std::to_string(result.outputs.size()) +
+                   " outputs: " + std::to_string(result.simulations) + " simulations of " +
+                   std::to_string(result.rocks) + " rocks in " + Escape(Show(result.wall_seconds)) +
+                   " s.";
   page.note_html =
       "SI units. The machine-readable record is sensitivity.json and sensitivity.csv; "
       "calibrate/STUDIES.md gives the formulas and how to read effect against noise.";
-  page.sections = {SiteSection(in),
-                   {"sensitivity", "Sensitivity", "", SensitivityBody(j, result)}};
+  page.sections = {SiteSection(in), {"sensitivity", "Sensitivity", "", SensitivityBody(j, result)}};
   page.footer_html = Footer("rockcal sensitivity", result.seed);
   return html::PageHtml(page);
 }

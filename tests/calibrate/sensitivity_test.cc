@@ -29,11 +29,9 @@ SensitivityModel Linear(const std::vector<double>& a) {
 // Ishigami and Homma (1990), a = 7, b = 0.1, on x in [-pi, pi]^3.
 SensitivityModel Ishigami() {
   return [](const std::vector<double>& u) {
-    const double x1 = -kPi + 2 * kPi * u[0], x2 = -kPi + 2 * kPi * u[1],
-                 x3 = -kPi + 2 * kPi * u[2];
+    const double x1 = -kPi + 2 * kPi * u[0], x2 = -kPi + 2 * kPi * u[1], x3 = -kPi + 2 * kPi * u[2];
     const double s2 = std::sin(x2);
-    return std::vector<double>{std::sin(x1) + 7.0 * s2 * s2 +
-                               0.1 * std::pow(x3, 4) * std::sin(x1)};
+    return std::vector<double>{std::sin(x1) + 7.0 * s2 * s2 + 0.1 * std::pow(x3, 4) * std::sin(x1)};
   };
 }
 
@@ -194,10 +192,10 @@ TEST(SensitivitySobol, IshigamiWithinItsBootstrapInterval) {
     const double hwt = 0.5 * (e.total_high - e.total_low);
     EXPECT_LT(hw1, 0.05) << "x" << i + 1;
     EXPECT_LT(hwt, 0.05) << "x" << i + 1;
-    EXPECT_NEAR(e.first, s1[i], 1.5 * hw1) << "x" << i + 1 << " S1, interval [" << e.first_low
-                                           << ", " << e.first_high << "]";
-    EXPECT_NEAR(e.total, st[i], 1.5 * hwt) << "x" << i + 1 << " ST, interval [" << e.total_low
-                                           << ", " << e.total_high << "]";
+    EXPECT_NEAR(e.first, s1[i], 1.5 * hw1)
+        << "x" << i + 1 << " S1, interval [" << e.first_low << ", " << e.first_high << "]";
+    EXPECT_NEAR(e.total, st[i], 1.5 * hwt)
+        << "x" << i + 1 << " ST, interval [" << e.total_low << ", " << e.total_high << "]";
   }
 }
 
@@ -227,8 +225,9 @@ sites::Site SiteWithAnUnreachedMaterial(int rocks) {
   core::Material corner = scene.materials[0];
   corner.id = "corner";
   scene.materials.push_back(corner);
-  scene.grid.material[0] = 2;                                                      // (0, 0)
-  scene.grid.material[static_cast<std::size_t>((scene.grid.ny - 1) * scene.grid.nx)] = 2;  // (0, 20)
+  scene.grid.material[0] = 2;  // (0, 0)
+  scene.grid.material[static_cast<std::size_t>((scene.grid.ny - 1) * scene.grid.nx)] =
+      2;  // (0, 20)
   site.calibrate = {{"slope", "hardness", 0.2, 0.8},
                     {"corner", "hardness", 0.1, 0.9},
                     {"corner", "roughness", 0.1, 0.6}};

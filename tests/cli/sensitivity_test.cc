@@ -40,7 +40,8 @@ TEST(Sensitivity, MorrisWritesTablesAndReport) {
   const RunResult run = Rockcal("sensitivity " + Example("profile2d") +
                                 " --samples 2 --rocks 2 --threads 2 --out " + out);
   ASSERT_EQ(run.status, 0) << run.err;
-  EXPECT_THAT(run.out, HasSubstr("wrote " + out + "/sensitivity.json, sensitivity.csv, report.html"));
+  EXPECT_THAT(run.out,
+              HasSubstr("wrote " + out + "/sensitivity.json, sensitivity.csv, report.html"));
   const nlohmann::json j = nlohmann::json::parse(ReadFile(out + "/sensitivity.json"));
   EXPECT_EQ(j["method"], "morris");
   EXPECT_EQ(j["simulations"], 2 * 3 + 1);  // r (k + 1) + the current parameters

@@ -417,8 +417,8 @@ TEST(SensitivityReport, EveryNumberComesFromSensitivityJson) {
                              "/simulations_per_second", "/seed", "/rocks"})
       expected.insert(leaf);
     for (const std::string& leaf : expected)
-      EXPECT_TRUE(seen["sensitivity.json"].count(leaf)) << "sensitivity.json" << leaf
-                                                        << " not shown";
+      EXPECT_TRUE(seen["sensitivity.json"].count(leaf))
+          << "sensitivity.json" << leaf << " not shown";
     // One chart per output, each a well-formed SVG naming every parameter.
     for (std::size_t o = 0; o < r.outputs.size(); ++o) {
       const std::string svg = SensitivitySvg(r, static_cast<int>(o));

@@ -54,7 +54,7 @@ struct MorrisOptions {
   // p, the levels of the grid {0, 1/(p-1), ..., 1}; the step is
   // Delta = p / (2 (p - 1)) (2/3 for the default 4). Even, in [2, 100].
   int levels = 4;
-  std::uint64_t seed = 1;  // of the trajectories' starts, directions and orders
+  std::uint64_t seed = 1;          // of the trajectories' starts, directions and orders
   SensitivityProgressFn progress;  // may be empty
 
   // Checks each field; on failure sets *error naming the field, its value and
@@ -114,9 +114,9 @@ struct SobolResult {
   int parameters = 0, outputs = 0;
   int samples = 0, bootstrap = 0;
   double confidence = 0.0;
-  int evaluations = 0;            // N (k + 2)
-  std::vector<double> variance;   // [output] of the 2N values of f(A) and f(B)
-  std::vector<int> rows;          // [output] rows whose k + 2 values were all finite
+  int evaluations = 0;                         // N (k + 2)
+  std::vector<double> variance;                // [output] of the 2N values of f(A) and f(B)
+  std::vector<int> rows;                       // [output] rows whose k + 2 values were all finite
   std::vector<std::vector<SobolIndex>> index;  // [output][parameter]
 };
 
@@ -196,13 +196,13 @@ struct SensitivityResult {
   std::vector<Parameter> parameters;
   std::vector<double> current;  // physical values at the site (clamped into the bounds)
   std::vector<SensitivityOutputInfo> outputs;
-  MorrisResult morris;  // method morris
-  SobolResult sobol;    // method sobol
+  MorrisResult morris;                    // method morris
+  SobolResult sobol;                      // method sobol
   std::vector<SensitivityEntry> entries;  // parameter-major: [p * outputs + o]
-  int simulations = 0;            // the design's runs + 1 at the current parameters
-  double wall_seconds = 0.0;      // the whole study
-  double simulation_seconds = 0.0;  // inside the simulations
-  int non_finite_runs = 0;        // runs with a rock in a non-finite state
+  int simulations = 0;                    // the design's runs + 1 at the current parameters
+  double wall_seconds = 0.0;              // the whole study
+  double simulation_seconds = 0.0;        // inside the simulations
+  int non_finite_runs = 0;                // runs with a rock in a non-finite state
   std::vector<std::string> notes;
   std::string summary;  // one sentence: what ran, how long, what stands out of the noise
 
