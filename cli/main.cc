@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "sensitivity.h"
 #include "rockcal/core/error.h"
 #include "study.h"
 #include "table.h"
@@ -21,6 +22,9 @@ constexpr const char* kUsage =
     "                   [--max-evals N] [--max-seconds T] [--rocks N] [--seed S] [--threads N]\n"
     "                   [--loss none|huber|cauchy] [--estimate smoothed|lowest]\n"
     "                   [--resume | --force] [--quiet] --out DIR\n"
+    "  rockcal sensitivity SITE.json [--method morris|sobol] [--samples N] [--observations OBS.json]\n"
+    "                   [--rocks N] [--seed S] [--set K=V ...] [--threads N]\n"
+    "                   [--force] [--quiet] --out DIR\n"
     "  rockcal study stability SITE.json [--rocks N] [--seed S] [--cases A,B,...] [--set K=V ...]\n"
     "                   [--threads N] [--force] [--quiet] --out DIR\n"
     "  rockcal study convergence SITE.json [--steps-per-contact LIST] [--rock-counts LIST]\n"
@@ -46,11 +50,12 @@ int main(int argc, char** argv) {
     if (command == "simulate") return rockcal::cli::Simulate(args);
     if (command == "validate") return rockcal::cli::Validate(args);
     if (command == "calibrate") return rockcal::cli::Calibrate(args);
+    if (command == "sensitivity") return rockcal::cli::Sensitivity(args);
     if (command == "study") return rockcal::cli::Study(args);
     if (command == "table") return rockcal::cli::Table(args);
-    throw rockcal::InputError(
-        "", "unknown command '" + command +
-                "' (available: simulate, calibrate, study, table, validate; see rockcal --help)");
+    throw rockcal::InputError("", "unknown command '" + command +
+                                      "' (available: simulate, calibrate, sensitivity, study, "
+                                      "table, validate; see rockcal --help)");
   } catch (const rockcal::InputError& e) {
     std::fprintf(stderr, "rockcal: error: %s\n", e.what());
     return 2;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -466,6 +467,254 @@ std::string ConvergenceSvg(const std::string& site_name,
   out.insert(title == std::string::npos ? out.find('>') + 1 : title + 8,
              "<rect width=\"100%\" height=\"100%\" fill=\"#fff\"/>");
   return out + "\n";
+}
+
+// ---- sensitivity -------------------------------------------------------------------
+
+namespace {
+
+constexpr const char* kFirstColour = "#0072b2";  // Morris mu*, Sobol S_i
+constexpr const char* kTotalColour = "#e69f00";  // Sobol ST_i
+constexpr const char* kNoiseColour = "#d62728";
+
+bool IsMorris(const calibrate::SensitivityResult& r) {
+  return r.method == calibrate::SensitivityMethod::kMorris;
+}
+
+double Finite(double v) { return std::isfinite(v) ? v : 0.0; }
+
+// The noise of one Morris elementary effect of output o (see SensitivityJson).
+double EffectNoise(const calibrate::SensitivityResult& r, std::size_t o) {
+  return std::sqrt(2.0) * r.outputs[o].noise / r.morris.delta;
+}
+
+std::string SensitivityBody(const JsonFile& j, const calibrate::SensitivityResult& r) {
+  const bool morris = IsMorris(r);
+  std::string s = "<p class=\"verdict\">" + j.Text("/summary") + "</p>";
+  if (morris) {
+    s += "<p>Morris elementary effects: " + j.Span("/design/trajectories", Int) +
+         " trajectories through the parameter box on a grid of " + j.Span("/design/levels", Int) +
+         " levels, each step moving one parameter by &#916; = " + j.Span("/design/delta", Show) +
+         " of its range; " + j.Span("/design/evaluations", Int) +
+         " simulations. An effect is the change of the output per full range of the "
+         "parameter: &#956;* is the mean of its size (how much the parameter matters), &#963; its "
+         "spread (interactions with other parameters, or curvature).</p>";
+  } else {
+    s += "<p>Sobol indices from Saltelli sampling: " + j.Span("/design/samples", Int) +
+         " rows in each of the matrices A and B, " + j.Span("/design/evaluations", Int) +
+         " simulations (" + j.Text("/design/sampling") +
+         "). S<sub>i</sub> is the share of the output's variance over the parameter box due to "
+         "the parameter alone, ST<sub>i</sub> the share it takes part in, interactions "
+         "included. Intervals: bootstrap " +
+         j.Span("/design/confidence", SetPercent) + " percentile intervals over " +
+         j.Span("/design/bootstrap", Int) + " resamples of the rows.</p>";
+  }
+  s += "<p>Every simulation used the same seed " + j.Span("/seed", Int) + " and " +
+       j.Span("/rocks", Int) +
+       " rocks (common random numbers): differences come from the parameters. Cost: " +
+       j.Span("/simulations", Int) +
+       " simulations (the design and one at the site's current "
+       "parameters) in " +
+       j.Span("/wall_seconds", Show) + " s of wall time, " +
+       j.Span("/simulations_per_second", Show) + " simulations per second, " +
+       j.Span("/threads", Int) + " threads.</p>";
+
+  s += "<h3>Parameters</h3><table><thead><tr>" + Th("") + Th("parameter") + Th("lower") +
+       Th("upper") + Th("current") + "</tr></thead><tbody>";
+  for (std::size_t i = 0; i < r.parameters.size(); ++i) {
+    const std::string p = "/parameters/" + std::to_string(i) + "/";
+    s += "<tr>" + Td(std::to_string(i + 1), true) + "<td>" + j.Text(p + "label") + "</td>" +
+         j.Cell(p + "lower", Show) + j.Cell(p + "upper", Show) + j.Cell(p + "current", Show) +
+         "</tr>";
+  }
+  s += "</tbody></table><p class=\"note\">SI units (roughness in m, contact time in s). Charts "
+       "number the parameters as here.</p>";
+
+  s += "<h3>Outputs and their Monte Carlo noise</h3><table><thead><tr>" + Th("output") +
+       Th("unit") + Th("at the current parameters") + Th("noise") +
+       (morris ? Th("noise of one effect") : Th("variance over the box") + Th("rows used")) +
+       "</tr></thead><tbody>";
+  for (std::size_t o = 0; o < r.outputs.size(); ++o) {
+    const std::string p = "/outputs/" + std::to_string(o) + "/";
+    s += "<tr><td>" + j.Text(p + "name") + "<span class=\"desc\">" + j.Text(p + "description") +
+         "</span></td><td>" + j.Text(p + "unit") + "</td>" + j.Cell(p + "value", Show, "", "-") +
+         j.Cell(p + "noise", Show, "", "unknown");
+    if (morris)
+      s += j.Cell(p + "effect_noise", Show, "", "unknown");
+    else
+      s += j.Cell(p + "variance", Show, "", "-") + j.Cell(p + "rows", Int);
+    s += "</tr>";
+  }
+  s += "</tbody></table><p class=\"note\">Noise: the bootstrap standard error of the output "
+       "over the rocks of one run at the site's current parameters (rocks resampled with "
+       "replacement). ";
+  s += morris ? "The noise of one effect, &#8730;2 noise / &#916;, is the spread an elementary "
+                "effect would have from Monte Carlo noise alone (two runs a step apart).</p>"
+              : "</p>";
+
+  s += "<h3>Charts</h3>";
+  for (std::size_t o = 0; o < r.outputs.size(); ++o) {
+    const std::string chart = SensitivitySvg(r, static_cast<int>(o));
+    const std::string caption =
+        "<b>" + Escape(r.outputs[o].name) + ".</b> " +
+        (morris ? "&#956;* per parameter (bar) with &#177;&#963; (whisker); the dashed line is "
+                  "the noise of one effect: bars near or below it are not resolved."
+                : "S<sub>i</sub> (blue) and ST<sub>i</sub> (orange) per parameter with their "
+                  "intervals.");
+    const std::size_t w = chart.find("width=\"");
+    const double width = w == std::string::npos ? 0.0 : std::atof(chart.c_str() + w + 7);
+    s += html::Figure(chart, caption, width);
+  }
+
+  s += "<h3>Every parameter and output</h3><table class=\"wide\"><thead><tr>" + Th("parameter") +
+       Th("output");
+  s += morris ? Th("μ") + Th("μ*") + Th("σ") + Th("effects")
+              : Th("S_i") + Th("interval") + Th("ST_i") + Th("interval");
+  s += Th("effect / noise") + "</tr></thead><tbody>";
+  for (std::size_t e = 0; e < r.entries.size(); ++e) {
+    const std::string p = "/entries/" + std::to_string(e) + "/";
+    const calibrate::SensitivityEntry& entry = r.entries[e];
+    const bool resolved = entry.effect_over_noise >= j.Number("/resolved_ratio");
+    s += "<tr><td>" + j.Text(p + "parameter") + "</td><td>" + j.Text(p + "output") + "</td>";
+    if (morris) {
+      s += j.Cell(p + "mu", Show, "", "-") + j.Cell(p + "mu_star", Show, "", "-") +
+           j.Cell(p + "sigma", Show, "", "-") + j.Cell(p + "effects", Int);
+    } else {
+      s += j.Cell(p + "first", Show, "", "-") + "<td class=\"n\">" +
+           j.Span(p + "first_low", Show, "-") + " to " + j.Span(p + "first_high", Show, "-") +
+           "</td>" + j.Cell(p + "total", Show, "", "-") + "<td class=\"n\">" +
+           j.Span(p + "total_low", Show, "-") + " to " + j.Span(p + "total_high", Show, "-") +
+           "</td>";
+    }
+    s += j.Cell(p + "effect_over_noise", Show, resolved ? "ok" : "", "unknown") + "</tr>";
+  }
+  s += "</tbody></table><p class=\"note\">Effect / noise: ";
+  s += morris ? "&#956;* over the noise of one effect; Monte Carlo noise alone gives about 0.8."
+              : "the standard deviation the parameter causes alone, &#8730;(S<sub>i</sub> V), "
+                "over the noise of one run.";
+  s += " Marked green at " + j.Span("/resolved_ratio", Show) +
+       " or more: the effect stands out of the noise, so data on that output can pin the "
+       "parameter down at this rock count. A parameter that stands out on no output cannot be "
+       "calibrated from these quantities. See calibrate/STUDIES.md.</p>";
+  if (!r.notes.empty()) {
+    s += "<h3>Notes</h3><ul class=\"notes\">";
+    for (std::size_t k = 0; k < r.notes.size(); ++k)
+      s += "<li>" + j.Text("/notes/" + std::to_string(k)) + "</li>";
+    s += "</ul>";
+  }
+  return s;
+}
+
+// A bar of the chart from y = 0 to v between data x0 and x1.
+void Bar(svg::Plot* plot, double x0, double x1, double v, const std::string& fill) {
+  if (!std::isfinite(v)) return;
+  const double y0 = plot->Y(0.0), y1 = plot->Y(v);
+  plot->Raw("<rect x=\"" + svg::Px(plot->X(x0)) + "\" y=\"" + svg::Px(std::min(y0, y1)) +
+            "\" width=\"" + svg::Px(plot->X(x1) - plot->X(x0)) + "\" height=\"" +
+            svg::Px(std::abs(y1 - y0)) + "\" fill=\"" + fill + "\"/>");
+}
+
+// A whisker at data x from lo to hi (clipped to the plot's y range).
+void Whisker(svg::Plot* plot, double x, double lo, double hi) {
+  if (!std::isfinite(lo) || !std::isfinite(hi)) return;
+  lo = std::max(lo, plot->ylo());
+  hi = std::min(hi, plot->yhi());
+  const double px = plot->X(x);
+  plot->Raw("<path d=\"M" + svg::Px(px) + " " + svg::Px(plot->Y(lo)) + "V" + svg::Px(plot->Y(hi)) +
+            "M" + svg::Px(px - 4) + " " + svg::Px(plot->Y(lo)) + "h8M" + svg::Px(px - 4) + " " +
+            svg::Px(plot->Y(hi)) + "h8\" stroke=\"#000\" stroke-width=\"1.2\" fill=\"none\"/>");
+}
+
+}  // namespace
+
+std::string SensitivitySvg(const calibrate::SensitivityResult& r, int output) {
+  const bool morris = IsMorris(r);
+  const std::size_t o = static_cast<std::size_t>(output);
+  const std::size_t k = r.parameters.size();
+  double ylo = 0.0, yhi = morris ? 0.0 : 1.0;
+  for (std::size_t i = 0; i < k; ++i) {
+    const calibrate::SensitivityEntry& e = r.at(static_cast<int>(i), output);
+    if (morris) {
+      yhi = std::max(yhi, Finite(e.morris.mu_star) + Finite(e.morris.sigma));
+    } else {
+      for (double v : {e.sobol.first, e.sobol.first_low, e.sobol.total, e.sobol.total_low})
+        ylo = std::min(ylo, Finite(v));
+      for (double v : {e.sobol.first_high, e.sobol.total_high}) yhi = std::max(yhi, Finite(v));
+    }
+  }
+  const double noise = morris ? EffectNoise(r, o) : 0.0;
+  if (morris && std::isfinite(noise)) yhi = std::max(yhi, noise);
+  if (!(yhi > ylo)) yhi = ylo + 1.0;
+  yhi += 0.3 * (yhi - ylo);  // room for the legend above the bars
+
+  svg::Plot::Options opt;
+  opt.width = std::max(330.0, 80.0 + 110.0 * static_cast<double>(k));
+  opt.height = 250;
+  opt.left = 64, opt.right = 16, opt.top = 30, opt.bottom = 44;
+  for (std::size_t i = 0; i < k; ++i)
+    opt.x_ticks.emplace_back(static_cast<double>(i) + 1.0, r.parameters[i].label());
+  const std::string& name = r.outputs[o].name;
+  const std::string unit = r.outputs[o].unit;
+  opt.title = name + ": sensitivity to each parameter";
+  svg::Plot plot(0.5, static_cast<double>(k) + 0.5, ylo, yhi, opt);
+  plot.Axes(
+      "parameter",
+      morris ? "μ* ± σ" + (unit.empty() || unit == "fraction" ? std::string() : " [" + unit + "]")
+             : "Sobol index");
+  plot.Text(opt.width / 2, 18, name, "text-anchor=\"middle\" font-size=\"13\"");
+  for (std::size_t i = 0; i < k; ++i) {
+    const double x = static_cast<double>(i) + 1.0;
+    const calibrate::SensitivityEntry& e = r.at(static_cast<int>(i), output);
+    if (morris) {
+      Bar(&plot, x - 0.28, x + 0.28, e.morris.mu_star, kFirstColour);
+      if (std::isfinite(e.morris.sigma))
+        Whisker(&plot, x, e.morris.mu_star - e.morris.sigma, e.morris.mu_star + e.morris.sigma);
+    } else {
+      Bar(&plot, x - 0.34, x - 0.02, e.sobol.first, kFirstColour);
+      Whisker(&plot, x - 0.18, e.sobol.first_low, e.sobol.first_high);
+      Bar(&plot, x + 0.02, x + 0.34, e.sobol.total, kTotalColour);
+      Whisker(&plot, x + 0.18, e.sobol.total_low, e.sobol.total_high);
+    }
+  }
+  if (!morris && ylo < 0) plot.HLine(0.0, "stroke=\"#000\" stroke-width=\"0.8\"");
+  std::vector<svg::Plot::LegendEntry> legend;
+  if (morris) {
+    legend.push_back({kFirstColour, "μ*", "bar"});
+    if (std::isfinite(noise) && noise > 0) {
+      plot.HLine(noise, "stroke=\"" + std::string(kNoiseColour) +
+                            "\" stroke-width=\"1.5\" stroke-dasharray=\"6 4\"");
+      legend.push_back({kNoiseColour, "noise of one effect", "dash"});
+    }
+  } else {
+    legend = {{kFirstColour, "S1 (first order)", "bar"}, {kTotalColour, "ST (total)", "bar"}};
+  }
+  plot.Legend(legend, true);
+  std::string out = plot.Svg();
+  const std::size_t title = out.find("</title>");
+  out.insert(title == std::string::npos ? out.find('>') + 1 : title + 8,
+             "<rect width=\"100%\" height=\"100%\" fill=\"#fff\"/>");
+  return out;
+}
+
+std::string SensitivityHtmlReport(const StudyReportInput& in,
+                                  const calibrate::SensitivityResult& result) {
+  const core::Scene& scene = SceneOf(in, "SensitivityHtmlReport");
+  const JsonFile j("sensitivity.json", calibrate::SensitivityJson(scene.name, result));
+  html::Page page;
+  page.title = "rockcal sensitivity study: " + scene.name;
+  page.heading_html = "Sensitivity study: " + j.Text("/site");
+  page.lead_html = std::string(IsMorris(result) ? "Morris elementary effects" : "Sobol indices") +
+                   " of " + std::to_string(result.parameters.size()) + " parameters on " +
+                   std::to_string(result.outputs.size()) +
+                   " outputs: " + std::to_string(result.simulations) + " simulations of " +
+                   std::to_string(result.rocks) + " rocks in " + Escape(Show(result.wall_seconds)) +
+                   " s.";
+  page.note_html =
+      "SI units. The machine-readable record is sensitivity.json and sensitivity.csv; "
+      "calibrate/STUDIES.md gives the formulas and how to read effect against noise.";
+  page.sections = {SiteSection(in), {"sensitivity", "Sensitivity", "", SensitivityBody(j, result)}};
+  page.footer_html = Footer("rockcal sensitivity", result.seed);
+  return html::PageHtml(page);
 }
 
 }  // namespace rockcal::reports

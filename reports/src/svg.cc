@@ -168,14 +168,18 @@ void Plot::Axes(const std::string& x_label, const std::string& y_label) {
   const std::vector<double> yt =
       options_.log_y ? LogTicks(ylo_, yhi_)
                      : Ticks(ylo_, yhi_, std::max(3, static_cast<int>((bottom() - top()) / 45)));
-  for (double t : xt) {
+  std::vector<std::pair<double, std::string>> xticks;
+  if (!options_.log_x) xticks = options_.x_ticks;
+  if (xticks.empty())
+    for (double t : xt) xticks.emplace_back(t, Label(t));
+  for (const auto& [t, label] : xticks) {
     const std::string x = Px(X(t));
     g += "<line x1=\"" + x + "\" y1=\"" + Px(top()) + "\" x2=\"" + x + "\" y2=\"" + Px(bottom()) +
          "\" stroke=\"" + kGrid + "\"/>";
     g += "<line x1=\"" + x + "\" y1=\"" + Px(bottom()) + "\" x2=\"" + x + "\" y2=\"" +
          Px(bottom() + 4) + "\" stroke=\"" + kInk + "\"/>";
     g += "<text x=\"" + x + "\" y=\"" + Px(bottom() + 15) + "\" text-anchor=\"middle\">" +
-         Escape(Label(t)) + "</text>";
+         Escape(label) + "</text>";
   }
   for (double t : yt) {
     const std::string y = Px(Y(t));

@@ -381,5 +381,55 @@ TEST(StudyReportTest, ReportsOfTinyStudiesOfProfile2d) {
   EXPECT_LT(seconds, 20.0) << "keep this test light";
 }
 
+// ---- sensitivity -------------------------------------------------------------------
+
+// A small real study of profile2d (4 rocks a run).
+calibrate::SensitivityResult SmallStudy(const sites::Site& site, calibrate::SensitivityMethod m) {
+  calibrate::SensitivityOptions opt;
+  opt.method = m;
+  opt.samples = m == calibrate::SensitivityMethod::kMorris ? 2 : 4;
+  opt.bootstrap = 20;
+  opt.threads = 2;
+  return calibrate::RunSensitivity(site, nullptr, opt);
+}
+
+TEST(SensitivityReport, EveryNumberComesFromSensitivityJson) {
+  sites::Site site = Example("profile2d");
+  site.scene.SetTotalRocks(2);
+  site.scene.options.max_time = 15.0;
+  site.calibrate.resize(1);  // the talus hardness: one terrain for the whole study
+  ASSERT_EQ(site.calibrate[0].name, "hardness");
+  for (const auto method :
+       {calibrate::SensitivityMethod::kMorris, calibrate::SensitivityMethod::kSobol}) {
+    const calibrate::SensitivityResult r = SmallStudy(site, method);
+    const Parsed p = ParseReport(SensitivityHtmlReport(Input(site), r));
+    ExpectSelfContained(p);
+    EXPECT_EQ(p.sections, (std::vector<std::string>{"site", "sensitivity"}));
+    const nlohmann::json json = calibrate::SensitivityJson(site.scene.name, r);
+    auto seen = CheckNumbers(p, {{"sensitivity.json", json}});
+    std::set<std::string> expected = Expected(json, "/entries/", {"parameter", "output"});
+    for (const std::string& leaf : Expected(json, "/outputs/", {"name", "description"}))
+      expected.insert(leaf);
+    for (const std::string& leaf : Expected(json, "/parameters/", {"label"}))
+      if (leaf.find("/material") == std::string::npos && leaf.find("/name") == std::string::npos)
+        expected.insert(leaf);
+    for (const char* leaf : {"/site", "/summary", "/simulations", "/wall_seconds",
+                             "/simulations_per_second", "/seed", "/rocks"})
+      expected.insert(leaf);
+    for (const std::string& leaf : expected)
+      EXPECT_TRUE(seen["sensitivity.json"].count(leaf))
+          << "sensitivity.json" << leaf << " not shown";
+    // One chart per output, each a well-formed SVG naming every parameter.
+    for (std::size_t o = 0; o < r.outputs.size(); ++o) {
+      const std::string svg = SensitivitySvg(r, static_cast<int>(o));
+      std::string error;
+      EXPECT_NE(ParseXml(svg, &error), nullptr) << error;
+      EXPECT_NE(p.html.find(svg), std::string::npos) << "chart " << o << " is inline";
+      for (const auto& param : r.parameters)
+        EXPECT_NE(svg.find(param.label()), std::string::npos) << param.label();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rockcal::reports

@@ -77,6 +77,20 @@ TEST(SvgTest, PlotMapsDataAndIsWellFormed) {
   EXPECT_NE(svg.find("fence &lt;3 m&gt;"), std::string::npos);
 }
 
+TEST(SvgTest, CategoryTicksReplaceTheNumbersOnX) {
+  Plot::Options o;
+  o.x_ticks = {{1.0, "slope.hardness"}, {2.0, "a & <b>"}};
+  Plot plot(0.5, 2.5, 0.0, 1.0, o);
+  plot.Axes("parameter", "index");
+  const std::string svg = plot.Svg();
+  std::string error;
+  ASSERT_NE(testing::ParseXml(svg, &error), nullptr) << error;
+  EXPECT_NE(svg.find(">slope.hardness</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">a &amp; &lt;b&gt;</text>"), std::string::npos);
+  EXPECT_EQ(svg.find(">1.5</text>"), std::string::npos) << "no numeric x ticks";
+  EXPECT_NE(svg.find(">0</text>"), std::string::npos) << "the y ticks stay";
+}
+
 TEST(SvgTest, LogPlotWidensBadRanges) {
   Plot::Options o;
   o.log_y = true;

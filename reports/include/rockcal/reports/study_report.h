@@ -1,13 +1,15 @@
-// What `rockcal study stability|convergence` leave besides their JSON and CSV
-// tables: report.html, built on the same page as the simulation report
-// (html_page.h), and convergence.svg, the error-against-run-time plot that
-// the convergence report shows inline. See reports/README.md.
+// What `rockcal study stability|convergence` and `rockcal sensitivity` leave
+// besides their JSON and CSV tables: report.html, built on the same page as
+// the simulation report (html_page.h); convergence.svg, the
+// error-against-run-time plot that the convergence report shows inline; and
+// the sensitivity report's bar charts. See reports/README.md.
 #ifndef ROCKCAL_REPORTS_STUDY_REPORT_H_
 #define ROCKCAL_REPORTS_STUDY_REPORT_H_
 
 #include <string>
 #include <vector>
 
+#include "rockcal/calibrate/sensitivity.h"
 #include "rockcal/calibrate/study.h"
 #include "rockcal/core/scene.h"
 #include "rockcal/sites/site.h"
@@ -46,6 +48,21 @@ std::string ConvergenceHtmlReport(const StudyReportInput& in,
 // recommendation circled. Self-contained SVG, no scripts.
 std::string ConvergenceSvg(const std::string& site_name,
                            const calibrate::ConvergenceResult& result);
+
+// report.html of the sensitivity study: sections `site` and `sensitivity`
+// (the design and its cost, the parameters, each output with its value and
+// Monte Carlo noise, one bar chart per output, the table of every parameter
+// and output, the notes). Its numbers refer to sensitivity.json as
+// calibrate::SensitivityJson(scene name, result) writes it. Throws
+// std::invalid_argument when in.scene is missing.
+std::string SensitivityHtmlReport(const StudyReportInput& in,
+                                  const calibrate::SensitivityResult& result);
+
+// The bar chart of one output (index into result.outputs): per parameter,
+// Morris mu* with a whisker of +-sigma and the noise of one elementary effect
+// as a dashed line; Sobol S_i and ST_i side by side with their intervals.
+// Self-contained SVG, no scripts.
+std::string SensitivitySvg(const calibrate::SensitivityResult& result, int output);
 
 }  // namespace rockcal::reports
 

@@ -5,6 +5,7 @@
 #define ROCKCAL_REPORTS_SVG_H_
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rockcal::reports::svg {
@@ -37,6 +38,9 @@ class Plot final {
     bool log_x = false;  // log scale on x: data x <= 0 is not drawn
     bool log_y = false;  // log scale on y: data y <= 0 is not drawn
     std::string title;   // read by screen readers (<title>), not drawn
+    // When not empty: the x ticks (data x, label) instead of nice numbers,
+    // e.g. categories of a bar chart. Not used on a log x axis.
+    std::vector<std::pair<double, std::string>> x_ticks;
   };
   // A plot of [xlo, xhi] x [ylo, yhi]; empty ranges are widened. With log_x
   // (log_y), a bad xlo (ylo) <= 0 is replaced by xhi / 1000 (yhi / 1000).

@@ -1,0 +1,821 @@
+#include "rockcal/calibrate/sensitivity.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+#include "rockcal/core/error.h"
+#include "rockcal/core/random.h"
+#include "rockcal/core/statistics.h"
+
+namespace rockcal::calibrate {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// An effect "stands out of the noise" at this effect / noise ratio or more.
+constexpr double kResolved = 2.0;
+// Random streams of the sampling, apart from the rocks' streams (rock index).
+constexpr std::uint64_t kMorrisStream = (std::uint64_t{1} << 52) + 1;
+constexpr std::uint64_t kSobolStream = (std::uint64_t{1} << 52) + 2;
+constexpr std::uint64_t kSobolBootstrapStream = (std::uint64_t{1} << 52) + 3;
+constexpr std::uint64_t kNoiseStream = (std::uint64_t{1} << 52) + 4;
+
+std::string Num(double v, const char* format = "%.6g") {
+  if (std::isnan(v)) return "";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+nlohmann::json JsonNum(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+std::string CsvField(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+// A whole number in [0, n) from the stream.
+std::size_t Pick(core::RandomStream& rng, std::size_t n) {
+  return static_cast<std::size_t>(rng.Uniform() * static_cast<double>(n)) % n;
+}
+
+// Runs the model once and checks the length of its answer.
+std::vector<double> Run(const SensitivityModel& model, const std::vector<double>& x, int outputs) {
+  std::vector<double> y = model(x);
+  if (static_cast<int>(y.size()) != outputs)
+    throw std::invalid_argument("sensitivity model returned " + std::to_string(y.size()) +
+                                " outputs, expected " + std::to_string(outputs));
+  return y;
+}
+
+void CheckShape(const char* what, int parameters, int outputs) {
+  if (parameters < 1)
+    throw std::invalid_argument(std::string(what) + ": needs at least one parameter");
+  if (outputs < 1) throw std::invalid_argument(std::string(what) + ": needs at least one output");
+}
+
+// Central `confidence` percentile interval of the finite values; NaNs when
+// fewer than half are finite.
+std::pair<double, double> Interval(std::vector<double> values, double confidence) {
+  const std::size_t all = values.size();
+  values.erase(
+      std::remove_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); }),
+      values.end());
+  if (values.empty() || 2 * values.size() < all) return {kNaN, kNaN};
+  std::sort(values.begin(), values.end());
+  const double tail = 0.5 * (1.0 - confidence);
+  return {core::Quantile(values, tail), core::Quantile(values, 1.0 - tail)};
+}
+
+}  // namespace
+
+// ---- Methods by name -------------------------------------------------------------
+
+const char* SensitivityMethodName(SensitivityMethod method) {
+  return method == SensitivityMethod::kMorris ? "morris" : "sobol";
+}
+
+std::string SensitivityMethodList() { return "morris, sobol"; }
+
+bool ParseSensitivityMethod(const std::string& name, SensitivityMethod* method) {
+  if (name == "morris") {
+    *method = SensitivityMethod::kMorris;
+    return true;
+  }
+  if (name == "sobol") {
+    *method = SensitivityMethod::kSobol;
+    return true;
+  }
+  return false;
+}
+
+// ---- Morris -------------------------------------------------------------------------
+
+bool MorrisOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& field, const std::string& value, const std::string& rule) {
+    *error = "morris." + field + " = " + value + ": " + rule;
+    return false;
+  };
+  if (trajectories < 2 || trajectories > 100000)
+    return fail("trajectories", std::to_string(trajectories),
+                "must be in [2, 100000] (sigma needs two effects)");
+  if (levels < 2 || levels > 100 || levels % 2 != 0)
+    return fail("levels", std::to_string(levels),
+                "must be even and in [2, 100] (so that Delta = p / (2 (p - 1)) joins grid levels)");
+  return true;
+}
+
+MorrisResult RunMorris(int k, int m, const SensitivityModel& model, const MorrisOptions& opt) {
+  std::string error;
+  if (!opt.IsValid(&error)) throw std::invalid_argument(error);
+  CheckShape("RunMorris", k, m);
+  const int p = opt.levels, half = p / 2;
+  MorrisResult out;
+  out.parameters = k;
+  out.outputs = m;
+  out.trajectories = opt.trajectories;
+  out.levels = p;
+  out.delta = static_cast<double>(half) / (p - 1);
+  out.evaluations = opt.trajectories * (k + 1);
+  // effects[o][i]: the finite elementary effects.
+  std::vector<std::vector<std::vector<double>>> effects(
+      static_cast<std::size_t>(m), std::vector<std::vector<double>>(static_cast<std::size_t>(k)));
+  core::RandomStream rng(opt.seed, kMorrisStream);
+  const std::size_t ku = static_cast<std::size_t>(k);
+  int done = 0;
+  for (int t = 0; t < opt.trajectories; ++t) {
+    // Per parameter a direction and a start level from which a step of
+    // `half` levels in that direction stays on the grid; a random order.
+    std::vector<int> level(ku), dir(ku);
+    for (std::size_t i = 0; i < ku; ++i) {
+      dir[i] = rng.Uniform() < 0.5 ? 1 : -1;
+      const int start = static_cast<int>(Pick(rng, static_cast<std::size_t>(half)));
+      level[i] = dir[i] > 0 ? start : half + start;
+    }
+    std::vector<std::size_t> order(ku);
+    for (std::size_t i = 0; i < ku; ++i) order[i] = i;
+    for (std::size_t i = ku; i > 1; --i) std::swap(order[i - 1], order[Pick(rng, i)]);
+
+    auto point = [&] {
+      std::vector<double> x(ku);
+      for (std::size_t i = 0; i < ku; ++i) x[i] = static_cast<double>(level[i]) / (p - 1);
+      return x;
+    };
+    std::vector<double> y = Run(model, point(), m);
+    if (opt.progress) opt.progress(++done, out.evaluations);
+    for (std::size_t i : order) {
+      level[i] += dir[i] * half;
+      std::vector<double> y_next = Run(model, point(), m);
+      if (opt.progress) opt.progress(++done, out.evaluations);
+      for (std::size_t o = 0; o < static_cast<std::size_t>(m); ++o) {
+        const double ee = (y_next[o] - y[o]) / (dir[i] * out.delta);
+        if (std::isfinite(ee)) effects[o][i].push_back(ee);
+      }
+      y = std::move(y_next);
+    }
+  }
+  out.index.assign(static_cast<std::size_t>(m), std::vector<MorrisIndex>(ku));
+  for (std::size_t o = 0; o < static_cast<std::size_t>(m); ++o) {
+    for (std::size_t i = 0; i < ku; ++i) {
+      const std::vector<double>& e = effects[o][i];
+      MorrisIndex& idx = out.index[o][i];
+      idx.effects = static_cast<int>(e.size());
+      if (e.empty()) {
+        idx.mu = idx.mu_star = idx.sigma = kNaN;
+        continue;
+      }
+      double sum = 0.0, sum_abs = 0.0;
+      for (double v : e) sum += v, sum_abs += std::abs(v);
+      const double n = static_cast<double>(e.size());
+      idx.mu = sum / n;
+      idx.mu_star = sum_abs / n;
+      if (e.size() < 2) {
+        idx.sigma = kNaN;
+      } else {
+        double ss = 0.0;
+        for (double v : e) ss += (v - idx.mu) * (v - idx.mu);
+        idx.sigma = std::sqrt(ss / (n - 1.0));
+      }
+    }
+  }
+  return out;
+}
+
+// ---- Sobol ----------------------------------------------------------------------------
+
+bool SobolOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& field, const std::string& value, const std::string& rule) {
+    *error = "sobol." + field + " = " + value + ": " + rule;
+    return false;
+  };
+  if (samples < 4 || samples > 10000000)
+    return fail("samples", std::to_string(samples), "must be in [4, 10000000]");
+  if (bootstrap < 20 || bootstrap > 100000)
+    return fail("bootstrap", std::to_string(bootstrap), "must be in [20, 100000]");
+  if (!(confidence > 0.5 && confidence < 1))
+    return fail("confidence", Num(confidence), "must be in (0.5, 1)");
+  return true;
+}
+
+namespace {
+
+// The indices of one output from the rows `pick` (indices into the N rows,
+// repeats allowed): fa[n], fb[n], fab[i][n]. S_i = mean((f(B) - f0) (f(A_B^i)
+// - f(A))) / V (Saltelli et al. 2010, table 2, with f(B) centred on the mean
+// f0 of f(A) and f(B)); ST_i = mean((f(A) - f(A_B^i))^2) / (2 V) (Jansen
+// 1999); V the variance of the 2N values of f(A) and f(B).
+void SobolEstimate(const std::vector<double>& fa, const std::vector<double>& fb,
+                   const std::vector<std::vector<double>>& fab,
+                   const std::vector<std::size_t>& pick, std::vector<double>* first,
+                   std::vector<double>* total) {
+  const std::size_t k = fab.size();
+  first->assign(k, kNaN);
+  total->assign(k, kNaN);
+  const double n = static_cast<double>(pick.size());
+  if (pick.size() < 2) return;
+  double mean = 0.0;
+  for (std::size_t r : pick) mean += fa[r] + fb[r];
+  mean /= 2.0 * n;
+  double var = 0.0;
+  for (std::size_t r : pick)
+    var += (fa[r] - mean) * (fa[r] - mean) + (fb[r] - mean) * (fb[r] - mean);
+  var /= 2.0 * n - 1.0;
+  if (!(var > 0.0)) return;
+  for (std::size_t i = 0; i < k; ++i) {
+    double v1 = 0.0, vt = 0.0;
+    for (std::size_t r : pick) {
+      // f(B) centred: the same expectation (the differences average to 0),
+      // far less spread when the output's mean is large against its spread.
+      v1 += (fb[r] - mean) * (fab[i][r] - fa[r]);
+      vt += (fa[r] - fab[i][r]) * (fa[r] - fab[i][r]);
+    }
+    (*first)[i] = v1 / n / var;
+    (*total)[i] = vt / (2.0 * n) / var;
+  }
+}
+
+}  // namespace
+
+SobolResult RunSobol(int k, int m, const SensitivityModel& model, const SobolOptions& opt) {
+  std::string error;
+  if (!opt.IsValid(&error)) throw std::invalid_argument(error);
+  CheckShape("RunSobol", k, m);
+  const std::size_t ku = static_cast<std::size_t>(k), mu = static_cast<std::size_t>(m);
+  const std::size_t nu = static_cast<std::size_t>(opt.samples);
+  SobolResult out;
+  out.parameters = k;
+  out.outputs = m;
+  out.samples = opt.samples;
+  out.bootstrap = opt.bootstrap;
+  out.confidence = opt.confidence;
+  out.evaluations = opt.samples * (k + 2);
+
+  core::RandomStream rng(opt.seed, kSobolStream);
+  std::vector<std::vector<double>> a(nu, std::vector<double>(ku)), b = a;
+  for (std::size_t r = 0; r < nu; ++r) {
+    for (double& v : a[r]) v = rng.Uniform();
+    for (double& v : b[r]) v = rng.Uniform();
+  }
+  // Values per output: fa[o][r], fb[o][r], fab[o][i][r].
+  std::vector<std::vector<double>> fa(mu, std::vector<double>(nu)), fb = fa;
+  std::vector<std::vector<std::vector<double>>> fab(mu,
+                                                    std::vector<std::vector<double>>(ku, fa[0]));
+  int done = 0;
+  auto progress = [&] {
+    if (opt.progress) opt.progress(++done, out.evaluations);
+  };
+  for (std::size_t r = 0; r < nu; ++r) {
+    const std::vector<double> ya = Run(model, a[r], m);
+    progress();
+    const std::vector<double> yb = Run(model, b[r], m);
+    progress();
+    for (std::size_t o = 0; o < mu; ++o) fa[o][r] = ya[o], fb[o][r] = yb[o];
+    for (std::size_t i = 0; i < ku; ++i) {
+      std::vector<double> x = a[r];
+      x[i] = b[r][i];
+      const std::vector<double> y = Run(model, x, m);
+      progress();
+      for (std::size_t o = 0; o < mu; ++o) fab[o][i][r] = y[o];
+    }
+  }
+
+  core::RandomStream boot(opt.seed, kSobolBootstrapStream);
+  out.variance.assign(mu, kNaN);
+  out.rows.assign(mu, 0);
+  out.index.assign(mu, std::vector<SobolIndex>(ku));
+  std::vector<double> first, total;
+  for (std::size_t o = 0; o < mu; ++o) {
+    std::vector<std::size_t> rows;
+    for (std::size_t r = 0; r < nu; ++r) {
+      bool finite = std::isfinite(fa[o][r]) && std::isfinite(fb[o][r]);
+      for (std::size_t i = 0; i < ku; ++i) finite = finite && std::isfinite(fab[o][i][r]);
+      if (finite) rows.push_back(r);
+    }
+    out.rows[o] = static_cast<int>(rows.size());
+    if (rows.size() >= 2) {
+      double mean = 0.0, var = 0.0;
+      for (std::size_t r : rows) mean += fa[o][r] + fb[o][r];
+      mean /= 2.0 * static_cast<double>(rows.size());
+      for (std::size_t r : rows)
+        var += (fa[o][r] - mean) * (fa[o][r] - mean) + (fb[o][r] - mean) * (fb[o][r] - mean);
+      out.variance[o] = var / (2.0 * static_cast<double>(rows.size()) - 1.0);
+    }
+    SobolEstimate(fa[o], fb[o], fab[o], rows, &first, &total);
+    for (std::size_t i = 0; i < ku; ++i) {
+      out.index[o][i].first = first[i];
+      out.index[o][i].total = total[i];
+    }
+    // Bootstrap: resample the usable rows with replacement.
+    std::vector<std::vector<double>> first_b(ku), total_b(ku);
+    std::vector<std::size_t> pick(rows.size());
+    for (int rep = 0; rep < opt.bootstrap; ++rep) {
+      for (auto& r : pick) r = rows[Pick(boot, rows.size())];
+      SobolEstimate(fa[o], fb[o], fab[o], pick, &first, &total);
+      for (std::size_t i = 0; i < ku; ++i) {
+        first_b[i].push_back(first[i]);
+        total_b[i].push_back(total[i]);
+      }
+    }
+    for (std::size_t i = 0; i < ku; ++i) {
+      SobolIndex& idx = out.index[o][i];
+      std::tie(idx.first_low, idx.first_high) = Interval(first_b[i], opt.confidence);
+      std::tie(idx.total_low, idx.total_high) = Interval(total_b[i], opt.confidence);
+      if (rows.empty()) idx.first_low = idx.first_high = idx.total_low = idx.total_high = kNaN;
+    }
+  }
+  return out;
+}
+
+// ---- Site outputs -----------------------------------------------------------------------
+
+namespace {
+
+// Quantile q of the finite values, NaN when there are none.
+double QuantileOf(std::vector<double> v, double q) {
+  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
+  if (v.empty()) return kNaN;
+  std::sort(v.begin(), v.end());
+  return core::Quantile(v, q);
+}
+
+}  // namespace
+
+std::vector<SiteOutput> SiteOutputs(const core::Scene& scene, const observations::Observations* obs,
+                                    const observations::MisfitOptions& misfit) {
+  std::vector<SiteOutput> out;
+  for (std::size_t p = 0; p < scene.partitions.size(); ++p) {
+    const std::string& id = scene.partitions[p].id;
+    auto heights = [p](const core::SimulationResult& r) {
+      std::vector<double> h;
+      for (const core::RockRecord& rock : r.rocks)
+        if (p < rock.crossings.size() && rock.crossings[p].crossed)
+          h.push_back(rock.crossings[p].height);
+      return h;
+    };
+    for (const auto& [level, tag] : {std::pair<double, const char*>{0.5, "p50"}, {0.9, "p90"}}) {
+      out.push_back({id + ".height." + tag, "m",
+                     std::string("bounce height ") + tag + " at partition " + id +
+                         " (rock centre above the ground, crossing rocks)",
+                     [heights, level = level](const core::Scene&, const core::SimulationResult& r) {
+                       return QuantileOf(heights(r), level);
+                     }});
+    }
+    out.push_back({id + ".passing", "fraction",
+                   "share of the released rocks that crossed partition " + id,
+                   [p](const core::Scene&, const core::SimulationResult& r) {
+                     if (r.rocks.empty()) return kNaN;
+                     int n = 0;
+                     for (const core::RockRecord& rock : r.rocks)
+                       n += p < rock.crossings.size() && rock.crossings[p].crossed;
+                     return static_cast<double>(n) / static_cast<double>(r.rocks.size());
+                   }});
+  }
+  // Runout: along the observations' direction, or the stop x as summary.json.
+  std::shared_ptr<const observations::Runout> line;
+  if (obs && obs->runout) line = std::make_shared<const observations::Runout>(*obs->runout);
+  const std::string along =
+      line ? "distance along the observed runout direction from its origin" : "stop x";
+  auto runout = [line](const core::SimulationResult& r) {
+    std::vector<double> d;
+    for (const core::RockRecord& rock : r.rocks) {
+      if (rock.outcome != core::Outcome::kStopped) continue;
+      d.push_back(line ? line->Distance(rock.stop.head<2>()) : rock.stop.x());
+    }
+    return d;
+  };
+  for (const auto& [level, tag] : {std::pair<double, const char*>{0.5, "p50"}, {0.9, "p90"}}) {
+    out.push_back({std::string("runout.") + tag, "m",
+                   std::string("runout ") + tag + " of the stopped rocks (" + along + ")",
+                   [runout, level = level](const core::Scene&, const core::SimulationResult& r) {
+                     return QuantileOf(runout(r), level);
+                   }});
+  }
+  out.push_back({"stopped", "fraction", "share of the released rocks that stopped on the slope",
+                 [](const core::Scene&, const core::SimulationResult& r) {
+                   if (r.rocks.empty()) return kNaN;
+                   return static_cast<double>(r.count(core::Outcome::kStopped)) /
+                          static_cast<double>(r.rocks.size());
+                 }});
+  if (obs) {
+    auto observed = std::make_shared<const observations::Observations>(*obs);
+    out.push_back({"misfit", "",
+                   "calibration misfit against the observations (half the sum of squared "
+                   "scaled residuals, as rockcal calibrate minimises)",
+                   [observed, misfit](const core::Scene& s, const core::SimulationResult& r) {
+                     return observations::ComputeMisfit(*observed, s, r, misfit).value;
+                   }});
+  }
+  return out;
+}
+
+// ---- The site study -------------------------------------------------------------------
+
+int SensitivityOptions::EffectiveSamples() const {
+  if (samples > 0) return samples;
+  return method == SensitivityMethod::kMorris ? MorrisOptions{}.trajectories
+                                              : SobolOptions{}.samples;
+}
+
+bool SensitivityOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& field, const std::string& value, const std::string& rule) {
+    *error = "sensitivity." + field + " = " + value + ": " + rule;
+    return false;
+  };
+  const bool morris = method == SensitivityMethod::kMorris;
+  if (samples != 0 && (samples < (morris ? 2 : 4) || samples > 100000))
+    return fail("samples", std::to_string(samples),
+                morris ? "Morris trajectories must be in [2, 100000] (0: default 10)"
+                       : "Sobol rows must be in [4, 100000] (0: default 64)");
+  if (levels < 2 || levels > 100 || levels % 2 != 0)
+    return fail("levels", std::to_string(levels), "must be even and in [2, 100]");
+  if (bootstrap < 20 || bootstrap > 100000)
+    return fail("bootstrap", std::to_string(bootstrap), "must be in [20, 100000]");
+  if (!(confidence > 0.5 && confidence < 1))
+    return fail("confidence", Num(confidence), "must be in (0.5, 1)");
+  if (threads < 0) return fail("threads", std::to_string(threads), "must be >= 0 (0: all cores)");
+  return true;
+}
+
+namespace {
+
+// A copy of `r` whose rocks are r.rocks[pick[0]], r.rocks[pick[1]], ...
+core::SimulationResult Resampled(const core::SimulationResult& r,
+                                 const std::vector<std::size_t>& pick) {
+  core::SimulationResult out;
+  out.rocks.reserve(pick.size());
+  for (std::size_t k : pick) out.rocks.push_back(r.rocks[k]);
+  return out;
+}
+
+// Bootstrap standard error of each output over the rocks of `r`; NaN when
+// fewer than half the resamples give a value.
+std::vector<double> OutputNoise(const std::vector<SiteOutput>& outputs, const core::Scene& scene,
+                                const core::SimulationResult& r, int resamples,
+                                std::uint64_t seed) {
+  std::vector<std::vector<double>> reps(outputs.size());
+  const std::size_t n = r.rocks.size();
+  std::vector<double> out(outputs.size(), kNaN);
+  if (n == 0) return out;
+  core::RandomStream rng(seed, kNoiseStream);
+  std::vector<std::size_t> pick(n);
+  for (int b = 0; b < resamples; ++b) {
+    for (auto& k : pick) k = Pick(rng, n);
+    const core::SimulationResult sample = Resampled(r, pick);
+    for (std::size_t o = 0; o < outputs.size(); ++o)
+      reps[o].push_back(outputs[o].compute(scene, sample));
+  }
+  for (std::size_t o = 0; o < outputs.size(); ++o) {
+    std::vector<double> v;
+    for (double x : reps[o])
+      if (std::isfinite(x)) v.push_back(x);
+    if (v.size() < 2 || 2 * v.size() < reps[o].size()) continue;
+    double mean = 0.0;
+    for (double x : v) mean += x;
+    mean /= static_cast<double>(v.size());
+    double ss = 0.0;
+    for (double x : v) ss += (x - mean) * (x - mean);
+    out[o] = std::sqrt(ss / (static_cast<double>(v.size()) - 1.0));
+  }
+  return out;
+}
+
+}  // namespace
+
+SensitivityResult RunSensitivity(const sites::Site& site, const observations::Observations* obs,
+                                 const SensitivityOptions& opt) {
+  const auto start = std::chrono::steady_clock::now();
+  std::string error;
+  if (!opt.IsValid(&error)) throw std::invalid_argument(error);
+  const ParameterSpace space = ParameterSpace::FromSite(site);  // InputError without bounds
+
+  core::Scene base = site.scene;
+  if (opt.seed) base.options.seed = *opt.seed;
+  base.options.threads = opt.threads;
+  core::RecordOptions record;
+  if (obs) record = observations::RequiredRecording(*obs, record);
+  record.partitions = !base.partitions.empty();
+  record.energy_check = false;
+  record.passages = false;
+  record.trajectories = 0;
+  base.options.record = record;
+  if (!base.options.IsValid(&error)) throw InputError(site.path, error);
+
+  const std::vector<SiteOutput> outputs = SiteOutputs(base, obs);
+  const int k = space.size(), m = static_cast<int>(outputs.size());
+
+  SensitivityResult res;
+  res.method = opt.method;
+  res.samples = opt.EffectiveSamples();
+  res.seed = base.options.seed;
+  res.rocks = base.total_rocks();
+  res.threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+  res.parameters = space.parameters();
+  res.current = space.Current(base);
+  const int design_runs =
+      opt.method == SensitivityMethod::kMorris ? res.samples * (k + 1) : res.samples * (k + 2);
+  const int total_runs = design_runs + 1;
+
+  // One simulation at physical values `x`; the terrain is rebuilt only when
+  // the roughness values change (hardness and contact time reuse it).
+  std::vector<double> terrain_key;
+  std::unique_ptr<core::Terrain> terrain;
+  auto simulate = [&](const std::vector<double>& physical, const std::string& what) {
+    core::Scene scene = base;
+    space.Apply(physical, &scene);
+    std::vector<double> key;
+    for (int i = 0; i < k; ++i)
+      if (res.parameters[static_cast<std::size_t>(i)].kind == ParameterKind::kRoughness)
+        key.push_back(physical[static_cast<std::size_t>(i)]);
+    if (!terrain || key != terrain_key) {
+      terrain = std::make_unique<core::Terrain>(core::BuildTerrain(scene));
+      terrain_key = key;
+    }
+    core::SimulationResult r = core::Simulate(scene, *terrain);
+    ++res.simulations;
+    res.simulation_seconds += r.wall_seconds;
+    if (r.non_finite > 0) ++res.non_finite_runs;
+    if (opt.progress) opt.progress(res.simulations, total_runs, what);
+    return std::make_pair(std::move(scene), std::move(r));
+  };
+
+  // The site's current parameters: each output's value and its noise.
+  {
+    const auto [scene, r] = simulate(res.current, "current parameters");
+    const std::vector<double> noise = OutputNoise(outputs, scene, r, opt.bootstrap, res.seed);
+    for (std::size_t o = 0; o < outputs.size(); ++o)
+      res.outputs.push_back({outputs[o].name, outputs[o].unit, outputs[o].description,
+                             outputs[o].compute(scene, r), noise[o]});
+  }
+
+  const SensitivityModel model = [&](const std::vector<double>& unit) {
+    const auto [scene, r] = simulate(space.ToPhysical(unit), SensitivityMethodName(opt.method));
+    std::vector<double> y(outputs.size());
+    for (std::size_t o = 0; o < outputs.size(); ++o) y[o] = outputs[o].compute(scene, r);
+    return y;
+  };
+  double delta = 0.0;
+  if (opt.method == SensitivityMethod::kMorris) {
+    MorrisOptions mo;
+    mo.trajectories = res.samples;
+    mo.levels = opt.levels;
+    mo.seed = res.seed;
+    res.morris = RunMorris(k, m, model, mo);
+    delta = res.morris.delta;
+  } else {
+    SobolOptions so;
+    so.samples = res.samples;
+    so.bootstrap = opt.bootstrap;
+    so.confidence = opt.confidence;
+    so.seed = res.seed;
+    res.sobol = RunSobol(k, m, model, so);
+  }
+
+  // Entries and effect / noise.
+  for (int i = 0; i < k; ++i) {
+    for (int o = 0; o < m; ++o) {
+      SensitivityEntry e;
+      e.parameter = i;
+      e.output = o;
+      const double noise = res.outputs[static_cast<std::size_t>(o)].noise;
+      if (opt.method == SensitivityMethod::kMorris) {
+        e.morris = res.morris.index[static_cast<std::size_t>(o)][static_cast<std::size_t>(i)];
+        const double ee_noise = std::sqrt(2.0) * noise / delta;
+        e.effect_over_noise = ee_noise > 0 ? e.morris.mu_star / ee_noise : kNaN;
+      } else {
+        e.sobol = res.sobol.index[static_cast<std::size_t>(o)][static_cast<std::size_t>(i)];
+        const double v = res.sobol.variance[static_cast<std::size_t>(o)];
+        e.effect_over_noise =
+            noise > 0 ? std::sqrt(std::max(e.sobol.first, 0.0) * v) / noise : kNaN;
+      }
+      res.entries.push_back(e);
+    }
+  }
+
+  // Notes and the summary.
+  for (const auto& out : res.outputs) {
+    if (std::isnan(out.value))
+      res.notes.push_back(out.name + ": no value at the current parameters (no rock counted)");
+    else if (!(out.noise > 0))
+      res.notes.push_back(out.name +
+                          ": no Monte Carlo noise seen at the current parameters (every "
+                          "resample gave the same value), so effect / noise is unknown");
+  }
+  for (std::size_t o = 0; o < res.outputs.size(); ++o) {
+    bool constant = true;
+    if (opt.method == SensitivityMethod::kMorris) {
+      for (const auto& idx : res.morris.index[o]) constant = constant && idx.mu_star == 0.0;
+    } else {
+      constant = !(res.sobol.variance[o] > 0.0);
+    }
+    if (constant)
+      res.notes.push_back(res.outputs[o].name +
+                          ": the same at every point of the design (no parameter moves it)");
+  }
+  if (res.non_finite_runs > 0)
+    res.notes.push_back(std::to_string(res.non_finite_runs) +
+                        " simulations had a rock in a non-finite state");
+  res.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::ostringstream s;
+  s << SensitivityMethodName(opt.method) << ", "
+    << (opt.method == SensitivityMethod::kMorris ? "r = " : "N = ") << res.samples << ": "
+    << res.simulations << " simulations of " << res.rocks << " rocks in "
+    << Num(res.wall_seconds, "%.3g") << " s ("
+    << Num(res.simulations / std::max(res.wall_seconds, 1e-9), "%.3g") << " simulations/s). ";
+  int resolved = 0;
+  std::vector<std::string> unresolved;
+  for (int i = 0; i < k; ++i) {
+    bool any = false;
+    for (int o = 0; o < m; ++o) {
+      const double ratio = res.at(i, o).effect_over_noise;
+      if (ratio >= kResolved) ++resolved, any = true;
+    }
+    if (!any) unresolved.push_back(res.parameters[static_cast<std::size_t>(i)].label());
+  }
+  s << resolved << " of " << k * m << " parameter-output pairs have an effect of at least "
+    << Num(kResolved, "%g") << " times the Monte Carlo noise";
+  if (!unresolved.empty()) {
+    s << "; not above the noise on any output: ";
+    for (std::size_t u = 0; u < unresolved.size(); ++u) s << (u ? ", " : "") << unresolved[u];
+  }
+  s << ".";
+  res.summary = s.str();
+  return res;
+}
+
+// ---- Tables ----------------------------------------------------------------------------
+
+nlohmann::json SensitivityJson(const std::string& site_name, const SensitivityResult& r) {
+  const bool morris = r.method == SensitivityMethod::kMorris;
+  nlohmann::json params = nlohmann::json::array();
+  for (std::size_t i = 0; i < r.parameters.size(); ++i) {
+    const Parameter& p = r.parameters[i];
+    params.push_back({{"label", p.label()},
+                      {"material", p.material},
+                      {"name", p.name()},
+                      {"lower", p.lower},
+                      {"upper", p.upper},
+                      {"current", r.current[i]}});
+  }
+  nlohmann::json outs = nlohmann::json::array();
+  for (std::size_t o = 0; o < r.outputs.size(); ++o) {
+    const SensitivityOutputInfo& out = r.outputs[o];
+    nlohmann::json j = {{"name", out.name},
+                        {"unit", out.unit},
+                        {"description", out.description},
+                        {"value", JsonNum(out.value)},
+                        {"noise", JsonNum(out.noise)}};
+    if (morris) {
+      j["effect_noise"] = JsonNum(std::sqrt(2.0) * out.noise / r.morris.delta);
+    } else {
+      j["variance"] = JsonNum(r.sobol.variance[o]);
+      j["rows"] = r.sobol.rows[o];
+    }
+    outs.push_back(j);
+  }
+  nlohmann::json entries = nlohmann::json::array();
+  for (const SensitivityEntry& e : r.entries) {
+    nlohmann::json j = {{"parameter", r.parameters[static_cast<std::size_t>(e.parameter)].label()},
+                        {"output", r.outputs[static_cast<std::size_t>(e.output)].name}};
+    if (morris) {
+      j["mu"] = JsonNum(e.morris.mu);
+      j["mu_star"] = JsonNum(e.morris.mu_star);
+      j["sigma"] = JsonNum(e.morris.sigma);
+      j["effects"] = e.morris.effects;
+    } else {
+      j["first"] = JsonNum(e.sobol.first);
+      j["first_low"] = JsonNum(e.sobol.first_low);
+      j["first_high"] = JsonNum(e.sobol.first_high);
+      j["total"] = JsonNum(e.sobol.total);
+      j["total_low"] = JsonNum(e.sobol.total_low);
+      j["total_high"] = JsonNum(e.sobol.total_high);
+    }
+    j["effect_over_noise"] = JsonNum(e.effect_over_noise);
+    entries.push_back(j);
+  }
+  nlohmann::json design;
+  if (morris) {
+    design = {{"trajectories", r.morris.trajectories},
+              {"levels", r.morris.levels},
+              {"delta", r.morris.delta},
+              {"evaluations", r.morris.evaluations}};
+  } else {
+    design = {{"samples", r.sobol.samples},
+              {"bootstrap", r.sobol.bootstrap},
+              {"confidence", r.sobol.confidence},
+              {"evaluations", r.sobol.evaluations},
+              {"sampling", "pseudo-random (xoshiro256**), seeded"}};
+  }
+  const std::string definitions =
+      morris ? "Morris elementary effects on a grid of `levels` levels with step delta (unit "
+               "box): effect = change of the output / change of the parameter as a fraction of "
+               "its range (output units per full range). mu: mean effect; mu_star: mean |effect|; "
+               "sigma: standard deviation of the effects (interactions and curvature). noise: "
+               "bootstrap standard error of the output over the rocks of one run at the current "
+               "parameters; effect_noise = sqrt(2) noise / delta, the spread one elementary "
+               "effect would have from independent noise; effect_over_noise = mu_star / "
+               "effect_noise (pure noise gives about 0.8). null: unknown."
+             : "Sobol indices from Saltelli sampling: first = S_i (Saltelli 2010 estimator), the "
+               "share of the output's variance over the parameter box due to the parameter "
+               "alone; total = ST_i (Jansen estimator), including its interactions; *_low and "
+               "*_high: bootstrap percentile interval over the rows. variance: of the output over "
+               "the box. noise: bootstrap standard error of the output over the rocks of one run "
+               "at the current parameters; effect_over_noise = sqrt(max(first, 0) variance) / "
+               "noise. null: unknown.";
+  const double per_second = r.simulations / std::max(r.wall_seconds, 1e-9);
+  return {{"site", site_name},
+          {"study", "sensitivity"},
+          {"method", SensitivityMethodName(r.method)},
+          {"design", design},
+          {"seed", r.seed},
+          {"rocks", r.rocks},
+          {"threads", r.threads},
+          {"simulations", r.simulations},
+          {"wall_seconds", r.wall_seconds},
+          {"simulation_seconds", r.simulation_seconds},
+          {"simulations_per_second", per_second},
+          {"non_finite_runs", r.non_finite_runs},
+          {"resolved_ratio", kResolved},
+          {"definitions", definitions},
+          {"parameters", params},
+          {"outputs", outs},
+          {"entries", entries},
+          {"notes", r.notes},
+          {"summary", r.summary}};
+}
+
+std::string SensitivityCsv(const SensitivityResult& r) {
+  const bool morris = r.method == SensitivityMethod::kMorris;
+  std::ostringstream out;
+  out << "method,parameter,output,unit,value,noise,";
+  out << (morris ? "mu,mu_star,sigma,effects,"
+                 : "first,first_low,first_high,total,total_low,"
+                   "total_high,variance,rows,");
+  out << "effect_over_noise\n";
+  for (const SensitivityEntry& e : r.entries) {
+    const SensitivityOutputInfo& o = r.outputs[static_cast<std::size_t>(e.output)];
+    out << SensitivityMethodName(r.method) << ','
+        << CsvField(r.parameters[static_cast<std::size_t>(e.parameter)].label()) << ','
+        << CsvField(o.name) << ',' << CsvField(o.unit) << ',' << Num(o.value) << ',' << Num(o.noise)
+        << ',';
+    if (morris) {
+      out << Num(e.morris.mu) << ',' << Num(e.morris.mu_star) << ',' << Num(e.morris.sigma) << ','
+          << e.morris.effects << ',';
+    } else {
+      out << Num(e.sobol.first) << ',' << Num(e.sobol.first_low) << ',' << Num(e.sobol.first_high)
+          << ',' << Num(e.sobol.total) << ',' << Num(e.sobol.total_low) << ','
+          << Num(e.sobol.total_high) << ','
+          << Num(r.sobol.variance[static_cast<std::size_t>(e.output)]) << ','
+          << r.sobol.rows[static_cast<std::size_t>(e.output)] << ',';
+    }
+    out << Num(e.effect_over_noise) << '\n';
+  }
+  return out.str();
+}
+
+std::string SensitivityReport(const SensitivityResult& r) {
+  const bool morris = r.method == SensitivityMethod::kMorris;
+  std::ostringstream out;
+  char line[256];
+  if (morris)
+    std::snprintf(line, sizeof line, "%-22s %-20s %10s %10s %10s %10s %8s\n", "parameter", "output",
+                  "mu", "mu*", "sigma", "noise", "mu*/n");
+  else
+    std::snprintf(line, sizeof line, "%-22s %-20s %8s %17s %8s %17s %8s\n", "parameter", "output",
+                  "S1", "interval", "ST", "interval", "eff/n");
+  out << line;
+  for (const SensitivityEntry& e : r.entries) {
+    const std::string p = r.parameters[static_cast<std::size_t>(e.parameter)].label();
+    const SensitivityOutputInfo& o = r.outputs[static_cast<std::size_t>(e.output)];
+    if (morris) {
+      std::snprintf(line, sizeof line, "%-22s %-20s %10.4g %10.4g %10.4g %10.4g %8.3g\n", p.c_str(),
+                    o.name.c_str(), e.morris.mu, e.morris.mu_star, e.morris.sigma, o.noise,
+                    e.effect_over_noise);
+    } else {
+      std::snprintf(line, sizeof line,
+                    "%-22s %-20s %8.3f [%6.3f, %6.3f] %8.3f [%6.3f, %6.3f] %8.3g\n", p.c_str(),
+                    o.name.c_str(), e.sobol.first, e.sobol.first_low, e.sobol.first_high,
+                    e.sobol.total, e.sobol.total_low, e.sobol.total_high, e.effect_over_noise);
+    }
+    out << line;
+  }
+  for (const auto& note : r.notes) out << "note: " << note << '\n';
+  out << r.summary << '\n';
+  return out.str();
+}
+
+}  // namespace rockcal::calibrate
