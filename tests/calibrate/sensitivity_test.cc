@@ -228,9 +228,9 @@ sites::Site SiteWithAnUnreachedMaterial(int rocks) {
   scene.grid.material[0] = 2;  // (0, 0)
   scene.grid.material[static_cast<std::size_t>((scene.grid.ny - 1) * scene.grid.nx)] =
       2;  // (0, 20)
-  site.calibrate = {{"slope", "hardness", 0.2, 0.8},
-                    {"corner", "hardness", 0.1, 0.9},
-                    {"corner", "roughness", 0.1, 0.6}};
+  site.calibrate = {{"slope", "hardness", 0.2, 0.8, "slope"},
+                    {"corner", "hardness", 0.1, 0.9, "corner"},
+                    {"corner", "roughness", 0.1, 0.6, "corner"}};
   scene.options.max_time = 14.0;  // the rocks stop by then; bounds the cost under the sanitizers
   return site;
 }
