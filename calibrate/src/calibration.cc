@@ -371,18 +371,23 @@ int SmoothingEvaluations(int n) { return 2 * n + 2; }
 // The smallest budget that also leaves the search 2(n + 1) evaluations.
 int SmoothingBudget(int n) { return 2 * (n + 1) + SmoothingEvaluations(n); }
 
-// Whether an estimate's evaluated misfit agrees with its model: at most 3
-// standard deviations of the fitted evaluations' scatter above the model's
-// misfit plus the noise's share.
-bool Holds(const SmoothedEstimate& s) {
-  return s.evaluated_misfit <=
-         s.predicted_misfit + s.offset + 3.0 * s.scatter + 1e-9 * (1.0 + std::abs(s.predicted_misfit));
+// Whether an estimate holds: the misfit evaluated there agrees with its
+// model (at most 3 standard deviations of the fitted evaluations' scatter
+// above the model's misfit plus the noise's share), and is within the noise
+// of the lowest evaluation (at most 2 standard deviations above it). With
+// few rocks the scatter is as large as the misfit itself and the second
+// test guards the user: the calibrated values are never clearly worse than
+// the lowest evaluation.
+bool Holds(const SmoothedEstimate& s, double lowest) {
+  const double slack = 1e-9 * (1.0 + std::abs(lowest));
+  return s.evaluated_misfit <= s.predicted_misfit + s.offset + 3.0 * s.scatter + slack &&
+         s.evaluated_misfit <= lowest + 2.0 * s.scatter + slack;
 }
 
-std::string Disagreement(const SmoothedEstimate& s) {
+std::string Agreement(const SmoothedEstimate& s, double lowest) {
   std::ostringstream out;
   out << "misfit " << s.evaluated_misfit << " evaluated there against " << s.predicted_misfit + s.offset
-      << " +- " << s.scatter << " from the model";
+      << " from the model, lowest " << lowest << ", scatter " << s.scatter;
   return out.str();
 }
 
@@ -416,9 +421,10 @@ MethodResult Conclude(Evaluator* ev, std::string termination, bool smoothed,
   std::vector<double> centre = first_unit ? *first_unit : space.ToUnit(ev->best());
   const double h = 0.5 * options.smoothing_radius;
   bool first_holds = first_unit.has_value();
+  double first_lowest = ev->best_misfit();
   if (first_unit) {
     first.evaluated_misfit = ev->Evaluate(centre).misfit;
-    first_holds = Holds(first);
+    first_holds = Holds(first, first_lowest);
     if (!first_holds) centre = space.ToUnit(ev->best());
   }
   for (int k = 0; k < n; ++k)
@@ -434,23 +440,22 @@ MethodResult Conclude(Evaluator* ev, std::string termination, bool smoothed,
   if (!first_unit)
     msg << "first the lowest evaluation (" << first.message << ")";
   else if (!first_holds)
-    msg << "first a " << first.message << ", which did not hold (" << Disagreement(first)
-        << "), so the lowest evaluation";
+    msg << "first a " << first.message << ", which did not hold ("
+        << Agreement(first, first_lowest) << "), so the lowest evaluation";
   else
-    msg << "first a " << first.message;
+    msg << "first a " << first.message << " (" << Agreement(first, first_lowest) << ")";
   msg << "; then a stencil of " << 2 * n + 1 << " evaluations (" << h
       << " either way along each parameter) and a ";
   std::vector<double> estimate;
   double misfit = 0.0;
   if (unit) {
     estimate = space.ToPhysical(*unit);
+    const double lowest = ev->best_misfit();
     info.evaluated_misfit = misfit = ev->Evaluate(*unit).misfit;
-    info.used = Holds(info);
-    msg << info.message;
+    info.used = Holds(info, lowest);
+    msg << info.message << " (" << Agreement(info, lowest) << ")";
     if (!info.used)
-      msg << "; its minimiser did not hold (" << Disagreement(info)
-          << "): the misfit is not near enough to linear residuals there, so the calibrated "
-             "values are the lowest evaluation";
+      msg << "; its minimiser did not hold, so the calibrated values are the lowest evaluation";
   } else {
     msg << "model that could not be fitted: " << info.message
         << "; the calibrated values are the lowest evaluation";

@@ -15,9 +15,14 @@
 #include "rockcal/core/error.h"
 #include "rockcal/core/random.h"
 #include "rockcal/core/statistics.h"
+#include "table_text.h"
 
 namespace rockcal::calibrate {
 namespace {
+
+using text::CsvField;
+using text::JsonNum;
+using text::Num;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // An effect "stands out of the noise" at this effect / noise ratio or more.
@@ -27,26 +32,6 @@ constexpr std::uint64_t kMorrisStream = (std::uint64_t{1} << 52) + 1;
 constexpr std::uint64_t kSobolStream = (std::uint64_t{1} << 52) + 2;
 constexpr std::uint64_t kSobolBootstrapStream = (std::uint64_t{1} << 52) + 3;
 constexpr std::uint64_t kNoiseStream = (std::uint64_t{1} << 52) + 4;
-
-std::string Num(double v, const char* format = "%.6g") {
-  if (std::isnan(v)) return "";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  char buf[48];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
-
-nlohmann::json JsonNum(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
-
-std::string CsvField(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + "\"";
-}
 
 // A whole number in [0, n) from the stream.
 std::size_t Pick(core::RandomStream& rng, std::size_t n) {

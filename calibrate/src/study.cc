@@ -13,9 +13,14 @@
 #include "rockcal/core/rock_shape.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/core/statistics.h"
+#include "table_text.h"
 
 namespace rockcal::calibrate {
 namespace {
+
+using text::CsvField;
+using text::JsonNum;
+using text::Num;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -23,33 +28,11 @@ constexpr double kPi = 3.14159265358979323846;
 
 // ---- Small helpers -------------------------------------------------------------
 
-std::string Num(double v, const char* format = "%.6g") {
-  if (std::isnan(v)) return "";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  char buf[48];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
-
 std::string Percent(double fraction) {
   if (!std::isfinite(fraction)) return "unknown";
   char buf[48];
   std::snprintf(buf, sizeof buf, fraction < 0.001 ? "%.2g %%" : "%.3g %%", 100.0 * fraction);
   return buf;
-}
-
-// JSON number, null when not finite (JSON has no inf or NaN).
-nlohmann::json JsonNum(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
-
-// CSV field: quoted when it holds a comma, quote or newline.
-std::string CsvField(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + "\"";
 }
 
 // Applies `f` to every material of the scene.

@@ -69,7 +69,9 @@ struct MethodOptions {
   //    search's evaluations near the lowest misfit; then a stencil of 2n + 1
   //    evaluations around it (its centre, and smoothing_radius / 2 either way
   //    along each parameter) and the estimate refitted to them and the
-  //    evaluations nearby, then evaluated. The search keeps 2n + 2
+  //    evaluations nearby, then evaluated; each stage is kept only where the
+  //    misfit evaluated there agrees with its model and is within the noise
+  //    of the lowest (see SmoothedEstimate). The search keeps 2n + 2
   //    evaluations of max_evals back for this (of a budget below
   //    4(n + 1), none: the lowest is taken); a time limit covers the search
   //    only. A Monte Carlo misfit is rugged: its lowest evaluation sits in a
@@ -104,8 +106,10 @@ struct SmoothedEstimate {
   double predicted_misfit = 0.0;  // the model's misfit at the estimate
   // How the fitted evaluations' misfits m_i stand to the model's, 0.5 |a + J
   // d_i|^2: the mean of m_i - model_i (the noise's own share, > 0) and its
-  // standard deviation. An evaluation at the estimate more than 3 standard
-  // deviations above model + offset shows the model does not hold there.
+  // standard deviation. The estimate is used only where its evaluated
+  // misfit is at most 3 of them above model + offset (the model holds there)
+  // and at most 2 above the lowest evaluation (it is no worse than the
+  // lowest within the noise).
   double offset = 0.0, scatter = 0.0;
   double evaluated_misfit = 0.0;  // the misfit evaluated at the estimate
 };
