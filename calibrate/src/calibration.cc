@@ -533,16 +533,23 @@ std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluat
     step[k] = unit[k] - centre[k];
   }
   info->predicted_misfit = 0.5 * (a + j * step).squaredNorm();
-  double sum = 0.0, sum2 = 0.0;
+  // Robust: the median and the scaled median absolute deviation, so that a
+  // few far evaluations where the model is poor do not widen the scatter.
+  std::vector<double> delta;
   for (std::size_t p = 0; p < near.size(); ++p) {
     const Eigen::VectorXd di = x.row(static_cast<Eigen::Index>(p)).tail(n).transpose();
-    const double delta = trace[near[p]].misfit - 0.5 * (a + j * di).squaredNorm();
-    sum += delta;
-    sum2 += delta * delta;
+    delta.push_back(trace[near[p]].misfit - 0.5 * (a + j * di).squaredNorm());
   }
-  const double count = static_cast<double>(near.size());
-  info->offset = sum / count;
-  info->scatter = std::sqrt(std::max(0.0, sum2 / count - info->offset * info->offset));
+  auto median = [](std::vector<double> v) {
+    const std::size_t mid = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+    const double upper = v[mid];
+    if (v.size() % 2 == 1) return upper;
+    return 0.5 * (upper + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
+  };
+  info->offset = median(delta);
+  for (double& v : delta) v = std::abs(v - info->offset);
+  info->scatter = 1.4826 * median(delta);
   std::ostringstream msg;
   msg << "linear model of the residuals fitted to the " << near.size()
       << " evaluations within " << radius << " (unit box)";

@@ -255,14 +255,27 @@ TEST(Calibration, SmoothedEstimateIsEvaluatedAndReported) {
   for (const std::string& method : {std::string("nlopt:bobyqa"), std::string("ceres")}) {
     const MethodResult r = RunMethod(method, small.objective,
                                      small.space.Current(small.site.scene), options, nullptr);
-    ASSERT_TRUE(r.smoothed.used) << method << ": " << r.smoothed.message;
     EXPECT_LE(r.evaluations, 20) << method;
-    EXPECT_GE(r.smoothed.points, 10) << method;
-    // The misfit reported is the one at the reported values; the lowest is
-    // kept beside it, and no evaluation was lower.
-    EXPECT_EQ(r.best_misfit, small.objective.Evaluate(r.best).value) << method;
-    EXPECT_EQ(r.trace.back().parameters, r.best) << method;
+    EXPECT_GE(r.smoothed.points, 10) << method << ": " << r.smoothed.message;
+    EXPECT_THAT(r.smoothed.message, HasSubstr("then a stencil of 9 evaluations")) << method;
+    // No evaluation was lower than the lowest kept.
     for (const Evaluation& e : r.trace) EXPECT_GE(e.misfit, r.lowest_misfit) << method;
+    // Six rocks make a very noisy misfit: the estimate is taken only where
+    // it holds, and then its misfit is the one evaluated there (the last
+    // evaluation) and within 2 of the fit's scatters of the lowest;
+    // otherwise the lowest evaluation stands, and the message says why.
+    if (r.smoothed.used) {
+      EXPECT_EQ(r.trace.back().parameters, r.best) << method;
+      EXPECT_EQ(r.best_misfit, small.objective.Evaluate(r.best).value) << method;
+      EXPECT_EQ(r.best_misfit, r.smoothed.evaluated_misfit) << method;
+      EXPECT_LE(r.best_misfit, r.lowest_misfit + 2 * r.smoothed.scatter + 1e-9) << method;
+    } else {
+      EXPECT_THAT(r.smoothed.message, HasSubstr("the calibrated values are the lowest evaluation"))
+          << method;
+      EXPECT_EQ(r.best, r.lowest) << method;
+      EXPECT_EQ(r.best_misfit, r.lowest_misfit) << method;
+      EXPECT_GT(r.smoothed.evaluated_misfit, r.lowest_misfit) << method;
+    }
   }
   options.max_evals = 19;  // too small a budget: the lowest
   MethodResult r = RunMethod("nlopt:bobyqa", small.objective, small.space.Current(small.site.scene),

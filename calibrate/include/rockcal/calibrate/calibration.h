@@ -105,8 +105,10 @@ struct SmoothedEstimate {
   double radius = 0.0;  // their neighbourhood's half-width in the unit box
   double predicted_misfit = 0.0;  // the model's misfit at the estimate
   // How the fitted evaluations' misfits m_i stand to the model's, 0.5 |a + J
-  // d_i|^2: the mean of m_i - model_i (the noise's own share, > 0) and its
-  // standard deviation. The estimate is used only where its evaluated
+  // d_i|^2: the median of m_i - model_i (the noise's own share, > 0) and its
+  // scatter, 1.4826 times the median absolute deviation (a standard
+  // deviation that a few far, poorly modelled evaluations do not inflate).
+  // The estimate is used only where its evaluated
   // misfit is at most 3 of them above model + offset (the model holds there)
   // and at most 2 above the lowest evaluation (it is no worse than the
   // lowest within the noise).
