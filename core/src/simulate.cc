@@ -99,6 +99,7 @@ class RockRun {
     s_ = s;
     a_ = ctx_.gravity;
     alpha_.setZero();
+    UpdateNeighbours();  // and the local contact step, before the first advance
     const int np = static_cast<int>(ctx_.scene.partitions.size());
     const auto& rec_opt = opt_.record;
     if (rec_opt.partitions) rec_->crossings.assign(np, Crossing{});
@@ -129,10 +130,11 @@ class RockRun {
         if (landing_ && contacts_.empty()) PrimeLanding();
         landing_ = false;
         // The step the last one's contacts asked for (their materials, gentle
-        // or not). A step whose contacts ask for a shorter one is taken back
-        // and redone with that.
+        // or not), or the local contact step without contacts. A step whose
+        // contacts ask for a shorter one is taken back and redone with that
+        // (none can ask for less than the scene's finest).
         double dt = contacts_.empty() ? dt_ : needed_dt_;
-        if (dt > dt_) {
+        if (dt > steps_.finest) {
           const State s0 = s_;
           const Eigen::Vector3d a0 = a_, alpha0 = alpha_;
           const double spring0 = spring_energy_, penetration0 = rec_->max_penetration;
@@ -365,7 +367,30 @@ class RockRun {
     ctx_.terrain.NearSpheres(s_.x, rb, skin_, &near_);
     floor_clear_ = ctx_.terrain.FloorGap(s_.x, rb, skin_, skin_);
     near_ref_ = s_.x;
+    dt_ = LocalStep();
     return 0.0;
+  }
+  // The shortest contact step of the materials the rock may touch before its
+  // neighbourhood is rebuilt: those of its candidate spheres and of the grid
+  // nodes within its bounding radius and skin (their facets and catch
+  // surface). A material elsewhere on the slope leaves the rock's steps
+  // alone, so changing it changes no rock that does not reach it. A step
+  // that meets a contact asking for a shorter one is redone with that (Run).
+  double LocalStep() const {
+    const HeightGrid& g = ctx_.terrain.grid();
+    double dt = kInf;
+    auto take = [&](int node) {
+      dt = std::min(dt, steps_.material[static_cast<std::size_t>(g.material[static_cast<std::size_t>(node)])].contact);
+    };
+    for (int n : near_) take(n);
+    const double w = body_.bounding_radius + skin_;
+    const int i0 = std::max(0, static_cast<int>(std::floor((s_.x.x() - w - g.x0) / g.spacing)));
+    const int i1 = std::min(g.nx - 1, static_cast<int>(std::ceil((s_.x.x() + w - g.x0) / g.spacing)));
+    const int j0 = std::max(0, static_cast<int>(std::floor((s_.x.y() - w - g.y0) / g.spacing)));
+    const int j1 = std::min(g.ny - 1, static_cast<int>(std::ceil((s_.x.y() + w - g.y0) / g.spacing)));
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) take(g.index(i, j));
+    return std::isfinite(dt) ? dt : steps_.finest;
   }
   // The bounding sphere clears the floor surface (as of the last neighbourhood).
   bool FloorClear() const { return neighbours_ && (s_.x - near_ref_).norm() < floor_clear_; }
@@ -567,7 +592,10 @@ class RockRun {
   const SimulationOptions& opt_;
   const RockBody& body_;
   const StepSizes& steps_;
-  const double dt_;  // the rock's shortest contact step (flight look-ahead, landing)
+  // The rock's contact step where it is (LocalStep): the step of contact-free
+  // advances, the flight look-ahead and the landing. The scene's finest until
+  // the first neighbourhood, and always on the reference path.
+  double dt_;
   const bool exact_flight_, neighbours_;  // off on the reference path
   double needed_dt_ = 0.0;  // the step the last step's contacts ask for
   RockRecord* rec_;

@@ -259,6 +259,30 @@ TEST(Simulate, MaterialChangeKeepsEveryRocksDraws) {
   EXPECT_TRUE(any_differs) << "the change should move some rock";
 }
 
+// Common random numbers need more than fixed draws: a material no rock
+// reaches must not touch any rock's path, even when it sets the scene's
+// finest contact step (each rock steps by the materials around it).
+TEST(Simulate, UnreachedMaterialLeavesEveryRockAlone) {
+  Scene scene = RoughSlope(4);
+  Material far = scene.materials[0];
+  far.id = "far";
+  scene.materials.push_back(far);
+  // Two nodes at the top corner, 13 m across the slope from the release zone.
+  for (int i : {0, 1}) scene.grid.material[scene.grid.index(i, scene.grid.ny - 1)] = 2;
+  const SimulationResult base = Simulate(scene);
+  scene.materials[2].hardness = 0.0;         // restitution 0.01: overdamped, a shorter stable step
+  scene.materials[2].contact_time_s = 5e-4;  // and a 10x shorter contact
+  scene.materials[2].roughness_m = 0.9;
+  const SimulationResult changed = Simulate(scene);
+  for (std::size_t k = 0; k < base.rocks.size(); ++k) {
+    ASSERT_GT(base.rocks[k].dt, changed.rocks[k].dt) << "the far material sets the finest step";
+    EXPECT_EQ(base.rocks[k].stop, changed.rocks[k].stop) << "rock " << k;
+    EXPECT_EQ(base.rocks[k].steps, changed.rocks[k].steps) << "rock " << k;
+    EXPECT_EQ(base.rocks[k].flights, changed.rocks[k].flights) << "rock " << k;
+    EXPECT_EQ(base.rocks[k].outcome, changed.rocks[k].outcome) << "rock " << k;
+  }
+}
+
 TEST(Simulate, PassagesCountRocksPerCell) {
   Scene scene = RoughSlope(3);
   scene.options.record.passages = true;
