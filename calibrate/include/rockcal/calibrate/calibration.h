@@ -70,8 +70,8 @@ struct MethodOptions {
   //    evaluations around it (its centre, and smoothing_radius / 2 either way
   //    along each parameter) and the estimate refitted to them and the
   //    evaluations nearby, then evaluated; each stage is kept only where the
-  //    misfit evaluated there agrees with its model and is within the noise
-  //    of the lowest (see SmoothedEstimate). The search keeps 2n + 2
+  //    misfit evaluated there agrees with its model and is not visibly worse than
+  //    the lowest (see SmoothedEstimate). The search keeps 2n + 2
   //    evaluations of max_evals back for this (of a budget below
   //    4(n + 1), none: the lowest is taken); a time limit covers the search
   //    only. A Monte Carlo misfit is rugged: its lowest evaluation sits in a
@@ -110,8 +110,8 @@ struct SmoothedEstimate {
   // deviation that a few far, poorly modelled evaluations do not inflate).
   // The estimate is used only where its evaluated
   // misfit is at most 3 of them above model + offset (the model holds there)
-  // and at most 2 above the lowest evaluation (it is no worse than the
-  // lowest within the noise).
+  // and at most 1 above the lowest evaluation (it is not visibly worse than
+  // the lowest).
   double offset = 0.0, scatter = 0.0;
   double evaluated_misfit = 0.0;  // the misfit evaluated at the estimate
 };
