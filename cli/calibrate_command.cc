@@ -92,7 +92,7 @@ int Calibrate(const std::vector<std::string>& argv) {
   options.max_seconds = args.Number("max-seconds", 0.0, 0.0, 1e9);
   options.seed = scene.options.seed;
   options.ceres_loss = args.Get("loss", "none");
-  options.estimate = args.Get("estimate", "smoothed");
+  options.estimate = args.Get("estimate", "lowest");
   if (options.estimate != "smoothed" && options.estimate != "lowest")
     throw InputError("argument --estimate",
                      "'" + options.estimate + "' is not an estimate (allowed: smoothed, lowest)");

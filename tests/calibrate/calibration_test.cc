@@ -40,6 +40,7 @@ struct Small {
 TEST(Calibration, ResumeEndsLikeAStraightRunWithFewerSimulations) {
   Small small;
   MethodOptions options;
+  options.estimate = "smoothed";
   options.max_evals = 22;  // with the smoothed estimate's stencil (12 search, 10 kept back)
   const std::string straight_log = TempPath("straight.jsonl");
   EvaluationLog straight_log_file(straight_log, false, small.space, 1, 6);
@@ -249,6 +250,7 @@ TEST(SmoothedEstimate, SaysWhenTheEvaluationsCannotDetermineIt) {
 TEST(Calibration, SmoothedEstimateIsEvaluatedAndReported) {
   Small small;
   MethodOptions options;
+  options.estimate = "smoothed";
   // Four parameters: at least 10 for the search, 10 kept back for the
   // stencil (9) and the estimate (1).
   options.max_evals = 20;

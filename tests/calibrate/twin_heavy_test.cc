@@ -78,6 +78,7 @@ void ExpectTruthRecovered(const MethodResult& r, const Twin& twin) {
 TEST(Calibration, TwinExperimentBobyqa) {
   Twin& twin = SharedTwin();
   MethodOptions options;
+  options.estimate = "smoothed";
   // BOBYQA reads the misfit alone, not its residuals: on this rugged
   // four-parameter misfit it needs about 150 evaluations (with 100 it stopped
   // at 1.9 and 2.7 times the truth's misfit for calibration seeds 2 and 3).
@@ -91,6 +92,7 @@ TEST(Calibration, TwinExperimentBobyqa) {
 TEST(Calibration, TwinExperimentCeresWithUncertainty) {
   Twin& twin = SharedTwin();
   MethodOptions options;
+  options.estimate = "smoothed";
   options.max_evals = 60;
   const MethodResult r =
       RunMethod("ceres", twin.objective, twin.space.Current(twin.scene), options, nullptr);
