@@ -400,9 +400,11 @@ std::string Agreement(const SmoothedEstimate& s, double lowest) {
 //     a step the noise cannot swamp), then the estimate refitted around the
 //     first one to the stencil and every evaluation nearby, and evaluated.
 // Each stage's estimate is evaluated and kept only where it Holds: where the
-// misfit there agrees with its model. A misfit far from linear residuals
-// (few rocks, a curved valley) fails that, and the lowest evaluation stands.
-// Without `smoothed`, the lowest evaluation.
+// misfit there agrees with its model and is not visibly above the lowest. A
+// misfit far from linear residuals (few rocks, a curved valley) fails that;
+// the first stage's stencil is then centred on the lowest evaluation, and
+// after the second the lowest evaluation stands. Without `smoothed`, the
+// lowest evaluation.
 MethodResult Conclude(Evaluator* ev, std::string termination, bool smoothed,
                       const MethodOptions& options, const Objective& objective) {
   const ParameterSpace& space = objective.space();
