@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "../sites/test_files.h"
+#include "default_table_fixture.h"
 
 namespace rockcal::calibrate {
 namespace {
@@ -195,17 +196,7 @@ CalibratedSite Site(const std::string& site, const std::string& dir,
   return s;
 }
 
-CalibratedParameter P(const std::string& material, const std::string& cls, const std::string& name,
-                      double value, double lower, double upper) {
-  CalibratedParameter p;
-  p.material = material;
-  p.material_class = cls;
-  p.name = name;
-  p.value = value;
-  p.lower = lower;
-  p.upper = upper;
-  return p;
-}
+using testing::P;
 
 // Three sites. talus hardness: 0.30 (A), 0.50 (B, material "scree"), 0.40
 // and 0.10 (C, the second at its lower bound). talus roughness: 0.2 (A),

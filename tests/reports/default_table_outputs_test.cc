@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "../calibrate/default_table_fixture.h"
+
 namespace rockcal::reports {
 namespace {
 
@@ -16,17 +18,7 @@ using calibrate::DefaultTable;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-CalibratedParameter P(const std::string& material, const std::string& cls, const std::string& name,
-                      double value, double lower, double upper) {
-  CalibratedParameter p;
-  p.material = material;
-  p.material_class = cls;
-  p.name = name;
-  p.value = value;
-  p.lower = lower;
-  p.upper = upper;
-  return p;
-}
+using calibrate::testing::P;
 
 // Two sites: talus hardness 0.3 and 0.5, talus roughness 0.2 m and 0.5 m (at
 // its upper bound), soil contact time 6 ms with a standard error of 0.5 ms.
