@@ -93,9 +93,6 @@ int Calibrate(const std::vector<std::string>& argv) {
   options.seed = scene.options.seed;
   options.ceres_loss = args.Get("loss", "none");
   options.estimate = args.Get("estimate", "lowest");
-  if (options.estimate != "smoothed" && options.estimate != "lowest")
-    throw InputError("argument --estimate",
-                     "'" + options.estimate + "' is not an estimate (allowed: smoothed, lowest)");
   std::string error;
   if (!options.IsValid(&error)) throw InputError("arguments", error);
 

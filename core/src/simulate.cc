@@ -380,7 +380,8 @@ class RockRun {
     const HeightGrid& g = ctx_.terrain.grid();
     double dt = kInf;
     auto take = [&](int node) {
-      dt = std::min(dt, steps_.material[static_cast<std::size_t>(g.material[static_cast<std::size_t>(node)])].contact);
+      const int material = g.material[static_cast<std::size_t>(node)];
+      dt = std::min(dt, steps_.material[static_cast<std::size_t>(material)].contact);
     };
     for (int n : near_) take(n);
     const double w = body_.bounding_radius + skin_;

@@ -58,13 +58,6 @@ nlohmann::json ResidualsJson(const observations::Misfit& m) {
   return out;
 }
 
-// The lowest misfit any method evaluated (the target of "time to within 10 %").
-double BestOfAll(const CalibrationRecord& record) {
-  double best = std::numeric_limits<double>::infinity();
-  for (const auto& m : record.methods) best = std::min(best, m.lowest_misfit);
-  return best;
-}
-
 }  // namespace
 
 nlohmann::json ParametersJson(const CalibrationRecord& record) {
@@ -149,9 +142,15 @@ std::string TraceCsv(const CalibrationRecord& record) {
   return out.str();
 }
 
+double LowestMisfitOfAll(const CalibrationRecord& record) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const auto& m : record.methods) lowest = std::min(lowest, m.lowest_misfit);
+  return lowest;
+}
+
 nlohmann::json CalibrationJson(const CalibrationRecord& record) {
   const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
-  const double best_all = BestOfAll(record);
+  const double best_all = LowestMisfitOfAll(record);
   nlohmann::json methods = nlohmann::json::array();
   for (const MethodResult& m : record.methods) {
     nlohmann::json u = nullptr;
@@ -202,7 +201,7 @@ nlohmann::json CalibrationJson(const CalibrationRecord& record) {
 }
 
 std::string ComparisonCsv(const CalibrationRecord& record) {
-  const double best_all = BestOfAll(record);
+  const double best_all = LowestMisfitOfAll(record);
   std::ostringstream out;
   out << "method,misfit,lowest_misfit,evaluations,simulated,wall_seconds,"
          "seconds_to_within_10pct_of_best,termination\n";
@@ -218,7 +217,7 @@ std::string ComparisonCsv(const CalibrationRecord& record) {
 }
 
 std::string ComparisonMarkdown(const CalibrationRecord& record) {
-  const double best_all = BestOfAll(record);
+  const double best_all = LowestMisfitOfAll(record);
   std::ostringstream out;
   out << "| method | misfit | lowest evaluated | evaluations | wall s | s to within 10 % of "
          "best | stopped because |\n"

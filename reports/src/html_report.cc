@@ -1218,8 +1218,7 @@ std::string CalibrationSection(const Context& c) {
     s += "</tbody></table>";
   }
   if (rec.methods.size() > 1) {
-    double best_all = kInf;
-    for (const auto& m : rec.methods) best_all = std::min(best_all, m.lowest_misfit);
+    const double best_all = LowestMisfitOfAll(rec);
     s += "<h3>Methods compared</h3><table><thead><tr>" + Th("method") + Th("misfit") +
          Th("lowest evaluated") + Th("evaluations") + Th("simulated") + Th("wall s") + Th("s to within 10 % of the lowest") +
          Th("stopped because") + "</tr></thead><tbody>";

@@ -43,6 +43,9 @@ std::string TraceCsv(const CalibrationRecord& record);
 // calibration.json: methods, terminations, budgets, misfit before and after,
 // per-observation fit, uncertainties.
 nlohmann::json CalibrationJson(const CalibrationRecord& record);
+// The lowest misfit any method evaluated: the target of "time to within
+// 10 %" in the comparison of methods.
+double LowestMisfitOfAll(const CalibrationRecord& record);
 // The comparison of methods on the same site and budget (error against run
 // time): misfit, evaluations, wall seconds, time to within 10 % of the best.
 std::string ComparisonCsv(const CalibrationRecord& record);
