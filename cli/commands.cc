@@ -113,8 +113,9 @@ int Validate(const std::vector<std::string>& argv) {
                 p.kind == core::Partition::Kind::kX ? "x" : "z", p.value);
   std::printf("rock groups:\n");
   for (const auto& g : scene.groups) {
-    const core::RockBody lo = core::MakeRockBody(g.shape, g.size_min, g.unit_weight, scene.gravity);
-    const core::RockBody hi = core::MakeRockBody(g.shape, g.size_max, g.unit_weight, scene.gravity);
+    const core::GroupExtent extent = core::GroupBodies(g, scene.gravity);
+    const core::RockBody& lo = extent.lightest;
+    const core::RockBody& hi = extent.heaviest;
     double dt = INFINITY;
     bool shrunk = false;
     for (const auto& m : scene.materials) {
@@ -124,7 +125,8 @@ int Validate(const std::vector<std::string>& argv) {
       shrunk = shrunk || sh;
     }
     std::printf("  %5d %-11s size %.3f-%.3f m  mass %.4g-%.4g kg  contact step %.3g s%s\n", g.count,
-                core::ShapeName(g.shape), g.size_min, g.size_max, lo.mass, hi.mass, dt,
+                core::ShapeName(g.shape), std::min(lo.size, hi.size), std::max(lo.size, hi.size),
+                lo.mass, hi.mass, dt,
                 shrunk ? " (shrunk for stability)" : "");
   }
   if (args.Has("observations")) {

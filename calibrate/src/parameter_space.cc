@@ -15,6 +15,8 @@ std::string Parameter::name() const {
       return "roughness";
     case ParameterKind::kContactTime:
       return "contact_time";
+    case ParameterKind::kRollingResistance:
+      return "rolling_resistance";
   }
   return "?";
 }
@@ -50,6 +52,8 @@ ParameterSpace ParameterSpace::FromSite(const sites::Site& site) {
                                         "': calibrate.roughness lower bound must be > 0 (roughness "
                                         "0 switches from virtual spheres to smooth facets, which "
                                         "no optimiser can search across)");
+    } else if (b.name == "rolling_resistance") {
+      p.kind = ParameterKind::kRollingResistance;
     } else {
       p.kind = ParameterKind::kContactTime;
     }
@@ -86,9 +90,20 @@ std::vector<double> ParameterSpace::Current(const core::Scene& scene) const {
   std::vector<double> x;
   for (const Parameter& p : parameters_) {
     const core::Material& m = scene.materials[static_cast<std::size_t>(p.material_index)];
-    const double v = p.kind == ParameterKind::kHardness    ? m.hardness
-                     : p.kind == ParameterKind::kRoughness ? m.roughness_m
-                                                           : m.contact_time_s;
+    double v = m.contact_time_s;
+    switch (p.kind) {
+      case ParameterKind::kHardness:
+        v = m.hardness;
+        break;
+      case ParameterKind::kRoughness:
+        v = m.roughness_m;
+        break;
+      case ParameterKind::kContactTime:
+        break;
+      case ParameterKind::kRollingResistance:  // explicit, or the hardness model's
+        v = core::DeriveContactLaw(m, scene.hardness_model).rolling_resistance;
+        break;
+    }
     x.push_back(std::clamp(v, p.lower, p.upper));
   }
   return x;
@@ -108,6 +123,9 @@ void ParameterSpace::Apply(const std::vector<double>& physical, core::Scene* sce
         break;
       case ParameterKind::kContactTime:
         m.contact_time_s = physical[k];
+        break;
+      case ParameterKind::kRollingResistance:
+        m.rolling_resistance = physical[k];
         break;
     }
   }

@@ -182,8 +182,8 @@ core::Scene FlatScene(const core::Scene& base, double max_time) {
 double SmallestStep(const core::Scene& s) {
   double dt = kInf;
   for (const auto& g : s.groups) {
-    for (double size : {g.size_min, g.size_max}) {
-      const core::RockBody body = core::MakeRockBody(g.shape, size, g.unit_weight, s.gravity);
+    const core::GroupExtent extent = core::GroupBodies(g, s.gravity);
+    for (const core::RockBody& body : {extent.lightest, extent.heaviest}) {
       for (const auto& m : s.materials)
         dt = std::min(dt, core::ContactTimeStep(body, core::DeriveContactLaw(m, s.hardness_model),
                                                 s.options));

@@ -1,5 +1,6 @@
 #include "rockcal/core/rock_shape.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace rockcal::core {
@@ -15,7 +16,8 @@ constexpr ShapeInfo kShapes[] = {{Shape::kSphere, "sphere"},
                                  {Shape::kCylinder, "cylinder"},
                                  {Shape::kDisc, "disc"},
                                  {Shape::kTetrahedron, "tetrahedron"},
-                                 {Shape::kCube, "cube"}};
+                                 {Shape::kCube, "cube"},
+                                 {Shape::kBox, "box"}};
 
 }  // namespace
 
@@ -35,9 +37,26 @@ bool ParseShape(const std::string& name, Shape* shape) {
   return false;
 }
 
-const char* ShapeNames() { return "sphere, cylinder, disc, tetrahedron, cube"; }
+const char* ShapeNames() { return "sphere, cylinder, disc, tetrahedron, cube, box"; }
 
-double NominalVolume(Shape shape, double size) {
+namespace {
+
+// The sides of a box of longest side `size` in proportions `box`.
+Eigen::Vector3d BoxSides(double size, const Eigen::Vector3d& box) {
+  return size * box / box.maxCoeff();
+}
+
+// Radius of the sphere that just holds every element.
+void Finish(RockBody* body) {
+  body->inertia = ClusterInertiaTensor(*body).diagonal();
+  double reach = 0.0;
+  for (const auto& e : body->elements) reach = std::max(reach, e.norm());
+  body->bounding_radius = reach + body->element_radius;
+}
+
+}  // namespace
+
+double NominalVolume(Shape shape, double size, const Eigen::Vector3d& box) {
   const double s3 = size * size * size;
   switch (shape) {
     case Shape::kSphere:
@@ -52,11 +71,49 @@ double NominalVolume(Shape shape, double size) {
     }
     case Shape::kCube:
       return s3;
+    case Shape::kBox:
+      return BoxSides(size, box).prod();
   }
   return 0.0;
 }
 
-RockBody MakeRockBody(Shape shape, double size, double unit_weight, double gravity) {
+RockBody MakeBoxBody(const Eigen::Vector3d& dims, double mass) {
+  RockBody body;
+  body.shape = Shape::kBox;
+  body.size = dims.maxCoeff();
+  body.mass = mass;
+  const double a = dims.minCoeff() / 4.0;
+  body.element_radius = a;
+  int n[3];
+  double first[3], pitch[3];
+  for (int k = 0; k < 3; ++k) {
+    const double span = dims[k] - 2.0 * a;  // between the outermost centres
+    n[k] = std::max(2, static_cast<int>(std::ceil(span / (2.0 * a) - 1e-9)) + 1);
+    first[k] = -0.5 * span;
+    pitch[k] = span / (n[k] - 1);
+  }
+  for (int i = 0; i < n[0]; ++i)
+    for (int j = 0; j < n[1]; ++j)
+      for (int k = 0; k < n[2]; ++k)
+        body.elements.emplace_back(first[0] + i * pitch[0], first[1] + j * pitch[1],
+                                   first[2] + k * pitch[2]);
+  Finish(&body);
+  return body;
+}
+
+RockBody WithMass(RockBody body, double mass) {
+  const double scale = mass / body.mass;
+  body.mass = mass;
+  body.inertia *= scale;
+  return body;
+}
+
+RockBody MakeRockBody(Shape shape, double size, double unit_weight, double gravity,
+                      const Eigen::Vector3d& box) {
+  if (shape == Shape::kBox) {
+    const Eigen::Vector3d dims = BoxSides(size, box);
+    return MakeBoxBody(dims, unit_weight * dims.prod() / gravity);
+  }
   RockBody body;
   body.shape = shape;
   body.size = size;
@@ -94,11 +151,10 @@ RockBody MakeRockBody(Shape shape, double size, double unit_weight, double gravi
       for (int i = 0; i < 8; ++i)
         body.elements.emplace_back((i & 1) ? q : -q, (i & 2) ? q : -q, (i & 4) ? q : -q);
       break;
+    case Shape::kBox:  // handled above
+      break;
   }
-  body.inertia = ClusterInertiaTensor(body).diagonal();
-  double reach = 0.0;
-  for (const auto& e : body.elements) reach = std::max(reach, e.norm());
-  body.bounding_radius = reach + body.element_radius;
+  Finish(&body);
   return body;
 }
 

@@ -1,5 +1,6 @@
 #include "rockcal/core/scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -46,6 +47,29 @@ void Scene::SetTotalRocks(int total) {
     share[best] = groups[best].count;  // its remainder is taken
     ++assigned;
   }
+}
+
+RockBody GroupRockBody(const RockGroup& group, int index, double u, double gravity) {
+  if (!group.inventory.empty()) {
+    const Block& b = group.inventory[static_cast<std::size_t>(index) % group.inventory.size()];
+    if (b.shape == Shape::kBox) return MakeBoxBody(b.sides, b.mass);
+    // A named shape of size L1 at the block's mass.
+    return WithMass(MakeRockBody(b.shape, b.sides.x(), 1.0, 1.0), b.mass);
+  }
+  const double size = group.size_min + u * (group.size_max - group.size_min);
+  return MakeRockBody(group.shape, size, group.unit_weight, gravity, group.box);
+}
+
+GroupExtent GroupBodies(const RockGroup& group, double gravity) {
+  GroupExtent extent;
+  const int n = group.inventory.empty() ? 2 : static_cast<int>(group.inventory.size());
+  for (int k = 0; k < n; ++k) {
+    const RockBody b = GroupRockBody(group, k, k == 0 ? 0.0 : 1.0, gravity);
+    if (k == 0 || b.mass < extent.lightest.mass) extent.lightest = b;
+    if (k == 0 || b.mass > extent.heaviest.mass) extent.heaviest = b;
+    extent.max_element_radius = std::max(extent.max_element_radius, b.element_radius);
+  }
+  return extent;
 }
 
 int Scene::total_rocks() const {

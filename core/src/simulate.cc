@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <limits>
 
+#include "rockcal/core/contact.h"
 #include "rockcal/core/random.h"
 
 namespace rockcal::core {
@@ -86,7 +87,7 @@ class RockRun {
   RockRun(const SceneContext& ctx, const RockBody& body, const StepSizes& steps, RockRecord* rec)
       : ctx_(ctx), opt_(ctx.scene.options), body_(body), steps_(steps), dt_(steps.finest),
         exact_flight_(opt_.exact_flight && !opt_.reference_path), neighbours_(!opt_.reference_path),
-        rec_(rec) {
+        single_element_(body.elements.size() == 1), rec_(rec) {
     inv_inertia_ = body.inertia.cwiseInverse();
     inertia_min_ = body.inertia.minCoeff();
     g_ = ctx.gravity.norm();
@@ -476,14 +477,17 @@ class RockRun {
         const Eigen::Vector3d f = fn * c.normal + ft;
         force += f;
         torque += arm.cross(f);
-        // Rolling resistance: a torque mu_r a N against rolling (not spin
-        // about the normal at this contact), N the spring's normal force k_n d:
-        // the load on the contact (the dashpot's share nets about zero over an
-        // impact), as general DEM codes take it (LIGGGHTS' CDT model).
+        // Rolling resistance (core/contact.h) against rolling, not spin about
+        // this contact's normal, on the spring's normal force k_n d: the load
+        // on the contact (the dashpot's share nets about zero over an impact),
+        // as general DEM codes take it (LIGGGHTS' CDT model). The lever is
+        // the contact's distance from the rolling axis (a sphere's radius a;
+        // with the element radius instead, a block tumbling over its edges
+        // felt a fraction of the resistance a sphere of its size feels).
         if (law.rolling_resistance > 0.0) {
           const Eigen::Vector3d roll = w_half - c.normal * c.normal.dot(w_half);
-          const double rate = roll.norm();
-          if (rate > 0.0) rolling -= (law.rolling_resistance * a * kn * c.overlap / rate) * roll;
+          const double lever = single_element_ ? a : RollingLever(roll, arm);
+          rolling += RollingResistanceTorque(law.rolling_resistance, lever, kn * c.overlap, roll);
         }
         spring_energy_ += 0.5 * kn * c.overlap * c.overlap + 0.5 * ks * u.squaredNorm();
         next_.push_back({c.key, static_cast<int>(e), u});
@@ -598,6 +602,7 @@ class RockRun {
   // the first neighbourhood, and always on the reference path.
   double dt_;
   const bool exact_flight_, neighbours_;  // off on the reference path
+  const bool single_element_;              // a sphere (on either path)
   double needed_dt_ = 0.0;  // the step the last step's contacts ask for
   RockRecord* rec_;
   State s_;
@@ -646,7 +651,9 @@ State ReleaseRock(const SceneContext& ctx, const RockGroup& group, const RockBod
   for (const auto& e : body.elements) lowest = std::min(lowest, (rot * e).z() - body.element_radius);
   double ground = 0.0;
   ctx.terrain.Elevation(x, y, &ground);
-  s.x = Eigen::Vector3d(x, y, ground - lowest + rel.height);
+  // A surveyed drop elevation, but never below the ground.
+  const double base = rel.elevation ? std::max(*rel.elevation, ground) : ground + rel.height;
+  s.x = Eigen::Vector3d(x, y, base - lowest);
   // Lift out of any virtual sphere that pokes above the interpolated surface.
   // A vertical lift by the overlap clears a tilted obstacle only in part, so
   // repeat (each pass lifts at least by the remaining overlap).
@@ -658,6 +665,10 @@ State ReleaseRock(const SceneContext& ctx, const RockGroup& group, const RockBod
     s.x.z() += -worst + 1e-6 * body.bounding_radius;
   }
   s.v = rel.velocity;
+  // The spread's draws come last, so a site without one draws as before.
+  if (rel.velocity_spread.any()) {
+    for (int k = 0; k < 3; ++k) s.v[k] += rel.velocity_spread[k] * rng->Normal();
+  }
   s.w.setZero();
   s.t = 0.0;
   return s;
@@ -721,10 +732,8 @@ Terrain BuildTerrain(const Scene& scene) {
   std::vector<double> roughness;
   for (const auto& m : scene.materials) roughness.push_back(m.roughness_m);
   double max_radius = 0.0;
-  for (const auto& g : scene.groups) {
-    const RockBody b = MakeRockBody(g.shape, g.size_max, g.unit_weight, scene.gravity);
-    max_radius = std::max(max_radius, b.element_radius);
-  }
+  for (const auto& g : scene.groups)
+    max_radius = std::max(max_radius, GroupBodies(g, scene.gravity).max_element_radius);
   return Terrain(scene.grid, roughness, max_radius);
 }
 
@@ -740,11 +749,12 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
   struct Job {
     int group;
     int rock;
+    int in_group;  // index within the group
   };
   std::vector<Job> jobs;
   for (std::size_t g = 0; g < scene.groups.size(); ++g)
     for (int k = 0; k < scene.groups[g].count; ++k)
-      jobs.push_back({static_cast<int>(g), static_cast<int>(jobs.size())});
+      jobs.push_back({static_cast<int>(g), static_cast<int>(jobs.size()), k});
 
   SimulationResult result;
   result.rocks.resize(jobs.size());
@@ -758,14 +768,14 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
     const RockGroup& group = scene.groups[static_cast<std::size_t>(job.group)];
     RandomStream rng(scene.options.seed, static_cast<std::uint64_t>(job.rock));
     // Draws in a fixed order, whatever the shape or parameters: size, position, orientation.
-    const double size = group.size_min + rng.Uniform() * (group.size_max - group.size_min);
+    const double u_size = rng.Uniform();
     double u_pos[2] = {rng.Uniform(), rng.Uniform()};
     const double u1 = rng.Uniform(), u2 = rng.Uniform(), u3 = rng.Uniform();
     const Eigen::Quaterniond q(std::sqrt(1 - u1) * std::sin(2 * kPi * u2),
                                std::sqrt(1 - u1) * std::cos(2 * kPi * u2),
                                std::sqrt(u1) * std::sin(2 * kPi * u3),
                                std::sqrt(u1) * std::cos(2 * kPi * u3));
-    const RockBody body = MakeRockBody(group.shape, size, group.unit_weight, scene.gravity);
+    const RockBody body = GroupRockBody(group, job.in_group, u_size, scene.gravity);
     StepSizes steps;
     steps.finest = kInf;
     bool any_shrunk = false;
@@ -782,8 +792,8 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
     RockRecord& rec = result.rocks[static_cast<std::size_t>(k)];
     rec.rock = job.rock;
     rec.group = job.group;
-    rec.shape = group.shape;
-    rec.size = size;
+    rec.shape = body.shape;
+    rec.size = body.size;
     rec.mass = body.mass;
     rec.dt = dt;
     const bool cluster = body.elements.size() > 1 || scene.options.reference_path;

@@ -27,6 +27,8 @@ const char* SiUnit(const Parameter& p) {
       return "m";
     case ParameterKind::kContactTime:
       return "s";
+    case ParameterKind::kRollingResistance:
+      return "";
   }
   return "";
 }

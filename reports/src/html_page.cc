@@ -215,16 +215,18 @@ std::string SiteTables(const core::Scene& scene, const std::string& site_file, s
        Th("size") + Th("unit weight") + Th("mass") + Th("release") + "</tr></thead><tbody>";
   for (std::size_t k = 0; k < sc.groups.size(); ++k) {
     const core::RockGroup& grp = sc.groups[k];
-    const core::RockBody a =
-        core::MakeRockBody(grp.shape, grp.size_min, grp.unit_weight, sc.gravity);
-    const core::RockBody b =
-        core::MakeRockBody(grp.shape, grp.size_max, grp.unit_weight, sc.gravity);
-    const std::string size = grp.size_min == grp.size_max
+    const core::GroupExtent extent = core::GroupBodies(grp, sc.gravity);
+    const core::RockBody& a = extent.lightest;
+    const core::RockBody& b = extent.heaviest;
+    const std::string size = !grp.inventory.empty()
+                                 ? "inventory of " + Int(static_cast<long>(grp.inventory.size())) +
+                                       " blocks"
+                             : grp.size_min == grp.size_max
                                  ? Length(grp.size_min)
                                  : Show(grp.size_min) + "-" + Show(grp.size_max) + " m (" +
                                        Show(grp.size_min / kFt) + "-" + Show(grp.size_max / kFt) +
                                        " ft)";
-    const std::string mass = grp.size_min == grp.size_max
+    const std::string mass = a.mass == b.mass
                                  ? Show(a.mass) + " kg (" + Show(a.mass / kPound) + " lb)"
                                  : Show(a.mass) + "-" + Show(b.mass) + " kg (" +
                                        Show(a.mass / kPound) + "-" + Show(b.mass / kPound) + " lb)";
@@ -237,12 +239,15 @@ std::string SiteTables(const core::Scene& scene, const std::string& site_file, s
       release =
           "point (" + Label(grp.release.point.x()) + ", " + Label(grp.release.point.y()) + ") m";
     }
-    if (grp.release.height > 0) release += ", " + Length(grp.release.height) + " above the ground";
+    if (grp.release.elevation)
+      release += ", dropped from elevation " + Length(*grp.release.elevation);
+    else if (grp.release.height > 0)
+      release += ", " + Length(grp.release.height) + " above the ground";
     if (grp.release.velocity.norm() > 0)
       release += ", initial velocity (" + Label(grp.release.velocity.x()) + ", " +
                  Label(grp.release.velocity.y()) + ", " + Label(grp.release.velocity.z()) + ") m/s";
     s += "<tr>" + Td(Int(static_cast<long>(k + 1)), true) + Td(Int(grp.count), true) +
-         Td(core::ShapeName(grp.shape)) + Td(size) +
+         Td(grp.inventory.empty() ? core::ShapeName(grp.shape) : "blocks") + Td(size) +
          Td(Show(grp.unit_weight * 1e-3) + " kN/m³ (" + Show(grp.unit_weight / kLbfPerFt3) +
             " lbf/ft³)") +
          Td(mass) + Td(release) + "</tr>";

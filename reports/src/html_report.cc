@@ -1103,6 +1103,8 @@ std::string ParameterValue(const calibrate::Parameter& p, double v) {
       return Length(v);
     case calibrate::ParameterKind::kContactTime:
       return Show(v) + " s (" + Show(v * 1e3) + " ms)";
+    case calibrate::ParameterKind::kRollingResistance:
+      return Printf("%.3f", v);
   }
   return Show(v);
 }

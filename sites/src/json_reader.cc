@@ -170,6 +170,8 @@ double LengthToSI(double value, Units units) {
   return units == Units::kUS ? value * 0.3048 : value;
 }
 
+const char* LengthUnit(Units units) { return units == Units::kUS ? "ft" : "m"; }
+
 double UnitWeightToSI(double value, Units units) {
   // 1 lbf/ft^3 = 4.4482216152605 N / 0.028316846592 m^3 = 157.0874606 N/m^3.
   return units == Units::kUS ? value * 4.4482216152605 / 0.028316846592 : value * 1000.0;

@@ -9,6 +9,7 @@
 
 #include "rockcal/core/error.h"
 #include "rockcal/sites/geometry.h"
+#include "rockcal/sites/inventory.h"
 #include "rockcal/sites/surface.h"
 #include "rockcal/sites/text_reader.h"
 
@@ -16,7 +17,8 @@ namespace rockcal::sites {
 namespace {
 
 constexpr double kMaxContactTime = 1.0;  // s
-constexpr const char* kSettingFields = "hardness, roughness, contact_time";
+constexpr double kMaxSpeed = 500.0;      // m/s, of a release velocity or its spread
+constexpr const char* kSettingFields = "hardness, roughness, contact_time, rolling_resistance";
 
 bool ValidId(const std::string& id) {
   if (id.empty()) return false;
@@ -40,7 +42,6 @@ std::string Join(const std::vector<std::string>& items) {
   return s;
 }
 
-const char* LengthUnit(Units units) { return units == Units::kUS ? "ft" : "m"; }
 
 // A plan polygon in file units -> SI; at least 3 vertices and a non-zero area.
 Polygon ReadPolygon(const JsonNode& node, Units units) {
@@ -109,8 +110,10 @@ void ReadSimulation(const JsonNode& node, Units units, core::SimulationOptions* 
 
 core::Release ReadRelease(const JsonNode& node, Units units, const core::HeightGrid& grid,
                           std::string* note) {
-  node.Keys({"zone", "point", "height", "velocity"});
+  node.Keys({"zone", "point", "height", "elevation", "velocity", "velocity_spread"});
   core::Release r;
+  if (node.Has("height") && node.Has("elevation"))
+    node.Fail("expected 'height' (above the ground) or 'elevation' (absolute), not both");
   const bool has_zone = node.Has("zone"), has_point = node.Has("point");
   if (has_zone == has_point)
     node.Fail("expected exactly one of 'zone' (plan polygon) or 'point' ([x, y])");
@@ -150,18 +153,64 @@ core::Release ReadRelease(const JsonNode& node, Units units, const core::HeightG
   if (const std::optional<double> z = ElevationAt(grid, centre.x(), centre.y()))
     *note += ", ground " + FormatNumber(*z) + " m";
   if (auto h = node.Find("height")) r.height = LengthToSI(h->NonNegative(), units);
-  if (auto v = node.Find("velocity")) {
-    const std::vector<double> vel = v->Numbers(3);
-    r.velocity = Eigen::Vector3d(LengthToSI(vel[0], units), LengthToSI(vel[1], units),
-                                 LengthToSI(vel[2], units));
+  if (auto e = node.Find("elevation")) {
+    // The lowest point of a dropped rock: above the ground everywhere in the
+    // zone (checked at its vertices and centre), and within reach of it.
+    r.elevation = LengthToSI(e->Number(), units);
+    std::vector<Eigen::Vector2d> where = r.zone;
+    where.push_back(centre);
+    double ground_max = -std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector2d& p : where)
+      if (const std::optional<double> z = ElevationAt(grid, p.x(), p.y()))
+        ground_max = std::max(ground_max, *z);
+    if (!(*r.elevation >= ground_max && *r.elevation <= ground_max + 1000.0)) {
+      e->Fail("the ground of the release reaches " + FormatNumber(ground_max * to_file) + " " +
+              LengthUnit(units) + "; expected a drop elevation at or above it (and at most 1 km " +
+              "above it)");
+    }
+    *note += ", dropped from elevation " + FormatNumber(*r.elevation) + " m";
   }
+  auto velocity = [&](const JsonNode& v, bool spread) {
+    const std::vector<double> vel = v.Numbers(3);
+    Eigen::Vector3d out;
+    for (int k = 0; k < 3; ++k) {
+      out[k] = LengthToSI(vel[static_cast<std::size_t>(k)], units);
+      if (!(std::abs(out[k]) <= kMaxSpeed) || (spread && out[k] < 0)) {
+        v.Fail(std::string("expected ") + (spread ? "three spreads >= 0" : "three components") +
+               " of at most " + FormatNumber(kMaxSpeed * to_file) + " " + LengthUnit(units) +
+               "/s");
+      }
+    }
+    return out;
+  };
+  if (auto v = node.Find("velocity")) r.velocity = velocity(*v, false);
+  if (auto v = node.Find("velocity_spread")) r.velocity_spread = velocity(*v, true);
   return r;
 }
 
 core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightGrid& grid,
-                          std::string* note) {
-  node.Keys({"count", "shape", "size", "unit_weight", "release"});
+                          const std::string& base_dir, std::string* note) {
   core::RockGroup g;
+  if (node.Has("inventory")) {
+    // The blocks of a field inventory; count (default one rock per block)
+    // repeats them in turn.
+    node.Keys({"count", "inventory", "release"});
+    const JsonNode inv = node.Get("inventory");
+    const std::string file = ResolvePath(base_dir, inv.String());
+    g.inventory = ReadInventory(file, units);
+    g.shape = g.inventory.front().shape;
+    g.count = node.Has("count") ? static_cast<int>(node.Get("count").Integer(1, 10'000'000))
+                                : static_cast<int>(g.inventory.size());
+    std::string release_note;
+    g.release = ReadRelease(node.Get("release"), units, grid, &release_note);
+    const core::GroupExtent extent = core::GroupBodies(g, 9.80665);
+    *note = std::to_string(g.count) + " rocks from the inventory " + file + " (" +
+            std::to_string(g.inventory.size()) + " blocks, " +
+            FormatNumber(extent.lightest.mass) + "-" + FormatNumber(extent.heaviest.mass) +
+            " kg), release " + release_note;
+    return g;
+  }
+  node.Keys({"count", "shape", "size", "box", "unit_weight", "release"});
   g.count = static_cast<int>(node.Get("count").Integer(1, 10'000'000));
   const JsonNode shape = node.Get("shape");
   if (!core::ParseShape(shape.String(), &g.shape))
@@ -176,6 +225,13 @@ core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightG
   } else {
     if (!size.is_number()) size.Fail("expected a size > 0 or a range [min, max]");
     g.size_min = g.size_max = LengthToSI(size.Positive(), units);
+  }
+  if (auto box = node.Find("box")) {
+    if (g.shape != core::Shape::kBox) box->Fail("'box' goes with \"shape\": \"box\" only");
+    const std::vector<double> b = box->Numbers(3);
+    for (double side : b)
+      if (!(side > 0 && side <= 1e3)) box->Fail("expected three proportions L1, L2, L3 in (0, 1000]");
+    g.box = Eigen::Vector3d(b[0], b[1], b[2]);
   }
   g.unit_weight = UnitWeightToSI(node.Get("unit_weight").Positive(), units);
   std::string release_note;
@@ -279,7 +335,7 @@ Site LoadSite(const std::string& path) {
                 FormatNumber(max_rough) + "]");
     }
     if (auto c = m.Find("calibrate")) {
-      c->Keys({"hardness", "roughness", "contact_time"});
+      c->Keys({"hardness", "roughness", "contact_time", "rolling_resistance"});
       if (auto b = c->Find("hardness")) {
         if (mat.restitution && mat.friction) {
           b->Fail(
@@ -297,6 +353,12 @@ Site LoadSite(const std::string& path) {
       if (auto b = c->Find("contact_time")) {
         site.calibrate.push_back(ReadBound(*b, mat.id, mat_class, "contact_time", 0.0,
                                            kMaxContactTime, true, mat.contact_time_s, 1.0, " s"));
+      }
+      if (auto b = c->Find("rolling_resistance")) {
+        // Against the material's value: explicit, or the hardness model's.
+        const double mu = core::DeriveContactLaw(mat, core::HardnessModel{}).rolling_resistance;
+        site.calibrate.push_back(ReadBound(*b, mat.id, mat_class, "rolling_resistance", 0.0, 1.0,
+                                           false, mu, 1.0, ""));
       }
     }
   }
@@ -403,7 +465,7 @@ Site LoadSite(const std::string& path) {
   const std::vector<JsonNode> rocks = root.Get("rocks").Array(1);
   for (std::size_t k = 0; k < rocks.size(); ++k) {
     std::string note;
-    scene.groups.push_back(ReadGroup(rocks[k], units, grid, &note));
+    scene.groups.push_back(ReadGroup(rocks[k], units, grid, base_dir, &note));
     site.notes.push_back("rock group " + std::to_string(k + 1) + ": " + note);
   }
 
@@ -467,6 +529,9 @@ void ApplySetting(const std::string& key_value, Site* site) {
                                   LengthUnit(units) + " (half the grid spacing)");
     }
     it->roughness_m = LengthToSI(value, units);
+  } else if (field == "rolling_resistance") {
+    if (!(value >= 0 && value <= 1)) throw InputError(where, "expected a rolling resistance in [0, 1]");
+    it->rolling_resistance = value;
   } else if (field == "contact_time") {
     if (!(value > 0) || value > kMaxContactTime)
       throw InputError(where, "expected a contact time in seconds in (0, 1]");

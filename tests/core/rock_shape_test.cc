@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace rockcal::core {
@@ -66,6 +67,47 @@ TEST(RockShape, ParseNames) {
     EXPECT_EQ(s, shape);
   }
   EXPECT_FALSE(ParseShape("blob", &s));
+}
+
+
+// A box of equal sides is the cube cluster; a longer box gets more elements
+// along its longer sides, none more than a diameter apart, the outermost
+// touching its faces.
+TEST(RockShape, BoxClusters) {
+  const RockBody cube = MakeRockBody(Shape::kCube, 0.8, 26e3, 9.81);
+  const RockBody box = MakeBoxBody(Eigen::Vector3d(0.8, 0.8, 0.8), cube.mass);
+  ASSERT_EQ(box.elements.size(), 8u);
+  EXPECT_NEAR(box.element_radius, cube.element_radius, 1e-15);
+  EXPECT_NEAR(box.bounding_radius, cube.bounding_radius, 1e-12);
+  EXPECT_NEAR((box.inertia - cube.inertia).norm(), 0.0, 1e-9 * cube.inertia.norm());
+
+  const Eigen::Vector3d sides(1.6, 1.3, 1.0);
+  const RockBody b = MakeBoxBody(sides, 1000.0);
+  const double a = 0.25;  // a quarter of the shortest side
+  EXPECT_NEAR(b.element_radius, a, 1e-15);
+  EXPECT_EQ(b.elements.size(), 4u * 3u * 2u) << "elements along 1.6, 1.3, 1.0 m";
+  EXPECT_EQ(b.mass, 1000.0);
+  EXPECT_EQ(b.shape, Shape::kBox);
+  EXPECT_EQ(b.size, 1.6);
+  for (int k = 0; k < 3; ++k) {
+    double lo = 1e9, hi = -1e9;
+    for (const auto& e : b.elements) {
+      lo = std::min(lo, e[k] - a);
+      hi = std::max(hi, e[k] + a);
+    }
+    EXPECT_NEAR(lo, -sides[k] / 2, 1e-12) << "axis " << k;
+    EXPECT_NEAR(hi, sides[k] / 2, 1e-12) << "axis " << k;
+  }
+  // Longest axis has the smallest moment of inertia.
+  EXPECT_LT(b.inertia.x(), b.inertia.y());
+  EXPECT_LT(b.inertia.y(), b.inertia.z());
+  // By unit weight: mass from the box's volume.
+  const RockBody w = MakeRockBody(Shape::kBox, 1.6, 26e3, 9.81, Eigen::Vector3d(16, 13, 10));
+  EXPECT_NEAR(w.mass, 26e3 * 1.6 * 1.3 * 1.0 / 9.81, 1e-9);
+  EXPECT_NEAR(NominalVolume(Shape::kBox, 1.6, Eigen::Vector3d(16, 13, 10)), 2.08, 1e-12);
+  // WithMass scales mass and inertia together.
+  const RockBody heavy = WithMass(b, 3000.0);
+  EXPECT_NEAR((heavy.inertia - 3.0 * b.inertia).norm(), 0.0, 1e-9);
 }
 
 }  // namespace

@@ -437,5 +437,62 @@ TEST(Simulate, ProfileFastPathsMatchReference) {
   EXPECT_LT(PathDistance(p, 12.0), 5e-3 * (fast.stop - fast.start).norm());
 }
 
+
+// A surveyed drop: the rock's lowest point starts at the given elevation
+// (a sphere's centre one radius above it), never below the ground; the
+// velocity spread draws after everything else, so a rock's position and
+// size do not move with it.
+TEST(Simulate, ReleaseAtAnElevationWithAVelocitySpread) {
+  Scene scene = GridScene(21, 21, 1.0, [](double, double) { return 10.0; },
+                          SmoothMaterial(0.3, 0.005, 0.5));
+  scene.options.max_time = 0.05;
+  RockGroup g = PointGroup(Shape::kSphere, 0.4, 10.0, 10.0, 0.0, 200);
+  g.release.zone = {{5, 5}, {15, 5}, {15, 15}, {5, 15}};
+  g.release.elevation = 13.0;
+  scene.groups = {g};
+  const SimulationResult still = Simulate(scene);
+  for (const RockRecord& r : still.rocks) EXPECT_NEAR(r.start.z(), 13.2, 1e-12);
+  scene.groups[0].release.elevation = 5.0;  // below the ground: on it
+  for (const RockRecord& r : Simulate(scene).rocks) EXPECT_NEAR(r.start.z(), 10.2, 1e-6);
+
+  scene.groups[0].release.elevation = 13.0;
+  scene.groups[0].release.velocity = Eigen::Vector3d(2.0, 0.0, 0.0);
+  scene.groups[0].release.velocity_spread = Eigen::Vector3d(0.5, 0.0, 0.0);
+  scene.options.record.trajectories = 200;
+  const SimulationResult spread = Simulate(scene);
+  double sum = 0.0, sum2 = 0.0;
+  for (std::size_t k = 0; k < spread.rocks.size(); ++k) {
+    const RockRecord& r = spread.rocks[k];
+    EXPECT_EQ(r.start, still.rocks[k].start) << "rock " << k;
+    const double vx = r.trajectory.front().v.x();
+    EXPECT_EQ(r.trajectory.front().v.y(), 0.0);
+    sum += vx;
+    sum2 += vx * vx;
+  }
+  const double n = static_cast<double>(spread.rocks.size());
+  const double mean = sum / n, sd = std::sqrt(sum2 / n - mean * mean);
+  // 200 normal draws: the mean within 4 standard errors, the spread within 20 %.
+  EXPECT_NEAR(mean, 2.0, 4 * 0.5 / std::sqrt(n)) << "mean " << mean;
+  EXPECT_NEAR(sd, 0.5, 0.1) << "sd " << sd;
+}
+
+// An inventory's blocks are released in turn, each at its own mass and shape.
+TEST(Simulate, InventoryBlocksAreReleasedInTurn) {
+  Scene scene = GridScene(21, 21, 1.0, [](double, double) { return 10.0; },
+                          SmoothMaterial(0.3, 0.005, 0.5));
+  scene.options.max_time = 0.05;
+  RockGroup g = PointGroup(Shape::kBox, 1.0, 10.0, 10.0, 0.5, 5);
+  g.inventory = {{Shape::kBox, Eigen::Vector3d(1.0, 0.8, 0.5), 700.0},
+                 {Shape::kSphere, Eigen::Vector3d(0.6, 0.6, 0.6), 300.0}};
+  scene.groups = {g};
+  const SimulationResult result = Simulate(scene);
+  ASSERT_EQ(result.rocks.size(), 5u);
+  for (std::size_t k = 0; k < 5; ++k) {
+    EXPECT_EQ(result.rocks[k].mass, k % 2 == 0 ? 700.0 : 300.0) << "rock " << k;
+    EXPECT_EQ(result.rocks[k].shape, k % 2 == 0 ? Shape::kBox : Shape::kSphere);
+    EXPECT_EQ(result.rocks[k].size, k % 2 == 0 ? 1.0 : 0.6);
+  }
+}
+
 }  // namespace
 }  // namespace rockcal::core

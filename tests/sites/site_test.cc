@@ -291,7 +291,7 @@ TEST(LoadSite, CalibrateErrors) {
                 s["materials"][1]["calibrate"]["friction"] = {0, 1};
               }),
               HasSubstr("$.materials[1].calibrate.friction: unknown key 'friction' (allowed keys: "
-                        "hardness, roughness, contact_time)"));
+                        "hardness, roughness, contact_time, rolling_resistance)"));
   EXPECT_THAT(LoadError([](Json& s) {
                 s["materials"][1]["restitution"] = 0.4;
                 s["materials"][1]["friction"] = 0.6;
@@ -337,7 +337,7 @@ TEST(LoadSite, RockGroupErrors) {
               HasSubstr("$.rocks[1].size: expected a size > 0 or a range [min, max]"));
   EXPECT_THAT(LoadError([](Json& s) { s["rocks"][0]["shape"] = "boulder"; }),
               HasSubstr("$.rocks[0].shape: unknown shape (allowed: sphere, cylinder, disc, "
-                        "tetrahedron, cube) (found \"boulder\")"));
+                        "tetrahedron, cube, box) (found \"boulder\")"));
   EXPECT_THAT(LoadError([](Json& s) { s["rocks"][0]["unit_weight"] = 0; }),
               HasSubstr("$.rocks[0].unit_weight: expected a number > 0"));
   EXPECT_THAT(LoadError([](Json& s) { s["rocks"] = Json::array(); }),
@@ -459,7 +459,7 @@ TEST(ApplySetting, Errors) {
               HasSubstr("--set material.granite.hardness=0.4: unknown material 'granite' "
                         "(materials: rock, talus)"));
   EXPECT_THAT(error("material.rock.colour=1"),
-              HasSubstr("unknown field 'colour' (allowed: hardness, roughness, contact_time)"));
+              HasSubstr("unknown field 'colour' (allowed: hardness, roughness, contact_time, rolling_resistance)"));
   EXPECT_THAT(error("material.rock.hardness=high"), HasSubstr("'high' is not a number"));
   EXPECT_THAT(error("material.rock.hardness="), HasSubstr("'' is not a number"));
   EXPECT_THAT(error("material.rock.hardness=1.5"), HasSubstr("expected a hardness in [0, 1]"));
@@ -469,6 +469,110 @@ TEST(ApplySetting, Errors) {
   EXPECT_THAT(error("material.rock.hardness"), HasSubstr("expected material.<id>.<field>=VALUE"));
   EXPECT_THAT(error("material.hardness=0.3"), HasSubstr("expected material.<id>.<field>=VALUE"));
   EXPECT_DOUBLE_EQ(site.scene.materials[0].hardness, 0.6);  // unchanged by the failures
+}
+
+}  // namespace
+}  // namespace rockcal::sites
+
+namespace rockcal::sites {
+namespace {
+
+// A block inventory: one rock per block (or `count` in turn), with the
+// blocks' own masses and sides.
+TEST(LoadSite, RocksFromABlockInventory) {
+  TempDir dir;
+  dir.Write("blocks.csv",
+            "# three blocks\nmass,L1,L2,L3\n100,1,2,3\n200, 2, 1, 1\n\n300 3 2 1\n");
+  Json json = BaseSite();
+  json["rocks"] = Json::parse(
+      R"([{"inventory": "blocks.csv", "release": {"point": [20, 50]}},
+          {"inventory": "blocks.csv", "count": 7, "release": {"point": [20, 50]}}])");
+  const Site site = LoadSite(WriteSite(dir, json));
+  const core::RockGroup& g = site.scene.groups[0];
+  ASSERT_EQ(g.inventory.size(), 3u);
+  EXPECT_EQ(g.count, 3);
+  EXPECT_EQ(site.scene.groups[1].count, 7);
+  EXPECT_NEAR(g.inventory[0].mass, 100 * 0.45359237, 1e-9);  // lb in a US site
+  EXPECT_NEAR(g.inventory[0].sides.x(), 3 * 0.3048, 1e-12);   // sorted, in m
+  EXPECT_NEAR(g.inventory[0].sides.z(), 1 * 0.3048, 1e-12);
+  EXPECT_EQ(g.inventory[2].shape, core::Shape::kBox);
+  for (int k = 0; k < 7; ++k) {
+    const core::RockBody b = core::GroupRockBody(site.scene.groups[1], k, 0.5, 9.81);
+    EXPECT_NEAR(b.mass, g.inventory[static_cast<std::size_t>(k % 3)].mass, 1e-9);
+  }
+}
+
+TEST(LoadSite, InventoryErrorsNameFileAndLine) {
+  auto error = [](const std::string& csv) {
+    TempDir dir;
+    const std::string file = dir.Write("blocks.csv", csv);
+    Json json = BaseSite();
+    json["rocks"] = Json::parse(R"([{"inventory": "blocks.csv", "release": {"point": [20, 50]}}])");
+    const std::string path = WriteSite(dir, json);
+    const std::string msg = ErrorOf([&] { LoadSite(path); });
+    EXPECT_THAT(msg, HasSubstr(file + ":")) << "the message must name the inventory file";
+    return msg;
+  };
+  EXPECT_THAT(error("mass,L1,L2\n1,1,1\n"), HasSubstr(":1: missing column 'L3'"));
+  EXPECT_THAT(error("mass,L1,L2,L3,colour\n"), HasSubstr(":1: unknown column 'colour'"));
+  EXPECT_THAT(error("mass,L1,L2,L3\n1,1,1,1\n2,x,1,1\n"), HasSubstr(":3:"));
+  EXPECT_THAT(error("mass,L1,L2,L3\n1,1,1\n"), HasSubstr(":2: 3 fields; expected 4"));
+  EXPECT_THAT(error("mass,L1,L2,L3\n-1,1,1,1\n"), HasSubstr(":2: mass -1: expected a mass > 0"));
+  EXPECT_THAT(error("mass,L1,L2,L3\n1,1,0,1\n"), HasSubstr(":2: L2 0: expected a side > 0"));
+  EXPECT_THAT(error("mass,L1,L2,L3,shape\n1,1,1,1,blob\n"), HasSubstr(":2: shape 'blob'"));
+  EXPECT_THAT(error("mass,L1,L2,L3\n"), HasSubstr("no blocks after the header"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["rocks"][0] = Json::parse(
+                    R"({"inventory": "none.csv", "shape": "box", "release": {"point": [20, 50]}})");
+              }),
+              HasSubstr("$.rocks[0].shape: unknown key 'shape'"));
+}
+
+// A surveyed drop: the rock's lowest point at an absolute elevation, never
+// below the ground; a velocity spread; a box of given proportions.
+TEST(LoadSite, ReleaseAtAnElevationWithAVelocitySpread) {
+  TempDir dir;
+  Json json = BaseSite();
+  json["rocks"][0]["release"].erase("height");
+  json["rocks"][0]["release"]["elevation"] = 100;
+  json["rocks"][0]["release"]["velocity_spread"] = {0.5, 0.5, 0};
+  json["rocks"][1]["shape"] = "box";
+  json["rocks"][1]["box"] = {3, 2, 1};
+  const Site site = LoadSite(WriteSite(dir, json));
+  ASSERT_TRUE(site.scene.groups[0].release.elevation.has_value());
+  EXPECT_NEAR(*site.scene.groups[0].release.elevation, 100 * 0.3048, 1e-12);
+  EXPECT_NEAR(site.scene.groups[0].release.velocity_spread.x(), 0.5 * 0.3048, 1e-12);
+  EXPECT_EQ(site.scene.groups[1].shape, core::Shape::kBox);
+  EXPECT_NEAR(site.scene.groups[1].box.x(), 3.0, 0.0);
+
+  EXPECT_THAT(LoadError([](Json& s) { s["rocks"][0]["release"]["elevation"] = 90; }),
+              HasSubstr("$.rocks[0].release: expected 'height' (above the ground) or 'elevation'"));
+  // The zone's ground reaches 80 ft (x = 20 ft on the 100 ft to 0 plane).
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["rocks"][0]["release"].erase("height");
+                s["rocks"][0]["release"]["elevation"] = 50;
+              }),
+              HasSubstr("$.rocks[0].release.elevation: the ground of the release reaches 95 ft; "
+                        "expected a drop elevation at or above it"));
+  EXPECT_THAT(LoadError([](Json& s) { s["rocks"][0]["release"]["velocity_spread"] = {-1, 0, 0}; }),
+              HasSubstr("$.rocks[0].release.velocity_spread: expected three spreads >= 0"));
+  EXPECT_THAT(LoadError([](Json& s) { s["rocks"][1]["box"] = {3, 2, 1}; }),
+              HasSubstr("$.rocks[1].box: 'box' goes with \"shape\": \"box\" only"));
+}
+
+TEST(LoadSite, RollingResistanceIsCalibrated) {
+  TempDir dir;
+  Json json = BaseSite();
+  json["materials"][1]["calibrate"]["rolling_resistance"] = {0.0, 0.6};
+  const Site site = LoadSite(WriteSite(dir, json));
+  EXPECT_EQ(site.calibrate.back().name, "rolling_resistance");
+  // The hardness model's value (0.15 - 0.13 H = 0.111 at H = 0.3) must lie
+  // within the bounds.
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["materials"][1]["calibrate"]["rolling_resistance"] = {0.2, 0.6};
+              }),
+              HasSubstr("$.materials[1].calibrate.rolling_resistance: the material's "
+                        "rolling_resistance 0.111 is outside its calibrate bounds"));
 }
 
 }  // namespace

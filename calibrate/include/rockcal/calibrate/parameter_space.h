@@ -11,7 +11,7 @@
 
 namespace rockcal::calibrate {
 
-enum class ParameterKind { kHardness, kRoughness, kContactTime };
+enum class ParameterKind { kHardness, kRoughness, kContactTime, kRollingResistance };
 
 struct Parameter {
   std::string material;  // material id

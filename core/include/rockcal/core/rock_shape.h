@@ -8,10 +8,10 @@
 
 namespace rockcal::core {
 
-enum class Shape { kSphere, kCylinder, kDisc, kTetrahedron, kCube };
+enum class Shape { kSphere, kCylinder, kDisc, kTetrahedron, kCube, kBox };
 
 const char* ShapeName(Shape shape);
-// Parses "sphere", "cylinder", "disc", "tetrahedron", "cube"; false otherwise.
+// Parses "sphere", "cylinder", "disc", "tetrahedron", "cube", "box"; false otherwise.
 bool ParseShape(const std::string& name, Shape* shape);
 // The names ParseShape accepts, comma separated (for error messages).
 const char* ShapeNames();
@@ -28,11 +28,21 @@ struct RockBody {
   double bounding_radius = 0.0;  // max |element| + element_radius
 };
 
-// Nominal volume of `shape` at `size` (m^3).
-double NominalVolume(Shape shape, double size);
+// Nominal volume of `shape` at `size` (m^3). A box's size is its longest
+// side L1, its other sides in `box` proportions (L1 : L2 : L3, any scale).
+double NominalVolume(Shape shape, double size,
+                     const Eigen::Vector3d& box = Eigen::Vector3d::Ones());
 // Builds the body of `shape` at `size` [m] with unit weight gamma [N/m^3] and
 // gravity g [m/s^2]: mass = gamma * volume / g.
-RockBody MakeRockBody(Shape shape, double size, double unit_weight, double gravity);
+RockBody MakeRockBody(Shape shape, double size, double unit_weight, double gravity,
+                      const Eigen::Vector3d& box = Eigen::Vector3d::Ones());
+// A box of sides dims (L1, L2, L3 along the body's x, y, z; m) and `mass`
+// [kg], built of equal spheres of radius min(dims) / 4: along each side as
+// many as keep neighbours at most one diameter apart, the outermost touching
+// the box's faces (a cube gives the 2 x 2 x 2 cluster of Shape::kCube).
+RockBody MakeBoxBody(const Eigen::Vector3d& dims, double mass);
+// `body` with its mass (and inertia) scaled to `mass` [kg].
+RockBody WithMass(RockBody body, double mass);
 // Full inertia tensor of the cluster about its centre of mass (for tests).
 Eigen::Matrix3d ClusterInertiaTensor(const RockBody& body);
 

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,7 +30,20 @@ struct Release {
   std::vector<Eigen::Vector2d> zone;  // plan polygon; empty means `point`
   Eigen::Vector2d point = Eigen::Vector2d::Zero();
   double height = 0.0;  // m, of the rock's lowest point above the ground
-  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // m/s
+  // m, absolute elevation of the rock's lowest point (a surveyed drop), used
+  // instead of `height` when set; a rock is never placed below the ground.
+  std::optional<double> elevation;
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // m/s, mean
+  // m/s, one-sigma spread of each velocity component (normal draws); 0: none.
+  Eigen::Vector3d velocity_spread = Eigen::Vector3d::Zero();
+};
+
+// One block of a field inventory: its shape (a box of its measured sides, or
+// a named shape of size L1) and its mass.
+struct Block {
+  Shape shape = Shape::kBox;
+  Eigen::Vector3d sides = Eigen::Vector3d::Ones();  // m, L1 >= L2 >= L3
+  double mass = 0.0;                                // kg
 };
 
 struct RockGroup {
@@ -37,8 +51,25 @@ struct RockGroup {
   Shape shape = Shape::kSphere;
   double size_min = 1.0, size_max = 1.0;  // m, uniform in range
   double unit_weight = 25.9e3;            // N/m^3
+  // Shape::kBox: the sides' proportions L1 : L2 : L3 (size is L1).
+  Eigen::Vector3d box = Eigen::Vector3d::Ones();
+  // A field inventory: when not empty, the group's rocks are these blocks in
+  // turn (rock k of the group is block k mod the inventory's size), so a
+  // count equal to the inventory's size releases each block once, and a
+  // multiple of it each block as often.
+  std::vector<Block> inventory;
   Release release;
 };
+
+// The body of the rock with index `index` within `group`, whose size draw is
+// u in [0, 1) (a size in the range; an inventory's block is set by index).
+RockBody GroupRockBody(const RockGroup& group, int index, double u, double gravity);
+// The smallest and the largest element radius and mass a group can release.
+struct GroupExtent {
+  RockBody lightest, heaviest;
+  double max_element_radius = 0.0;
+};
+GroupExtent GroupBodies(const RockGroup& group, double gravity);
 
 // A tree (vertical trunk) where scar heights were measured: a rock whose
 // bounding sphere first reaches the trunk records its height there.

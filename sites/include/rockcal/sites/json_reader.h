@@ -72,6 +72,8 @@ enum class Units { kUS, kSI };
 Units ReadUnits(const JsonNode& node);
 // Length in the file's units -> metres.
 double LengthToSI(double value, Units units);
+// The files' length unit: "ft" or "m".
+const char* LengthUnit(Units units);
 // Unit weight in the file's units (lbf/ft^3 or kN/m^3) -> N/m^3.
 double UnitWeightToSI(double value, Units units);
 
