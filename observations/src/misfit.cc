@@ -54,7 +54,19 @@ class Comparer final {
   // Quantiles (options' levels, and the max) of the simulated against the
   // observed values; `error` is the one-sigma measurement error.
   void Distributions(const std::string& observation, std::vector<double> simulated,
-                     std::vector<double> observed, double error) const;
+                     std::vector<double> observed, double error) const {
+    Quantiles(observation, std::move(simulated), std::move(observed), error, options_.levels,
+              options_.include_max);
+  }
+  // The same at `levels` (and the max when `include_max`).
+  void Quantiles(const std::string& observation, std::vector<double> simulated,
+                 std::vector<double> observed, double error, const std::vector<double>& levels,
+                 bool include_max) const;
+  // A share: `k_sim` of `n_sim` simulated rocks against an observed share of
+  // `n_obs` rocks; each side's binomial error with Jeffreys' estimate
+  // (k + 1/2) / (n + 1), which stays > 0 when every rock stopped.
+  void Share(const std::string& observation, int k_sim, int n_sim, double observed,
+             int n_obs) const;
   // A passing fraction: `crossed` of `released` simulated rocks.
   void Fraction(const std::string& observation, int crossed, int released, double observed,
                 double error) const;
@@ -83,15 +95,16 @@ class Comparer final {
   Misfit* misfit_;
 };
 
-void Comparer::Distributions(const std::string& observation, std::vector<double> simulated,
-                             std::vector<double> observed, double error) const {
+void Comparer::Quantiles(const std::string& observation, std::vector<double> simulated,
+                         std::vector<double> observed, double error,
+                         const std::vector<double>& levels, bool include_max) const {
   if (observed.empty()) {
     throw std::invalid_argument("ComputeMisfit: observation '" + observation +
                                 "' has no observed values");
   }
   std::sort(simulated.begin(), simulated.end());
   std::sort(observed.begin(), observed.end());
-  const std::size_t quantities = options_.levels.size() + (options_.include_max ? 1 : 0);
+  const std::size_t quantities = levels.size() + (include_max ? 1 : 0);
   const bool sparse = simulated.size() < 2;
   // A distribution that cannot be compared adds exactly `penalty` to the misfit.
   const double penalty_value = std::sqrt(2.0 * options_.penalty / static_cast<double>(quantities));
@@ -108,15 +121,32 @@ void Comparer::Distributions(const std::string& observation, std::vector<double>
     const double value = sparse ? penalty_value : (sim - obs) / sigma;
     Add(observation, quantity, sim, obs, sigma, value);
   };
-  for (const double level : options_.levels) {
+  for (const double level : levels) {
     const double sim = simulated.empty() ? 0.0 : core::Quantile(simulated, level);
     compare(LevelName(level), sim, core::Quantile(observed, level),
             QuantileStandardError(simulated, level), QuantileStandardError(observed, level));
   }
-  if (options_.include_max) {
+  if (include_max) {
     const double sim = simulated.empty() ? 0.0 : simulated.back();
     compare("max", sim, observed.back(), MaxStandardError(simulated), MaxStandardError(observed));
   }
+}
+
+void Comparer::Share(const std::string& observation, int k_sim, int n_sim, double observed,
+                     int n_obs) const {
+  if (n_sim <= 0) {
+    Penalise(observation + ": no rocks released; penalty " + FormatNumber(options_.penalty) +
+             " added.");
+    Add(observation, "share", 0.0, observed, 1.0, std::sqrt(2.0 * options_.penalty));
+    return;
+  }
+  auto variance = [](double k, int n) {
+    const double p = (k + 0.5) / (n + 1.0);
+    return p * (1.0 - p) / n;
+  };
+  const double f = static_cast<double>(k_sim) / n_sim;
+  const double sigma = std::sqrt(variance(k_sim, n_sim) + variance(observed * n_obs, n_obs));
+  Add(observation, "share", f, observed, sigma, (f - observed) / sigma);
 }
 
 void Comparer::Fraction(const std::string& observation, int crossed, int released, double observed,
@@ -132,6 +162,67 @@ void Comparer::Fraction(const std::string& observation, int crossed, int release
   const double f = static_cast<double>(crossed) / n;
   const double sigma = std::max(std::sqrt(error * error + f * (1.0 - f) / n), Floor(error));
   Add(observation, "fraction", f, observed, sigma, (f - observed) / sigma);
+}
+
+// The runout: where rocks stopped against the observed stops, pooled and per
+// mass class, and the share of rocks that stopped. A rock that left the
+// terrain or was still moving at the time limit is right-censored: it
+// travelled at least to where it was last seen, so it enters the distances
+// at or beyond every stopped and observed one (the upper tail), never as a
+// missing value. Losing rocks thus raises the upper quantiles and lowers the
+// stopped share: it never lowers the misfit.
+void CompareRunout(const Runout& runout, double error, const core::SimulationResult& result,
+                   const Comparer& compare) {
+  struct Rock {
+    double mass, distance;
+  };
+  std::vector<Rock> rocks;
+  std::vector<double> lateral;
+  double farthest = *std::max_element(runout.distances.begin(), runout.distances.end());
+  int stopped = 0;
+  for (const core::RockRecord& rock : result.rocks) {
+    if (rock.outcome != core::Outcome::kStopped) continue;
+    const Eigen::Vector2d p = rock.stop.head<2>();
+    rocks.push_back({rock.mass, runout.Distance(p)});
+    lateral.push_back(runout.Lateral(p));
+    farthest = std::max(farthest, rocks.back().distance);
+    ++stopped;
+  }
+  for (const core::RockRecord& rock : result.rocks) {
+    if (rock.outcome == core::Outcome::kStopped) continue;
+    rocks.push_back({rock.mass, std::max(runout.Distance(rock.stop.head<2>()), farthest)});
+  }
+  std::vector<double> distance;
+  for (const Rock& r : rocks) distance.push_back(r.distance);
+  compare.Distributions("runout distance", std::move(distance), runout.distances, error);
+  if (runout.has_lateral())
+    compare.Distributions("runout lateral", std::move(lateral), runout.lateral, error);
+  const int observed_rocks = runout.observed_rocks > 0
+                                 ? runout.observed_rocks
+                                 : static_cast<int>(runout.distances.size());
+  compare.Share("runout stopped", stopped, static_cast<int>(result.rocks.size()),
+                runout.stopped_fraction, observed_rocks);
+  if (runout.mass_classes < 2) return;
+  const std::vector<double> bounds = runout.MassClassBounds();
+  auto class_of = [&](double mass) {
+    return static_cast<int>(std::upper_bound(bounds.begin(), bounds.end(), mass) - bounds.begin());
+  };
+  for (int c = 0; c < runout.mass_classes; ++c) {
+    std::vector<double> sim, obs;
+    for (const Rock& r : rocks)
+      if (class_of(r.mass) == c) sim.push_back(r.distance);
+    for (std::size_t k = 0; k < runout.masses.size(); ++k)
+      if (class_of(runout.masses[k]) == c) obs.push_back(runout.distances[k]);
+    if (obs.empty()) continue;  // ties at a bound can empty a class
+    const std::string range =
+        c == 0 ? "< " + FormatNumber(std::round(bounds[0]))
+        : c + 1 == runout.mass_classes
+            ? ">= " + FormatNumber(std::round(bounds[static_cast<std::size_t>(c - 1)]))
+            : FormatNumber(std::round(bounds[static_cast<std::size_t>(c - 1)])) + "-" +
+                  FormatNumber(std::round(bounds[static_cast<std::size_t>(c)]));
+    const std::string label = "runout distance, mass " + range + " kg";
+    compare.Quantiles(label, std::move(sim), std::move(obs), error, {0.5}, false);
+  }
 }
 
 }  // namespace
@@ -274,22 +365,8 @@ Misfit ComputeMisfit(const Observations& observations, const core::Scene& scene,
                           observations.error.height);
   }
 
-  if (observations.runout) {
-    const Runout& runout = *observations.runout;
-    std::vector<double> distance, lateral;
-    for (const core::RockRecord& rock : result.rocks) {
-      if (rock.outcome != core::Outcome::kStopped) continue;
-      const Eigen::Vector2d p = rock.stop.head<2>();
-      distance.push_back(runout.Distance(p));
-      lateral.push_back(runout.Lateral(p));
-    }
-    compare.Distributions("runout distance", std::move(distance), runout.distances,
-                          observations.error.runout);
-    if (runout.has_lateral()) {
-      compare.Distributions("runout lateral", std::move(lateral), runout.lateral,
-                            observations.error.runout);
-    }
-  }
+  if (observations.runout) CompareRunout(*observations.runout, observations.error.runout, result,
+                                         compare);
 
   const int released = static_cast<int>(result.rocks.size());
   for (const Passing& passing : observations.passing) {

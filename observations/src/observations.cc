@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "rockcal/core/error.h"
+#include "rockcal/core/statistics.h"
 #include "rockcal/sites/text_reader.h"
 
 namespace rockcal::observations {
@@ -128,6 +129,7 @@ class Loader final {
   Tree ReadTree(const JsonNode& node) const;
   std::vector<Tree> ReadTreesFile(const JsonNode& ref) const;
   Runout ReadRunout(const JsonNode& node, std::vector<std::string>* notes) const;
+  Runout ReadRunoutPositions(const JsonNode& node, std::vector<std::string>* notes) const;
   std::vector<Passing> ReadPassing(const JsonNode& node) const;
   std::vector<Passing> ReadPassingFile(const JsonNode& ref) const;
 
@@ -282,8 +284,49 @@ ScarSet Loader::ReadScarSet(const JsonNode& node, std::size_t index) const {
 }
 
 Runout Loader::ReadRunout(const JsonNode& node, std::vector<std::string>* notes) const {
-  node.Keys(
-      {"stop_points", "stop_points_file", "distances", "distances_file", "from", "direction"});
+  Runout runout = ReadRunoutPositions(node, notes);
+  const int n = static_cast<int>(runout.distances.size());
+  runout.observed_rocks = n;
+  if (const auto r = node.Find("observed_rocks")) {
+    runout.observed_rocks = static_cast<int>(r->Integer(n, 100'000'000));
+  }
+  if (const auto f = node.Find("stopped_fraction")) {
+    runout.stopped_fraction = f->Number(0.0, 1.0);
+    if (!(runout.stopped_fraction > 0)) f->Fail("expected a fraction in (0, 1]: some rocks stopped");
+  }
+  if (const auto m = node.Find("masses")) {
+    const std::vector<JsonNode> items = m->Array(1);
+    if (static_cast<int>(items.size()) != n) {
+      m->Fail("holds " + std::to_string(items.size()) + " masses; expected one per stop (" +
+              std::to_string(n) + ")");
+    }
+    const double unit = units_ == Units::kSI ? 1.0 : 0.45359237;  // kg or lb
+    for (const JsonNode& item : items) {
+      const double mass = item.Number() * unit;
+      if (!(mass > 0 && mass <= 1e8)) item.Fail("expected a block mass > 0 and at most 1e8 kg");
+      runout.masses.push_back(mass);
+    }
+    runout.mass_classes = std::min(4, n / 4);
+    if (runout.mass_classes < 2) runout.mass_classes = 0;
+  }
+  if (const auto c = node.Find("mass_classes")) {
+    if (runout.masses.empty()) c->Fail("goes with 'masses' (the mass of each stopped block)");
+    runout.mass_classes = static_cast<int>(c->Integer(0, std::max(0, n / 2)));
+    if (runout.mass_classes == 1) c->Fail("expected 0 (off) or at least 2 classes");
+  }
+  if (runout.mass_classes >= 2) {
+    std::string bounds;
+    for (double b : runout.MassClassBounds())
+      bounds += (bounds.empty() ? "" : ", ") + FormatNumber(b);
+    notes->push_back("runout: also compared in " + std::to_string(runout.mass_classes) +
+                     " mass classes split at " + bounds + " kg");
+  }
+  return runout;
+}
+
+Runout Loader::ReadRunoutPositions(const JsonNode& node, std::vector<std::string>* notes) const {
+  node.Keys({"stop_points", "stop_points_file", "distances", "distances_file", "from", "direction",
+             "masses", "mass_classes", "stopped_fraction", "observed_rocks"});
   const std::string form =
       OneOf(node, {"stop_points", "stop_points_file", "distances", "distances_file"});
   std::optional<Eigen::Vector2d> from, direction;
@@ -518,6 +561,16 @@ core::RecordOptions RequiredRecording(const Observations& observations, core::Re
   }
   base.partitions = partitions;
   return base;
+}
+
+std::vector<double> Runout::MassClassBounds() const {
+  std::vector<double> bounds;
+  if (mass_classes < 2 || masses.empty()) return bounds;
+  std::vector<double> sorted = masses;
+  std::sort(sorted.begin(), sorted.end());
+  for (int k = 1; k < mass_classes; ++k)
+    bounds.push_back(core::Quantile(sorted, static_cast<double>(k) / mass_classes));
+  return bounds;
 }
 
 Eigen::Vector2d ReleaseCentroid(const core::Release& release) {

@@ -242,22 +242,17 @@ TEST(MisfitTest, RunoutComparesDistanceAndLateralOffsetOfStoppedRocks) {
       result.rocks.push_back(
           StoppedRock(static_cast<int>(i), stops[i].x() + dx, stops[i].y() + dy));
     }
-    // Rocks that left the slope or timed out do not count for runout.
-    core::RockRecord left = StoppedRock(100, 1e4, 1e4);
-    left.outcome = core::Outcome::kLeft;
-    core::RockRecord timeout = StoppedRock(101, -1e4, 0);
-    timeout.outcome = core::Outcome::kTimeout;
-    result.rocks.push_back(left);
-    result.rocks.push_back(timeout);
     return result;
   };
 
   const Misfit same = ComputeMisfit(obs, scene, simulate(0, 0));
   EXPECT_FALSE(same.penalised) << same.message;
   EXPECT_EQ(same.value, 0.0);
-  ASSERT_EQ(same.residuals.size(), 20u);
+  ASSERT_EQ(same.residuals.size(), 21u);
   EXPECT_EQ(same.residuals[0].observation, "runout distance");
   EXPECT_EQ(same.residuals[10].observation, "runout lateral");
+  EXPECT_EQ(same.residuals[20].observation, "runout stopped");
+  EXPECT_EQ(same.residuals[20].quantity, "share");
 
   const Misfit longer = ComputeMisfit(obs, scene, simulate(15, 0));
   for (std::size_t i = 0; i < 10; ++i) EXPECT_GT(longer.residuals[i].value, 0.0);
@@ -269,12 +264,107 @@ TEST(MisfitTest, RunoutComparesDistanceAndLateralOffsetOfStoppedRocks) {
 
   EXPECT_GT(ComputeMisfit(obs, scene, simulate(30, 0)).value, longer.value);
 
-  // No rock stopped: both runout distributions are penalised, finitely.
+  // No rock stopped: the lateral offsets (of stopped rocks) are penalised,
+  // finitely, and the distances and the stopped share count the loss.
   core::SimulationResult none = simulate(0, 0);
   for (core::RockRecord& rock : none.rocks) rock.outcome = core::Outcome::kLeft;
   const Misfit gone = ComputeMisfit(obs, scene, none);
   EXPECT_TRUE(gone.penalised);
-  EXPECT_NEAR(gone.value, 2 * MisfitOptions().penalty, 1e-6);
+  EXPECT_GT(gone.value, MisfitOptions().penalty);
+  EXPECT_LT(gone.value, 2 * MisfitOptions().penalty);
+}
+
+// A rock that left the terrain or timed out travelled at least to where it
+// was last seen: it counts in the upper tail of the runout, and in the
+// stopped share. Losing rocks never lowers the misfit.
+TEST(MisfitTest, LostRocksAreCensoredAndNeverLowerTheMisfit) {
+  const core::Scene scene = TwoPartitionScene();
+  std::vector<Eigen::Vector2d> stops;
+  for (int i = 0; i < 30; ++i) stops.emplace_back(100.0 + 2.0 * i, 0.0);
+  const Observations obs = RunoutAlongX(stops, 2.0);
+  // 30 rocks at the observed stops but the farthest `lost` of them run on to
+  // x = 200 and stop there, or leave the terrain there.
+  auto simulate = [&](int lost, core::Outcome outcome) {
+    core::SimulationResult result;
+    for (std::size_t i = 0; i < stops.size(); ++i) {
+      const bool gone = static_cast<int>(i) >= 30 - lost;
+      core::RockRecord rock = StoppedRock(static_cast<int>(i), gone ? 200.0 : stops[i].x(), 0.0);
+      if (gone) rock.outcome = outcome;
+      result.rocks.push_back(rock);
+    }
+    return result;
+  };
+  const Misfit all = ComputeMisfit(obs, scene, simulate(0, core::Outcome::kStopped));
+  EXPECT_EQ(all.value, 0.0);
+  for (int lost : {1, 5, 15}) {
+    const Misfit stopped = ComputeMisfit(obs, scene, simulate(lost, core::Outcome::kStopped));
+    for (core::Outcome outcome : {core::Outcome::kLeft, core::Outcome::kTimeout}) {
+      const Misfit left = ComputeMisfit(obs, scene, simulate(lost, outcome));
+      EXPECT_GT(left.value, stopped.value)
+          << lost << " rocks " << core::OutcomeName(outcome) << ": " << left.value
+          << " against " << stopped.value << " when they stop where they were last seen";
+      const Residual& share = left.residuals.back();
+      EXPECT_EQ(share.observation, "runout stopped");
+      EXPECT_NEAR(share.simulated, (30.0 - lost) / 30.0, 1e-12);
+      EXPECT_LT(share.value, 0.0);
+    }
+    EXPECT_GT(stopped.value, all.value);
+  }
+  // A lost rock left short of the observed stops still lands in the upper tail.
+  core::SimulationResult early = simulate(0, core::Outcome::kStopped);
+  early.rocks[0].stop.x() = 10.0;
+  early.rocks[0].outcome = core::Outcome::kLeft;
+  const Misfit m = ComputeMisfit(obs, scene, early);
+  EXPECT_GE(m.residuals[9].simulated, 158.0) << "p90 " << m.residuals[9].simulated;
+  EXPECT_GE(m.residuals[0].simulated, 101.0) << "p10 " << m.residuals[0].simulated;
+}
+
+// With the blocks' masses, the runout is also compared per mass class: a
+// model whose light rocks stop short and heavy rocks run on cannot hide
+// behind a right pooled distribution.
+TEST(MisfitTest, RunoutPerMassClassSeesASizeTrend) {
+  const core::Scene scene = TwoPartitionScene();
+  std::vector<Eigen::Vector2d> stops;
+  std::vector<double> masses;
+  for (int i = 0; i < 40; ++i) {
+    stops.emplace_back(100.0 + 1.0 * ((i * 7) % 40), 0.0);  // no size trend
+    masses.push_back(100.0 + 10.0 * i);
+  }
+  Observations obs = RunoutAlongX(stops, 1.0);
+  obs.runout->masses = masses;
+  obs.runout->mass_classes = 4;
+  ASSERT_EQ(obs.runout->MassClassBounds().size(), 3u);
+  // The same stop distances pooled, but sorted by mass: light short, heavy long.
+  auto simulate = [&](bool trend) {
+    std::vector<double> xs;
+    for (const auto& p : stops) xs.push_back(p.x());
+    if (trend) std::sort(xs.begin(), xs.end());
+    core::SimulationResult result;
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      core::RockRecord rock = StoppedRock(static_cast<int>(i), xs[i], 0.0);
+      rock.mass = masses[i];
+      result.rocks.push_back(rock);
+    }
+    return result;
+  };
+  const Misfit same = ComputeMisfit(obs, scene, simulate(false));
+  const Misfit trend = ComputeMisfit(obs, scene, simulate(true));
+  std::vector<double> by_class;
+  for (const Residual& r : trend.residuals) {
+    if (r.observation.rfind("runout distance, mass", 0) != 0) continue;
+    by_class.push_back(r.value);
+    EXPECT_EQ(r.quantity, "p50");
+  }
+  ASSERT_EQ(by_class.size(), 4u);
+  EXPECT_NEAR(same.value, 0.0, 1e-12);
+  // The light class stops short of its observed median, the heavy one beyond,
+  // by more than two standard errors (the median of 10 rocks on each side).
+  EXPECT_LT(by_class.front(), -1.0) << trend.Report();
+  EXPECT_GT(by_class.back(), 2.0) << trend.Report();
+  EXPECT_GT(trend.value, same.value + 4.0) << trend.Report();
+  // The pooled comparison alone cannot tell them apart.
+  for (std::size_t k = 0; k < 10; ++k)
+    EXPECT_NEAR(trend.residuals[k].value, same.residuals[k].value, 1e-12);
 }
 
 TEST(MisfitTest, RunoutGivenAsDistancesHasNoLateralResiduals) {
@@ -289,8 +379,9 @@ TEST(MisfitTest, RunoutGivenAsDistancesHasNoLateralResiduals) {
   core::SimulationResult result;
   for (int i = 0; i < 3; ++i) result.rocks.push_back(StoppedRock(i, 50.0, 20.0 + 10 * i));
   const Misfit m = ComputeMisfit(obs, scene, result);
-  ASSERT_EQ(m.residuals.size(), 10u);
-  for (const Residual& r2 : m.residuals) EXPECT_EQ(r2.observation, "runout distance");
+  ASSERT_EQ(m.residuals.size(), 11u);
+  for (std::size_t k = 0; k < 10; ++k) EXPECT_EQ(m.residuals[k].observation, "runout distance");
+  EXPECT_EQ(m.residuals[10].observation, "runout stopped");
   EXPECT_EQ(m.value, 0.0);
 }
 

@@ -59,6 +59,20 @@ struct Runout {
     return direction.x() * d.y() - direction.y() * d.x();
   }
   bool has_lateral() const { return !lateral.empty(); }
+  // kg, the mass of each block (parallel to `distances`), when the file gives
+  // them ("masses"); empty otherwise.
+  std::vector<double> masses;
+  // With masses: the runout is also compared per mass class, the blocks
+  // split at the observed masses' quantiles k / mass_classes (0: not).
+  int mass_classes = 0;
+  // The share of the observed rocks that stopped ("stopped_fraction", 1
+  // unless the file says otherwise) and how many rocks that share is of
+  // ("observed_rocks", default the number of distances).
+  double stopped_fraction = 1.0;
+  int observed_rocks = 0;
+  // The lower mass bounds (kg) of classes 2 .. mass_classes: the observed
+  // masses' quantiles k / mass_classes. Empty without mass classes.
+  std::vector<double> MassClassBounds() const;
 };
 
 // Share of released rocks that cross a partition.
