@@ -197,9 +197,8 @@ void CompareRunout(const Runout& runout, double error, const core::SimulationRes
   compare.Distributions("runout distance", std::move(distance), runout.distances, error);
   if (runout.has_lateral())
     compare.Distributions("runout lateral", std::move(lateral), runout.lateral, error);
-  const int observed_rocks = runout.observed_rocks > 0
-                                 ? runout.observed_rocks
-                                 : static_cast<int>(runout.distances.size());
+  const int observed_rocks =
+      runout.observed_rocks > 0 ? runout.observed_rocks : static_cast<int>(runout.distances.size());
   compare.Share("runout stopped", stopped, static_cast<int>(result.rocks.size()),
                 runout.stopped_fraction, observed_rocks);
   if (runout.mass_classes < 2) return;
@@ -267,6 +266,40 @@ std::string Misfit::Report() const {
   out << "misfit " << value << (penalised ? " (penalised)" : "") << "\n";
   if (!message.empty()) out << message << "\n";
   return out.str();
+}
+
+std::string FitVerdict::Sentence() const {
+  if (outside.empty() && !poor)
+    return "good: every compared quantity (" + std::to_string(compared) + ") within 2 sigma";
+  std::string s = std::string(poor ? "poor" : "fair") + ": " + std::to_string(outside.size()) +
+                  " of " + std::to_string(compared) + " compared quantities outside 2 sigma";
+  for (std::size_t k = 0; k < outside.size() && k < 3; ++k)
+    s += (k ? "; " : ", the worst ") + outside[k];
+  return s;
+}
+
+FitVerdict AssessFit(const Misfit& misfit) {
+  FitVerdict v;
+  v.compared = static_cast<int>(misfit.residuals.size());
+  std::vector<const Residual*> far;
+  bool very_far = false;
+  for (const Residual& r : misfit.residuals) {
+    if (std::abs(r.value) > 2.0) far.push_back(&r);
+    very_far =
+        very_far || std::abs(r.value) > 3.0 || (r.quantity == "share" && std::abs(r.value) > 2.0);
+  }
+  std::sort(far.begin(), far.end(), [](const Residual* a, const Residual* b) {
+    return std::abs(a->value) > std::abs(b->value);
+  });
+  for (const Residual* r : far) {
+    char line[160];
+    std::snprintf(line, sizeof line, ": simulated %.3g against %.3g observed (%+.1f sigma)",
+                  r->simulated, r->observed, r->value);
+    v.outside.push_back(r->observation + " " + r->quantity + line);
+  }
+  const std::size_t allowed = std::max<std::size_t>(1, misfit.residuals.size() / 10);
+  v.poor = misfit.penalised || very_far || far.size() > allowed;
+  return v;
 }
 
 double QuantileStandardError(const std::vector<double>& sorted, double level) {
@@ -365,8 +398,8 @@ Misfit ComputeMisfit(const Observations& observations, const core::Scene& scene,
                           observations.error.height);
   }
 
-  if (observations.runout) CompareRunout(*observations.runout, observations.error.runout, result,
-                                         compare);
+  if (observations.runout)
+    CompareRunout(*observations.runout, observations.error.runout, result, compare);
 
   const int released = static_cast<int>(result.rocks.size());
   for (const Passing& passing : observations.passing) {

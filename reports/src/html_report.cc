@@ -1050,7 +1050,8 @@ std::string DiagnosticsSection(const Context& c) {
       {"steps_per_contact", "steps per contact duration (N_c)", 0, 0},
       {"rocks_with_step_shrunk_for_stability",
        "rocks whose step was cut below t_c/N_c for stability", 0, 0},
-      {"gentle_steps_per_contact", "steps per contact duration in gentle contact (N_g; 0: off)", 0, 0},
+      {"gentle_steps_per_contact", "steps per contact duration in gentle contact (N_g; 0: off)", 0,
+       0},
       {"contact_steps", "contact steps", 0, 0},
       {"gentle_steps", "of which at the gentle-contact step", 0, 0},
       {"retried_steps", "gentle steps taken back and redone short (an impact began)", 0, 0},
@@ -1222,8 +1223,8 @@ std::string CalibrationSection(const Context& c) {
   if (rec.methods.size() > 1) {
     const double best_all = LowestMisfitOfAll(rec);
     s += "<h3>Methods compared</h3><table><thead><tr>" + Th("method") + Th("misfit") +
-         Th("lowest evaluated") + Th("evaluations") + Th("simulated") + Th("wall s") + Th("s to within 10 % of the lowest") +
-         Th("stopped because") + "</tr></thead><tbody>";
+         Th("lowest evaluated") + Th("evaluations") + Th("simulated") + Th("wall s") +
+         Th("s to within 10 % of the lowest") + Th("stopped because") + "</tr></thead><tbody>";
     for (std::size_t m = 0; m < rec.methods.size(); ++m) {
       const auto& mr = rec.methods[m];
       const double reach = calibrate::TimeToReach(mr, best_all, 0.1);
@@ -1508,10 +1509,17 @@ std::string HtmlReport(const ReportInput& in) {
           " s wall time.";
   if (calibrated) {
     const auto& rec = *in.calibration;
-    lead += " Parameters calibrated with " +
-            Escape(rec.methods[static_cast<std::size_t>(rec.best)].method) + ": misfit " +
-            Escape(Label(rec.misfit_before.value, 3)) + " at the start, " +
-            Escape(Label(rec.misfit_after.value, 3)) + " calibrated.";
+    const observations::FitVerdict verdict = observations::AssessFit(rec.misfit_after);
+    lead +=
+        std::string(verdict.poor ? " Calibration searched with " : " Parameters calibrated with ") +
+        Escape(rec.methods[static_cast<std::size_t>(rec.best)].method) + ": misfit " +
+        Escape(Label(rec.misfit_before.value, 3)) + " at the start, " +
+        Escape(Label(rec.misfit_after.value, 3)) + " at the calibrated values. <b>Fit " +
+        Escape(verdict.Sentence()) + ".</b>" +
+        (verdict.poor ? " The calibrated values do not reproduce the observations: do not use "
+                        "them as if they did (widen the box, change the model, or check the "
+                        "observations)."
+                      : "");
   }
   page.note_html =
       "SI units with US units beside them: 1 ft = 0.3048 m; 1 ft/s = 0.3048 m/s; "

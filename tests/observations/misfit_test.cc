@@ -301,8 +301,8 @@ TEST(MisfitTest, LostRocksAreCensoredAndNeverLowerTheMisfit) {
     for (core::Outcome outcome : {core::Outcome::kLeft, core::Outcome::kTimeout}) {
       const Misfit left = ComputeMisfit(obs, scene, simulate(lost, outcome));
       EXPECT_GT(left.value, stopped.value)
-          << lost << " rocks " << core::OutcomeName(outcome) << ": " << left.value
-          << " against " << stopped.value << " when they stop where they were last seen";
+          << lost << " rocks " << core::OutcomeName(outcome) << ": " << left.value << " against "
+          << stopped.value << " when they stop where they were last seen";
       const Residual& share = left.residuals.back();
       EXPECT_EQ(share.observation, "runout stopped");
       EXPECT_NEAR(share.simulated, (30.0 - lost) / 30.0, 1e-12);
@@ -537,6 +537,42 @@ TEST(MisfitTest, ReportListsEveryResidual) {
   EXPECT_THAT(report, HasSubstr("p10"));
   EXPECT_THAT(report, HasSubstr("max"));
   EXPECT_THAT(report, HasSubstr("misfit "));
+}
+
+// The verdict names the quantities outside their uncertainty and calls the
+// fit poor when the stopped share or a quantity is far off.
+TEST(MisfitTest, VerdictSaysPlainlyWhenAFitIsPoor) {
+  Misfit m;
+  auto add = [&](const std::string& obs, const std::string& q, double value) {
+    Residual r;
+    r.observation = obs;
+    r.quantity = q;
+    r.simulated = 40 + value;
+    r.observed = 40;
+    r.sigma = 1;
+    r.value = value;
+    m.residuals.push_back(r);
+  };
+  for (int k = 0; k < 20; ++k) add("runout distance", "p" + std::to_string(k), 0.5);
+  add("runout stopped", "share", -1.0);
+  FitVerdict good = AssessFit(m);
+  EXPECT_FALSE(good.poor);
+  EXPECT_TRUE(good.outside.empty());
+  EXPECT_THAT(good.Sentence(), HasSubstr("good: every compared quantity (21) within 2 sigma"));
+  m.residuals[3].value = 2.5;  // one beyond 2 sigma of 21: fair
+  EXPECT_FALSE(AssessFit(m).poor);
+  EXPECT_THAT(AssessFit(m).Sentence(), HasSubstr("fair: 1 of 21"));
+  m.residuals[4].value = -2.2;
+  m.residuals[5].value = 2.1;  // three beyond 2 sigma of 21: poor
+  EXPECT_TRUE(AssessFit(m).poor);
+  m.residuals[4].value = m.residuals[5].value = 0;
+  m.residuals.back().value = -2.8;  // the stopped share
+  const FitVerdict lost = AssessFit(m);
+  EXPECT_TRUE(lost.poor);
+  EXPECT_THAT(lost.outside.front(), HasSubstr("runout stopped share"));
+  EXPECT_THAT(lost.Sentence(),
+              HasSubstr("poor: 2 of 21 compared quantities outside 2 sigma, the worst "
+                        "runout stopped share"));
 }
 
 }  // namespace

@@ -62,6 +62,23 @@ struct Misfit {
 Misfit ComputeMisfit(const Observations& observations, const core::Scene& scene,
                      const core::SimulationResult& result, const MisfitOptions& options = {});
 
+// A plain verdict on a fit: which compared quantities lie outside their
+// uncertainty, and whether the fit is poor.
+struct FitVerdict {
+  // A residual beyond 2 sigma, one line each: "runout distance p50: simulated
+  // 52.1 against 40 observed (+3.1 sigma)", the largest first.
+  std::vector<std::string> outside;
+  int compared = 0;  // residuals compared
+  // Poor: the stopped share (when compared) or any quantity beyond 3 sigma,
+  // or more than one in ten of them (at least 2) beyond 2 sigma; always
+  // when the misfit was penalised.
+  bool poor = false;
+  // One sentence: "good: every compared quantity within 2 sigma" or "poor:
+  // 5 of 31 compared quantities outside 2 sigma, the worst ...".
+  std::string Sentence() const;
+};
+FitVerdict AssessFit(const Misfit& misfit);
+
 // Standard error of the level-p quantile of an ascending sample of n values,
 // from order statistics: positions c -/+ h with c = (n - 1) p (the type-7
 // quantile position) and h = sqrt(n p (1 - p)), clamped to [0, n - 1],
