@@ -530,7 +530,7 @@ class RockRun {
     Crossing c;
     c.crossed = true;
     double ground = s.x.z();
-    ctx_.terrain.Elevation(s.x.x(), s.x.y(), &ground);
+    ctx_.terrain.GroundHeight(s.x.x(), s.x.y(), &ground);
     c.height = s.x.z() - ground;
     c.speed = s.v.norm();
     c.energy = KineticEnergy(s);
@@ -766,7 +766,11 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
   for (long k = 0; k < n; ++k) {
     const Job& job = jobs[static_cast<std::size_t>(k)];
     const RockGroup& group = scene.groups[static_cast<std::size_t>(job.group)];
-    RandomStream rng(scene.options.seed, static_cast<std::uint64_t>(job.rock));
+    // Keyed by the group and the index within it, so adding rocks to one
+    // group leaves every other group's rocks alone (a one-group scene keys
+    // by the rock index, as before).
+    RandomStream rng(scene.options.seed, (static_cast<std::uint64_t>(job.group) << 32) |
+                                             static_cast<std::uint64_t>(job.in_group));
     // Draws in a fixed order, whatever the shape or parameters: size, position, orientation.
     const double u_size = rng.Uniform();
     double u_pos[2] = {rng.Uniform(), rng.Uniform()};

@@ -73,8 +73,7 @@ bool HeightGrid::valid(int i, int j) const {
   return i >= 0 && j >= 0 && i < nx && j < ny && !std::isnan(z[index(i, j)]);
 }
 
-Terrain::Terrain(HeightGrid grid, const std::vector<double>& roughness_m,
-                 double max_element_radius)
+Terrain::Terrain(HeightGrid grid, const std::vector<double>& roughness_m, double max_element_radius)
     : grid_(std::move(grid)),
       inv_spacing_(1.0 / grid_.spacing),
       max_element_radius_(max_element_radius) {
@@ -124,7 +123,8 @@ void Terrain::BuildSpheres(const std::vector<double>& roughness_m) {
       for (int k = 0; k < 4; ++k) {
         const int ii = i + (k & 1), jj = j + (k >> 1);
         all_valid = all_valid && grid_.valid(ii, jj);
-        any_smooth = any_smooth || (grid_.valid(ii, jj) && std::isinf(radius_[grid_.index(ii, jj)]));
+        any_smooth =
+            any_smooth || (grid_.valid(ii, jj) && std::isinf(radius_[grid_.index(ii, jj)]));
       }
       smooth_cell_[static_cast<std::size_t>(j) * cx + i] = all_valid && any_smooth;
     }
@@ -306,7 +306,6 @@ double Terrain::FloorHeight(double x, double y) const {
                   CornerHeight(i, j, 3));
 }
 
-
 bool Terrain::Elevation(double x, double y, double* z) const {
   if (!OnSlope(x, y)) return false;
   const double fx = (x - grid_.x0) / grid_.spacing, fy = (y - grid_.y0) / grid_.spacing;
@@ -315,6 +314,27 @@ bool Terrain::Elevation(double x, double y, double* z) const {
   const double u = fx - i, v = fy - j;
   *z = OnFacets(u, v, grid_.z[grid_.index(i, j)], grid_.z[grid_.index(i + 1, j)],
                 grid_.z[grid_.index(i, j + 1)], grid_.z[grid_.index(i + 1, j + 1)]);
+  return true;
+}
+
+bool Terrain::GroundHeight(double x, double y, double* z) const {
+  if (!OnSlope(x, y)) return false;
+  double top = FloorHeight(x, y);
+  const int i = std::min(static_cast<int>((x - grid_.x0) * inv_spacing_), grid_.nx - 2);
+  const int j = std::min(static_cast<int>((y - grid_.y0) * inv_spacing_), grid_.ny - 2);
+  // The spheres of the nodes around the cell (a tilted sphere's top need not
+  // lie over its own node).
+  for (int jj = std::max(0, j - 1); jj <= std::min(grid_.ny - 1, j + 2); ++jj) {
+    for (int ii = std::max(0, i - 1); ii <= std::min(grid_.nx - 1, i + 2); ++ii) {
+      const std::size_t n = static_cast<std::size_t>(grid_.index(ii, jj));
+      const double r = radius_[n];
+      if (!std::isfinite(r)) continue;
+      const double dx = x - centre_[n].x(), dy = y - centre_[n].y();
+      const double h2 = r * r - dx * dx - dy * dy;
+      if (h2 > 0.0) top = std::max(top, centre_[n].z() + std::sqrt(h2));
+    }
+  }
+  *z = top;
   return true;
 }
 
@@ -336,7 +356,8 @@ double Terrain::Ceiling(double xmin, double xmax, double ymin, double ymax) cons
   double top = -kInf;
   const int cx = grid_.nx - 1;
   for (int j = j0; j <= j1; ++j)
-    for (int i = i0; i <= i1; ++i) top = std::max(top, ceiling_[static_cast<std::size_t>(j) * cx + i]);
+    for (int i = i0; i <= i1; ++i)
+      top = std::max(top, ceiling_[static_cast<std::size_t>(j) * cx + i]);
   return top;
 }
 

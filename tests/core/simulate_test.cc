@@ -309,7 +309,9 @@ TEST(Simulate, PassagesCountRocksPerCell) {
 TEST(Simulate, PartitionRecordsCrossing) {
   Scene scene = RoughSlope(3);
   scene.partitions = {{"P-x", Partition::Kind::kX, 40.0}, {"P-z", Partition::Kind::kZ, 20.0}};
-  const SimulationResult result = Simulate(scene);
+  const Terrain terrain = BuildTerrain(scene);
+  ASSERT_GT(terrain.sag(), 0.0);
+  const SimulationResult result = Simulate(scene, terrain);
   int crossed = 0;
   for (const auto& r : result.rocks) {
     ASSERT_EQ(r.crossings.size(), 2u);
@@ -320,9 +322,14 @@ TEST(Simulate, PartitionRecordsCrossing) {
       EXPECT_GT(r.crossings[0].speed, 0.0);
     }
     if (r.crossings[1].crossed) {
-      // Ground elevation at the crossing point is the partition's Z (within the
-      // linear interpolation of one step).
-      EXPECT_NEAR(r.crossings[1].point.z() - r.crossings[1].height, 20.0, 0.05);
+      // The triangulated ground at the crossing point is the partition's Z
+      // (within the linear interpolation of one step); the height is measured
+      // from the surface the rock touches, the virtual spheres, which sag
+      // below it between the nodes by at most sag().
+      const double ground = r.crossings[1].point.z() - r.crossings[1].height;
+      EXPECT_LE(ground, 20.0 + 0.05);
+      EXPECT_GE(ground, 20.0 - 0.05 - terrain.sag());
+      EXPECT_GT(r.crossings[1].height, 0.0);
     }
   }
   EXPECT_GT(crossed, 0);
@@ -491,6 +498,33 @@ TEST(Simulate, InventoryBlocksAreReleasedInTurn) {
     EXPECT_EQ(result.rocks[k].mass, k % 2 == 0 ? 700.0 : 300.0) << "rock " << k;
     EXPECT_EQ(result.rocks[k].shape, k % 2 == 0 ? Shape::kBox : Shape::kSphere);
     EXPECT_EQ(result.rocks[k].size, k % 2 == 0 ? 1.0 : 0.6);
+  }
+}
+
+
+// Each rock's random stream is keyed by its group and its index within the
+// group: adding rocks to one group leaves every rock of the others
+// bit-identical.
+TEST(Simulate, AddingRocksToOneGroupLeavesTheOthersAlone) {
+  Scene scene = GridScene(21, 21, 1.0, [](double x, double) { return 20.0 - 0.5 * x; },
+                          SmoothMaterial(0.3, 0.005, 0.5));
+  scene.options.max_time = 0.5;
+  RockGroup a = PointGroup(Shape::kSphere, 0.4, 3.0, 10.0, 0.5, 3);
+  a.size_max = 0.8;
+  a.release.zone = {{2, 5}, {5, 5}, {5, 15}, {2, 15}};
+  RockGroup b = a;
+  b.shape = Shape::kCube;
+  scene.groups = {a, b};
+  const SimulationResult before = Simulate(scene);
+  scene.groups[0].count = 5;
+  const SimulationResult after = Simulate(scene);
+  for (int k = 0; k < 3; ++k) {
+    const RockRecord& x = before.rocks[static_cast<std::size_t>(3 + k)];
+    const RockRecord& y = after.rocks[static_cast<std::size_t>(5 + k)];
+    EXPECT_EQ(x.start, y.start) << "group 2, rock " << k;
+    EXPECT_EQ(x.size, y.size) << "group 2, rock " << k;
+    EXPECT_EQ(x.stop, y.stop) << "group 2, rock " << k;
+    EXPECT_EQ(x.steps, y.steps) << "group 2, rock " << k;
   }
 }
 

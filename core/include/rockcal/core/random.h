@@ -1,4 +1,5 @@
-// Deterministic random streams: one per rock, keyed by (seed, rock index).
+// Deterministic random streams: one per rock, keyed by (seed, stream); the
+// simulation keys a rock's stream by its group and its index within the group.
 #ifndef ROCKCAL_CORE_RANDOM_H_
 #define ROCKCAL_CORE_RANDOM_H_
 

@@ -34,7 +34,7 @@ struct TerrainContact {
   Eigen::Vector3d point;   // contact point (middle of the overlap)
   double overlap = 0.0;    // > 0
   int material = 0;
-  std::int64_t key = 0;    // identifies the obstacle (node or facet) for tangential history
+  std::int64_t key = 0;  // identifies the obstacle (node or facet) for tangential history
 };
 
 // The terrain with its virtual spheres, built once per scene and rebuilt
@@ -50,6 +50,12 @@ class Terrain final {
   // Interpolated ground elevation (the triangulated surface); false over a hole
   // or outside the grid.
   bool Elevation(double x, double y, double* z) const;
+  // The surface a rock touches at (x, y): the top of the virtual spheres
+  // there (they sag below the triangulated surface between the nodes, by up
+  // to `sag()`), or of the floor where that is higher (smooth facets, the
+  // catch surface). Bounce and scar heights are measured from it, so a rock
+  // rolling on the spheres is never below the ground. False off the slope.
+  bool GroundHeight(double x, double y, double* z) const;
   // False when (x, y) is outside the grid or in a cell with a hole corner:
   // a rock whose centre gets there has left the slope.
   bool OnSlope(double x, double y) const { return CellOnSlope(CellOf(x, y)); }
@@ -115,7 +121,8 @@ class Terrain final {
   double FloorHeight(double x, double y) const;
   // Mean number of candidate virtual spheres per cell (cost of a contact search).
   double mean_candidates() const {
-    return list_start_.size() > 1 ? static_cast<double>(list_.size()) / (list_start_.size() - 1) : 0.0;
+    return list_start_.size() > 1 ? static_cast<double>(list_.size()) / (list_start_.size() - 1)
+                                  : 0.0;
   }
   bool has_rough() const { return has_rough_; }
   bool has_smooth() const { return has_smooth_; }
@@ -132,7 +139,7 @@ class Terrain final {
   // Per cell: the virtual spheres an element centred in it may touch (those
   // reaching the cell that are not buried under the others), and the ceiling.
   void BuildCandidates();
-  bool CellValid(int i, int j) const;     // all four corners are data
+  bool CellValid(int i, int j) const;  // all four corners are data
   // The cells (i0..i1, j0..j1) overlapping the plan square of half-width w around c.
   void CellWindow(const Eigen::Vector3d& c, double w, int* i0, int* i1, int* j0, int* j1) const;
   // Calls f(node) for every candidate sphere of the cells within plan
@@ -145,7 +152,8 @@ class Terrain final {
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) {
         const std::size_t id = static_cast<std::size_t>(j) * cx + i;
-        for (int k = list_start_[id]; k < list_start_[id + 1]; ++k) f(list_[static_cast<std::size_t>(k)]);
+        for (int k = list_start_[id]; k < list_start_[id + 1]; ++k)
+          f(list_[static_cast<std::size_t>(k)]);
       }
   }
   // Corner k (bit 0: +i, bit 1: +j) of cell (i, j) on its floor surface: the
@@ -163,13 +171,14 @@ class Terrain final {
   HeightGrid grid_;
   double inv_spacing_ = 1.0;
   double max_element_radius_ = 0.0;
-  std::vector<Eigen::Vector3d> centre_;  // per node
-  std::vector<double> radius_;           // per node, +inf when smooth or hole
+  std::vector<Eigen::Vector3d> centre_;    // per node
+  std::vector<double> radius_;             // per node, +inf when smooth or hole
   std::vector<std::uint8_t> smooth_cell_;  // per cell: a corner is smooth
-  std::vector<double> ceiling_;          // per cell: no obstacle an element centred there may touch is higher
-  std::vector<int> list_start_, list_;   // per cell, candidate sphere nodes (CSR)
-  std::vector<double> catch_z_;          // per node, height of the catch surface (+inf: no rough cell)
-  std::vector<double> floor_top_;        // per cell, highest corner of its floor surface (-inf: hole)
+  std::vector<double>
+      ceiling_;  // per cell: no obstacle an element centred there may touch is higher
+  std::vector<int> list_start_, list_;  // per cell, candidate sphere nodes (CSR)
+  std::vector<double> catch_z_;    // per node, height of the catch surface (+inf: no rough cell)
+  std::vector<double> floor_top_;  // per cell, highest corner of its floor surface (-inf: hole)
   std::vector<Eigen::Vector3d> floor_up_;  // per cell, unit upward normals of its two floor facets
   bool has_rough_ = false, has_smooth_ = false;
   double sag_ = 0.0;
