@@ -130,7 +130,7 @@ TEST(HtmlReportTest, AuthumeIsSmallAndHasNoShapes) {
   const Parsed p = Render(Input(run));
   CheckSimulationReport(run, p);
   EXPECT_TRUE(HasSection(p, "plan"));
-  EXPECT_FALSE(HasSection(p, "shapes")) << "cubes only";
+  EXPECT_FALSE(HasSection(p, "shapes")) << "boxes only";
   EXPECT_EQ(p.html.find("Z partition"), std::string::npos);
   // 115 x 210 nodes: runs of cells keep the plan small.
   EXPECT_LT(p.html.size(), 1000000u) << "report of " << p.html.size() << " bytes";

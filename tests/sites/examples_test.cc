@@ -91,28 +91,29 @@ TEST(Examples, AuthumeMatchesItsFieldData) {
                    "/sites/examples/authume/data/endpoints_P1.txt");
   ASSERT_TRUE(in);
   std::string line;
-  int blocks = 0;
-  double mass_min = 1e9, mass_max = 0;
+  std::vector<core::Block> measured;
   while (std::getline(in, line)) {
     std::istringstream row(line);
-    double x, y, z, mass;
-    if (!(row >> x >> y >> z >> mass)) continue;
-    ++blocks;
-    mass_min = std::min(mass_min, mass);
-    mass_max = std::max(mass_max, mass);
+    double x, y, z, mass, l1, l2, l3;
+    if (!(row >> x >> y >> z >> mass >> l1 >> l2 >> l3)) continue;
+    measured.push_back({core::Shape::kBox, Eigen::Vector3d(l1, l2, l3), mass});
     EXPECT_TRUE(OnTerrain(s.grid, x, z)) << "stop point " << x << ", " << z;
   }
-  EXPECT_EQ(blocks, 41);
-  // The rock groups are cubes whose masses span the measured ones.
-  double group_min = 1e9, group_max = 0;
-  for (const core::RockGroup& g : s.groups) {
-    EXPECT_EQ(g.shape, core::Shape::kCube);
-    const double density = g.unit_weight / s.gravity;
-    group_min = std::min(group_min, density * std::pow(g.size_min, 3));
-    group_max = std::max(group_max, density * std::pow(g.size_max, 3));
+  ASSERT_EQ(measured.size(), 41u);
+  // The rocks are the 41 measured blocks, as boxes of their measured sides
+  // and masses, dropped from the surveyed elevation (the survey's offset from
+  // the terrain taken off: README.md).
+  ASSERT_EQ(s.groups.size(), 1u);
+  const core::RockGroup& g = s.groups[0];
+  ASSERT_EQ(g.inventory.size(), measured.size());
+  EXPECT_EQ(g.count, 41);
+  for (std::size_t k = 0; k < measured.size(); ++k) {
+    EXPECT_EQ(g.inventory[k].mass, measured[k].mass) << "block " << k;
+    EXPECT_EQ(g.inventory[k].sides, measured[k].sides) << "block " << k;
+    EXPECT_EQ(g.inventory[k].shape, core::Shape::kBox);
   }
-  EXPECT_LE(group_min, mass_min);
-  EXPECT_GE(group_max, mass_max);
+  ASSERT_TRUE(g.release.elevation.has_value());
+  EXPECT_NEAR(*g.release.elevation, 211.75 - 2.55, 0.01);
 }
 
 }  // namespace
