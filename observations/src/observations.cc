@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "rockcal/core/error.h"
+#include "rockcal/core/limits.h"
 #include "rockcal/sites/text_reader.h"
 
 namespace rockcal::observations {
@@ -90,7 +91,14 @@ double CsvNumber(const CsvTable& table, const CsvRow& row, std::size_t i, const 
   double v = 0.0;
   if (!ParseNumber(row.fields[i], &v)) {
     CsvFail(table, row,
-            std::string("expected a number for '") + column + "' (found '" + row.fields[i] + "')");
+            std::string("expected a number for '") + column + "' (found " +
+                sites::Excerpt(row.fields[i]) + ")");
+  }
+  if (!(std::abs(v) <= core::kMaxCoordinate)) {
+    CsvFail(table, row,
+            std::string("'") + column + "' " + sites::Excerpt(row.fields[i]) +
+                " is outside the physically sensible range; expected within +-" +
+                FormatNumber(core::kMaxCoordinate));
   }
   return v;
 }
@@ -169,7 +177,7 @@ CsvTable Loader::ReadCsv(const JsonNode& ref, std::initializer_list<const char*>
       CsvFail(table, row,
               "expected " + std::to_string(columns.size()) + " value" +
                   (columns.size() == 1 ? "" : "s") + " per row (" + ColumnList(columns) +
-                  "), found " + std::to_string(row.fields.size()) + " in '" + text + "'");
+                  "), found " + std::to_string(row.fields.size()) + " in " + sites::Excerpt(text));
     }
     table.rows.push_back(std::move(row));
   }
@@ -399,7 +407,9 @@ std::vector<Passing> Loader::ReadPassingFile(const JsonNode& ref) const {
     Passing p;
     p.partition = FindPartition(row.fields[0]);
     if (p.partition < 0) {
-      CsvFail(table, row, "unknown partition id '" + row.fields[0] + "' (" + PartitionIds() + ")");
+      CsvFail(
+          table, row,
+          "unknown partition id " + sites::Excerpt(row.fields[0]) + " (" + PartitionIds() + ")");
     }
     p.fraction = CsvNumber(table, row, 1, "fraction");
     if (p.fraction < 0 || p.fraction > 1) {
