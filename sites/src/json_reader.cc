@@ -7,6 +7,8 @@
 #include <set>
 #include <sstream>
 
+#include "rockcal/core/limits.h"
+
 namespace rockcal::sites {
 namespace {
 
@@ -249,6 +251,46 @@ Units ReadUnits(const JsonNode& node) {
 
 double LengthToSI(double value, Units units) {
   return units == Units::kUS ? value * 0.3048 : value;
+}
+
+double NumberInRange(const JsonNode& node, double value, double lo, double hi, const char* what,
+                     Quantity kind, Units units, const char* why) {
+  if (value >= lo && value <= hi) return value;
+  double scale = 1.0;  // SI -> the file's units
+  std::string unit;
+  switch (kind) {
+    case Quantity::kLength:
+      scale = 1.0 / LengthToSI(1.0, units);
+      unit = units == Units::kUS ? "ft" : "m";
+      break;
+    case Quantity::kSpeed:
+      scale = 1.0 / LengthToSI(1.0, units);
+      unit = units == Units::kUS ? "ft/s" : "m/s";
+      break;
+    case Quantity::kUnitWeight:
+      scale = 1.0 / UnitWeightToSI(1.0, units);
+      unit = units == Units::kUS ? "lbf/ft^3" : "kN/m^3";
+      break;
+    case Quantity::kTime:
+      unit = "s";
+      break;
+  }
+  node.Fail(std::string(what) + " " + FormatNumber(value * scale) + " " + unit +
+            " is outside the physically sensible range; expected [" + FormatNumber(lo * scale) +
+            ", " + FormatNumber(hi * scale) + "] " + unit + (why ? std::string(" ") + why : ""));
+}
+
+double CoordinateToSI(const JsonNode& node, Units units) {
+  return NumberInRange(node, LengthToSI(node.Number(), units), -core::kMaxCoordinate,
+                       core::kMaxCoordinate, "coordinate", Quantity::kLength, units);
+}
+
+std::vector<double> CoordinatesToSI(const JsonNode& node, std::size_t n, Units units) {
+  if (!node.is_array() || node.raw().size() != n)
+    node.Fail("expected an array of " + std::to_string(n) + " numbers");
+  std::vector<double> out;
+  for (const JsonNode& e : node.Array()) out.push_back(CoordinateToSI(e, units));
+  return out;
 }
 
 double UnitWeightToSI(double value, Units units) {

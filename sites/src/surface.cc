@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "rockcal/core/limits.h"
 #include "rockcal/sites/esri_grid.h"
 #include "rockcal/sites/gridding.h"
 #include "rockcal/sites/point_files.h"
@@ -54,7 +55,16 @@ void CheckGridSize(const JsonNode& where, const Box& box, double spacing, double
 void GridInto(const std::vector<Eigen::Vector3d>& points, const JsonNode& where, double spacing,
               double to_file, Surface* out) {
   Box box;
-  for (const Eigen::Vector3d& p : points) box.Add(p.x(), p.y());
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const Eigen::Vector3d& p = points[k];
+    if (!(p.cwiseAbs().maxCoeff() <= core::kMaxCoordinate)) {
+      where.Fail("surface point " + std::to_string(k + 1) + " (" + FormatNumber(p.x() * to_file) +
+                 ", " + FormatNumber(p.y() * to_file) + ", " + FormatNumber(p.z() * to_file) +
+                 ") is outside the physically sensible range; expected coordinates within +-" +
+                 FormatNumber(core::kMaxCoordinate * to_file));
+    }
+    box.Add(p.x(), p.y());
+  }
   CheckGridSize(where, box, spacing, to_file);
   GriddingReport rep;
   out->grid = GridPoints(points, spacing, &rep);
