@@ -54,7 +54,7 @@ int Simulate(const std::vector<std::string>& argv) {
   std::string error;
   if (!scene.IsValid(&error)) throw InputError(site_path, error);
 
-  reports::OutputDir dir(out, args.Flag("force"));
+  reports::OutputDir dir(out, args.Flag("force"), {"simulate", site.input_files});
   Progress progress("simulate", args.Flag("quiet"));
   const core::Terrain terrain = core::BuildTerrain(scene);
   // The report's views need the passages per cell and a few trajectories;

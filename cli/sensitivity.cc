@@ -53,7 +53,9 @@ int Sensitivity(const std::vector<std::string>& argv) {
   if (args.Has("observations"))
     obs = observations::LoadObservations(args.Get("observations"), site.scene);
 
-  reports::OutputDir dir(out, args.Flag("force"));
+  std::vector<std::string> inputs = site.input_files;
+  if (obs) inputs.push_back(args.Get("observations"));
+  reports::OutputDir dir(out, args.Flag("force"), {"sensitivity", inputs});
   calibrate::SensitivityResult result;
   {
     Progress progress("sensitivity " + method, args.Flag("quiet"));

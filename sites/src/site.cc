@@ -292,6 +292,8 @@ Site LoadSite(const std::string& path) {
   core::HeightGrid& grid = scene.grid;
   const double s = grid.spacing;
   site.notes = surface.notes;
+  site.input_files = surface.files;
+  site.input_files.insert(site.input_files.begin(), path);
 
   // Roughness and calibration bounds.
   for (std::size_t k = 0; k < pending.size(); ++k) {
