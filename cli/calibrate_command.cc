@@ -52,8 +52,11 @@ void PrepareFolder(const std::string& out, bool resume, bool force, const sites:
     reports::WriteOutputMarker(out, "calibrate", std::nullopt);
     return;
   }
-  reports::CheckOutputFolder(out, force, inputs,
-                             "--force (or --resume to continue the calibration it holds)");
+  if (!force && fs::exists(out, ec))
+    throw InputError(out,
+                     "output folder exists already (give --force to replace it, or "
+                     "--resume to continue the calibration it holds)");
+  reports::CheckOutputFolder(out, force, inputs);
   if (fs::exists(out, ec)) {
     fs::remove_all(out, ec);
     if (ec) throw InputError(out, "cannot remove the old output folder: " + ec.message());
