@@ -31,6 +31,8 @@ Args::Args(const std::vector<std::string>& argv, const std::set<std::string>& fl
         if (i + 1 >= argv.size()) throw InputError("argument " + a, "--" + name + " needs a value");
         value = argv[++i];
       }
+      if (value.empty())
+        throw InputError("argument --" + name, "is empty; expected a value after --" + name);
       if (values_.count(name) && !multi.count(name))
         throw InputError("argument " + a, "--" + name + " given twice");
       values_.emplace(name, value);

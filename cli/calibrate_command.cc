@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "args.h"
@@ -31,28 +32,38 @@ std::vector<std::string> SplitList(const std::string& text) {
 }
 
 // Prepares DIR: a new folder, or (with --resume) the folder of a stopped run,
-// or (with --force) a replaced one. Nothing is removed without --force.
-void PrepareFolder(const std::string& out, bool resume, bool force) {
+// or (with --force) a replaced one. Nothing is removed without --force, and
+// --force replaces only a folder rockcal wrote that holds none of `inputs`
+// (reports::CheckOutputFolder). Files a killed run left half-written are
+// removed, and so is calibration.json, which marks the folder complete: it is
+// written again, after parameters.json, when the calibration finishes.
+void PrepareFolder(const std::string& out, bool resume, bool force, const sites::Site& site,
+                   const std::string& obs_path) {
+  std::vector<std::string> inputs = site.input_files;
+  inputs.push_back(obs_path);
   std::error_code ec;
-  const bool exists = fs::exists(out, ec);
   if (resume) {
-    if (!exists || !fs::exists(out + "/evaluations.jsonl", ec))
+    if (out.empty() || !fs::exists(out + "/evaluations.jsonl", ec))
       throw InputError(out, "nothing to resume: no evaluations.jsonl in this folder");
+    reports::CheckOutputAgainstInputs(out, inputs);
+    reports::RemoveStaleTemporaries(out, "");
+    fs::remove(out + "/calibration.json", ec);
+    if (ec) throw InputError(out, "cannot remove the old calibration.json: " + ec.message());
+    reports::WriteOutputMarker(out, "calibrate", std::nullopt);
     return;
   }
-  if (exists) {
-    if (!force)
-      throw InputError(out, "output folder exists already (give --force to replace it, or "
-                            "--resume to continue the calibration it holds)");
+  if (!force && fs::exists(out, ec))
+    throw InputError(out,
+                     "output folder exists already (give --force to replace it, or "
+                     "--resume to continue the calibration it holds)");
+  reports::CheckOutputFolder(out, force, inputs);
+  if (fs::exists(out, ec)) {
     fs::remove_all(out, ec);
     if (ec) throw InputError(out, "cannot remove the old output folder: " + ec.message());
   }
-  fs::path parent = fs::path(out).parent_path();
-  if (parent.empty()) parent = ".";
-  if (!fs::is_directory(parent, ec))
-    throw InputError(out, "the folder that should hold it does not exist: " + parent.string());
   if (!fs::create_directory(out, ec))
     throw InputError(out, "cannot create the output folder: " + ec.message());
+  reports::WriteOutputMarker(out, "calibrate", std::nullopt);
 }
 
 }  // namespace
@@ -96,7 +107,7 @@ int Calibrate(const std::vector<std::string>& argv) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("arguments", error);
 
-  PrepareFolder(out, args.Flag("resume"), args.Flag("force"));
+  PrepareFolder(out, args.Flag("resume"), args.Flag("force"), site, obs_path);
   const calibrate::Objective objective(scene, space, obs, observations::MisfitOptions{});
   calibrate::EvaluationLog log(out + "/evaluations.jsonl", args.Flag("resume"), space,
                                scene.options.seed, scene.total_rocks());

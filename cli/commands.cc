@@ -9,6 +9,7 @@
 #include "args.h"
 #include "progress.h"
 #include "rockcal/core/error.h"
+#include "rockcal/core/limits.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/reports/html_report.h"
@@ -41,7 +42,8 @@ int Simulate(const std::vector<std::string>& argv) {
   sites::Site site = sites::LoadSite(site_path);
   for (const std::string& kv : args.All("set")) sites::ApplySetting(kv, &site);
   core::Scene& scene = site.scene;
-  if (args.Has("rocks")) scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, 100000000)));
+  if (args.Has("rocks"))
+    scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, core::kMaxRocks)));
   if (args.Has("seed"))
     scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
   scene.options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
@@ -50,9 +52,9 @@ int Simulate(const std::vector<std::string>& argv) {
     throw InputError("argument --sample-seconds", "goes with --trajectories N");
   scene.options.record.sample_seconds = args.Number("sample-seconds", 0.05, 1e-6, 1e6);
   std::string error;
-  if (!scene.options.IsValid(&error)) throw InputError(site_path, error);
+  if (!scene.IsValid(&error)) throw InputError(site_path, error);
 
-  reports::OutputDir dir(out, args.Flag("force"));
+  reports::OutputDir dir(out, args.Flag("force"), {"simulate", site.input_files});
   Progress progress("simulate", args.Flag("quiet"));
   const core::Terrain terrain = core::BuildTerrain(scene);
   // The report's views need the passages per cell and a few trajectories;

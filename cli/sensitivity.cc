@@ -11,6 +11,7 @@
 #include "progress.h"
 #include "rockcal/calibrate/sensitivity.h"
 #include "rockcal/core/error.h"
+#include "rockcal/core/limits.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/reports/output_dir.h"
 #include "rockcal/reports/study_report.h"
@@ -40,8 +41,8 @@ int Sensitivity(const std::vector<std::string>& argv) {
   sites::Site site = sites::LoadSite(site_path);
   for (const std::string& kv : args.All("set")) sites::ApplySetting(kv, &site);
   if (args.Has("rocks"))
-    site.scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, 100000000)));
-  if (!site.scene.options.IsValid(&error)) throw InputError(site_path, error);
+    site.scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, core::kMaxRocks)));
+  if (!site.scene.IsValid(&error)) throw InputError(site_path, error);
   if (site.calibrate.empty())
     throw InputError(site_path,
                      "no \"calibrate\" bounds: the sensitivity study varies the calibrated "
@@ -52,7 +53,9 @@ int Sensitivity(const std::vector<std::string>& argv) {
   if (args.Has("observations"))
     obs = observations::LoadObservations(args.Get("observations"), site.scene);
 
-  reports::OutputDir dir(out, args.Flag("force"));
+  std::vector<std::string> inputs = site.input_files;
+  if (obs) inputs.push_back(args.Get("observations"));
+  reports::OutputDir dir(out, args.Flag("force"), {"sensitivity", inputs});
   calibrate::SensitivityResult result;
   {
     Progress progress("sensitivity " + method, args.Flag("quiet"));

@@ -8,6 +8,7 @@
 #include "progress.h"
 #include "rockcal/calibrate/study.h"
 #include "rockcal/core/error.h"
+#include "rockcal/core/limits.h"
 #include "rockcal/reports/output_dir.h"
 #include "rockcal/reports/study_report.h"
 #include "rockcal/sites/site.h"
@@ -87,7 +88,7 @@ int Stability(const Args& args, sites::Site* site, const std::string& out) {
   std::string error;
   if (!opt.IsValid(&error)) throw InputError("arguments", error);
 
-  reports::OutputDir dir(out, args.Flag("force"));
+  reports::OutputDir dir(out, args.Flag("force"), {"study stability", site->input_files});
   Progress progress("stability", args.Flag("quiet"));
   opt.progress = [&](int done, int total, const std::string& what) {
     progress.Update(done, total, what);
@@ -123,7 +124,8 @@ int Convergence(const Args& args, sites::Site* site, const std::string& out) {
   calibrate::ConvergenceOptions opt;
   if (args.Has("steps-per-contact"))
     opt.steps_per_contact = IntegerList(args, "steps-per-contact", 4, 100000);
-  if (args.Has("rock-counts")) opt.rock_counts = IntegerList(args, "rock-counts", 1, 100000000);
+  if (args.Has("rock-counts"))
+    opt.rock_counts = IntegerList(args, "rock-counts", 1, core::kMaxRocks);
   opt.target = args.Number("target", opt.target, 1e-9, 10.0);
   opt.bootstrap = static_cast<int>(args.Integer("bootstrap", opt.bootstrap, 20, 1000000));
   if (args.Has("seed")) opt.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
@@ -131,7 +133,7 @@ int Convergence(const Args& args, sites::Site* site, const std::string& out) {
   std::string error;
   if (!opt.IsValid(&error)) throw InputError("arguments", error);
 
-  reports::OutputDir dir(out, args.Flag("force"));
+  reports::OutputDir dir(out, args.Flag("force"), {"study convergence", site->input_files});
   calibrate::ConvergenceResult result;
   {
     Progress progress("convergence", args.Flag("quiet"));
@@ -177,7 +179,7 @@ int Study(const std::vector<std::string>& argv) {
   sites::Site site = sites::LoadSite(pos[1]);
   for (const std::string& kv : args.All("set")) sites::ApplySetting(kv, &site);
   std::string error;
-  if (!site.scene.options.IsValid(&error)) throw InputError(pos[1], error);
+  if (!site.scene.IsValid(&error)) throw InputError(pos[1], error);
   return pos[0] == "stability" ? Stability(args, &site, out) : Convergence(args, &site, out);
 }
 

@@ -17,15 +17,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Two spellings of one folder ("out", "./out/", a link to it).
-bool SamePath(const std::string& a, const std::string& b) {
-  auto normal = [](const std::string& path) {
-    std::error_code ec;
-    fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
-    if (!p.has_filename()) p = p.parent_path();
-    return p;
-  };
-  return normal(a) == normal(b);
+// A calibration folder that a killed run left incomplete: it has the
+// evaluation log but not calibration.json, written after parameters.json
+// when the calibration finishes (a --resume removes it until then).
+void CheckComplete(const std::string& dir) {
+  std::error_code ec;
+  if (fs::exists(fs::path(dir) / "evaluations.jsonl", ec) &&
+      !fs::exists(fs::path(dir) / "calibration.json", ec))
+    throw InputError(dir,
+                     "incomplete calibration: no calibration.json, so the calibration did not "
+                     "finish (expected a finished rockcal calibrate folder; continue it with "
+                     "--resume)");
 }
 
 }  // namespace
@@ -47,19 +49,16 @@ int Table(const std::vector<std::string>& argv) {
                      "'" + args.Get("bound-tolerance") +
                          "' is not in [0, 0.5) (the share of a parameter's range within which "
                          "a value counts as at its bound)");
-  for (const std::string& d : dirs) {
-    // --force must never replace a calibration with its table.
-    if (SamePath(d, out))
-      throw InputError("argument --out " + out,
-                       "is one of the result folders read; expected a new folder");
-  }
+  // --force must never replace a calibration with its table.
+  reports::CheckOutputAgainstInputs(out, dirs);
+  for (const std::string& d : dirs) CheckComplete(d);
 
   // Read and check everything before anything is written.
   std::vector<calibrate::CalibratedSite> sites;
   for (const std::string& d : dirs) sites.push_back(calibrate::ReadCalibratedSite(d));
   const calibrate::DefaultTable table = calibrate::BuildDefaultTable(sites, options);
 
-  reports::OutputDir dir(out, args.Flag("force"));
+  reports::OutputDir dir(out, args.Flag("force"), {"table", dirs});
   const std::string markdown = reports::DefaultTableMarkdown(table);
   reports::WriteFileAtomically(dir.File("table.json"),
                                reports::DefaultTableJson(table).dump(2) + "\n");

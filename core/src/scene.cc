@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
+
+#include "rockcal/core/limits.h"
+#include "rockcal/core/material.h"
 
 namespace rockcal::core {
 
@@ -27,6 +31,35 @@ bool SimulationOptions::IsValid(std::string* error) const {
     return fail("record.trajectories", record.trajectories, "must be >= 0");
   if (record.trajectories > 0 && !(record.sample_seconds > 0))
     return fail("record.sample_seconds", record.sample_seconds, "must be > 0");
+  return true;
+}
+
+double Scene::EstimatedSteps() const {
+  double dt = INFINITY;
+  for (const Material& m : materials)
+    dt = std::min(dt, DeriveContactLaw(m, hardness_model).contact_time / options.steps_per_contact);
+  if (materials.empty()) return 0.0;
+  return static_cast<double>(total_rocks()) * options.max_time / dt;
+}
+
+bool Scene::IsValid(std::string* error) const {
+  if (!options.IsValid(error)) return false;
+  const int rocks = total_rocks();
+  if (rocks < 1 || rocks > kMaxRocks) {
+    *error = "the run has " + std::to_string(rocks) + " rocks; expected 1 to " +
+             std::to_string(kMaxRocks);
+    return false;
+  }
+  const double steps = EstimatedSteps();
+  if (!(steps <= kMaxEstimatedSteps)) {
+    std::ostringstream s;
+    s << "the run would take up to " << steps << " steps (" << rocks << " rocks, max_time "
+      << options.max_time << " s, shortest step " << options.max_time * rocks / steps
+      << " s: the shortest contact time / steps_per_contact); expected at most "
+      << kMaxEstimatedSteps << ": lengthen the contact time or shorten max_time";
+    *error = s.str();
+    return false;
+  }
   return true;
 }
 

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "rockcal/core/error.h"
+#include "rockcal/core/limits.h"
 #include "rockcal/core/statistics.h"
 #include "rockcal/sites/text_reader.h"
 
@@ -91,7 +92,14 @@ double CsvNumber(const CsvTable& table, const CsvRow& row, std::size_t i, const 
   double v = 0.0;
   if (!ParseNumber(row.fields[i], &v)) {
     CsvFail(table, row,
-            std::string("expected a number for '") + column + "' (found '" + row.fields[i] + "')");
+            std::string("expected a number for '") + column + "' (found " +
+                sites::Excerpt(row.fields[i]) + ")");
+  }
+  if (!(std::abs(v) <= core::kMaxCoordinate)) {
+    CsvFail(table, row,
+            std::string("'") + column + "' " + sites::Excerpt(row.fields[i]) +
+                " is outside the physically sensible range; expected within +-" +
+                FormatNumber(core::kMaxCoordinate));
   }
   return v;
 }
@@ -171,7 +179,7 @@ CsvTable Loader::ReadCsv(const JsonNode& ref, std::initializer_list<const char*>
       CsvFail(table, row,
               "expected " + std::to_string(columns.size()) + " value" +
                   (columns.size() == 1 ? "" : "s") + " per row (" + ColumnList(columns) +
-                  "), found " + std::to_string(row.fields.size()) + " in '" + text + "'");
+                  "), found " + std::to_string(row.fields.size()) + " in " + sites::Excerpt(text));
     }
     table.rows.push_back(std::move(row));
   }
@@ -218,8 +226,8 @@ std::vector<double> Loader::ReadHeights(const JsonNode& node) const {
 Tree Loader::ReadTree(const JsonNode& node) const {
   node.Keys({"x", "y", "radius", "heights", "heights_file"});
   Tree tree;
-  tree.x = Length(node.Get("x").Number());
-  tree.y = Length(node.Get("y").Number());
+  tree.x = sites::CoordinateToSI(node.Get("x"), units_);
+  tree.y = sites::CoordinateToSI(node.Get("y"), units_);
   tree.radius = Length(node.Get("radius").NonNegative());
   tree.heights = ReadHeights(node);
   return tree;
@@ -331,14 +339,16 @@ Runout Loader::ReadRunoutPositions(const JsonNode& node, std::vector<std::string
       OneOf(node, {"stop_points", "stop_points_file", "distances", "distances_file"});
   std::optional<Eigen::Vector2d> from, direction;
   if (const auto f = node.Find("from")) {
-    const std::vector<double> v = f->Numbers(2);
-    from = Eigen::Vector2d(Length(v[0]), Length(v[1]));
+    const std::vector<double> v = sites::CoordinatesToSI(*f, 2, units_);
+    from = Eigen::Vector2d(v[0], v[1]);
   }
   if (const auto d = node.Find("direction")) {
     const std::vector<double> v = d->Numbers(2);
     const Eigen::Vector2d dir(v[0], v[1]);
-    if (!(dir.norm() > 0)) d->Fail("expected a non-zero direction [dx, dy]");
-    direction = dir.normalized();
+    const Eigen::Vector2d unit = dir / dir.norm();
+    if (!(dir.norm() > 0) || !unit.allFinite() || !(std::abs(unit.norm() - 1.0) < 1e-9))
+      d->Fail("expected a non-zero direction [dx, dy] whose normalisation is finite");
+    direction = unit;
   }
 
   Runout runout;
@@ -370,8 +380,8 @@ Runout Loader::ReadRunoutPositions(const JsonNode& node, std::vector<std::string
 
   if (form == "stop_points") {
     for (const JsonNode& p : node.Get("stop_points").Array(1)) {
-      const std::vector<double> v = p.Numbers(2);
-      runout.stop_points.emplace_back(Length(v[0]), Length(v[1]));
+      const std::vector<double> v = sites::CoordinatesToSI(p, 2, units_);
+      runout.stop_points.emplace_back(v[0], v[1]);
     }
   } else {
     const CsvTable table = ReadCsv(node.Get("stop_points_file"), {"x", "y"});
@@ -407,7 +417,13 @@ Runout Loader::ReadRunoutPositions(const JsonNode& node, std::vector<std::string
                                          FormatPoint(runout.from) +
                                          " m (expected 'direction' [dx, dy])");
     }
-    runout.direction = d.normalized();
+    runout.direction = d / d.norm();
+    if (!runout.direction.allFinite() || !(std::abs(runout.direction.norm() - 1.0) < 1e-9)) {
+      throw InputError(node.where(), "cannot choose a runout direction: the direction from " +
+                                         FormatPoint(runout.from) + " to the mean stop point " +
+                                         FormatPoint(mean) +
+                                         " m has no finite normalisation (expected 'direction')");
+    }
     direction_note = "towards the mean stop point";
   }
   for (const Eigen::Vector2d& p : runout.stop_points) {
@@ -442,7 +458,9 @@ std::vector<Passing> Loader::ReadPassingFile(const JsonNode& ref) const {
     Passing p;
     p.partition = FindPartition(row.fields[0]);
     if (p.partition < 0) {
-      CsvFail(table, row, "unknown partition id '" + row.fields[0] + "' (" + PartitionIds() + ")");
+      CsvFail(
+          table, row,
+          "unknown partition id " + sites::Excerpt(row.fields[0]) + " (" + PartitionIds() + ")");
     }
     p.fraction = CsvNumber(table, row, 1, "fraction");
     if (p.fraction < 0 || p.fraction > 1) {
@@ -498,11 +516,15 @@ Observations Loader::Load() {
   if (error) {
     error->Keys({"height", "runout", "passing"});
     if (const auto h = error->Find("height")) {
-      obs.error.height = Length(h->Positive());
+      obs.error.height =
+          sites::NumberInRange(*h, Length(h->Positive()), 0.0, core::kMaxObservationError,
+                               "height error", sites::Quantity::kLength, units_);
       has_height = true;
     }
     if (const auto r = error->Find("runout")) {
-      obs.error.runout = Length(r->Positive());
+      obs.error.runout =
+          sites::NumberInRange(*r, Length(r->Positive()), 0.0, core::kMaxObservationError,
+                               "runout error", sites::Quantity::kLength, units_);
       has_runout = true;
     }
     if (const auto p = error->Find("passing")) {

@@ -1,9 +1,12 @@
 #include "rockcal/reports/simulation_outputs.h"
 
-#include "rockcal/reports/output_dir.h"
-
+#include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "rockcal/reports/output_dir.h"
 
 namespace rockcal::reports {
 namespace {
@@ -17,6 +20,31 @@ std::string Num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.10g", v);
   return buf;
+}
+
+// A value of `file` (rock `rock`, column `column`); a non-finite one is an
+// internal failure, never written as "inf" or "nan".
+std::string Num(double v, const char* file, long rock, const std::string& column) {
+  if (!std::isfinite(v)) {
+    throw std::runtime_error("internal failure: " + std::string(file) + " rock " +
+                             std::to_string(rock) + " column " + column + " is " + Num(v) +
+                             ", not a finite number; nothing written");
+  }
+  return Num(v);
+}
+
+// Throws (an internal failure) at the first non-finite number in `j`, naming
+// `file` and its JSON path.
+void CheckFinite(const nlohmann::json& j, const std::string& file, const std::string& path) {
+  if (j.is_number_float() && !std::isfinite(j.get<double>())) {
+    throw std::runtime_error("internal failure: " + file + " " + path + " is " +
+                             Num(j.get<double>()) + ", not a finite number; nothing written");
+  }
+  if (j.is_object())
+    for (auto it = j.begin(); it != j.end(); ++it) CheckFinite(*it, file, path + "." + it.key());
+  if (j.is_array())
+    for (std::size_t k = 0; k < j.size(); ++k)
+      CheckFinite(j[k], file, path + "[" + std::to_string(k) + "]");
 }
 
 }  // namespace
@@ -69,13 +97,18 @@ std::string RocksCsv(const core::Scene& scene, const core::SimulationResult& res
     out << ',' << p.id << ".height_m," << p.id << ".velocity_mps," << p.id << ".energy_kj";
   out << '\n';
   for (const auto& r : result.rocks) {
-    out << r.rock << ',' << r.group << ',' << core::ShapeName(r.shape) << ',' << Num(r.size) << ','
-        << Num(r.mass) << ',' << core::OutcomeName(r.outcome) << ',' << Num(r.stop.x()) << ','
-        << Num(r.stop.y()) << ',' << Num(r.stop.z());
+    const char* f = "rocks.csv";
+    out << r.rock << ',' << r.group << ',' << core::ShapeName(r.shape) << ','
+        << Num(r.size, f, r.rock, "size_m") << ',' << Num(r.mass, f, r.rock, "mass_kg") << ','
+        << core::OutcomeName(r.outcome) << ',' << Num(r.stop.x(), f, r.rock, "stop_x") << ','
+        << Num(r.stop.y(), f, r.rock, "stop_y") << ',' << Num(r.stop.z(), f, r.rock, "stop_z");
     for (std::size_t p = 0; p < scene.partitions.size(); ++p) {
       if (p < r.crossings.size() && r.crossings[p].crossed) {
         const auto& c = r.crossings[p];
-        out << ',' << Num(c.height) << ',' << Num(c.speed) << ',' << Num(c.energy * 1e-3);
+        const std::string& id = scene.partitions[p].id;
+        out << ',' << Num(c.height, f, r.rock, id + ".height_m") << ','
+            << Num(c.speed, f, r.rock, id + ".velocity_mps") << ','
+            << Num(c.energy * 1e-3, f, r.rock, id + ".energy_kj");
       } else {
         out << ",,,";
       }
@@ -90,9 +123,9 @@ std::string TrajectoriesCsv(const core::SimulationResult& result) {
   out << "rock,t,x,y,z,vx,vy,vz,wx,wy,wz\n";
   for (const auto& r : result.rocks) {
     for (const auto& s : r.trajectory) {
-      out << r.rock << ',' << Num(s.t);
+      out << r.rock << ',' << Num(s.t, "trajectories.csv", r.rock, "t");
       for (const Eigen::Vector3d* v : {&s.x, &s.v, &s.w})
-        for (int k = 0; k < 3; ++k) out << ',' << Num((*v)[k]);
+        for (int k = 0; k < 3; ++k) out << ',' << Num((*v)[k], "trajectories.csv", r.rock, "x/v/w");
       out << '\n';
     }
   }
@@ -101,9 +134,15 @@ std::string TrajectoriesCsv(const core::SimulationResult& result) {
 
 void WriteSimulationFiles(const std::string& folder, const core::Scene& scene,
                           const core::SimulationResult& result) {
-  WriteFileAtomically(folder + "/summary.json", SummaryJson(scene, result).dump(2) + "\n");
-  WriteFileAtomically(folder + "/diagnostics.json", DiagnosticsJson(scene, result).dump(2) + "\n");
-  WriteFileAtomically(folder + "/rocks.csv", RocksCsv(scene, result));
+  // Everything is built and checked before anything is written.
+  const nlohmann::json summary = SummaryJson(scene, result);
+  const nlohmann::json diagnostics = DiagnosticsJson(scene, result);
+  CheckFinite(summary, "summary.json", "$");
+  CheckFinite(diagnostics, "diagnostics.json", "$");
+  const std::string rocks = RocksCsv(scene, result);
+  WriteFileAtomically(folder + "/summary.json", summary.dump(2) + "\n");
+  WriteFileAtomically(folder + "/diagnostics.json", diagnostics.dump(2) + "\n");
+  WriteFileAtomically(folder + "/rocks.csv", rocks);
   if (scene.options.record.trajectories > 0)
     WriteFileAtomically(folder + "/trajectories.csv", TrajectoriesCsv(result));
 }

@@ -48,11 +48,11 @@ EsriGrid ReadEsriGrid(const std::string& path) {
       break;
     }
     const std::vector<std::string> f = SplitFields(line);
-    if (f.size() != 2) reader.Fail("expected a header line 'key value', found '" + line + "'");
+    if (f.size() != 2) reader.Fail("expected a header line 'key value', found " + Excerpt(line));
     const std::string key = Lower(f[0]);
     double v = 0.0;
     if (!ParseNumber(f[1], &v))
-      reader.Fail("header '" + f[0] + "': '" + f[1] + "' is not a number");
+      reader.Fail("header " + Excerpt(f[0]) + ": " + Excerpt(f[1]) + " is not a number");
     std::optional<double>* slot = nullptr;
     if (key == "ncols") {
       slot = &ncols;
@@ -69,12 +69,12 @@ EsriGrid ReadEsriGrid(const std::string& path) {
       slot = &yll;
       y_corner = key == "yllcorner";
     } else {
-      reader.Fail("unknown header key '" + f[0] +
+      reader.Fail("unknown header key " + Excerpt(f[0]) +
                   "' (allowed: ncols, nrows, xllcorner, xllcenter, yllcorner, yllcenter, "
                   "cellsize, NODATA_value)");
     }
     if (slot->has_value())
-      reader.Fail("header key '" + f[0] + "' given twice (or both corner and center)");
+      reader.Fail("header key " + Excerpt(f[0]) + " given twice (or both corner and center)");
     *slot = v;
   }
   const char* missing = !ncols      ? "ncols"

@@ -34,6 +34,65 @@ double SignedArea(const Polygon& polygon) {
   return 0.5 * a;
 }
 
+namespace {
+
+double Cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+// Whether segments [a, b] and [c, d] share a point (tolerance `eps` on the
+// orientation tests).
+bool SegmentsMeet(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                  const Eigen::Vector2d& d, double eps) {
+  const double d1 = Cross(b - a, c - a), d2 = Cross(b - a, d - a);
+  const double d3 = Cross(d - c, a - c), d4 = Cross(d - c, b - c);
+  if (((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) &&
+      ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps)))
+    return true;
+  // Touching or collinear: a point of one segment on the other.
+  auto on = [eps](const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r,
+                  double turn) {
+    return std::abs(turn) <= eps && std::min(p.x(), q.x()) - 1e-12 <= r.x() &&
+           r.x() <= std::max(p.x(), q.x()) + 1e-12 && std::min(p.y(), q.y()) - 1e-12 <= r.y() &&
+           r.y() <= std::max(p.y(), q.y()) + 1e-12;
+  };
+  return on(a, b, c, d1) || on(a, b, d, d2) || on(c, d, a, d3) || on(c, d, b, d4);
+}
+
+}  // namespace
+
+std::optional<std::pair<int, int>> FindSelfIntersection(const Polygon& ring) {
+  // Repeated vertices (e.g. the first one again at the end) make no edge.
+  Polygon polygon;
+  for (const Eigen::Vector2d& v : ring)
+    if (polygon.empty() || v != polygon.back()) polygon.push_back(v);
+  while (polygon.size() > 1 && polygon.back() == polygon.front()) polygon.pop_back();
+  if (polygon.size() < 3) return std::nullopt;
+  const int n = static_cast<int>(polygon.size());
+  double scale = 0.0;
+  for (const Eigen::Vector2d& v : polygon) scale = std::max(scale, (v - polygon[0]).norm());
+  const double eps = 1e-12 * scale * scale;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector2d& a = polygon[static_cast<std::size_t>(i)];
+    const Eigen::Vector2d& b = polygon[static_cast<std::size_t>((i + 1) % n)];
+    for (int j = i + 1; j < n; ++j) {
+      const Eigen::Vector2d& c = polygon[static_cast<std::size_t>(j)];
+      const Eigen::Vector2d& d = polygon[static_cast<std::size_t>((j + 1) % n)];
+      const bool neighbours = j == i + 1 || (i == 0 && j == n - 1);
+      if (!neighbours) {
+        if (SegmentsMeet(a, b, c, d, eps)) return std::make_pair(i, j);
+      } else {
+        // Neighbours share a vertex; they must not fold back over each other.
+        const Eigen::Vector2d shared = j == i + 1 ? b : a;
+        const Eigen::Vector2d p = j == i + 1 ? a : b, q = j == i + 1 ? d : c;
+        const Eigen::Vector2d u = p - shared, w = q - shared;
+        if (std::abs(Cross(u, w)) <= eps && u.dot(w) > 0) return std::make_pair(i, j);
+      }
+    }
+  }
+  return std::nullopt;
+}
+
 bool PointInPolygon(const Polygon& polygon, const Eigen::Vector2d& p) {
   if (polygon.size() < 3) return false;
   Eigen::Vector2d lo = polygon[0], hi = polygon[0];

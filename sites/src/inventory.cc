@@ -5,6 +5,7 @@
 #include <cctype>
 #include <functional>
 
+#include "rockcal/core/limits.h"
 #include "rockcal/sites/text_reader.h"
 
 namespace rockcal::sites {
@@ -12,7 +13,7 @@ namespace {
 
 constexpr double kPoundMass = 0.45359237;  // kg
 constexpr double kMaxMass = 1e8;           // kg: a 40 000 m^3 block
-constexpr double kMaxSide = 100.0;         // m
+constexpr double kMaxSide = core::kMaxRockSize;  // m
 
 std::string Lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

@@ -1,8 +1,13 @@
 #include "rockcal/sites/json_reader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
+#include <set>
 #include <sstream>
+
+#include "rockcal/core/limits.h"
 
 namespace rockcal::sites {
 namespace {
@@ -27,21 +32,99 @@ void LineColumn(const std::string& text, std::size_t pos, int* line, int* col) {
   }
 }
 
+// The JSON path of the value being parsed, kept from nlohmann's parser
+// events, so that a duplicate key or an out-of-range number can be named.
+class PathTracker final {
+ public:
+  explicit PathTracker(std::string file) : file_(std::move(file)) {}
+
+  bool operator()(int /*depth*/, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using Event = nlohmann::json::parse_event_t;
+    switch (event) {
+      case Event::object_start:
+        NextElement();
+        frames_.push_back(Frame{true, -1, "", {}});
+        break;
+      case Event::array_start:
+        NextElement();
+        frames_.push_back(Frame{false, -1, "", {}});
+        break;
+      case Event::key: {
+        Frame& f = frames_.back();
+        f.key = parsed.get<std::string>();
+        if (!f.keys.insert(f.key).second)
+          throw InputError(file_ + ": " + Path(),
+                           "duplicate key '" + f.key + "' (expected each key once in an object)");
+        break;
+      }
+      case Event::value:
+        NextElement();
+        break;
+      case Event::object_end:
+      case Event::array_end:
+        frames_.pop_back();
+        break;
+    }
+    return true;
+  }
+
+  // The path of the current value ("$" outside any container).
+  std::string Path() const {
+    std::string path = "$";
+    for (const Frame& f : frames_)
+      path += f.object ? "." + f.key : "[" + std::to_string(std::max(f.index, 0)) + "]";
+    return path;
+  }
+  // The path of the value after the current one (where a parse stopped).
+  std::string NextPath() const {
+    if (frames_.empty() || frames_.back().object) return Path();
+    PathTracker next = *this;
+    next.NextElement();
+    return next.Path();
+  }
+
+ private:
+  struct Frame {
+    bool object;
+    int index;
+    std::string key;
+    std::set<std::string> keys;
+  };
+  void NextElement() {
+    if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
+  }
+
+  std::string file_;
+  std::vector<Frame> frames_;
+};
+
 }  // namespace
 
 nlohmann::json ReadJsonFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open file");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  // The largest JSON file read: a site or observation file is far smaller.
+  constexpr std::size_t kMaxJsonBytes = std::size_t{1} << 28;
+  std::string text;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    text.append(chunk, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxJsonBytes)
+      throw InputError(path, "larger than " + std::to_string(kMaxJsonBytes) +
+                                 " bytes (expected a JSON site or observation file)");
+  }
+  PathTracker tracker(path);
   try {
-    return nlohmann::json::parse(text);
+    return nlohmann::json::parse(text, std::ref(tracker));
   } catch (const nlohmann::json::parse_error& e) {
     int line = 0, col = 0;
     LineColumn(text, e.byte > 0 ? e.byte - 1 : 0, &line, &col);
     throw InputError(path + ":" + std::to_string(line) + ":" + std::to_string(col),
                      "invalid JSON (expected a well-formed JSON document)");
+  } catch (const nlohmann::json::out_of_range&) {
+    // nlohmann's number overflow (e.g. 1e400): the value after the last one parsed.
+    throw InputError(path + ": " + tracker.NextPath(),
+                     "number out of range (expected a finite number, at most about 1.8e308)");
   }
 }
 
@@ -171,6 +254,46 @@ double LengthToSI(double value, Units units) {
 }
 
 const char* LengthUnit(Units units) { return units == Units::kUS ? "ft" : "m"; }
+
+double NumberInRange(const JsonNode& node, double value, double lo, double hi, const char* what,
+                     Quantity kind, Units units, const char* why) {
+  if (value >= lo && value <= hi) return value;
+  double scale = 1.0;  // SI -> the file's units
+  std::string unit;
+  switch (kind) {
+    case Quantity::kLength:
+      scale = 1.0 / LengthToSI(1.0, units);
+      unit = units == Units::kUS ? "ft" : "m";
+      break;
+    case Quantity::kSpeed:
+      scale = 1.0 / LengthToSI(1.0, units);
+      unit = units == Units::kUS ? "ft/s" : "m/s";
+      break;
+    case Quantity::kUnitWeight:
+      scale = 1.0 / UnitWeightToSI(1.0, units);
+      unit = units == Units::kUS ? "lbf/ft^3" : "kN/m^3";
+      break;
+    case Quantity::kTime:
+      unit = "s";
+      break;
+  }
+  node.Fail(std::string(what) + " " + FormatNumber(value * scale) + " " + unit +
+            " is outside the physically sensible range; expected [" + FormatNumber(lo * scale) +
+            ", " + FormatNumber(hi * scale) + "] " + unit + (why ? std::string(" ") + why : ""));
+}
+
+double CoordinateToSI(const JsonNode& node, Units units) {
+  return NumberInRange(node, LengthToSI(node.Number(), units), -core::kMaxCoordinate,
+                       core::kMaxCoordinate, "coordinate", Quantity::kLength, units);
+}
+
+std::vector<double> CoordinatesToSI(const JsonNode& node, std::size_t n, Units units) {
+  if (!node.is_array() || node.raw().size() != n)
+    node.Fail("expected an array of " + std::to_string(n) + " numbers");
+  std::vector<double> out;
+  for (const JsonNode& e : node.Array()) out.push_back(CoordinateToSI(e, units));
+  return out;
+}
 
 double UnitWeightToSI(double value, Units units) {
   // 1 lbf/ft^3 = 4.4482216152605 N / 0.028316846592 m^3 = 157.0874606 N/m^3.

@@ -48,7 +48,7 @@ std::vector<Eigen::Vector3d> ReadPointsFile(const std::string& path) {
     }
     if (fields.size() != 3) {
       reader.Fail("expected 3 values 'x y z' (blank or comma separated), found " +
-                  std::to_string(fields.size()) + " in '" + line + "'");
+                  std::to_string(fields.size()) + " in " + Excerpt(line));
     }
     const std::vector<double> v = reader.Numbers(fields);
     points.emplace_back(v[0], v[1], v[2]);
@@ -76,7 +76,7 @@ std::vector<Eigen::Vector3d> ReadLidarFile(const std::string& path) {
       reader.Fail("expected " + std::to_string(columns) + " values (columns " +
                   (columns == 3 ? "X Y Z" : "X Y Z R G B") + " named at line " +
                   std::to_string(header_line) + "), found " + std::to_string(fields.size()) +
-                  " in '" + line + "'");
+                  " in " + Excerpt(line));
     }
     const std::vector<double> v = reader.Numbers(fields);
     points.emplace_back(v[0], v[1], v[2]);

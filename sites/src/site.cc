@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "rockcal/core/error.h"
+#include "rockcal/core/limits.h"
 #include "rockcal/sites/geometry.h"
 #include "rockcal/sites/inventory.h"
 #include "rockcal/sites/surface.h"
@@ -16,8 +17,8 @@
 namespace rockcal::sites {
 namespace {
 
-constexpr double kMaxContactTime = 1.0;  // s
-constexpr double kMaxSpeed = 500.0;      // m/s, of a release velocity or its spread
+using core::kMaxContactTime;
+using core::kMinContactTime;
 constexpr const char* kSettingFields = "hardness, roughness, contact_time, rolling_resistance";
 
 bool ValidId(const std::string& id) {
@@ -50,12 +51,18 @@ Polygon ReadPolygon(const JsonNode& node, Units units) {
   Polygon polygon;
   double scale = 0.0;
   for (const JsonNode& v : node.Array()) {
-    const std::vector<double> xy = v.Numbers(2);
-    polygon.emplace_back(LengthToSI(xy[0], units), LengthToSI(xy[1], units));
+    const std::vector<double> xy = CoordinatesToSI(v, 2, units);
+    polygon.emplace_back(xy[0], xy[1]);
   }
   for (const Eigen::Vector2d& v : polygon) scale = std::max(scale, (v - polygon[0]).norm());
   if (!(std::abs(SignedArea(polygon)) > 1e-9 * scale * scale))
     node.Fail("degenerate polygon: its vertices enclose no area");
+  if (const auto edges = FindSelfIntersection(polygon)) {
+    node.Fail("self-intersecting polygon: edge " + std::to_string(edges->first) + " (vertices " +
+              std::to_string(edges->first) + "-" + std::to_string(edges->first + 1) +
+              ") meets edge " + std::to_string(edges->second) +
+              "; expected a simple polygon whose edges meet only at shared vertices");
+  }
   return polygon;
 }
 
@@ -152,7 +159,9 @@ core::Release ReadRelease(const JsonNode& node, Units units, const core::HeightG
   }
   if (const std::optional<double> z = ElevationAt(grid, centre.x(), centre.y()))
     *note += ", ground " + FormatNumber(*z) + " m";
-  if (auto h = node.Find("height")) r.height = LengthToSI(h->NonNegative(), units);
+  if (auto h = node.Find("height"))
+    r.height = NumberInRange(*h, LengthToSI(h->NonNegative(), units), 0, core::kMaxCoordinate,
+                             "release height", Quantity::kLength, units);
   if (auto e = node.Find("elevation")) {
     // The lowest point of a dropped rock: above the ground everywhere in the
     // zone (checked at its vertices and centre), and within reach of it.
@@ -175,12 +184,10 @@ core::Release ReadRelease(const JsonNode& node, Units units, const core::HeightG
     Eigen::Vector3d out;
     for (int k = 0; k < 3; ++k) {
       out[k] = LengthToSI(vel[static_cast<std::size_t>(k)], units);
-      if (!(std::abs(out[k]) <= kMaxSpeed) || (spread && out[k] < 0)) {
-        v.Fail(std::string("expected ") + (spread ? "three spreads >= 0" : "three components") +
-               " of at most " + FormatNumber(kMaxSpeed * to_file) + " " + LengthUnit(units) +
-               "/s");
-      }
+      if (spread && !(out[k] >= 0)) v.Fail("expected three spreads >= 0 (one sigma per component)");
     }
+    NumberInRange(v, out.norm(), 0, core::kMaxSpeed,
+                  spread ? "release velocity spread" : "release speed", Quantity::kSpeed, units);
     return out;
   };
   if (auto v = node.Find("velocity")) r.velocity = velocity(*v, false);
@@ -199,7 +206,7 @@ core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightG
     const std::string file = ResolvePath(base_dir, inv.String());
     g.inventory = ReadInventory(file, units);
     g.shape = g.inventory.front().shape;
-    g.count = node.Has("count") ? static_cast<int>(node.Get("count").Integer(1, 10'000'000))
+    g.count = node.Has("count") ? static_cast<int>(node.Get("count").Integer(1, core::kMaxRocks))
                                 : static_cast<int>(g.inventory.size());
     std::string release_note;
     g.release = ReadRelease(node.Get("release"), units, grid, &release_note);
@@ -211,7 +218,7 @@ core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightG
     return g;
   }
   node.Keys({"count", "shape", "size", "box", "unit_weight", "release"});
-  g.count = static_cast<int>(node.Get("count").Integer(1, 10'000'000));
+  g.count = static_cast<int>(node.Get("count").Integer(1, core::kMaxRocks));
   const JsonNode shape = node.Get("shape");
   if (!core::ParseShape(shape.String(), &g.shape))
     shape.Fail(std::string("unknown shape (allowed: ") + core::ShapeNames() + ")");
@@ -233,7 +240,10 @@ core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightG
       if (!(side > 0 && side <= 1e3)) box->Fail("expected three proportions L1, L2, L3 in (0, 1000]");
     g.box = Eigen::Vector3d(b[0], b[1], b[2]);
   }
-  g.unit_weight = UnitWeightToSI(node.Get("unit_weight").Positive(), units);
+  NumberInRange(size, g.size_max, 0, core::kMaxRockSize, "rock size", Quantity::kLength, units);
+  g.unit_weight = NumberInRange(
+      node.Get("unit_weight"), UnitWeightToSI(node.Get("unit_weight").Positive(), units),
+      core::kMinUnitWeight, core::kMaxUnitWeight, "unit weight", Quantity::kUnitWeight, units);
   std::string release_note;
   g.release = ReadRelease(node.Get("release"), units, grid, &release_note);
   *note = std::to_string(g.count) + " " + core::ShapeName(g.shape) + ", size " +
@@ -241,6 +251,19 @@ core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightG
           (g.size_max > g.size_min ? "-" + FormatNumber(g.size_max) : "") + " m, unit weight " +
           FormatNumber(g.unit_weight / 1000.0) + " kN/m^3, release " + release_note;
   return g;
+}
+
+// The whole run: at most kMaxRocks rocks, and a step count that can finish.
+void CheckRun(const JsonNode& root, const core::Scene& scene) {
+  long rocks = 0;
+  for (const core::RockGroup& g : scene.groups) rocks += g.count;
+  if (rocks > core::kMaxRocks) {
+    root.Get("rocks").Fail("the rock groups hold " + std::to_string(rocks) +
+                           " rocks; expected at most " + std::to_string(core::kMaxRocks));
+  }
+  std::string error;
+  if (!scene.IsValid(&error))
+    throw InputError(root.where() + (root.Has("simulation") ? ".simulation" : ""), error);
 }
 
 }  // namespace
@@ -290,8 +313,8 @@ Site LoadSite(const std::string& path) {
     mat.roughness_m = LengthToSI(m.Get("roughness").NonNegative(), units);
     if (auto t = m.Find("contact_time")) {
       mat.contact_time_s = t->Positive();
-      if (mat.contact_time_s > kMaxContactTime)
-        t->Fail("expected a contact time in seconds in (0, 1]");
+      NumberInRange(*t, mat.contact_time_s, kMinContactTime, kMaxContactTime, "contact time",
+                    Quantity::kTime, units, "(a shorter contact takes too many steps to finish)");
     }
     if (auto e = m.Find("restitution")) {
       const double v = e->Number(0.0, 1.0);
@@ -320,6 +343,8 @@ Site LoadSite(const std::string& path) {
   core::HeightGrid& grid = scene.grid;
   const double s = grid.spacing;
   site.notes = surface.notes;
+  site.input_files = surface.files;
+  site.input_files.insert(site.input_files.begin(), path);
 
   // Roughness and calibration bounds.
   for (std::size_t k = 0; k < pending.size(); ++k) {
@@ -351,8 +376,8 @@ Site LoadSite(const std::string& path) {
                                            std::string(" ") + unit));
       }
       if (auto b = c->Find("contact_time")) {
-        site.calibrate.push_back(ReadBound(*b, mat.id, mat_class, "contact_time", 0.0,
-                                           kMaxContactTime, true, mat.contact_time_s, 1.0, " s"));
+        site.calibrate.push_back(ReadBound(*b, mat.id, mat_class, "contact_time", kMinContactTime,
+                                           kMaxContactTime, false, mat.contact_time_s, 1.0, " s"));
       }
       if (auto b = c->Find("rolling_resistance")) {
         // Against the material's value: explicit, or the hardness model's.
@@ -478,6 +503,7 @@ Site LoadSite(const std::string& path) {
       site.barrier_height_m = LengthToSI(h->Positive(), units);
     if (auto e = report->Find("barrier_energy_kj")) site.barrier_energy_j = e->Positive() * 1e3;
   }
+  CheckRun(root, scene);
   site.notes.push_back("simulation: seed " + std::to_string(scene.options.seed) + ", max time " +
                        FormatNumber(scene.options.max_time) + " s, " +
                        std::to_string(scene.total_rocks()) + " rocks in " +
@@ -533,8 +559,11 @@ void ApplySetting(const std::string& key_value, Site* site) {
     if (!(value >= 0 && value <= 1)) throw InputError(where, "expected a rolling resistance in [0, 1]");
     it->rolling_resistance = value;
   } else if (field == "contact_time") {
-    if (!(value > 0) || value > kMaxContactTime)
-      throw InputError(where, "expected a contact time in seconds in (0, 1]");
+    if (!(value >= kMinContactTime) || value > kMaxContactTime)
+      throw InputError(where, "expected a contact time in seconds in [" +
+                                  FormatNumber(kMinContactTime) + ", " +
+                                  FormatNumber(kMaxContactTime) +
+                                  "] (shorter ones take too many steps to finish)");
     it->contact_time_s = value;
   } else {
     throw InputError(where, "unknown field '" + field + "' (allowed: " + kSettingFields + ")");

@@ -27,12 +27,21 @@ std::string Lower(std::string s) {
   return s;
 }
 
+// The largest STL file read (bytes): a binary STL of 20 million triangles.
+constexpr std::size_t kMaxStlBytes = 84 + 50 * std::size_t{20'000'000};
+
 std::string ReadAll(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open file");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
+  std::string data;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    data.append(chunk, static_cast<std::size_t>(in.gcount()));
+    if (data.size() > kMaxStlBytes)
+      throw InputError(path, "larger than " + std::to_string(kMaxStlBytes) +
+                                 " bytes (expected an STL file of at most 20 million triangles)");
+  }
+  return data;
 }
 
 // Binary STL: 80-byte header, uint32 triangle count, 50 bytes per triangle.
@@ -81,14 +90,14 @@ class TokenCursor final {
   void Expect(const char* keyword) {
     if (done()) Fail(std::string("file ends where '") + keyword + "' was expected");
     if (Lower(peek().text) != keyword)
-      Fail(std::string("expected '") + keyword + "', found '" + peek().text + "'");
+      Fail(std::string("expected '") + keyword + "', found " + Excerpt(peek().text));
     ++pos_;
   }
   double Number(const char* what) {
     if (done()) Fail(std::string("file ends where ") + what + " was expected");
     double v = 0.0;
     if (!ParseNumber(peek().text, &v))
-      Fail(std::string("expected ") + what + " (a finite number), found '" + peek().text + "'");
+      Fail(std::string("expected ") + what + " (a finite number), found " + Excerpt(peek().text));
     ++pos_;
     return v;
   }

@@ -1,10 +1,16 @@
 #include "rockcal/sites/surface.h"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <limits>
+#include <system_error>
 
+#include "rockcal/core/limits.h"
 #include "rockcal/sites/esri_grid.h"
 #include "rockcal/sites/gridding.h"
 #include "rockcal/sites/point_files.h"
@@ -54,7 +60,16 @@ void CheckGridSize(const JsonNode& where, const Box& box, double spacing, double
 void GridInto(const std::vector<Eigen::Vector3d>& points, const JsonNode& where, double spacing,
               double to_file, Surface* out) {
   Box box;
-  for (const Eigen::Vector3d& p : points) box.Add(p.x(), p.y());
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const Eigen::Vector3d& p = points[k];
+    if (!(p.cwiseAbs().maxCoeff() <= core::kMaxCoordinate)) {
+      where.Fail("surface point " + std::to_string(k + 1) + " (" + FormatNumber(p.x() * to_file) +
+                 ", " + FormatNumber(p.y() * to_file) + ", " + FormatNumber(p.z() * to_file) +
+                 ") is outside the physically sensible range; expected coordinates within +-" +
+                 FormatNumber(core::kMaxCoordinate * to_file));
+    }
+    box.Add(p.x(), p.y());
+  }
   CheckGridSize(where, box, spacing, to_file);
   GriddingReport rep;
   out->grid = GridPoints(points, spacing, &rep);
@@ -87,6 +102,26 @@ std::string ResolvePath(const std::string& base_dir, const std::string& file) {
   return (std::filesystem::path(base_dir) / p).string();
 }
 
+namespace {
+
+// The data file named by `node` (a string), resolved against `base_dir` and
+// recorded in out->files. Fails at `node` on an empty name, a folder, or a
+// file that cannot be opened, naming the file and the cause.
+std::string DataFile(const JsonNode& node, const std::string& base_dir, Surface* out) {
+  const std::string name = node.String();
+  if (name.empty()) node.Fail("expected a file name, relative to the site file's folder");
+  const std::string file = ResolvePath(base_dir, name);
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec))
+    node.Fail("'" + file + "' is a folder; expected a data file");
+  if (::access(file.c_str(), R_OK) != 0)
+    node.Fail("cannot open file '" + file + "': " + std::strerror(errno));
+  out->files.push_back(file);
+  return file;
+}
+
+}  // namespace
+
 Surface ReadSurface(const JsonNode& surface, Units units, const std::string& base_dir,
                     const std::vector<std::string>& material_ids) {
   surface.Keys({"resolution", "points", "points_file", "lidar", "grid_file", "stl"});
@@ -116,14 +151,14 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
     out.notes.push_back("surface: " + std::to_string(points.size()) + " inline points");
     GridInto(ToSI(std::move(points), units), where, spacing, to_file, &out);
   } else if (out.source == "points_file") {
-    const std::string file = ResolvePath(base_dir, src.String());
+    const std::string file = DataFile(src, base_dir, &out);
     std::vector<Eigen::Vector3d> points = ReadPointsFile(file);
     CheckPointCount(src, file, points.size());
     out.notes.push_back("surface: " + std::to_string(points.size()) + " points from " + file);
     GridInto(ToSI(std::move(points), units), where, spacing, to_file, &out);
   } else if (out.source == "lidar") {
     src.Keys({"file", "offset", "spin_deg"});
-    const std::string file = ResolvePath(base_dir, src.Get("file").String());
+    const std::string file = DataFile(src.Get("file"), base_dir, &out);
     LidarTransform transform;
     if (const std::optional<JsonNode> offset = src.Find("offset")) {
       if (offset->is_string()) {
@@ -146,7 +181,7 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
                         FormatNumber(transform.spin_deg) + " deg about Z");
     GridInto(ToSI(std::move(points), units), where, spacing, to_file, &out);
   } else if (out.source == "grid_file") {
-    const std::string file = ResolvePath(base_dir, src.String());
+    const std::string file = DataFile(src, base_dir, &out);
     const EsriGrid esri = ReadEsriGrid(file);
     const double cell = LengthToSI(esri.cellsize, units);
     if (!resolution) spacing = cell;
@@ -178,7 +213,7 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
         for (const std::string& k : material_ids) list += (list.empty() ? "" : ", ") + k;
         m.Fail("unknown material '" + id + "' (materials: " + list + ")");
       }
-      const std::string file = ResolvePath(base_dir, f.Get("file").String());
+      const std::string file = DataFile(f.Get("file"), base_dir, &out);
       TriangleSet set;
       set.triangles = ReadStl(file, axes, LengthToSI(1.0, units));
       set.material = static_cast<int>(it - material_ids.begin());

@@ -2,7 +2,9 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <string>
 
 namespace rockcal::sites {
 namespace {
@@ -75,6 +77,27 @@ std::vector<std::string> SplitFields(const std::string& line) {
   return out;
 }
 
+std::string Excerpt(const std::string& text) {
+  std::string out = "'";
+  std::size_t shown = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (shown >= kMaxExcerpt) {
+      out += "...";
+      break;
+    }
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c >= 0x20 && c < 0x7f && c != '\\') {
+      out += static_cast<char>(c);
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02X", c);
+      out += hex;
+    }
+    ++shown;
+  }
+  return out + "'";
+}
+
 bool IsBlank(const std::string& line) {
   for (char c : line)
     if (!IsBlankChar(c)) return false;
@@ -86,9 +109,18 @@ LineReader::LineReader(std::string path) : path_(std::move(path)), in_(path_, st
 }
 
 bool LineReader::Next(std::string* line) {
-  if (!std::getline(in_, *line)) return false;
-  if (!line->empty() && line->back() == '\r') line->pop_back();
+  line->clear();
+  std::streambuf* buf = in_.rdbuf();
+  int c = buf->sbumpc();
+  if (c == std::char_traits<char>::eof()) return false;
   ++line_;
+  for (; c != std::char_traits<char>::eof() && c != '\n'; c = buf->sbumpc()) {
+    if (line->size() >= kMaxLineBytes)
+      Fail("line " + std::to_string(line_) + " longer than " + std::to_string(kMaxLineBytes) +
+           " bytes (expected a text data file)");
+    line->push_back(static_cast<char>(c));
+  }
+  if (!line->empty() && line->back() == '\r') line->pop_back();
   return true;
 }
 
@@ -101,7 +133,7 @@ std::vector<double> LineReader::Numbers(const std::vector<std::string>& fields) 
   for (std::size_t k = 0; k < fields.size(); ++k) {
     if (fields[k].empty()) Fail("value " + std::to_string(k + 1) + " is missing");
     if (!ParseNumber(fields[k], &out[k])) {
-      Fail("value " + std::to_string(k + 1) + " '" + fields[k] + "' is not a finite number");
+      Fail("value " + std::to_string(k + 1) + " " + Excerpt(fields[k]) + " is not a finite number");
     }
   }
   return out;

@@ -124,9 +124,55 @@ TEST(Simulate, ExistingOutputIsKeptWithoutForce) {
   EXPECT_EQ(run.status, 2);
   EXPECT_THAT(run.err, HasSubstr("--force"));
   EXPECT_TRUE(fs::exists(out + "/mine.txt"));
+  // --force replaces only a folder rockcal wrote (one with the marker).
+  fs::remove_all(out);
+  EXPECT_EQ(Rockcal("simulate " + Example("profile2d") + " --rocks 2 --quiet --out " + out).status,
+            0);
+  EXPECT_TRUE(fs::exists(out + "/.rockcal-output"));
+  std::ofstream(out + "/mine.txt") << "stale";
   EXPECT_EQ(Rockcal("simulate " + Example("profile2d") + " --rocks 2 --quiet --force --out " + out).status, 0);
   EXPECT_FALSE(fs::exists(out + "/mine.txt"));
   EXPECT_TRUE(fs::exists(out + "/summary.json"));
+}
+
+// Issue 14: --force deleted the site file and everything beside it.
+TEST(Simulate, ForceNeverReplacesAFolderRockcalDidNotWriteOrOneHoldingAnInput) {
+  const std::string proj = FreshDir("proj");
+  fs::create_directories(proj);
+  const std::string src = std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/profile2d";
+  fs::copy(src, proj, fs::copy_options::recursive);
+  std::ofstream(proj + "/notes.txt") << "precious";
+  RunResult run =
+      Rockcal("simulate " + proj + "/site.json --rocks 2 --quiet --force --out " + proj);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_THAT(run.err, HasSubstr("an input of this run"));
+  EXPECT_TRUE(fs::exists(proj + "/site.json"));
+  EXPECT_EQ(ReadFile(proj + "/notes.txt"), "precious");
+  // The same through another spelling of the folder.
+  run = Rockcal("simulate " + proj + "/site.json --rocks 2 --quiet --force --out " + proj + "/../" +
+                fs::path(proj).filename().string() + "/");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_TRUE(fs::exists(proj + "/site.json"));
+  // Even marked as rockcal's, a folder holding an input is not replaced.
+  std::ofstream(proj + "/.rockcal-output") << "{}";
+  run = Rockcal("simulate " + proj + "/site.json --rocks 2 --quiet --force --out " + proj);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_TRUE(fs::exists(proj + "/site.json"));
+  // A folder without the marker is refused too, naming why.
+  const std::string other = FreshDir("other");
+  fs::create_directories(other);
+  std::ofstream(other + "/mine.txt") << "precious";
+  run = Rockcal("simulate " + proj + "/site.json --rocks 2 --quiet --force --out " + other);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_THAT(run.err, HasSubstr("holds no .rockcal-output"));
+  EXPECT_EQ(ReadFile(other + "/mine.txt"), "precious");
+}
+
+TEST(Simulate, EmptyOutIsRefusedBeforeAnyWork) {
+  const RunResult run = Rockcal("simulate " + Example("profile2d") + " --rocks 100000 --out \"\"");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_THAT(run.err, HasSubstr("--out"));
+  EXPECT_THAT(run.err, HasSubstr("is empty"));
 }
 
 TEST(Simulate, BadInputExitsTwoAndLeavesNothing) {

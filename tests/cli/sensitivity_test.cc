@@ -118,6 +118,14 @@ TEST(Sensitivity, AnExistingFolderIsNotOverwritten) {
   EXPECT_THAT(run.err, HasSubstr("--force"));
   EXPECT_EQ(ReadFile(out + "/keep.txt"), "mine");
   EXPECT_FALSE(fs::exists(out + "/sensitivity.json"));
+  // Nor with --force: rockcal did not write it.
+  run = Rockcal(args + " --force");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_THAT(run.err, HasSubstr(".rockcal-output"));
+  EXPECT_EQ(ReadFile(out + "/keep.txt"), "mine");
+  fs::remove_all(out);
+  ASSERT_EQ(Rockcal(args).status, 0);
+  std::ofstream(out + "/keep.txt") << "stale";
   run = Rockcal(args + " --force");
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_TRUE(fs::exists(out + "/sensitivity.json"));

@@ -152,6 +152,14 @@ TEST(Table, ExistingOutputIsUntouchedWithoutForce) {
   EXPECT_EQ(run.status, 2);
   EXPECT_EQ(ReadFile(out + "/mine.txt"), "precious");
 
+  // Nor with --force: rockcal did not write it.
+  run = Rockcal("table " + a + " --force --quiet --out " + out);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_THAT(run.err, HasSubstr(".rockcal-output"));
+  EXPECT_EQ(ReadFile(out + "/mine.txt"), "precious");
+  fs::remove_all(out);
+  EXPECT_EQ(Rockcal("table " + a + " --quiet --out " + out).status, 0);
+  std::ofstream(out + "/mine.txt") << "stale";
   EXPECT_EQ(Rockcal("table " + a + " --force --quiet --out " + out).status, 0);
   EXPECT_FALSE(fs::exists(out + "/mine.txt"));
   EXPECT_TRUE(fs::exists(out + "/table.json"));
@@ -159,7 +167,7 @@ TEST(Table, ExistingOutputIsUntouchedWithoutForce) {
   // A result folder is never replaced by its table.
   run = Rockcal("table " + a + " --force --out " + a);
   EXPECT_EQ(run.status, 2);
-  EXPECT_THAT(run.err, HasSubstr("is one of the result folders read"));
+  EXPECT_THAT(run.err, HasSubstr("is an input of this run"));
   EXPECT_TRUE(fs::exists(a + "/parameters.json"));
 }
 

@@ -34,6 +34,24 @@ TEST(Polygon, AreaAndInsideWithBoundary) {
   EXPECT_FALSE(PointInPolygon(l_shape, {2, 2}));
 }
 
+TEST(FindSelfIntersection, SimpleRingsPassCrossingOrFoldedOnesAreNamed) {
+  const Polygon square = {{0, 0}, {10, 0}, {10, 10}, {0, 10}};
+  EXPECT_FALSE(FindSelfIntersection(square));
+  Polygon closed = square;
+  closed.push_back(square[0]);  // the first vertex again closes the ring
+  EXPECT_FALSE(FindSelfIntersection(closed));
+  const Polygon concave = {{0, 0}, {10, 0}, {10, 10}, {5, 2}, {0, 10}};
+  EXPECT_FALSE(FindSelfIntersection(concave));
+  // A bow tie: edges 0 and 2 cross.
+  const Polygon bow = {{0, 0}, {10, 10}, {10, 0}, {0, 10}};
+  const auto crossing = FindSelfIntersection(bow);
+  ASSERT_TRUE(crossing);
+  EXPECT_EQ(*crossing, std::make_pair(0, 2));
+  // A vertex touching a far edge, and an edge folding back on its neighbour.
+  EXPECT_TRUE(FindSelfIntersection(Polygon{{0, 0}, {10, 0}, {5, 0}, {5, 5}}));
+  EXPECT_TRUE(FindSelfIntersection(Polygon{{0, 0}, {10, 0}, {10, 10}, {0, 5}, {10, 5}, {0, 10}}));
+}
+
 TEST(OnTerrain, InsideGridAndNoHoleCorner) {
   core::HeightGrid g = Flat(5, 4, 2.0);  // x 10..18, y 20..26
   EXPECT_TRUE(OnTerrain(g, 10, 20));

@@ -26,6 +26,29 @@ TEST(ReadJsonFile, MissingFileIsAnInputError) {
   EXPECT_THAT(ErrorOf([&] { ReadJsonFile(path); }), HasSubstr(path + ": cannot open file"));
 }
 
+TEST(ReadJsonFile, NumberOverflowNamesFileAndPath) {
+  TempDir dir;
+  const std::string path = dir.Write("big.json", R"({"rocks": [{"size": [1, 1e400]}]})");
+  const std::string msg = ErrorOf([&] { ReadJsonFile(path); });
+  EXPECT_THAT(msg, HasSubstr(path + ": $.rocks[0].size[1]"));
+  EXPECT_THAT(msg, HasSubstr("number out of range"));
+  const std::string top = dir.Write("top.json", R"({"a": {"b": -1e999}})");
+  EXPECT_THAT(ErrorOf([&] { ReadJsonFile(top); }), HasSubstr(top + ": $.a.b"));
+}
+
+TEST(ReadJsonFile, DuplicateKeyNamesFileAndPath) {
+  TempDir dir;
+  const std::string path =
+      dir.Write("dup.json", R"({"rocks": [{"count": 1}, {"count": 2, "count": 3}], "x": 1})");
+  const std::string msg = ErrorOf([&] { ReadJsonFile(path); });
+  EXPECT_THAT(msg, HasSubstr(path + ": $.rocks[1].count"));
+  EXPECT_THAT(msg, HasSubstr("duplicate key 'count'"));
+  // The same key in two objects is no duplicate.
+  const std::string ok =
+      dir.Write("ok.json", R"({"a": {"k": 1}, "b": {"k": 2}, "c": [[{"k": 3}]]})");
+  EXPECT_EQ(ReadJsonFile(ok)["c"][0][0]["k"], 3);
+}
+
 TEST(JsonNode, KeysRejectsUnknownKeyNamingPathAndAllowed) {
   const nlohmann::json j = nlohmann::json::parse(R"({"a": 1, "colour": 2})");
   const JsonNode node(&j, "site.json", "$.x");

@@ -57,6 +57,74 @@ std::string LoadError(const std::function<void(Json&)>& edit) {
   return msg;
 }
 
+// Issue 14: values outside physically sensible ranges are bad input, named
+// with their JSON path, value and range (not a silently meaningless run).
+TEST(LoadSite, RefusesPhysicallyMeaninglessValues) {
+  std::string msg = LoadError([](Json& s) { s["rocks"][1]["size"] = 400; });  // ft: 122 m
+  EXPECT_THAT(msg, HasSubstr("$.rocks[1].size: rock size 400 ft is outside the physically "
+                             "sensible range; expected [0, 328.0839895] ft"));
+  msg = LoadError([](Json& s) { s["rocks"][0]["size"] = Json::array({1, 1000}); });
+  EXPECT_THAT(msg, HasSubstr("$.rocks[0].size: rock size 1000 ft"));
+  msg = LoadError([](Json& s) { s["rocks"][0]["unit_weight"] = 0.5; });
+  EXPECT_THAT(msg, HasSubstr("$.rocks[0].unit_weight: unit weight 0.5 lbf/ft^3"));
+  msg = LoadError([](Json& s) {
+    s["units"] = "si";
+    s["surface"]["resolution"] = 10;
+    s["rocks"][1]["unit_weight"] = 2500;  // a density typed as a unit weight
+  });
+  EXPECT_THAT(msg, HasSubstr("$.rocks[1].unit_weight: unit weight 2500 kN/m^3"));
+  EXPECT_THAT(msg, HasSubstr("expected [1, 200] kN/m^3"));
+  msg = LoadError([](Json& s) { s["rocks"][0]["release"]["velocity"] = Json::array({1e4, 0, 0}); });
+  EXPECT_THAT(msg, HasSubstr("$.rocks[0].release.velocity: release speed 10000 ft/s"));
+  msg = LoadError([](Json& s) { s["rocks"][0]["release"]["height"] = 1e9; });
+  EXPECT_THAT(msg, HasSubstr("$.rocks[0].release.height: release height"));
+  msg = LoadError([](Json& s) { s["materials"][1]["zone"][2][0] = 1e12; });
+  EXPECT_THAT(msg, HasSubstr("$.materials[1].zone[2][0]: coordinate 1e+12 ft"));
+  msg = LoadError([](Json& s) { s["surface"]["points"][3][1] = -4e7; });
+  EXPECT_THAT(msg, HasSubstr("surface point 4"));
+}
+
+TEST(LoadSite, RefusesASelfIntersectingZone) {
+  // A figure eight: its signed area is the difference of its lobes.
+  const std::string msg = LoadError([](Json& s) {
+    s["materials"][1]["zone"] = Json::parse("[[100, -5], [205, 105], [205, 50], [100, 105]]");
+  });
+  EXPECT_THAT(msg, HasSubstr("$.materials[1].zone: self-intersecting polygon"));
+  // The first vertex repeated at the end closes the ring; it is no crossing.
+  TempDir dir;
+  Json site = BaseSite();
+  site["materials"][1]["zone"] =
+      Json::parse("[[100, -5], [205, -5], [205, 105], [100, 105], [100, -5]]");
+  EXPECT_NO_THROW(LoadSite(WriteSite(dir, site)));
+}
+
+// Issue 14: contact_time 1e-12 s never finished.
+TEST(LoadSite, RefusesAContactTimeOrARunThatCannotFinish) {
+  std::string msg = LoadError([](Json& s) { s["materials"][1]["contact_time"] = 1e-12; });
+  EXPECT_THAT(msg, HasSubstr("$.materials[1].contact_time: contact time"));
+  EXPECT_THAT(msg, HasSubstr("expected [1e-05, 1] s"));
+  msg = LoadError([](Json& s) {
+    s["materials"][1]["calibrate"]["contact_time"] = Json::array({1e-9, 0.01});
+  });
+  EXPECT_THAT(msg, HasSubstr("$.materials[1].calibrate.contact_time"));
+  // A legal contact time, but a max_time that makes the run endless.
+  msg = LoadError([](Json& s) { s["simulation"]["max_time"] = 1e12; });
+  EXPECT_THAT(msg, HasSubstr("$.simulation: the run would take up to"));
+  EXPECT_THAT(msg, HasSubstr("steps"));
+  msg = LoadError([](Json& s) {
+    s["rocks"][0]["count"] = 9'000'000;
+    s["rocks"][1]["count"] = 9'000'000;
+  });
+  EXPECT_THAT(msg, HasSubstr("$.rocks: the rock groups hold 18000000 rocks; expected at most"));
+}
+
+TEST(ApplySetting, RefusesAContactTimeThatCannotFinish) {
+  TempDir dir;
+  Site site = LoadSite(WriteSite(dir, BaseSite()));
+  EXPECT_THAT(ErrorOf([&] { ApplySetting("material.rock.contact_time=1e-12", &site); }),
+              HasSubstr("expected a contact time in seconds in [1e-05, 1]"));
+}
+
 TEST(LoadSite, BuildsTheSceneInSIUnits) {
   TempDir dir;
   const Site site = LoadSite(WriteSite(dir, BaseSite()));
@@ -193,7 +261,8 @@ TEST(LoadSite, MaterialErrors) {
               HasSubstr("$.materials[1].contact_time: expected a number > 0 (found 0)"));
   EXPECT_THAT(
       LoadError([](Json& s) { s["materials"][1]["contact_time"] = 5; }),
-      HasSubstr("$.materials[1].contact_time: expected a contact time in seconds in (0, 1]"));
+      HasSubstr("$.materials[1].contact_time: contact time 5 s is outside the physically "
+                "sensible range; expected [1e-05, 1] s"));
   EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["restitution"] = 1.0; }),
               HasSubstr("$.materials[1].restitution: expected a restitution in (0, 1)"));
   EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["id"] = "rock"; }),
@@ -286,7 +355,7 @@ TEST(LoadSite, CalibrateErrors) {
   EXPECT_THAT(LoadError([](Json& s) {
                 s["materials"][1]["calibrate"]["contact_time"] = {0, 0.01};
               }),
-              HasSubstr("$.materials[1].calibrate.contact_time: expected bounds within (0, 1] s"));
+              HasSubstr("$.materials[1].calibrate.contact_time: expected bounds within [1e-05, 1] s"));
   EXPECT_THAT(LoadError([](Json& s) {
                 s["materials"][1]["calibrate"]["friction"] = {0, 1};
               }),

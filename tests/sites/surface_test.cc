@@ -176,6 +176,7 @@ TEST(ReadSurface, ErrorsNameFileAndJsonPath) {
               HasSubstr(site + "$.surface.resolution: the surface data span 9 x 9"));
   EXPECT_THAT(ReadError(R"({"resolution": 0.0001, "points": [[0,0,0],[9,0,0],[0,9,0]]})", dir),
               HasSubstr("is too large"));
+  dir.Write("x.txt", "");
   EXPECT_THAT(ReadError(R"({"lidar": {"file": "x.txt", "offset": "automatic"}})", dir),
               HasSubstr(site + "$.surface.lidar.offset: expected \"auto\" or [x, y, z]"));
   EXPECT_THAT(ReadError(R"({"lidar": {"file": "x.txt", "spin": 3}})", dir),
@@ -186,7 +187,20 @@ TEST(ReadSurface, ErrorsNameFileAndJsonPath) {
   EXPECT_THAT(ReadError(R"({"stl": {"axes": "yxz", "files": []}})", dir),
               HasSubstr(site + "$.surface.stl.axes: unknown axes (allowed: xyz, xzy)"));
   EXPECT_THAT(ReadError(R"({"points_file": "missing.csv"})", dir),
-              HasSubstr(dir.path() + "/missing.csv: cannot open file"));
+              HasSubstr(site + "$.surface.points_file: cannot open file '" + dir.path() +
+                        "/missing.csv': No such file or directory"));
+  // Issue 14: an empty name said "cannot open file" without file or path.
+  EXPECT_THAT(ReadError(R"({"points_file": ""})", dir),
+              HasSubstr(site + "$.surface.points_file: expected a file name"));
+  EXPECT_THAT(ReadError(R"({"grid_file": "."})", dir),
+              HasSubstr(site + "$.surface.grid_file: '" + dir.path() + "/.' is a folder"));
+}
+
+// Issue 14: /dev/zero as a points file read for ever.
+TEST(ReadSurface, AFileOfOneEndlessLineFailsFast) {
+  TempDir dir;
+  EXPECT_THAT(ReadError(R"({"points_file": "/dev/zero"})", dir),
+              HasSubstr("/dev/zero:1: line 1 longer than 1048576 bytes"));
 }
 
 TEST(ReadSurface, DataFileErrorsNameTheDataFileAndLine) {

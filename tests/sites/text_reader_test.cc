@@ -62,6 +62,28 @@ TEST(LineReader, CountsLinesAndNamesBadFields) {
   EXPECT_FALSE(r.Next(&line));
 }
 
+// Issue 14: messages quoted whole lines of other files, control bytes and all.
+TEST(Excerpt, ShortPrintableAndEscaped) {
+  EXPECT_EQ(Excerpt("abc"), "'abc'");
+  EXPECT_EQ(Excerpt(std::string("a\0b\x1b[2J\n", 8)), "'a\\x00b\\x1B[2J\\x0A'");
+  const std::string excerpt = Excerpt(std::string(5000, 'x'));
+  EXPECT_EQ(excerpt, "'" + std::string(kMaxExcerpt, 'x') + "...'");
+}
+
+TEST(LineReader, QuotesAtMostAnExcerptAndCapsTheLineLength) {
+  TempDir dir;
+  const std::string path = dir.Write("b.txt", "1 " + std::string(10000, 'y') + "\x07 3\n" +
+                                                  std::string(kMaxLineBytes + 1, '7') + "\n");
+  LineReader r(path);
+  std::string line;
+  ASSERT_TRUE(r.Next(&line));
+  const std::string msg = ErrorOf([&] { r.Numbers(SplitFields(line)); });
+  EXPECT_THAT(msg, HasSubstr(path + ":1: value 2 'yyy"));
+  EXPECT_LT(msg.size(), path.size() + 150) << msg;
+  EXPECT_THAT(ErrorOf([&] { r.Next(&line); }),
+              HasSubstr(path + ":2: line 2 longer than 1048576 bytes"));
+}
+
 TEST(LineReader, MissingFile) {
   TempDir dir;
   const std::string path = dir.path() + "/none.txt";

@@ -126,6 +126,12 @@ struct Scene {
   double gravity = kStandardGravity;
 
   int total_rocks() const;
+  // An upper estimate of the steps of a run: every rock in contact for
+  // max_time at the shortest contact step of the scene's materials.
+  double EstimatedSteps() const;
+  // options.IsValid, 1 to kMaxRocks rocks, and EstimatedSteps() at most
+  // kMaxEstimatedSteps; on failure sets *error (value and rule) and returns false.
+  bool IsValid(std::string* error) const;
   // Spreads `total` rocks over the groups in proportion to their counts
   // (largest remainder, ties to the earlier group), keeping their order.
   void SetTotalRocks(int total);

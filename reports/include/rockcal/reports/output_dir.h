@@ -1,17 +1,58 @@
-// An output folder that appears whole or not at all: files are written into a
-// temporary sibling folder and renamed into place by Commit().
+// Output folders and files that appear whole or not at all, that replace
+// only what rockcal wrote, and whose failures name the output and the cause.
+//
+// Every output folder rockcal creates holds a marker file, kOutputMarker
+// (JSON: the tool, its version, the command and "complete"). --force
+// replaces only a folder that holds the marker and is none of the run's
+// inputs, contains none and lies inside none.
 #ifndef ROCKCAL_REPORTS_OUTPUT_DIR_H_
 #define ROCKCAL_REPORTS_OUTPUT_DIR_H_
 
+#include <optional>
 #include <string>
+#include <vector>
 
 namespace rockcal::reports {
 
+inline constexpr const char kOutputMarker[] = ".rockcal-output";
+
+// Who writes an output folder: the command ("simulate", ...) for the marker,
+// and the files and folders the run reads, which the output must not touch.
+struct OutputOrigin {
+  std::string command;
+  std::vector<std::string> inputs;
+};
+
+// Throws InputError unless the folder `path` is none of `inputs`, contains
+// none and lies inside none (compared as canonical paths). An empty path is
+// refused.
+void CheckOutputAgainstInputs(const std::string& path, const std::vector<std::string>& inputs);
+
+// Throws InputError (nothing is touched) unless the folder `path` may be
+// written: it must not be, contain or lie inside any of `inputs` (compared as
+// canonical paths), and an existing `path` needs `force` and must hold the
+// marker. `force_flag` names the option in messages. An empty path is refused.
+void CheckOutputFolder(const std::string& path, bool force, const std::vector<std::string>& inputs,
+                       const std::string& force_flag = "--force");
+
+// Writes the marker into `folder` (atomically), with "complete" when given
+// (a calibration folder has none: its calibration.json says it is complete).
+void WriteOutputMarker(const std::string& folder, const std::string& command,
+                       std::optional<bool> complete);
+
+// Whether `folder` holds the marker.
+bool HasOutputMarker(const std::string& folder);
+
+// Removes what killed runs left beside or inside an output: the entries of
+// folder `dir` named `prefix` + ".tmp-PID" or ".old-PID" (`prefix` empty: any
+// name) whose process PID no longer exists. Returns how many were removed.
+int RemoveStaleTemporaries(const std::string& dir, const std::string& prefix);
+
 class OutputDir final {
  public:
-  // Throws InputError if `path` exists and `force` is false (nothing is
-  // touched), or if its parent folder does not exist.
-  OutputDir(std::string path, bool force);
+  // Checks `path` with CheckOutputFolder (InputError, nothing touched), removes
+  // stale temporaries of earlier killed runs and creates the temporary folder.
+  OutputDir(std::string path, bool force, OutputOrigin origin = {});
   ~OutputDir();  // removes the temporary folder unless committed
   OutputDir(const OutputDir&) = delete;
   OutputDir& operator=(const OutputDir&) = delete;
@@ -20,17 +61,25 @@ class OutputDir final {
   std::string File(const std::string& name) const;
   // The temporary folder itself.
   const std::string& folder() const { return temp_; }
-  // Replaces `path` by the temporary folder (an existing one only with force).
+  // Writes the marker and replaces `path` by the temporary folder (an
+  // existing one only with force).
   void Commit();
   const std::string& path() const { return path_; }
 
  private:
   std::string path_, temp_;
   bool force_ = false, committed_ = false;
+  OutputOrigin origin_;
 };
 
-// Writes `text` to `path` through a temporary file renamed into place.
+// Writes `text` to `path` through a temporary file renamed into place. A
+// failure throws std::runtime_error naming `path` and the cause (strerror,
+// e.g. "No space left on device"); the temporary file is removed.
 void WriteFileAtomically(const std::string& path, const std::string& text);
+
+// Writes `text` to the file `file` (created or truncated) and closes it. A
+// failure throws std::runtime_error naming `output` and the cause.
+void WriteWholeFile(const std::string& output, const std::string& file, const std::string& text);
 
 }  // namespace rockcal::reports
 

@@ -16,11 +16,15 @@ nlohmann::json SummaryJson(const core::Scene& scene, const core::SimulationResul
 // energy gain, non-finite and tunneled rocks.
 nlohmann::json DiagnosticsJson(const core::Scene& scene, const core::SimulationResult& result);
 // One row per rock; partition columns in site order (empty where not crossed).
+// A non-finite value throws std::runtime_error (an internal failure) naming
+// the file, the rock and the column; it is never written as "inf" or "nan".
 std::string RocksCsv(const core::Scene& scene, const core::SimulationResult& result);
 // rock,t,x,y,z,vx,vy,vz,wx,wy,wz for the rocks that recorded a trajectory.
 std::string TrajectoriesCsv(const core::SimulationResult& result);
 // Writes summary.json, diagnostics.json, rocks.csv and (when recorded)
-// trajectories.csv into `folder`, each through a temporary file.
+// trajectories.csv into `folder`, each through a temporary file. A
+// non-finite value in any of them throws std::runtime_error (an internal
+// failure, exit 1) naming the file and where, before anything is written.
 void WriteSimulationFiles(const std::string& folder, const core::Scene& scene,
                           const core::SimulationResult& result);
 

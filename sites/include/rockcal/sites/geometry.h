@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "rockcal/core/terrain.h"
@@ -15,6 +16,13 @@ using Polygon = std::vector<Eigen::Vector2d>;
 
 // Signed area (positive counter-clockwise).
 double SignedArea(const Polygon& polygon);
+
+// The first pair of edges (i, j), i < j, edge k running from vertex k to
+// vertex k + 1 (the last edge closes the ring; repeated vertices are dropped
+// first), that cross or touch although
+// they are not neighbours, or that overlap as neighbours; nullopt when the
+// polygon is simple.
+std::optional<std::pair<int, int>> FindSelfIntersection(const Polygon& polygon);
 
 // True when p is inside the polygon or on its boundary (within 1e-9 of the
 // polygon's size). Even-odd rule, so a self-intersecting polygon keeps the

@@ -77,6 +77,19 @@ const char* LengthUnit(Units units);
 // Unit weight in the file's units (lbf/ft^3 or kN/m^3) -> N/m^3.
 double UnitWeightToSI(double value, Units units);
 
+// Physical plausibility (core/limits.h): fails at `node` unless lo <= value
+// <= hi, all three in SI; `what` names the quantity and `kind` says how to
+// show it in the file's units; `why`, if given, ends the message. The
+// message names file, path, value and range.
+enum class Quantity { kLength, kSpeed, kUnitWeight, kTime };
+double NumberInRange(const JsonNode& node, double value, double lo, double hi, const char* what,
+                     Quantity kind, Units units, const char* why = nullptr);
+// A coordinate (file units) of a point -> SI, within +-kMaxCoordinate.
+double CoordinateToSI(const JsonNode& node, Units units);
+// The n coordinates of `node` (an array of n numbers) -> SI, each within
+// +-kMaxCoordinate.
+std::vector<double> CoordinatesToSI(const JsonNode& node, std::size_t n, Units units);
+
 }  // namespace rockcal::sites
 
 #endif  // ROCKCAL_SITES_JSON_READER_H_

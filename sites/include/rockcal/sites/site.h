@@ -21,6 +21,8 @@ struct ParameterBound {
 
 struct Site {
   std::string path;  // the site file
+  // Every file the site reads: the site file and its data files.
+  std::vector<std::string> input_files;
   Units units = Units::kUS;
   core::Scene scene;
   // The class of each material of scene.materials (same order): the

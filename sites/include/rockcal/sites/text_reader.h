@@ -27,6 +27,16 @@ std::vector<std::string> SplitFields(const std::string& line);
 // True when the line holds only blanks.
 bool IsBlank(const std::string& line);
 
+// At most kMaxExcerpt characters of `text` for a message, quoted, with
+// non-printable bytes escaped (\xNN) and "..." when cut: a message never
+// carries a whole line of another file, nor its control characters.
+inline constexpr std::size_t kMaxExcerpt = 80;
+std::string Excerpt(const std::string& text);
+
+// The longest line a text data file may have (bytes); a longer one (e.g.
+// /dev/zero or a binary file given as text) is an error at once.
+inline constexpr std::size_t kMaxLineBytes = 1 << 20;
+
 // Reads a text file one line at a time, counting lines from 1.
 class LineReader final {
  public:
@@ -34,6 +44,7 @@ class LineReader final {
   explicit LineReader(std::string path);
 
   // Reads the next line (without its end of line); false at the end.
+  // Throws InputError "file:LINE: line longer than ..." past kMaxLineBytes.
   bool Next(std::string* line);
   const std::string& path() const { return path_; }
   int line() const { return line_; }

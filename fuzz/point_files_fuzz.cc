@@ -1,0 +1,17 @@
+// The point-cloud and CRSP LIDAR text readers.
+#include "fuzz_input.h"
+#include "rockcal/core/error.h"
+#include "rockcal/sites/point_files.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string path = rockcal::fuzz::WriteInput(data, size, "_points.txt");
+  try {
+    rockcal::sites::ReadPointsFile(path);
+  } catch (const rockcal::InputError&) {
+  }
+  try {
+    rockcal::sites::ReadLidarFile(path);
+  } catch (const rockcal::InputError&) {
+  }
+  return 0;
+}

@@ -1,0 +1,156 @@
+#include "rockcal/reports/output_dir.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <string>
+
+#include "rockcal/core/error.h"
+
+namespace rockcal::reports {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+// A fresh folder named after the running test.
+std::string Fresh(const std::string& name) {
+  const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::string dir = ::testing::TempDir() + "/rockcal_output_dir_" + info->name() + "_" +
+                          std::to_string(::getpid()) + "_" + name;
+  fs::remove_all(dir);
+  return dir;
+}
+
+std::string Slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string InputErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "expected an InputError";
+  return "";
+}
+
+// The PID of a process that has exited (and been reaped).
+pid_t DeadPid() {
+  const pid_t pid = ::fork();
+  if (pid == 0) ::_exit(0);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return pid;
+}
+
+TEST(OutputDir, CommitWritesTheMarkerAndForceReplacesAMarkedFolder) {
+  const std::string out = Fresh("out");
+  {
+    OutputDir dir(out, false, {"simulate", {}});
+    std::ofstream(dir.File("a.txt")) << "a";
+    dir.Commit();
+  }
+  EXPECT_THAT(Slurp(out + "/.rockcal-output"), HasSubstr("\"command\": \"simulate\""));
+  EXPECT_THAT(Slurp(out + "/.rockcal-output"), HasSubstr("\"complete\": true"));
+  EXPECT_THAT(InputErrorOf([&] { OutputDir dir(out, false); }), HasSubstr("--force"));
+  {
+    OutputDir dir(out, true, {"simulate", {}});
+    std::ofstream(dir.File("b.txt")) << "b";
+    dir.Commit();
+  }
+  EXPECT_FALSE(fs::exists(out + "/a.txt"));
+  EXPECT_TRUE(fs::exists(out + "/b.txt"));
+}
+
+TEST(OutputDir, ForceRefusesAFolderWithoutTheMarker) {
+  const std::string out = Fresh("proj");
+  fs::create_directories(out);
+  std::ofstream(out + "/site.json") << "{}";
+  const std::string msg = InputErrorOf([&] { OutputDir dir(out, true); });
+  EXPECT_THAT(msg, HasSubstr(out + ": holds no .rockcal-output file"));
+  EXPECT_TRUE(fs::exists(out + "/site.json"));
+  // A file is no output folder either.
+  EXPECT_THAT(InputErrorOf([&] { OutputDir dir(out + "/site.json", true); }),
+              HasSubstr("is not a folder"));
+  EXPECT_TRUE(fs::exists(out + "/site.json"));
+}
+
+TEST(OutputDir, RefusesAFolderThatIsHoldsOrLiesInsideAnInput) {
+  const std::string proj = Fresh("proj");
+  fs::create_directories(proj + "/data");
+  std::ofstream(proj + "/site.json") << "{}";
+  std::ofstream(proj + "/.rockcal-output") << "{}";  // even one marked as rockcal's
+  const std::string site = proj + "/site.json";
+  EXPECT_THAT(InputErrorOf([&] {
+                OutputDir dir(proj, true, {"simulate", {site}});
+              }),
+              HasSubstr("contains " + site + ", an input of this run"));
+  EXPECT_THAT(InputErrorOf([&] {
+                OutputDir dir(proj + "/./data/..", true, {"simulate", {site}});
+              }),
+              HasSubstr("an input of this run"));
+  EXPECT_THAT(InputErrorOf([&] {
+                OutputDir dir(site, true, {"simulate", {site}});
+              }),
+              HasSubstr("is an input of this run"));
+  EXPECT_THAT(InputErrorOf([&] {
+                OutputDir dir(proj + "/data/out", false, {"table", {proj}});
+              }),
+              HasSubstr("lies inside " + proj));
+  EXPECT_TRUE(fs::exists(site));
+  EXPECT_THAT(InputErrorOf([&] { OutputDir dir("", false); }), HasSubstr("is empty"));
+}
+
+TEST(OutputDir, RemovesTheTemporariesOfKilledRuns) {
+  const std::string out = Fresh("out");
+  const std::string dead = std::to_string(DeadPid());
+  const std::string alive = std::to_string(::getppid());
+  fs::create_directories(out + ".tmp-" + dead);
+  fs::create_directories(out + ".tmp-" + alive);
+  fs::create_directories(out + "x.tmp-" + dead);  // another output's
+  {
+    OutputDir dir(out, false);
+    dir.Commit();
+  }
+  EXPECT_FALSE(fs::exists(out + ".tmp-" + dead));
+  EXPECT_TRUE(fs::exists(out + ".tmp-" + alive));
+  EXPECT_TRUE(fs::exists(out + "x.tmp-" + dead));
+  fs::remove_all(out + ".tmp-" + alive);
+  fs::remove_all(out + "x.tmp-" + dead);
+
+  std::ofstream(out + "/parameters.json.tmp-" + dead) << "half";
+  EXPECT_EQ(RemoveStaleTemporaries(out, ""), 1);
+  EXPECT_FALSE(fs::exists(out + "/parameters.json.tmp-" + dead));
+}
+
+TEST(WriteFile, DiskFullNamesTheOutputAndTheCause) {
+  try {
+    WriteWholeFile("summary.json", "/dev/full", std::string(1 << 16, 'x'));
+    ADD_FAILURE() << "expected a failure";
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("cannot write summary.json"));
+    EXPECT_THAT(e.what(), HasSubstr("No space left on device"));
+  }
+  const std::string dir = Fresh("absent");
+  try {
+    WriteFileAtomically(dir + "/rocks.csv", "x");
+    ADD_FAILURE() << "expected a failure";
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("cannot write " + dir + "/rocks.csv"));
+    EXPECT_THAT(e.what(), HasSubstr("No such file or directory"));
+  }
+}
+
+}  // namespace
+}  // namespace rockcal::reports
