@@ -8,6 +8,7 @@
 
 #include "args.h"
 #include "progress.h"
+#include "rockcal/calibrate/recording.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/observations/observations.h"
@@ -45,10 +46,14 @@ int Simulate(const std::vector<std::string>& argv) {
   if (args.Has("seed"))
     scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
   scene.options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
-  scene.options.record.trajectories = static_cast<int>(args.Integer("trajectories", 0, 0, 1000000));
+  calibrate::RecordingNeeds needs;  // summary.json, rocks.csv, diagnostics.json, trajectories.csv
+  needs.partitions = true;
+  needs.energy_check = true;
+  needs.trajectories = static_cast<int>(args.Integer("trajectories", 0, 0, 1000000));
   if (args.Has("sample-seconds") && !args.Has("trajectories"))
     throw InputError("argument --sample-seconds", "goes with --trajectories N");
-  scene.options.record.sample_seconds = args.Number("sample-seconds", 0.05, 1e-6, 1e6);
+  needs.sample_seconds = args.Number("sample-seconds", 0.05, 1e-6, 1e6);
+  scene.options.record = calibrate::RecordingFor(scene, needs);
   std::string error;
   if (!scene.options.IsValid(&error)) throw InputError(site_path, error);
 
@@ -59,9 +64,8 @@ int Simulate(const std::vector<std::string>& argv) {
   // they are recorded on a copy so that trajectories.csv is still written
   // only when --trajectories asks for it.
   core::Scene recorded = scene;
-  recorded.options.record.passages = true;
-  if (recorded.options.record.trajectories == 0)
-    recorded.options.record.trajectories = std::min(scene.total_rocks(), 30);
+  needs.report = true;
+  recorded.options.record = calibrate::RecordingFor(scene, needs);
   const core::SimulationResult result =
       core::Simulate(recorded, terrain, [&](int done, int total) { progress.Update(done, total); });
   reports::WriteSimulationFiles(dir.folder(), scene, result);

@@ -116,7 +116,7 @@ class Evaluator final {
     return replayed_offset_ + std::chrono::duration<double>(Clock::now() - resumed_).count();
   }
 
-  MethodResult Finish(std::string termination) {
+  MethodResult Finish(Termination termination) {
     MethodResult r;
     r.method = method_;
     r.termination = std::move(termination);
@@ -153,27 +153,28 @@ class Evaluator final {
 };
 
 
-std::string NloptResultName(nlopt::result r) {
+Termination NloptTermination(nlopt::result r) {
+  using T = TerminationType;
   switch (r) {
     case nlopt::SUCCESS:
-      return "success";
+      return {T::kConverged, "success"};
     case nlopt::STOPVAL_REACHED:
-      return "target misfit reached";
+      return {T::kConverged, "target misfit reached"};
     case nlopt::FTOL_REACHED:
-      return "misfit converged (ftol)";
+      return {T::kConverged, "misfit converged (ftol)"};
     case nlopt::XTOL_REACHED:
-      return "parameters converged (xtol)";
+      return {T::kConverged, "parameters converged (xtol)"};
     case nlopt::MAXEVAL_REACHED:
-      return "evaluation budget used";
+      return {T::kBudgetUsed, "evaluation budget used"};
     case nlopt::MAXTIME_REACHED:
-      return "time budget used";
+      return {T::kBudgetUsed, "time budget used"};
     default:
-      return "stopped (" + std::to_string(static_cast<int>(r)) + ")";
+      return {T::kStopped, "stopped (" + std::to_string(static_cast<int>(r)) + ")"};
   }
 }
 
 // Runs one NLopt algorithm from `unit` with at most `evals` evaluations.
-std::string RunNlopt(nlopt::algorithm algorithm, std::vector<double> unit, int evals,
+Termination RunNlopt(nlopt::algorithm algorithm, std::vector<double> unit, int evals,
                      const MethodOptions& options, Evaluator* ev) {
   const unsigned n = static_cast<unsigned>(unit.size());
   nlopt::opt opt(algorithm, n);
@@ -210,13 +211,14 @@ std::string RunNlopt(nlopt::algorithm algorithm, std::vector<double> unit, int e
       &data);
   double f = 0.0;
   try {
-    return NloptResultName(opt.optimize(unit, f));
+    return NloptTermination(opt.optimize(unit, f));
   } catch (const nlopt::forced_stop&) {
-    return ev->exhausted() ? "budget used" : "stopped";
+    if (ev->exhausted()) return {TerminationType::kBudgetUsed, "budget used"};
+    return {TerminationType::kStopped, "stopped"};
   } catch (const nlopt::roundoff_limited&) {
-    return "round-off limited";
+    return {TerminationType::kStopped, "round-off limited"};
   } catch (const std::exception& e) {
-    return std::string("nlopt: ") + e.what();
+    return {TerminationType::kFailed, std::string("nlopt: ") + e.what()};
   }
 }
 
@@ -307,7 +309,7 @@ Uncertainty JacobianUncertainty(const Eigen::MatrixXd& j_unit, double misfit,
 }
 
 // Runs Ceres from `unit` within the evaluator's budget; returns why it stopped.
-std::string RunCeres(std::vector<double> unit, const MethodOptions& options, Evaluator* ev) {
+Termination RunCeres(std::vector<double> unit, const MethodOptions& options, Evaluator* ev) {
   const int n = static_cast<int>(unit.size());
   // Unit box -> unbounded t = log(u / (1 - u)), kept away from the edges.
   std::vector<double> w(static_cast<std::size_t>(n));
@@ -338,7 +340,18 @@ std::string RunCeres(std::vector<double> unit, const MethodOptions& options, Eva
   so.update_state_every_iteration = false;
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
-  return ev->exhausted() ? "budget used" : summary.message;
+  if (ev->exhausted()) return {TerminationType::kBudgetUsed, "budget used"};
+  switch (summary.termination_type) {
+    case ceres::CONVERGENCE:
+    case ceres::USER_SUCCESS:
+      return {TerminationType::kConverged, summary.message};
+    case ceres::NO_CONVERGENCE:
+      return {TerminationType::kBudgetUsed, summary.message};
+    case ceres::FAILURE:
+    case ceres::USER_FAILURE:
+      return {TerminationType::kFailed, summary.message};
+  }
+  return {TerminationType::kStopped, summary.message};
 }
 
 // Uncertainty at the calibrated values: the Jacobian by central differences
@@ -405,7 +418,7 @@ std::string Agreement(const SmoothedEstimate& s, double lowest) {
 // the first stage's stencil is then centred on the lowest evaluation, and
 // after the second the lowest evaluation stands. Without `smoothed`, the
 // lowest evaluation.
-MethodResult Conclude(Evaluator* ev, std::string termination, bool smoothed,
+MethodResult Conclude(Evaluator* ev, Termination termination, bool smoothed,
                       const MethodOptions& options, const Objective& objective) {
   const ParameterSpace& space = objective.space();
   const int n = space.size();
@@ -603,6 +616,20 @@ std::string MethodList() {
 
 bool IsMethod(const std::string& name) { return FindMethod(name) != nullptr; }
 
+const char* TerminationName(TerminationType type) {
+  switch (type) {
+    case TerminationType::kConverged:
+      return "converged";
+    case TerminationType::kBudgetUsed:
+      return "budget used";
+    case TerminationType::kStopped:
+      return "stopped";
+    case TerminationType::kFailed:
+      return "failed";
+  }
+  return "?";
+}
+
 EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace& space,
                              std::uint64_t seed, int rocks)
     : path_(std::move(path)), seed_(seed), rocks_(rocks) {
@@ -687,12 +714,12 @@ MethodResult RunMethod(const std::string& method, const Objective& objective,
   if (smoothed) ev.Reserve(SmoothingEvaluations(n));
   const std::vector<double> unit = objective.space().ToUnit(start);
   if (info->ceres) {
-    const std::string termination = RunCeres(unit, options, &ev);
+    const Termination termination = RunCeres(unit, options, &ev);
     MethodResult result = Conclude(&ev, termination, smoothed, options, objective);
     result.uncertainty = CeresUncertainty(result, objective);
     return result;
   }
-  std::string termination;
+  Termination termination;
   if (!info->global) {
     // A Monte Carlo misfit is rugged: a local method that converged may sit
     // in a dip of the noise. Restart it from its best point with a fresh
@@ -708,17 +735,21 @@ MethodResult RunMethod(const std::string& method, const Objective& objective,
       ++restarts;
       if (!(ev.best_misfit() < before * (1 - 1e-6))) restart.initial_step /= 2;
     }
-    if (restarts > 0) termination += "; " + std::to_string(restarts) + " restart(s) from the best point";
-    if (ev.exhausted() && termination.find("budget") == std::string::npos)
-      termination += "; budget used";
+    if (restarts > 0)
+      termination.message += "; " + std::to_string(restarts) + " restart(s) from the best point";
+    if (ev.exhausted() && termination.type != TerminationType::kBudgetUsed) {
+      termination.message += "; budget used";
+      termination.type = TerminationType::kBudgetUsed;
+    }
   } else {
     // Global search, then a local polish from its best point.
     const int global = std::max(2, static_cast<int>(ev.remaining() * (1 - options.polish_fraction)));
     termination = RunNlopt(info->algorithm, unit, global, options, &ev);
     if (!ev.exhausted() && ev.remaining() >= 2 && !ev.best().empty()) {
-      termination += "; polished with nlopt:bobyqa: " +
-                     RunNlopt(nlopt::LN_BOBYQA, objective.space().ToUnit(ev.best()),
-                              ev.remaining(), options, &ev);
+      const Termination polish = RunNlopt(nlopt::LN_BOBYQA, objective.space().ToUnit(ev.best()),
+                                          ev.remaining(), options, &ev);
+      termination.message += "; polished with nlopt:bobyqa: " + polish.message;
+      termination.type = polish.type;
     }
   }
   return Conclude(&ev, termination, smoothed, options, objective);

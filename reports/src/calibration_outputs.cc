@@ -60,7 +60,7 @@ nlohmann::json ResidualsJson(const observations::Misfit& m) {
 
 }  // namespace
 
-nlohmann::json ParametersJson(const CalibrationRecord& record) {
+nlohmann::json ParametersJson(const CalibrationSummary& record) {
   const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
   nlohmann::json params = nlohmann::json::array();
   const auto& ps = record.space.parameters();
@@ -84,7 +84,7 @@ nlohmann::json ParametersJson(const CalibrationRecord& record) {
   return out;
 }
 
-std::string ParametersCsv(const CalibrationRecord& record) {
+std::string ParametersCsv(const CalibrationSummary& record) {
   const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
   std::ostringstream out;
   out << "material,class,name,value,lower,upper,std_error,unit\n";
@@ -99,7 +99,7 @@ std::string ParametersCsv(const CalibrationRecord& record) {
   return out.str();
 }
 
-std::string ParametersMarkdown(const CalibrationRecord& record) {
+std::string ParametersMarkdown(const CalibrationSummary& record) {
   const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
   std::ostringstream out;
   out << "| material | class | parameter | calibrated | std. error | start | bounds |\n"
@@ -124,7 +124,7 @@ std::string ParametersMarkdown(const CalibrationRecord& record) {
   return out.str();
 }
 
-std::string TraceCsv(const CalibrationRecord& record) {
+std::string TraceCsv(const CalibrationSummary& record) {
   std::ostringstream out;
   out << "method,evaluation,wall_seconds,misfit,best_misfit";
   for (const auto& p : record.space.parameters()) out << ',' << p.label();
@@ -142,13 +142,13 @@ std::string TraceCsv(const CalibrationRecord& record) {
   return out.str();
 }
 
-double LowestMisfitOfAll(const CalibrationRecord& record) {
+double LowestMisfitOfAll(const CalibrationSummary& record) {
   double lowest = std::numeric_limits<double>::infinity();
   for (const auto& m : record.methods) lowest = std::min(lowest, m.lowest_misfit);
   return lowest;
 }
 
-nlohmann::json CalibrationJson(const CalibrationRecord& record) {
+nlohmann::json CalibrationJson(const CalibrationSummary& record) {
   const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
   const double best_all = LowestMisfitOfAll(record);
   nlohmann::json methods = nlohmann::json::array();
@@ -163,7 +163,7 @@ nlohmann::json CalibrationJson(const CalibrationRecord& record) {
     }
     const double reach = calibrate::TimeToReach(m, best_all, 0.1);
     methods.push_back({{"method", m.method},
-                       {"termination", m.termination},
+                       {"termination", m.termination.message},
                        {"misfit", m.best_misfit},
                        {"parameters", m.best},
                        {"evaluations", m.evaluations},
@@ -185,7 +185,7 @@ nlohmann::json CalibrationJson(const CalibrationRecord& record) {
   for (const auto& p : record.space.parameters()) names.push_back(p.label());
   return {{"site", record.site},
           {"method", best.method},
-          {"termination", best.termination},
+          {"termination", best.termination.message},
           {"evaluations", best.evaluations},
           {"wall_seconds", record.wall_seconds},
           {"rocks_per_evaluation", record.rocks},
@@ -200,14 +200,14 @@ nlohmann::json CalibrationJson(const CalibrationRecord& record) {
           {"methods", methods}};
 }
 
-std::string ComparisonCsv(const CalibrationRecord& record) {
+std::string ComparisonCsv(const CalibrationSummary& record) {
   const double best_all = LowestMisfitOfAll(record);
   std::ostringstream out;
   out << "method,misfit,lowest_misfit,evaluations,simulated,wall_seconds,"
          "seconds_to_within_10pct_of_best,termination\n";
   for (const MethodResult& m : record.methods) {
     const double reach = calibrate::TimeToReach(m, best_all, 0.1);
-    std::string term = m.termination;
+    std::string term = m.termination.message;
     std::replace(term.begin(), term.end(), ',', ';');
     out << m.method << ',' << Num(m.best_misfit, "%.6g") << ',' << Num(m.lowest_misfit, "%.6g")
         << ',' << m.evaluations << ',' << m.simulated << ',' << Num(m.wall_seconds, "%.2f") << ','
@@ -216,7 +216,7 @@ std::string ComparisonCsv(const CalibrationRecord& record) {
   return out.str();
 }
 
-std::string ComparisonMarkdown(const CalibrationRecord& record) {
+std::string ComparisonMarkdown(const CalibrationSummary& record) {
   const double best_all = LowestMisfitOfAll(record);
   std::ostringstream out;
   out << "| method | misfit | lowest evaluated | evaluations | wall s | s to within 10 % of "
@@ -227,7 +227,7 @@ std::string ComparisonMarkdown(const CalibrationRecord& record) {
     out << "| " << m.method << " | " << Num(m.best_misfit, "%.4g") << " | "
         << Num(m.lowest_misfit, "%.4g") << " | " << m.evaluations
         << " | " << Num(m.wall_seconds, "%.1f") << " | "
-        << (reach >= 0 ? Num(reach, "%.1f") : std::string("never")) << " | " << m.termination
+        << (reach >= 0 ? Num(reach, "%.1f") : std::string("never")) << " | " << m.termination.message
         << " |\n";
   }
   return out.str();

@@ -120,9 +120,26 @@ struct SmoothedEstimate {
   double evaluated_misfit = 0.0;  // the misfit evaluated at the estimate
 };
 
+// Why a method stopped.
+enum class TerminationType {
+  kConverged,   // the optimiser's own tolerance was met
+  kBudgetUsed,  // the evaluation or time budget of MethodOptions ran out
+  kStopped,     // the optimiser gave up (round-off, a stop it reports)
+  kFailed,      // the optimiser threw an error
+};
+// "converged", "budget used", "stopped", "failed".
+const char* TerminationName(TerminationType type);
+
+struct Termination {
+  TerminationType type = TerminationType::kConverged;
+  // The detail as the optimiser gave it, with what rockcal added (restarts,
+  // the polish), e.g. "parameters converged (xtol); 2 restart(s) from the best point".
+  std::string message;
+};
+
 struct MethodResult {
   std::string method;
-  std::string termination;  // why it stopped
+  Termination termination;  // why it stopped
   std::vector<double> best;  // the calibrated values (physical)
   double best_misfit = 0.0;  // the misfit evaluated at `best`
   // The evaluation with the lowest misfit (equal to best/best_misfit unless

@@ -1,0 +1,117 @@
+#include "rockcal/calibrate/calibration_run.h"
+
+#include <chrono>
+#include <sstream>
+#include <stdexcept>
+
+#include "rockcal/calibrate/objective.h"
+#include "rockcal/calibrate/recording.h"
+#include "rockcal/core/error.h"
+
+namespace rockcal::calibrate {
+
+bool CalibrationOptions::IsValid(std::string* error) const {
+  std::ostringstream s;
+  if (methods.empty()) {
+    s << "methods: empty; give at least one of " << MethodList();
+  } else if (rocks < 0) {
+    s << "rocks = " << rocks << ": must be >= 0 (0: the site's counts)";
+  } else if (threads < 0) {
+    s << "threads = " << threads << ": must be >= 0 (0: OpenMP's default)";
+  } else if (resume && log_path.empty()) {
+    s << "resume needs a log_path";
+  } else {
+    for (const std::string& m : methods)
+      if (!IsMethod(m)) {
+        s << "methods: unknown method '" << m << "' (allowed: " << MethodList() << ")";
+        *error = s.str();
+        return false;
+      }
+    if (!method.IsValid(error) || !misfit.IsValid(error)) return false;
+    return true;
+  }
+  *error = s.str();
+  return false;
+}
+
+std::string CalibrationSummary::BriefReport() const {
+  std::ostringstream out;
+  out << site << ": misfit " << misfit_before.value << " at the start, " << misfit_after.value
+      << " at the calibrated values";
+  if (!methods.empty()) {
+    const MethodResult& m = best_method();
+    out << " (" << m.method << ", " << m.evaluations << " evaluations, "
+        << TerminationName(termination.type) << ": " << termination.message << ")";
+  }
+  out << "; " << rocks << " rocks per evaluation, seed " << seed << ", " << wall_seconds << " s\n";
+  return out.str();
+}
+
+void CheckCalibration(const sites::Site& site, const CalibrationOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("calibration options", error);
+  ParameterSpace::FromSite(site);
+}
+
+CalibrationSummary Calibrate(const sites::Site& site, const observations::Observations& obs,
+                             const CalibrationOptions& options,
+                             const CalibrationCallbacks& callbacks) {
+  const auto start_time = std::chrono::steady_clock::now();
+  CheckCalibration(site, options);
+  core::Scene scene = site.scene;
+  if (options.rocks > 0) scene.SetTotalRocks(options.rocks);
+  if (options.seed) scene.options.seed = *options.seed;
+  scene.options.threads = options.threads;
+  const ParameterSpace space = ParameterSpace::FromSite(site);
+  MethodOptions method_options = options.method;
+  method_options.seed = scene.options.seed;
+
+  const Objective objective(scene, space, obs, options.misfit);
+  std::optional<EvaluationLog> log;
+  if (!options.log_path.empty())
+    log.emplace(options.log_path, options.resume, space, scene.options.seed, scene.total_rocks());
+
+  CalibrationSummary summary;
+  summary.site = scene.name;
+  summary.units = site.units;
+  summary.grid_spacing_m = scene.grid.spacing;
+  summary.space = space;
+  summary.rocks = scene.total_rocks();
+  summary.seed = scene.options.seed;
+  summary.start = space.Current(scene);
+  summary.misfit_before = objective.Evaluate(summary.start);
+  if (callbacks.started) callbacks.started(summary);
+  for (const std::string& method : options.methods) {
+    if (callbacks.method_started) callbacks.method_started(method);
+    summary.methods.push_back(RunMethod(method, objective, summary.start, method_options,
+                                        log ? &*log : nullptr, callbacks.evaluated));
+    if (callbacks.method_finished) callbacks.method_finished(summary.methods.back());
+  }
+  for (std::size_t k = 1; k < summary.methods.size(); ++k)
+    if (summary.methods[k].best_misfit < summary.best_method().best_misfit)
+      summary.best = static_cast<int>(k);
+  const MethodResult& best = summary.best_method();
+  if (best.best.empty()) throw std::runtime_error("no evaluation finished; nothing to report");
+  summary.termination = best.termination;
+
+  // The site at the calibrated values, simulated with what its files, the
+  // misfit and the report need.
+  summary.calibrated = scene;
+  space.Apply(best.best, &summary.calibrated);
+  RecordingNeeds needs;
+  needs.observations = &obs;
+  needs.partitions = true;
+  needs.energy_check = true;
+  summary.calibrated.options.record = RecordingFor(summary.calibrated, needs);
+  core::Scene recorded = summary.calibrated;
+  needs.report = true;
+  recorded.options.record = RecordingFor(recorded, needs);
+  summary.simulation = core::Simulate(recorded);
+  summary.misfit_after =
+      observations::ComputeMisfit(obs, recorded, summary.simulation, options.misfit);
+  summary.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  return summary;
+}
+
+}  // namespace rockcal::calibrate
