@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <memory>
@@ -630,19 +631,75 @@ const char* TerminationName(TerminationType type) {
   return "?";
 }
 
+std::vector<std::string> Fingerprint::Differences(const Fingerprint& logged) const {
+  std::vector<std::string> out;
+  auto find = [](const Fingerprint& f, const std::string& what) -> const std::string* {
+    for (const auto& [name, value] : f.parts)
+      if (name == what) return &value;
+    return nullptr;
+  };
+  for (const auto& [name, value] : parts) {
+    const std::string* old = find(logged, name);
+    if (!old || *old != value) out.push_back(name);
+  }
+  for (const auto& [name, value] : logged.parts)
+    if (!find(*this, name)) out.push_back(name);
+  return out;
+}
+
+std::string HashFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "cannot read the file to fingerprint it");
+  std::uint64_t h = 14695981039346656037ull;
+  char buffer[65536];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    for (std::streamsize k = 0; k < in.gcount(); ++k) {
+      h ^= static_cast<unsigned char>(buffer[k]);
+      h *= 1099511628211ull;
+    }
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
 EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace& space,
-                             std::uint64_t seed, int rocks)
-    : path_(std::move(path)), seed_(seed), rocks_(rocks) {
+                             std::uint64_t seed, int rocks, Fingerprint fingerprint)
+    : path_(std::move(path)), seed_(seed), rocks_(rocks), fingerprint_(std::move(fingerprint)) {
   for (const auto& p : space.parameters()) names_.push_back(p.label());
   if (resume) {
     std::ifstream in(path_);
     if (!in) throw InputError(path_, "cannot resume: no evaluation log here");
     std::string line;
     int number = 0;
+    bool header = false;
     while (std::getline(in, line)) {
       ++number;
       if (line.empty()) continue;
       const std::string where = path_ + ":" + std::to_string(number);
+      if (!header) {
+        // The header: the fingerprint of the inputs the log was made with.
+        nlohmann::json h = nlohmann::json::parse(line, nullptr, false);
+        if (h.is_discarded() || !h.is_object() || !h.contains("fingerprint") ||
+            !h["fingerprint"].is_object())
+          throw InputError(where,
+                           "no fingerprint header (a log written by an older rockcal, or not an "
+                           "evaluation log): cannot tell whether its evaluations still hold; start "
+                           "afresh with --force instead of --resume");
+        Fingerprint logged;
+        for (const auto& [name, value] : h["fingerprint"].items())
+          logged.Add(name, value.is_string() ? value.get<std::string>() : value.dump());
+        const std::vector<std::string> changed = fingerprint_.Differences(logged);
+        if (!changed.empty()) {
+          std::string list;
+          for (const std::string& c : changed) list += (list.empty() ? "" : ", ") + c;
+          throw InputError(where, "cannot resume: what determines the evaluations changed since "
+                                  "this log was written: " + list +
+                                  "; restore it, or start afresh with --force instead of --resume");
+        }
+        header = true;
+        continue;
+      }
       nlohmann::json j;
       try {
         j = nlohmann::json::parse(line);
@@ -671,6 +728,9 @@ EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace
   // Rewrite the log with the good records only (drops a torn last line).
   std::ofstream out(path_, std::ios::trunc);
   if (!out) throw InputError(path_, "cannot write the evaluation log");
+  nlohmann::json parts = nlohmann::json::object();
+  for (const auto& [name, value] : fingerprint_.parts) parts[name] = value;
+  out << nlohmann::json{{"fingerprint", parts}}.dump() << '\n';
   for (const Evaluation& e : records_) {
     nlohmann::json j = ToJson(e);
     j["seed"] = seed_;

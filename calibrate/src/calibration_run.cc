@@ -1,6 +1,7 @@
 #include "rockcal/calibrate/calibration_run.h"
 
 #include <chrono>
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 
@@ -47,6 +48,61 @@ std::string CalibrationSummary::BriefReport() const {
   return out.str();
 }
 
+namespace {
+
+std::string Numbers(const std::vector<double>& values) {
+  std::ostringstream s;
+  s.precision(17);
+  for (std::size_t k = 0; k < values.size(); ++k) s << (k ? " " : "") << values[k];
+  return s.str();
+}
+
+}  // namespace
+
+Fingerprint CalibrationFingerprint(const sites::Site& site, const observations::Observations& obs,
+                                   const CalibrationOptions& options) {
+  core::Scene scene = site.scene;
+  if (options.rocks > 0) scene.SetTotalRocks(options.rocks);
+  Fingerprint f;
+  const std::vector<std::string> inputs =
+      site.inputs.empty() ? std::vector<std::string>{site.path} : site.inputs;
+  const std::filesystem::path site_dir = std::filesystem::path(site.path).parent_path();
+  for (std::size_t k = 0; k < inputs.size(); ++k) {
+    if (inputs[k].empty()) continue;
+    const std::string name = std::filesystem::path(inputs[k])
+                                 .lexically_relative(site_dir.empty() ? "." : site_dir)
+                                 .string();
+    f.Add(k == 0 ? "site file" : "site data file " + name, HashFile(inputs[k]));
+  }
+  if (!obs.path.empty()) f.Add("observations file", HashFile(obs.path));
+  f.Add("seed", std::to_string(options.seed ? *options.seed : scene.options.seed));
+  f.Add("rocks", std::to_string(scene.total_rocks()));
+  std::string methods;
+  for (const std::string& m : options.methods) methods += (methods.empty() ? "" : ",") + m;
+  f.Add("methods", methods);
+  const MethodOptions& m = options.method;
+  std::ostringstream method;
+  method.precision(17);
+  method << "polish_fraction " << m.polish_fraction << ", initial_step " << m.initial_step
+         << ", ceres_step " << m.ceres_step << ", ceres_loss " << m.ceres_loss << ", estimate "
+         << m.estimate << ", smoothing_radius " << m.smoothing_radius;
+  f.Add("method options", method.str());
+  std::ostringstream misfit;
+  misfit.precision(17);
+  misfit << "levels " << Numbers(options.misfit.levels) << ", include_max "
+         << options.misfit.include_max << ", penalty " << options.misfit.penalty << ", sigma_floor "
+         << options.misfit.sigma_floor;
+  f.Add("misfit options", misfit.str());
+  const ParameterSpace space = ParameterSpace::FromSite(site);
+  std::ostringstream parameters;
+  parameters.precision(17);
+  for (const Parameter& p : space.parameters())
+    parameters << p.label() << " [" << p.lower << ", " << p.upper << "] ";
+  parameters << "start " << Numbers(space.Current(scene));
+  f.Add("parameters", parameters.str());
+  return f;
+}
+
 void CheckCalibration(const sites::Site& site, const CalibrationOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("calibration options", error);
@@ -69,7 +125,8 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
   const Objective objective(scene, space, obs, options.misfit);
   std::optional<EvaluationLog> log;
   if (!options.log_path.empty())
-    log.emplace(options.log_path, options.resume, space, scene.options.seed, scene.total_rocks());
+    log.emplace(options.log_path, options.resume, space, scene.options.seed, scene.total_rocks(),
+                CalibrationFingerprint(site, obs, options));
 
   CalibrationSummary summary;
   summary.site = scene.name;
@@ -94,6 +151,8 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
   if (best.best.empty()) throw std::runtime_error("no evaluation finished; nothing to report");
   summary.termination = best.termination;
 
+  // The site at the calibrated values, simulated with what its files, the
+  // misfit and the report need.
   // The site at the calibrated values, simulated with what its files, the
   // misfit and the report need.
   summary.calibrated = scene;

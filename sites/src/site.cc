@@ -264,6 +264,8 @@ Site LoadSite(const std::string& path) {
   core::HeightGrid& grid = scene.grid;
   const double s = grid.spacing;
   site.notes = surface.notes;
+  site.inputs.push_back(path);
+  site.inputs.insert(site.inputs.end(), surface.files.begin(), surface.files.end());
 
   // Roughness and calibration bounds.
   for (std::size_t k = 0; k < pending.size(); ++k) {

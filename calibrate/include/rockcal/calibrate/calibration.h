@@ -7,6 +7,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rockcal/calibrate/objective.h"
@@ -26,15 +27,35 @@ struct Evaluation {
   bool replayed = false;  // taken from the log of an earlier run
 };
 
-// DIR/evaluations.jsonl: one JSON object per evaluation, appended (and
-// flushed) as each finishes.
+// What determines a calibration's evaluations, as named parts: the hash of a
+// file's bytes, or a value written out ("seed" = "1"). Stored as the first
+// line of the evaluation log, so that a resume can name what changed.
+struct Fingerprint {
+  std::vector<std::pair<std::string, std::string>> parts;  // (what, hash or value), in order
+
+  void Add(std::string what, std::string value) {
+    parts.emplace_back(std::move(what), std::move(value));
+  }
+  // The names of the parts that differ from `logged`'s (changed, added or
+  // missing), in this one's order and then `logged`'s.
+  std::vector<std::string> Differences(const Fingerprint& logged) const;
+};
+
+// FNV-1a (64 bits) of the bytes of `path`, in hex. Throws InputError when the
+// file cannot be read.
+std::string HashFile(const std::string& path);
+
+// DIR/evaluations.jsonl: a header line {"fingerprint": {...}}, then one JSON
+// object per evaluation, appended (and flushed) as each finishes.
 class EvaluationLog final {
  public:
   // Starts a new log at `path` (truncating it), or with `resume` reads the
-  // records already there first. A record that does not belong to this
+  // records already there first. A log whose header's fingerprint differs
+  // from `fingerprint` (the InputError names the parts), a log without a
+  // header (an older rockcal's), or a record that does not belong to this
   // calibration (other parameters, seed or rock count) is an InputError.
   EvaluationLog(std::string path, bool resume, const ParameterSpace& space, std::uint64_t seed,
-                int rocks);
+                int rocks, Fingerprint fingerprint = {});
   // The logged evaluation of `method` at exactly `physical`, if any.
   const Evaluation* Find(const std::string& method, const std::vector<double>& physical) const;
   void Append(const Evaluation& evaluation);
@@ -45,6 +66,7 @@ class EvaluationLog final {
   std::string path_;
   std::uint64_t seed_;
   int rocks_;
+  Fingerprint fingerprint_;
   std::vector<std::string> names_;
   std::vector<Evaluation> records_;
 };

@@ -41,7 +41,6 @@ struct CalibrationOptions {
   // Continue the log at log_path: its evaluations are replayed, not
   // simulated again [false]. Needs log_path.
   bool resume = false;
-
   // Checks each field (the methods' names, the method options, the misfit
   // options); on failure sets *error naming the field, its value and the rule.
   bool IsValid(std::string* error) const;
@@ -85,6 +84,16 @@ struct CalibrationSummary {
   // stopped, the evaluations and the wall time.
   std::string BriefReport() const;
 };
+
+// What determines the evaluations of Calibrate(site, observations, options):
+// the bytes of the site file and of every data file it read (Site::inputs),
+// of the observations file, the seed, the rock count, the methods, the
+// method options (not the budget: a resumed run may be given more
+// evaluations or time), the misfit options and the parameters' bounds and
+// starting values. The thread count is left out (it changes no result).
+Fingerprint CalibrationFingerprint(const sites::Site& site,
+                                   const observations::Observations& observations,
+                                   const CalibrationOptions& options);
 
 // Throws the InputError Calibrate would throw before its first evaluation
 // (invalid options, a site without calibrated parameters), so that a caller

@@ -1,0 +1,94 @@
+// rockcal calibrate end to end: resuming a stopped calibration, and refusing
+// to when what determines its evaluations changed.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli_fixture.h"
+
+namespace rockcal::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::FreshDir;
+using ::testing::HasSubstr;
+using testing::ReadFile;
+using testing::Rockcal;
+using testing::RunResult;
+
+nlohmann::json ReadJson(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+// A copy of the tutorial example (site, points, observations) in `dir`, so
+// that a test may change its files.
+std::string CopyTutorial(const std::string& dir) {
+  const fs::path from = fs::path(ROCKCAL_SOURCE_DIR) / "sites/examples/tutorial";
+  fs::create_directories(dir);
+  for (const char* f : {"site.json", "points.csv", "observations.json"})
+    fs::copy_file(from / f, fs::path(dir) / f, fs::copy_options::overwrite_existing);
+  return dir;
+}
+
+std::string Calibrate(const std::string& site_dir, const std::string& out, int evals,
+                      const std::string& extra = "") {
+  return site_dir + "/site.json --observations " + site_dir +
+         "/observations.json --rocks 4 --seed 2 --max-evals " + std::to_string(evals) +
+         " --quiet --out " + out + " " + extra;
+}
+
+TEST(CalibrateResume, ContinuesLikeAStraightRunAndRefusesChangedInputs) {
+  const std::string site = CopyTutorial(FreshDir("site"));
+  const std::string straight = FreshDir("straight"), stopped = FreshDir("stopped");
+  RunResult r = Rockcal("calibrate " + Calibrate(site, straight, 5));
+  ASSERT_EQ(r.status, 0) << r.err;
+  // A calibration stopped after 3 evaluations, resumed with the full budget.
+  r = Rockcal("calibrate " + Calibrate(site, stopped, 3));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string log = stopped + "/evaluations.jsonl";
+  const std::string first_line = ReadFile(log).substr(0, ReadFile(log).find('\n'));
+  EXPECT_THAT(first_line, HasSubstr("\"fingerprint\""));
+  EXPECT_THAT(first_line, HasSubstr("\"observations file\""));
+  EXPECT_THAT(first_line, HasSubstr("\"site data file points.csv\""));  // Site::inputs
+  r = Rockcal("calibrate " + Calibrate(site, stopped, 5, "--resume"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json a = ReadJson(straight + "/parameters.json");
+  const nlohmann::json b = ReadJson(stopped + "/parameters.json");
+  EXPECT_EQ(a["parameters"], b["parameters"]);
+  EXPECT_EQ(a["misfit"], b["misfit"]);
+  const nlohmann::json cal = ReadJson(stopped + "/calibration.json");
+  EXPECT_EQ(cal["methods"][0]["simulated"].get<int>(), 2) << "3 of 5 evaluations replayed";
+
+  // The observation error changes what every evaluation computes.
+  const std::string obs = ReadFile(site + "/observations.json");
+  nlohmann::json changed = nlohmann::json::parse(obs);
+  changed["error"]["height"] = changed["error"]["height"].get<double>() * 2;
+  std::ofstream(site + "/observations.json") << changed.dump(1);
+  r = Rockcal("calibrate " + Calibrate(site, stopped, 6, "--resume"));
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("observations"));
+  EXPECT_THAT(r.err, HasSubstr("--force"));
+  std::ofstream(site + "/observations.json") << obs;  // restored
+
+  // Another seed: named too.
+  r = Rockcal("calibrate " + site + "/site.json --observations " + site +
+              "/observations.json --rocks 4 --seed 3 --max-evals 6 --quiet --resume --out " +
+              stopped);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("seed"));
+
+  // A log without the header (an older rockcal's) is refused.
+  const std::string text = ReadFile(log);
+  std::ofstream(log) << text.substr(text.find('\n') + 1);
+  r = Rockcal("calibrate " + Calibrate(site, stopped, 6, "--resume"));
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("no fingerprint header"));
+}
+
+}  // namespace
+}  // namespace rockcal::cli
