@@ -9,6 +9,7 @@
 #include "args.h"
 #include "progress.h"
 #include "rockcal/calibrate/recording.h"
+#include "rockcal/calibrate/score.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/observations/observations.h"
@@ -36,10 +37,13 @@ reports::ReportInput SiteReport(const sites::Site& site, const core::Scene& scen
 
 int Simulate(const std::vector<std::string>& argv) {
   const Args args(argv, {"force", "quiet"},
-                  {"rocks", "seed", "set", "trajectories", "sample-seconds", "threads", "out"}, {"set"});
+                  {"rocks", "seed", "set", "parameters", "trajectories", "sample-seconds", "threads",
+                   "out"}, {"set"});
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   sites::Site site = sites::LoadSite(site_path);
+  if (args.Has("parameters"))
+    calibrate::ApplyParameters(calibrate::ReadParametersFile(args.Get("parameters")), &site.scene);
   for (const std::string& kv : args.All("set")) sites::ApplySetting(kv, &site);
   core::Scene& scene = site.scene;
   if (args.Has("rocks")) scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, 100000000)));

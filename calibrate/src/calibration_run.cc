@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "rockcal/calibrate/objective.h"
-#include "rockcal/calibrate/recording.h"
+#include "rockcal/calibrate/score.h"
 #include "rockcal/core/error.h"
 
 namespace rockcal::calibrate {
@@ -114,10 +114,7 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
                              const CalibrationCallbacks& callbacks) {
   const auto start_time = std::chrono::steady_clock::now();
   CheckCalibration(site, options);
-  core::Scene scene = site.scene;
-  if (options.rocks > 0) scene.SetTotalRocks(options.rocks);
-  if (options.seed) scene.options.seed = *options.seed;
-  scene.options.threads = options.threads;
+  const core::Scene scene = RunScene(site, options.rocks, options.seed, options.threads);
   const ParameterSpace space = ParameterSpace::FromSite(site);
   MethodOptions method_options = options.method;
   method_options.seed = scene.options.seed;
@@ -153,21 +150,12 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
 
   // The site at the calibrated values, simulated with what its files, the
   // misfit and the report need.
-  // The site at the calibrated values, simulated with what its files, the
-  // misfit and the report need.
-  summary.calibrated = scene;
-  space.Apply(best.best, &summary.calibrated);
-  RecordingNeeds needs;
-  needs.observations = &obs;
-  needs.partitions = true;
-  needs.energy_check = true;
-  summary.calibrated.options.record = RecordingFor(summary.calibrated, needs);
-  core::Scene recorded = summary.calibrated;
-  needs.report = true;
-  recorded.options.record = RecordingFor(recorded, needs);
-  summary.simulation = core::Simulate(recorded);
-  summary.misfit_after =
-      observations::ComputeMisfit(obs, recorded, summary.simulation, options.misfit);
+  core::Scene calibrated = scene;
+  space.Apply(best.best, &calibrated);
+  ScoreSummary score = Score(calibrated, obs, options.misfit);
+  summary.calibrated = std::move(score.scene);
+  summary.simulation = std::move(score.simulation);
+  summary.misfit_after = std::move(score.misfit);
   summary.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return summary;

@@ -90,5 +90,52 @@ TEST(CalibrateResume, ContinuesLikeAStraightRunAndRefusesChangedInputs) {
   EXPECT_THAT(r.err, HasSubstr("no fingerprint header"));
 }
 
+TEST(Score, CalibratedValuesScoreAsTheCalibrationDid) {
+  const std::string site = CopyTutorial(FreshDir("site"));
+  const std::string cal = FreshDir("cal"), score = FreshDir("score"), sim = FreshDir("sim");
+  RunResult r = Rockcal("calibrate " + Calibrate(site, cal, 3));
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = Rockcal("score " + site + "/site.json --observations " + site +
+              "/observations.json --parameters " + cal +
+              "/parameters.json --rocks 4 --seed 2 --quiet --out " + score);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json s = ReadJson(score + "/score.json");
+  const nlohmann::json c = ReadJson(cal + "/calibration.json");
+  // The same scene, rocks and seed: the same simulation and misfit.
+  EXPECT_EQ(s["misfit"].get<double>(), c["misfit_after"].get<double>());
+  ASSERT_EQ(s["residuals"].size(), c["fit"].size());
+  EXPECT_EQ(s["residuals"][0]["residual"], c["fit"][0]["residual"]);
+  const auto& o = s["outcomes"];
+  EXPECT_EQ(o["stopped"].get<int>() + o["left"].get<int>() + o["timeout"].get<int>(), 4);
+  for (const char* f : {"summary.json", "rocks.csv", "report.html"})
+    EXPECT_TRUE(fs::exists(score + "/" + f)) << f;
+
+  // simulate --parameters takes the same values.
+  r = Rockcal("simulate " + site + "/site.json --parameters " + cal +
+              "/parameters.json --rocks 4 --seed 2 --quiet --out " + sim);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(ReadFile(sim + "/rocks.csv"), ReadFile(score + "/rocks.csv"));
+
+  // A strict reader: an unknown material names the file and the JSON path.
+  nlohmann::json bad = ReadJson(cal + "/parameters.json");
+  bad["parameters"][1]["material"] = "granite";
+  const std::string bad_file = FreshDir("bad") + ".json";
+  std::ofstream(bad_file) << bad.dump(1);
+  r = Rockcal("simulate " + site + "/site.json --parameters " + bad_file + " --rocks 4 --out " +
+              FreshDir("sim2"));
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr(bad_file));
+  EXPECT_THAT(r.err, HasSubstr("$.parameters[1].material"));
+  EXPECT_THAT(r.err, HasSubstr("granite"));
+  bad = ReadJson(cal + "/parameters.json");
+  bad["parameters"][0]["value"] = "hard";
+  std::ofstream(bad_file) << bad.dump(1);
+  r = Rockcal("score " + site + "/site.json --observations " + site +
+              "/observations.json --parameters " + bad_file + " --rocks 4 --out " +
+              FreshDir("score2"));
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("$.parameters[0].value"));
+}
+
 }  // namespace
 }  // namespace rockcal::cli
