@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 
@@ -61,7 +62,7 @@ int Calibrate(const std::vector<std::string>& argv) {
   const auto start_time = std::chrono::steady_clock::now();
   const Args args(argv, {"force", "quiet", "resume"},
                   {"observations", "method", "methods", "max-evals", "max-seconds", "rocks", "seed",
-                   "threads", "loss", "estimate", "out"});
+                   "threads", "loss", "estimate", "holdout", "out"});
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   const std::string obs_path = args.Get("observations");
@@ -95,6 +96,8 @@ int Calibrate(const std::vector<std::string>& argv) {
   std::string error;
   if (!options.method.IsValid(&error)) throw InputError("arguments", error);
   calibrate::CheckCalibration(site, options);
+  const int folds = args.Has("holdout") ? static_cast<int>(args.Integer("holdout", 0, 2, 1000)) : 0;
+  if (folds > 0) observations::MakeFolds(obs, folds, 0);  // enough values for the folds?
 
   PrepareFolder(out, args.Flag("resume"), args.Flag("force"));
   const bool quiet = args.Flag("quiet");
@@ -120,6 +123,13 @@ int Calibrate(const std::vector<std::string>& argv) {
                   result.method.c_str(), result.best_misfit, result.evaluations, result.simulated,
                   result.wall_seconds, result.termination.message.c_str());
   };
+  std::optional<calibrate::HoldoutSummary> holdout;
+  if (folds > 0) {
+    holdout = calibrate::CrossValidate(site, obs, options, folds, callbacks);
+    if (!quiet)
+      std::printf("holdout, %d folds: misfit in sample %.4g, held out %.4g (means)\n", folds,
+                  holdout->mean_in_sample_misfit, holdout->mean_held_out_misfit);
+  }
   const calibrate::CalibrationSummary summary =
       calibrate::Calibrate(site, obs, options, callbacks);
 
@@ -129,8 +139,14 @@ int Calibrate(const std::vector<std::string>& argv) {
   reports::WriteFileAtomically(out + "/parameters.csv", reports::ParametersCsv(summary));
   reports::WriteFileAtomically(out + "/parameters.md", reports::ParametersMarkdown(summary));
   reports::WriteFileAtomically(out + "/trace.csv", reports::TraceCsv(summary));
-  reports::WriteFileAtomically(out + "/calibration.json",
-                               reports::CalibrationJson(summary).dump(2) + "\n");
+  nlohmann::json calibration = reports::CalibrationJson(summary);
+  if (holdout) {
+    calibration["holdout"] = reports::HoldoutJson(*holdout, summary);
+    reports::WriteFileAtomically(out + "/holdout.json",
+                                 calibration["holdout"].dump(2) + "\n");
+    reports::WriteFileAtomically(out + "/holdout.csv", reports::HoldoutCsv(*holdout, summary));
+  }
+  reports::WriteFileAtomically(out + "/calibration.json", calibration.dump(2) + "\n");
   reports::ReportInput report = SiteReport(site, summary.calibrated, summary.simulation);
   report.calibration = &summary;
   report.observations = &obs;
@@ -144,10 +160,11 @@ int Calibrate(const std::vector<std::string>& argv) {
     if (summary.methods.size() > 1)
       std::printf("\n%s", reports::ComparisonMarkdown(summary).c_str());
     std::printf("\nwrote %s/ in %.1f s: parameters.{json,csv,md}, trace.csv, calibration.json, "
-                "evaluations.jsonl, summary.json, rocks.csv, report.html%s\n",
+                "evaluations.jsonl, summary.json, rocks.csv, report.html%s%s\n",
                 out.c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count(),
-                summary.methods.size() > 1 ? ", comparison.{csv,md}" : "");
+                summary.methods.size() > 1 ? ", comparison.{csv,md}" : "",
+                holdout ? ", holdout.{json,csv}, evaluations-fold-*.jsonl" : "");
   }
   return 0;
 }

@@ -22,7 +22,7 @@ constexpr const char* kUsage =
     "  rockcal calibrate SITE.json --observations OBS.json [--method M | --methods M1,M2,...]\n"
     "                   [--max-evals N] [--max-seconds T] [--rocks N] [--seed S] [--threads N]\n"
     "                   [--loss none|huber|cauchy] [--estimate lowest|smoothed]\n"
-    "                   [--resume | --force] [--quiet] --out DIR\n"
+    "                   [--holdout K] [--resume | --force] [--quiet] --out DIR\n"
     "  rockcal score SITE.json --observations OBS.json [--parameters parameters.json]\n"
     "                   [--rocks N] [--seed S] [--threads N] [--force] [--quiet] --out DIR\n"
     "  rockcal sensitivity SITE.json [--method morris|sobol] [--samples N] [--observations OBS.json]\n"

@@ -1,6 +1,8 @@
 #include "rockcal/calibrate/calibration_run.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 #include <stdexcept>
@@ -75,6 +77,8 @@ Fingerprint CalibrationFingerprint(const sites::Site& site, const observations::
     f.Add(k == 0 ? "site file" : "site data file " + name, HashFile(inputs[k]));
   }
   if (!obs.path.empty()) f.Add("observations file", HashFile(obs.path));
+  if (!options.observations_subset.empty())
+    f.Add("observations subset", options.observations_subset);
   f.Add("seed", std::to_string(options.seed ? *options.seed : scene.options.seed));
   f.Add("rocks", std::to_string(scene.total_rocks()));
   std::string methods;
@@ -159,6 +163,57 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
   summary.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return summary;
+}
+
+HoldoutSummary CrossValidate(const sites::Site& site, const observations::Observations& obs,
+                             const CalibrationOptions& options, int folds,
+                             const CalibrationCallbacks& callbacks) {
+  CheckCalibration(site, options);
+  HoldoutSummary out;
+  out.folds = folds;
+  out.seed = options.seed ? *options.seed : site.scene.options.seed;
+  const std::vector<observations::Fold> split = observations::MakeFolds(obs, folds, out.seed);
+  std::vector<double> errors;
+  for (const observations::Fold& fold : split) {
+    FoldResult r;
+    r.fold = fold.index + 1;
+    for (const auto& s : fold.scars) r.held_out_values += static_cast<int>(s.size());
+    r.held_out_values += static_cast<int>(fold.runout.size());
+    CalibrationOptions o = options;
+    o.observations_subset = "fold " + std::to_string(r.fold) + " of " + std::to_string(folds) +
+                            ", seed " + std::to_string(out.seed);
+    if (!options.log_path.empty())
+      o.log_path = (std::filesystem::path(options.log_path).parent_path() /
+                    ("evaluations-fold-" + std::to_string(r.fold) + ".jsonl"))
+                       .string();
+    const CalibrationSummary cal =
+        Calibrate(site, observations::Subset(obs, fold, false), o, callbacks);
+    const ScoreSummary score =
+        Score(cal.calibrated, observations::Subset(obs, fold, true), options.misfit);
+    r.in_sample_misfit = cal.misfit_after.value;
+    r.held_out_misfit = score.misfit.value;
+    r.calibrated = cal.best_method().best;
+    r.termination = cal.termination;
+    std::vector<double> gaps;
+    for (const observations::Residual& res : score.misfit.residuals)
+      if (res.observation == "runout distance" && res.quantity != "max")
+        gaps.push_back(std::abs(res.simulated - res.observed));
+    if (!gaps.empty()) {
+      std::sort(gaps.begin(), gaps.end());
+      const std::size_t m = gaps.size() / 2;
+      r.runout_error_m = gaps.size() % 2 ? gaps[m] : 0.5 * (gaps[m - 1] + gaps[m]);
+      errors.push_back(*r.runout_error_m);
+    }
+    out.mean_in_sample_misfit += r.in_sample_misfit / folds;
+    out.mean_held_out_misfit += r.held_out_misfit / folds;
+    out.results.push_back(std::move(r));
+  }
+  if (!errors.empty()) {
+    double sum = 0.0;
+    for (double e : errors) sum += e;
+    out.mean_runout_error_m = sum / static_cast<double>(errors.size());
+  }
+  return out;
 }
 
 }  // namespace rockcal::calibrate

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <random>
 #include <sstream>
 #include <utility>
 
@@ -518,6 +519,104 @@ core::RecordOptions RequiredRecording(const Observations& observations, core::Re
   }
   base.partitions = partitions;
   return base;
+}
+
+namespace {
+
+// Deals indices 0..n-1, shuffled with `rng`, round-robin into k lists.
+std::vector<std::vector<std::size_t>> Deal(std::size_t n, int k, std::mt19937_64* rng) {
+  std::vector<std::size_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = i;
+  for (std::size_t i = n; i > 1; --i) {  // Fisher-Yates, independent of the library's shuffle
+    const std::size_t j = static_cast<std::size_t>((*rng)() % i);
+    std::swap(order[i - 1], order[j]);
+  }
+  std::vector<std::vector<std::size_t>> out(static_cast<std::size_t>(k));
+  for (std::size_t i = 0; i < n; ++i) out[i % static_cast<std::size_t>(k)].push_back(order[i]);
+  for (auto& fold : out) std::sort(fold.begin(), fold.end());
+  return out;
+}
+
+// Whether index i is (held_out) or is not (training) in `fold_indices`.
+bool Keep(const std::vector<std::size_t>& fold_indices, std::size_t i, bool held_out) {
+  return std::binary_search(fold_indices.begin(), fold_indices.end(), i) == held_out;
+}
+
+}  // namespace
+
+std::vector<Fold> MakeFolds(const Observations& observations, int k, std::uint64_t seed) {
+  if (k < 2) throw InputError("--holdout", std::to_string(k) + ": expected at least 2 folds");
+  std::mt19937_64 rng(seed);
+  std::vector<Fold> folds(static_cast<std::size_t>(k));
+  for (int f = 0; f < k; ++f) {
+    folds[static_cast<std::size_t>(f)].index = f;
+    folds[static_cast<std::size_t>(f)].count = k;
+  }
+  for (const ScarSet& set : observations.tree_scars) {
+    const std::size_t n = set.ObservedHeights().size();
+    if (n < static_cast<std::size_t>(k))
+      throw InputError(observations.path, set.label + ": " + std::to_string(n) +
+                                              " heights, fewer than the " + std::to_string(k) +
+                                              " folds of --holdout");
+    const auto dealt = Deal(n, k, &rng);
+    for (int f = 0; f < k; ++f) folds[static_cast<std::size_t>(f)].scars.push_back(dealt[static_cast<std::size_t>(f)]);
+  }
+  if (observations.runout) {
+    const std::size_t n = observations.runout->distances.size();
+    if (n < static_cast<std::size_t>(k))
+      throw InputError(observations.path, "runout: " + std::to_string(n) +
+                                              " stop points, fewer than the " + std::to_string(k) +
+                                              " folds of --holdout");
+    const auto dealt = Deal(n, k, &rng);
+    for (int f = 0; f < k; ++f) folds[static_cast<std::size_t>(f)].runout = dealt[static_cast<std::size_t>(f)];
+  }
+  return folds;
+}
+
+Observations Subset(const Observations& observations, const Fold& fold, bool held_out) {
+  Observations out = observations;
+  out.tree_scars.clear();
+  int probe = 0;
+  for (std::size_t s = 0; s < observations.tree_scars.size(); ++s) {
+    const ScarSet& set = observations.tree_scars[s];
+    const std::vector<std::size_t>& in_fold = fold.scars.at(s);
+    ScarSet kept = set;
+    std::size_t i = 0;  // index into ObservedHeights()
+    if (set.at_partition()) {
+      kept.heights.clear();
+      for (double h : set.heights)
+        if (Keep(in_fold, i++, held_out)) kept.heights.push_back(h);
+    } else {
+      kept.trees.clear();
+      for (const Tree& tree : set.trees) {
+        Tree t = tree;
+        t.heights.clear();
+        for (double h : tree.heights)
+          if (Keep(in_fold, i++, held_out)) t.heights.push_back(h);
+        if (!t.heights.empty()) kept.trees.push_back(t);
+      }
+    }
+    if (kept.ObservedHeights().empty()) continue;
+    for (Tree& t : kept.trees) t.probe = probe++;
+    out.tree_scars.push_back(std::move(kept));
+  }
+  if (observations.runout) {
+    const Runout& r = *observations.runout;
+    Runout kept = r;
+    kept.distances.clear();
+    kept.stop_points.clear();
+    kept.lateral.clear();
+    for (std::size_t i = 0; i < r.distances.size(); ++i) {
+      if (!Keep(fold.runout, i, held_out)) continue;
+      kept.distances.push_back(r.distances[i]);
+      if (i < r.stop_points.size()) kept.stop_points.push_back(r.stop_points[i]);
+      if (i < r.lateral.size()) kept.lateral.push_back(r.lateral[i]);
+    }
+    if (kept.distances.empty()) out.runout.reset();
+    else out.runout = std::move(kept);
+  }
+  if (held_out) out.passing.clear();
+  return out;
 }
 
 Eigen::Vector2d ReleaseCentroid(const core::Release& release) {

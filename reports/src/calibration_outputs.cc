@@ -233,4 +233,47 @@ std::string ComparisonMarkdown(const CalibrationSummary& record) {
   return out.str();
 }
 
+nlohmann::json HoldoutJson(const calibrate::HoldoutSummary& holdout,
+                           const CalibrationSummary& full) {
+  auto optional = [](const std::optional<double>& v) {
+    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+  };
+  nlohmann::json folds = nlohmann::json::array();
+  for (const calibrate::FoldResult& f : holdout.results)
+    folds.push_back({{"fold", f.fold},
+                     {"held_out_values", f.held_out_values},
+                     {"in_sample_misfit", f.in_sample_misfit},
+                     {"held_out_misfit", f.held_out_misfit},
+                     {"runout_median_abs_error_m", optional(f.runout_error_m)},
+                     {"calibrated", f.calibrated},
+                     {"termination", f.termination.message}});
+  return {{"folds", holdout.folds},
+          {"seed", holdout.seed},
+          {"in_sample_misfit", full.misfit_after.value},
+          {"mean_in_sample_misfit", holdout.mean_in_sample_misfit},
+          {"mean_held_out_misfit", holdout.mean_held_out_misfit},
+          {"mean_runout_median_abs_error_m", optional(holdout.mean_runout_error_m)},
+          {"per_fold", folds}};
+}
+
+std::string HoldoutCsv(const calibrate::HoldoutSummary& holdout, const CalibrationSummary& full) {
+  std::ostringstream out;
+  out << "fold,held_out_values,in_sample_misfit,held_out_misfit,runout_median_abs_error_m";
+  for (const auto& p : full.space.parameters()) out << ',' << p.label();
+  out << '\n';
+  for (const calibrate::FoldResult& f : holdout.results) {
+    out << f.fold << ',' << f.held_out_values << ',' << Num(f.in_sample_misfit, "%.8g") << ','
+        << Num(f.held_out_misfit, "%.8g") << ','
+        << (f.runout_error_m ? Num(*f.runout_error_m, "%.6g") : "");
+    for (double v : f.calibrated) out << ',' << Num(v, "%.10g");
+    out << '\n';
+  }
+  out << "mean,," << Num(holdout.mean_in_sample_misfit, "%.8g") << ','
+      << Num(holdout.mean_held_out_misfit, "%.8g") << ','
+      << (holdout.mean_runout_error_m ? Num(*holdout.mean_runout_error_m, "%.6g") : "");
+  for (std::size_t k = 0; k < full.space.parameters().size(); ++k) out << ',';
+  out << '\n';
+  return out.str();
+}
+
 }  // namespace rockcal::reports

@@ -137,5 +137,32 @@ TEST(Score, CalibratedValuesScoreAsTheCalibrationDid) {
   EXPECT_THAT(r.err, HasSubstr("$.parameters[0].value"));
 }
 
+TEST(CalibrateHoldout, ScoresEachFoldOnValuesItDidNotSee) {
+  const std::string site = CopyTutorial(FreshDir("site"));
+  const std::string out = FreshDir("out");
+  const RunResult r = Rockcal("calibrate " + Calibrate(site, out, 2, "--holdout 2"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json h = ReadJson(out + "/holdout.json");
+  EXPECT_EQ(h["folds"].get<int>(), 2);
+  ASSERT_EQ(h["per_fold"].size(), 2u);
+  double mean = 0.0;
+  for (const auto& f : h["per_fold"]) {
+    EXPECT_GT(f["held_out_values"].get<int>(), 0);
+    EXPECT_GE(f["held_out_misfit"].get<double>(), 0.0);
+    EXPECT_GE(f["runout_median_abs_error_m"].get<double>(), 0.0);
+    mean += 0.5 * f["held_out_misfit"].get<double>();
+  }
+  EXPECT_NEAR(h["mean_held_out_misfit"].get<double>(), mean, 1e-9 * (1 + mean));
+  EXPECT_EQ(ReadJson(out + "/calibration.json")["holdout"], h);
+  EXPECT_EQ(h["in_sample_misfit"], ReadJson(out + "/calibration.json")["misfit_after"]);
+  for (const char* f : {"holdout.csv", "evaluations-fold-1.jsonl", "evaluations-fold-2.jsonl"})
+    EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
+  EXPECT_THAT(ReadFile(out + "/evaluations-fold-2.jsonl"), HasSubstr("fold 2 of 2"));
+
+  const RunResult bad = Rockcal("calibrate " + Calibrate(site, FreshDir("bad"), 2, "--holdout 1"));
+  EXPECT_EQ(bad.status, 2) << bad.err;
+  EXPECT_THAT(bad.err, HasSubstr("--holdout"));
+}
+
 }  // namespace
 }  // namespace rockcal::cli

@@ -41,6 +41,10 @@ struct CalibrationOptions {
   // Continue the log at log_path: its evaluations are replayed, not
   // simulated again [false]. Needs log_path.
   bool resume = false;
+  // Which part of the observations file the observations are (e.g. "fold 2
+  // of 5, seed 1"); empty: all of it [empty]. Part of the log's fingerprint.
+  std::string observations_subset;
+
   // Checks each field (the methods' names, the method options, the misfit
   // options); on failure sets *error naming the field, its value and the rule.
   bool IsValid(std::string* error) const;
@@ -94,6 +98,37 @@ struct CalibrationSummary {
 Fingerprint CalibrationFingerprint(const sites::Site& site,
                                    const observations::Observations& observations,
                                    const CalibrationOptions& options);
+
+// One fold of a cross-validation (CrossValidate).
+struct FoldResult {
+  int fold = 1;                   // 1-based
+  int held_out_values = 0;        // observed values held out (scar heights, stop points)
+  double in_sample_misfit = 0.0;  // the fold's calibration against its training values
+  double held_out_misfit = 0.0;   // its calibrated values against the held-out values
+  // The median over p10 ... p90 of |simulated - observed| runout distance,
+  // the observed quantiles those of the held-out stop points [m]; unset
+  // without runout observations.
+  std::optional<double> runout_error_m;
+  std::vector<double> calibrated;  // the fold's calibrated values (physical)
+  Termination termination;
+};
+
+struct HoldoutSummary {
+  int folds = 0;
+  std::uint64_t seed = 1;  // of the split
+  std::vector<FoldResult> results;
+  double mean_in_sample_misfit = 0.0, mean_held_out_misfit = 0.0;
+  std::optional<double> mean_runout_error_m;
+};
+
+// K-fold cross-validation: observations::MakeFolds(observations, folds,
+// seed); for each fold, Calibrate on the other folds' values (the log, when
+// options.log_path is set, is "evaluations-fold-<k>.jsonl" beside it) and
+// Score the fold's held-out values at its calibrated values.
+HoldoutSummary CrossValidate(const sites::Site& site,
+                             const observations::Observations& observations,
+                             const CalibrationOptions& options, int folds,
+                             const CalibrationCallbacks& callbacks = {});
 
 // Throws the InputError Calibrate would throw before its first evaluation
 // (invalid options, a site without calibrated parameters), so that a caller

@@ -38,6 +38,13 @@ double LowestMisfitOfAll(const CalibrationSummary& record);
 // time): misfit, evaluations, wall seconds, time to within 10 % of the best.
 std::string ComparisonCsv(const CalibrationSummary& record);
 std::string ComparisonMarkdown(const CalibrationSummary& record);
+// holdout.json (and the "holdout" section of calibration.json): per fold the
+// in-sample and held-out misfits and the held-out runout error, their means,
+// beside the full calibration's in-sample misfit.
+nlohmann::json HoldoutJson(const calibrate::HoldoutSummary& holdout,
+                           const CalibrationSummary& full);
+// holdout.csv: fold,held_out_values,in_sample_misfit,held_out_misfit,runout_error_m,<parameters>.
+std::string HoldoutCsv(const calibrate::HoldoutSummary& holdout, const CalibrationSummary& full);
 
 }  // namespace rockcal::reports
 
