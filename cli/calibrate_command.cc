@@ -123,6 +123,10 @@ int Calibrate(const std::vector<std::string>& argv) {
                   result.method.c_str(), result.best_misfit, result.evaluations, result.simulated,
                   result.wall_seconds, result.termination.message.c_str());
   };
+  const calibrate::CalibrationSummary summary =
+      calibrate::Calibrate(site, obs, options, callbacks);
+  // The folds after the full calibration: its log exists first, so that a
+  // stopped run resumes.
   std::optional<calibrate::HoldoutSummary> holdout;
   if (folds > 0) {
     holdout = calibrate::CrossValidate(site, obs, options, folds, callbacks);
@@ -130,8 +134,6 @@ int Calibrate(const std::vector<std::string>& argv) {
       std::printf("holdout, %d folds: misfit in sample %.4g, held out %.4g (means)\n", folds,
                   holdout->mean_in_sample_misfit, holdout->mean_held_out_misfit);
   }
-  const calibrate::CalibrationSummary summary =
-      calibrate::Calibrate(site, obs, options, callbacks);
 
   reports::WriteSimulationFiles(out, summary.calibrated, summary.simulation);
   reports::WriteFileAtomically(out + "/parameters.json",

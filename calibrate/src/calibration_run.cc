@@ -186,6 +186,8 @@ HoldoutSummary CrossValidate(const sites::Site& site, const observations::Observ
       o.log_path = (std::filesystem::path(options.log_path).parent_path() /
                     ("evaluations-fold-" + std::to_string(r.fold) + ".jsonl"))
                        .string();
+    // A run stopped before this fold began left no log of it: start it afresh.
+    o.resume = options.resume && !o.log_path.empty() && std::filesystem::exists(o.log_path);
     const CalibrationSummary cal =
         Calibrate(site, observations::Subset(obs, fold, false), o, callbacks);
     const ScoreSummary score =

@@ -159,6 +159,12 @@ TEST(CalibrateHoldout, ScoresEachFoldOnValuesItDidNotSee) {
     EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
   EXPECT_THAT(ReadFile(out + "/evaluations-fold-2.jsonl"), HasSubstr("fold 2 of 2"));
 
+  // A run stopped within the folds resumes: the second fold's log is gone.
+  fs::remove(out + "/evaluations-fold-2.jsonl");
+  const RunResult resumed = Rockcal("calibrate " + Calibrate(site, out, 2, "--holdout 2 --resume"));
+  ASSERT_EQ(resumed.status, 0) << resumed.err;
+  EXPECT_EQ(ReadJson(out + "/holdout.json"), h);
+
   const RunResult bad = Rockcal("calibrate " + Calibrate(site, FreshDir("bad"), 2, "--holdout 1"));
   EXPECT_EQ(bad.status, 2) << bad.err;
   EXPECT_THAT(bad.err, HasSubstr("--holdout"));

@@ -123,8 +123,9 @@ struct HoldoutSummary {
 
 // K-fold cross-validation: observations::MakeFolds(observations, folds,
 // seed); for each fold, Calibrate on the other folds' values (the log, when
-// options.log_path is set, is "evaluations-fold-<k>.jsonl" beside it) and
-// Score the fold's held-out values at its calibrated values.
+// options.log_path is set, is "evaluations-fold-<k>.jsonl" beside it; with
+// options.resume, a fold without a log yet starts afresh) and Score the
+// fold's held-out values at its calibrated values.
 HoldoutSummary CrossValidate(const sites::Site& site,
                              const observations::Observations& observations,
                              const CalibrationOptions& options, int folds,
