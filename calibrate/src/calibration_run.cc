@@ -77,6 +77,12 @@ Fingerprint CalibrationFingerprint(const sites::Site& site, const observations::
     f.Add(k == 0 ? "site file" : "site data file " + name, HashFile(inputs[k]));
   }
   if (!obs.path.empty()) f.Add("observations file", HashFile(obs.path));
+  const std::filesystem::path obs_dir = std::filesystem::path(obs.path).parent_path();
+  for (std::size_t k = 1; k < obs.inputs.size(); ++k)
+    f.Add("observations data file " + std::filesystem::path(obs.inputs[k])
+                                          .lexically_relative(obs_dir.empty() ? "." : obs_dir)
+                                          .string(),
+          HashFile(obs.inputs[k]));
   if (!options.observations_subset.empty())
     f.Add("observations subset", options.observations_subset);
   f.Add("seed", std::to_string(options.seed ? *options.seed : scene.options.seed));

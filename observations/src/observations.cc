@@ -135,6 +135,7 @@ class Loader final {
   std::string path_;
   const core::Scene& scene_;
   Units units_ = Units::kUS;
+  mutable std::vector<std::string> csv_files_;  // the CSV files read, in order
 };
 
 std::string Loader::Resolve(const std::string& file) const {
@@ -151,6 +152,7 @@ CsvTable Loader::ReadCsv(const JsonNode& ref, std::initializer_list<const char*>
   table.file = Resolve(name);
   if (!std::filesystem::is_regular_file(table.file))
     ref.Fail("cannot open CSV file '" + table.file + "'");
+  csv_files_.push_back(table.file);
   sites::LineReader in(table.file);
   std::string line;
   bool first = true;
@@ -488,6 +490,8 @@ Observations Loader::Load() {
   for (const Passing& p : obs.passing) {
     obs.notes.push_back(p.label + ": fraction " + FormatNumber(p.fraction));
   }
+  obs.inputs.push_back(path_);
+  obs.inputs.insert(obs.inputs.end(), csv_files_.begin(), csv_files_.end());
   return obs;
 }
 

@@ -395,6 +395,11 @@ TEST_F(ObservationsFileTest, ReadsEveryCsvFormRelativeToTheObservationsFile) {
   EXPECT_DOUBLE_EQ(obs.passing[0].fraction, 0.35);
   EXPECT_EQ(obs.passing[1].partition, 0);
   EXPECT_EQ(obs.passing[1].label, "passing[1] BP-1");
+  // Every file read, the observations file first (a calibration's log
+  // fingerprints them).
+  ASSERT_EQ(obs.inputs.size(), 6u);
+  EXPECT_EQ(obs.inputs[0], path);
+  EXPECT_EQ(obs.inputs[1], (dir_ / "data/scars.csv").string());
 
   const Observations d = LoadObservations(Write("obs2.json", R"({
     "units": "si",

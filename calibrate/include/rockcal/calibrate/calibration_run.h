@@ -91,10 +91,10 @@ struct CalibrationSummary {
 
 // What determines the evaluations of Calibrate(site, observations, options):
 // the bytes of the site file and of every data file it read (Site::inputs),
-// of the observations file, the seed, the rock count, the methods, the
-// method options (not the budget: a resumed run may be given more
-// evaluations or time), the misfit options and the parameters' bounds and
-// starting values. The thread count is left out (it changes no result).
+// of the observations file and its CSV files (Observations::inputs), the seed, the rock count, the
+// methods, the method options (not the budget: a resumed run may be given more evaluations or
+// time), the misfit options and the parameters' bounds and starting values. The thread count is
+// left out (it changes no result).
 Fingerprint CalibrationFingerprint(const sites::Site& site,
                                    const observations::Observations& observations,
                                    const CalibrationOptions& options);

@@ -86,6 +86,9 @@ struct Observations {
   // What the reader found and chose (e.g. the runout direction), one line each,
   // for `rockcal validate`.
   std::vector<std::string> notes;
+  // Every file the observations were read from: the observations file, then
+  // the CSV files it named (as resolved). A calibration's log fingerprints them.
+  std::vector<std::string> inputs;
 
   bool empty() const { return tree_scars.empty() && !runout && passing.empty(); }
 };
