@@ -1,17 +1,18 @@
 // rockcal calibrate: search the calibrated parameters of a site until its
 // simulation matches the observations, and write the tables and the trace.
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 
 #include "args.h"
 #include "commands.h"
 #include "progress.h"
-#include "rockcal/calibrate/calibration.h"
+#include "rockcal/calibrate/calibration_run.h"
 #include "rockcal/core/error.h"
+#include "rockcal/observations/misfit.h"
 #include "rockcal/reports/calibration_outputs.h"
 #include "rockcal/reports/html_report.h"
 #include "rockcal/reports/output_dir.h"
@@ -39,7 +40,7 @@ std::vector<std::string> SplitList(const std::string& text) {
 // written again, after parameters.json, when the calibration finishes.
 void PrepareFolder(const std::string& out, bool resume, bool force, const sites::Site& site,
                    const std::string& obs_path) {
-  std::vector<std::string> inputs = site.input_files;
+  std::vector<std::string> inputs = site.inputs;
   inputs.push_back(obs_path);
   std::error_code ec;
   if (resume) {
@@ -72,7 +73,7 @@ int Calibrate(const std::vector<std::string>& argv) {
   const auto start_time = std::chrono::steady_clock::now();
   const Args args(argv, {"force", "quiet", "resume"},
                   {"observations", "method", "methods", "max-evals", "max-seconds", "rocks", "seed",
-                   "threads", "loss", "estimate", "out"});
+                   "threads", "loss", "estimate", "holdout", "out"});
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   const std::string obs_path = args.Get("observations");
@@ -89,99 +90,100 @@ int Calibrate(const std::vector<std::string>& argv) {
   if (args.Flag("resume") && args.Flag("force"))
     throw InputError("arguments", "give --resume or --force, not both");
 
-  sites::Site site = sites::LoadSite(site_path);
-  core::Scene& scene = site.scene;
-  if (args.Has("rocks")) scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, 10000000)));
+  const sites::Site site = sites::LoadSite(site_path);
+  calibrate::CalibrationOptions options;
+  options.methods = methods;
+  if (args.Has("rocks")) options.rocks = static_cast<int>(args.Integer("rocks", 0, 1, 10000000));
   if (args.Has("seed"))
-    scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
-  scene.options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
-  const observations::Observations obs = observations::LoadObservations(obs_path, scene);
-  const calibrate::ParameterSpace space = calibrate::ParameterSpace::FromSite(site);
-
-  calibrate::MethodOptions options;
-  options.max_evals = static_cast<int>(args.Integer("max-evals", 100, 2, 1000000));
-  options.max_seconds = args.Number("max-seconds", 0.0, 0.0, 1e9);
-  options.seed = scene.options.seed;
-  options.ceres_loss = args.Get("loss", "none");
-  options.estimate = args.Get("estimate", "lowest");
+    options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
+  options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+  options.method.max_evals = static_cast<int>(args.Integer("max-evals", 100, 2, 1000000));
+  options.method.max_seconds = args.Number("max-seconds", 0.0, 0.0, 1e9);
+  options.method.ceres_loss = args.Get("loss", "none");
+  options.method.estimate = args.Get("estimate", "lowest");
+  options.log_path = out + "/evaluations.jsonl";
+  options.resume = args.Flag("resume");
+  const observations::Observations obs = observations::LoadObservations(obs_path, site.scene);
   std::string error;
-  if (!options.IsValid(&error)) throw InputError("arguments", error);
+  if (!options.method.IsValid(&error)) throw InputError("arguments", error);
+  calibrate::CheckCalibration(site, options);
+  const int folds = args.Has("holdout") ? static_cast<int>(args.Integer("holdout", 0, 2, 1000)) : 0;
+  if (folds > 0) observations::MakeFolds(obs, folds, 0);  // enough values for the folds?
 
   PrepareFolder(out, args.Flag("resume"), args.Flag("force"), site, obs_path);
-  const calibrate::Objective objective(scene, space, obs, observations::MisfitOptions{});
-  calibrate::EvaluationLog log(out + "/evaluations.jsonl", args.Flag("resume"), space,
-                               scene.options.seed, scene.total_rocks());
-
-  reports::CalibrationRecord record;
-  record.site = scene.name;
-  record.units = site.units;
-  record.grid_spacing_m = scene.grid.spacing;
-  record.space = space;
-  record.rocks = scene.total_rocks();
-  record.seed = scene.options.seed;
-  record.start = space.Current(scene);
-  record.misfit_before = objective.Evaluate(record.start);
   const bool quiet = args.Flag("quiet");
-  if (!quiet)
-    std::printf("%s: %d parameters, %d rocks per evaluation, misfit at the start %.4g\n",
-                scene.name.c_str(), space.size(), record.rocks, record.misfit_before.value);
-  for (const std::string& method : methods) {
-    Progress progress("calibrate " + method, quiet);
-    const calibrate::MethodResult result = calibrate::RunMethod(
-        method, objective, record.start, options, &log,
-        [&](const calibrate::Evaluation& e, double best) {
-          char extra[96];
-          std::snprintf(extra, sizeof extra, " best misfit %.4g, %.0f s", best, e.elapsed);
-          progress.Update(e.index, options.max_evals, extra);
-        });
+  std::optional<Progress> progress;
+  calibrate::CalibrationCallbacks callbacks;
+  callbacks.started = [&](const calibrate::CalibrationSummary& s) {
+    if (!quiet)
+      std::printf("%s: %d parameters, %d rocks per evaluation, misfit at the start %.4g\n",
+                  s.site.c_str(), s.space.size(), s.rocks, s.misfit_before.value);
+  };
+  callbacks.method_started = [&](const std::string& method) {
+    progress.emplace("calibrate " + method, quiet);
+  };
+  callbacks.evaluated = [&](const calibrate::Evaluation& e, double best) {
+    char extra[96];
+    std::snprintf(extra, sizeof extra, " best misfit %.4g, %.0f s", best, e.elapsed);
+    progress->Update(e.index, options.method.max_evals, extra);
+  };
+  callbacks.method_finished = [&](const calibrate::MethodResult& result) {
+    progress.reset();
     if (!quiet)
       std::printf("  %-18s misfit %.4g after %d evaluations (%d simulated) in %.1f s: %s\n",
-                  method.c_str(), result.best_misfit, result.evaluations, result.simulated,
-                  result.wall_seconds, result.termination.c_str());
-    record.methods.push_back(result);
+                  result.method.c_str(), result.best_misfit, result.evaluations, result.simulated,
+                  result.wall_seconds, result.termination.message.c_str());
+  };
+  const calibrate::CalibrationSummary summary =
+      calibrate::Calibrate(site, obs, options, callbacks);
+  // The folds after the full calibration: its log exists first, so that a
+  // stopped run resumes.
+  std::optional<calibrate::HoldoutSummary> holdout;
+  if (folds > 0) {
+    holdout = calibrate::CrossValidate(site, obs, options, folds, callbacks);
+    if (!quiet)
+      std::printf("holdout, %d folds: misfit in sample %.4g, held out %.4g (means)\n", folds,
+                  holdout->mean_in_sample_misfit, holdout->mean_held_out_misfit);
   }
-  for (std::size_t k = 1; k < record.methods.size(); ++k)
-    if (record.methods[k].best_misfit < record.methods[static_cast<std::size_t>(record.best)].best_misfit)
-      record.best = static_cast<int>(k);
-  const calibrate::MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
-  if (best.best.empty()) throw std::runtime_error("no evaluation finished; nothing to report");
 
-  // The full simulation at the calibrated values (everything recorded).
-  core::Scene calibrated = scene;
-  space.Apply(best.best, &calibrated);
-  calibrated.options.record = observations::RequiredRecording(obs, calibrated.options.record);
-  calibrated.options.record.partitions = true;
-  calibrated.options.record.passages = true;  // the report's density map
-  calibrated.options.record.trajectories = std::min(calibrated.total_rocks(), 30);  // its profile
-  const core::SimulationResult sim = core::Simulate(calibrated);
-  record.misfit_after = observations::ComputeMisfit(obs, calibrated, sim);
-  record.wall_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
-
-  core::Scene written = calibrated;  // no trajectories.csv: the trajectories are for the report
-  written.options.record.trajectories = 0;
-  reports::WriteSimulationFiles(out, written, sim);
-  reports::WriteFileAtomically(out + "/parameters.json", reports::ParametersJson(record).dump(2) + "\n");
-  reports::WriteFileAtomically(out + "/parameters.csv", reports::ParametersCsv(record));
-  reports::WriteFileAtomically(out + "/parameters.md", reports::ParametersMarkdown(record));
-  reports::WriteFileAtomically(out + "/trace.csv", reports::TraceCsv(record));
-  reports::WriteFileAtomically(out + "/calibration.json",
-                               reports::CalibrationJson(record).dump(2) + "\n");
-  reports::ReportInput report = SiteReport(site, calibrated, sim);
-  report.calibration = &record;
+  reports::WriteSimulationFiles(out, summary.calibrated, summary.simulation);
+  reports::WriteFileAtomically(out + "/parameters.json",
+                               reports::ParametersJson(summary).dump(2) + "\n");
+  reports::WriteFileAtomically(out + "/parameters.csv", reports::ParametersCsv(summary));
+  reports::WriteFileAtomically(out + "/parameters.md", reports::ParametersMarkdown(summary));
+  reports::WriteFileAtomically(out + "/trace.csv", reports::TraceCsv(summary));
+  nlohmann::json calibration = reports::CalibrationJson(summary);
+  if (holdout) {
+    calibration["holdout"] = reports::HoldoutJson(*holdout, summary);
+    reports::WriteFileAtomically(out + "/holdout.json",
+                                 calibration["holdout"].dump(2) + "\n");
+    reports::WriteFileAtomically(out + "/holdout.csv", reports::HoldoutCsv(*holdout, summary));
+  }
+  reports::WriteFileAtomically(out + "/calibration.json", calibration.dump(2) + "\n");
+  reports::ReportInput report = SiteReport(site, summary.calibrated, summary.simulation);
+  report.calibration = &summary;
   report.observations = &obs;
   reports::WriteFileAtomically(out + "/report.html", reports::HtmlReport(report));
-  if (record.methods.size() > 1) {
-    reports::WriteFileAtomically(out + "/comparison.csv", reports::ComparisonCsv(record));
-    reports::WriteFileAtomically(out + "/comparison.md", reports::ComparisonMarkdown(record));
+  if (summary.methods.size() > 1) {
+    reports::WriteFileAtomically(out + "/comparison.csv", reports::ComparisonCsv(summary));
+    reports::WriteFileAtomically(out + "/comparison.md", reports::ComparisonMarkdown(summary));
   }
   if (!quiet) {
-    std::printf("\n%s", reports::ParametersMarkdown(record).c_str());
-    if (record.methods.size() > 1) std::printf("\n%s", reports::ComparisonMarkdown(record).c_str());
+    const core::SimulationResult& sim = summary.simulation;
+    std::printf("\nat the calibrated values: %d of %zu rocks stopped, %d left the terrain, %d timed "
+                "out\nfit %s\n",
+                sim.count(core::Outcome::kStopped), sim.rocks.size(),
+                sim.count(core::Outcome::kLeft), sim.count(core::Outcome::kTimeout),
+                observations::AssessFit(summary.misfit_after).Sentence().c_str());
+    std::printf("\n%s", reports::ParametersMarkdown(summary).c_str());
+    if (summary.methods.size() > 1)
+      std::printf("\n%s", reports::ComparisonMarkdown(summary).c_str());
     std::printf("\nwrote %s/ in %.1f s: parameters.{json,csv,md}, trace.csv, calibration.json, "
-                "evaluations.jsonl, summary.json, rocks.csv, report.html%s\n",
-                out.c_str(), record.wall_seconds,
-                record.methods.size() > 1 ? ", comparison.{csv,md}" : "");
+                "evaluations.jsonl, summary.json, rocks.csv, report.html%s%s\n",
+                out.c_str(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count(),
+                summary.methods.size() > 1 ? ", comparison.{csv,md}" : "",
+                holdout ? ", holdout.{json,csv}, evaluations-fold-*.jsonl" : "");
   }
   return 0;
 }

@@ -8,6 +8,8 @@
 
 #include "args.h"
 #include "progress.h"
+#include "rockcal/calibrate/recording.h"
+#include "rockcal/calibrate/score.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/limits.h"
 #include "rockcal/core/simulate.h"
@@ -36,10 +38,13 @@ reports::ReportInput SiteReport(const sites::Site& site, const core::Scene& scen
 
 int Simulate(const std::vector<std::string>& argv) {
   const Args args(argv, {"force", "quiet"},
-                  {"rocks", "seed", "set", "trajectories", "sample-seconds", "threads", "out"}, {"set"});
+                  {"rocks", "seed", "set", "parameters", "trajectories", "sample-seconds", "threads",
+                   "out"}, {"set"});
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   sites::Site site = sites::LoadSite(site_path);
+  if (args.Has("parameters"))
+    calibrate::ApplyParameters(calibrate::ReadParametersFile(args.Get("parameters")), &site.scene);
   for (const std::string& kv : args.All("set")) sites::ApplySetting(kv, &site);
   core::Scene& scene = site.scene;
   if (args.Has("rocks"))
@@ -47,23 +52,26 @@ int Simulate(const std::vector<std::string>& argv) {
   if (args.Has("seed"))
     scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
   scene.options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
-  scene.options.record.trajectories = static_cast<int>(args.Integer("trajectories", 0, 0, 1000000));
+  calibrate::RecordingNeeds needs;  // summary.json, rocks.csv, diagnostics.json, trajectories.csv
+  needs.partitions = true;
+  needs.energy_check = true;
+  needs.trajectories = static_cast<int>(args.Integer("trajectories", 0, 0, 1000000));
   if (args.Has("sample-seconds") && !args.Has("trajectories"))
     throw InputError("argument --sample-seconds", "goes with --trajectories N");
-  scene.options.record.sample_seconds = args.Number("sample-seconds", 0.05, 1e-6, 1e6);
+  needs.sample_seconds = args.Number("sample-seconds", 0.05, 1e-6, 1e6);
+  scene.options.record = calibrate::RecordingFor(scene, needs);
   std::string error;
   if (!scene.IsValid(&error)) throw InputError(site_path, error);
 
-  reports::OutputDir dir(out, args.Flag("force"), {"simulate", site.input_files});
+  reports::OutputDir dir(out, args.Flag("force"), {"simulate", site.inputs});
   Progress progress("simulate", args.Flag("quiet"));
   const core::Terrain terrain = core::BuildTerrain(scene);
   // The report's views need the passages per cell and a few trajectories;
   // they are recorded on a copy so that trajectories.csv is still written
   // only when --trajectories asks for it.
   core::Scene recorded = scene;
-  recorded.options.record.passages = true;
-  if (recorded.options.record.trajectories == 0)
-    recorded.options.record.trajectories = std::min(scene.total_rocks(), 30);
+  needs.report = true;
+  recorded.options.record = calibrate::RecordingFor(scene, needs);
   const core::SimulationResult result =
       core::Simulate(recorded, terrain, [&](int done, int total) { progress.Update(done, total); });
   reports::WriteSimulationFiles(dir.folder(), scene, result);

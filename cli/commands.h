@@ -17,6 +17,7 @@ reports::ReportInput SiteReport(const sites::Site& site, const core::Scene& scen
 int Simulate(const std::vector<std::string>& args);
 int Validate(const std::vector<std::string>& args);
 int Calibrate(const std::vector<std::string>& args);
+int Score(const std::vector<std::string>& args);
 
 }  // namespace rockcal::cli
 

@@ -15,13 +15,16 @@ namespace {
 
 constexpr const char* kUsage =
     "usage:\n"
-    "  rockcal simulate SITE.json [--rocks N] [--seed S] [--set KEY=VALUE ...]\n"
+    "  rockcal simulate SITE.json [--rocks N] [--seed S] [--parameters parameters.json]\n"
+    "                   [--set KEY=VALUE ...]\n"
     "                   [--trajectories N --sample-seconds DT] [--threads N]\n"
     "                   [--force] [--quiet] --out DIR\n"
     "  rockcal calibrate SITE.json --observations OBS.json [--method M | --methods M1,M2,...]\n"
     "                   [--max-evals N] [--max-seconds T] [--rocks N] [--seed S] [--threads N]\n"
     "                   [--loss none|huber|cauchy] [--estimate lowest|smoothed]\n"
-    "                   [--resume | --force] [--quiet] --out DIR\n"
+    "                   [--holdout K] [--resume | --force] [--quiet] --out DIR\n"
+    "  rockcal score SITE.json --observations OBS.json [--parameters parameters.json]\n"
+    "                   [--rocks N] [--seed S] [--threads N] [--force] [--quiet] --out DIR\n"
     "  rockcal sensitivity SITE.json [--method morris|sobol] [--samples N] [--observations OBS.json]\n"
     "                   [--rocks N] [--seed S] [--set K=V ...] [--threads N]\n"
     "                   [--force] [--quiet] --out DIR\n"
@@ -50,11 +53,12 @@ int main(int argc, char** argv) {
     if (command == "simulate") return rockcal::cli::Simulate(args);
     if (command == "validate") return rockcal::cli::Validate(args);
     if (command == "calibrate") return rockcal::cli::Calibrate(args);
+    if (command == "score") return rockcal::cli::Score(args);
     if (command == "sensitivity") return rockcal::cli::Sensitivity(args);
     if (command == "study") return rockcal::cli::Study(args);
     if (command == "table") return rockcal::cli::Table(args);
     throw rockcal::InputError("", "unknown command '" + command +
-                                      "' (available: simulate, calibrate, sensitivity, study, "
+                                      "' (available: simulate, calibrate, score, sensitivity, study, "
                                       "table, validate; see rockcal --help)");
   } catch (const rockcal::InputError& e) {
     std::fprintf(stderr, "rockcal: error: %s\n", e.what());

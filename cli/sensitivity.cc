@@ -53,7 +53,7 @@ int Sensitivity(const std::vector<std::string>& argv) {
   if (args.Has("observations"))
     obs = observations::LoadObservations(args.Get("observations"), site.scene);
 
-  std::vector<std::string> inputs = site.input_files;
+  std::vector<std::string> inputs = site.inputs;
   if (obs) inputs.push_back(args.Get("observations"));
   reports::OutputDir dir(out, args.Flag("force"), {"sensitivity", inputs});
   calibrate::SensitivityResult result;

@@ -88,7 +88,7 @@ int Stability(const Args& args, sites::Site* site, const std::string& out) {
   std::string error;
   if (!opt.IsValid(&error)) throw InputError("arguments", error);
 
-  reports::OutputDir dir(out, args.Flag("force"), {"study stability", site->input_files});
+  reports::OutputDir dir(out, args.Flag("force"), {"study stability", site->inputs});
   Progress progress("stability", args.Flag("quiet"));
   opt.progress = [&](int done, int total, const std::string& what) {
     progress.Update(done, total, what);
@@ -133,7 +133,7 @@ int Convergence(const Args& args, sites::Site* site, const std::string& out) {
   std::string error;
   if (!opt.IsValid(&error)) throw InputError("arguments", error);
 
-  reports::OutputDir dir(out, args.Flag("force"), {"study convergence", site->input_files});
+  reports::OutputDir dir(out, args.Flag("force"), {"study convergence", site->inputs});
   calibrate::ConvergenceResult result;
   {
     Progress progress("convergence", args.Flag("quiet"));

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <memory>
@@ -116,7 +117,7 @@ class Evaluator final {
     return replayed_offset_ + std::chrono::duration<double>(Clock::now() - resumed_).count();
   }
 
-  MethodResult Finish(std::string termination) {
+  MethodResult Finish(Termination termination) {
     MethodResult r;
     r.method = method_;
     r.termination = std::move(termination);
@@ -153,27 +154,28 @@ class Evaluator final {
 };
 
 
-std::string NloptResultName(nlopt::result r) {
+Termination NloptTermination(nlopt::result r) {
+  using T = TerminationType;
   switch (r) {
     case nlopt::SUCCESS:
-      return "success";
+      return {T::kConverged, "success"};
     case nlopt::STOPVAL_REACHED:
-      return "target misfit reached";
+      return {T::kConverged, "target misfit reached"};
     case nlopt::FTOL_REACHED:
-      return "misfit converged (ftol)";
+      return {T::kConverged, "misfit converged (ftol)"};
     case nlopt::XTOL_REACHED:
-      return "parameters converged (xtol)";
+      return {T::kConverged, "parameters converged (xtol)"};
     case nlopt::MAXEVAL_REACHED:
-      return "evaluation budget used";
+      return {T::kBudgetUsed, "evaluation budget used"};
     case nlopt::MAXTIME_REACHED:
-      return "time budget used";
+      return {T::kBudgetUsed, "time budget used"};
     default:
-      return "stopped (" + std::to_string(static_cast<int>(r)) + ")";
+      return {T::kStopped, "stopped (" + std::to_string(static_cast<int>(r)) + ")"};
   }
 }
 
 // Runs one NLopt algorithm from `unit` with at most `evals` evaluations.
-std::string RunNlopt(nlopt::algorithm algorithm, std::vector<double> unit, int evals,
+Termination RunNlopt(nlopt::algorithm algorithm, std::vector<double> unit, int evals,
                      const MethodOptions& options, Evaluator* ev) {
   const unsigned n = static_cast<unsigned>(unit.size());
   nlopt::opt opt(algorithm, n);
@@ -210,13 +212,14 @@ std::string RunNlopt(nlopt::algorithm algorithm, std::vector<double> unit, int e
       &data);
   double f = 0.0;
   try {
-    return NloptResultName(opt.optimize(unit, f));
+    return NloptTermination(opt.optimize(unit, f));
   } catch (const nlopt::forced_stop&) {
-    return ev->exhausted() ? "budget used" : "stopped";
+    if (ev->exhausted()) return {TerminationType::kBudgetUsed, "budget used"};
+    return {TerminationType::kStopped, "stopped"};
   } catch (const nlopt::roundoff_limited&) {
-    return "round-off limited";
+    return {TerminationType::kStopped, "round-off limited"};
   } catch (const std::exception& e) {
-    return std::string("nlopt: ") + e.what();
+    return {TerminationType::kFailed, std::string("nlopt: ") + e.what()};
   }
 }
 
@@ -307,7 +310,7 @@ Uncertainty JacobianUncertainty(const Eigen::MatrixXd& j_unit, double misfit,
 }
 
 // Runs Ceres from `unit` within the evaluator's budget; returns why it stopped.
-std::string RunCeres(std::vector<double> unit, const MethodOptions& options, Evaluator* ev) {
+Termination RunCeres(std::vector<double> unit, const MethodOptions& options, Evaluator* ev) {
   const int n = static_cast<int>(unit.size());
   // Unit box -> unbounded t = log(u / (1 - u)), kept away from the edges.
   std::vector<double> w(static_cast<std::size_t>(n));
@@ -338,7 +341,18 @@ std::string RunCeres(std::vector<double> unit, const MethodOptions& options, Eva
   so.update_state_every_iteration = false;
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
-  return ev->exhausted() ? "budget used" : summary.message;
+  if (ev->exhausted()) return {TerminationType::kBudgetUsed, "budget used"};
+  switch (summary.termination_type) {
+    case ceres::CONVERGENCE:
+    case ceres::USER_SUCCESS:
+      return {TerminationType::kConverged, summary.message};
+    case ceres::NO_CONVERGENCE:
+      return {TerminationType::kBudgetUsed, summary.message};
+    case ceres::FAILURE:
+    case ceres::USER_FAILURE:
+      return {TerminationType::kFailed, summary.message};
+  }
+  return {TerminationType::kStopped, summary.message};
 }
 
 // Uncertainty at the calibrated values: the Jacobian by central differences
@@ -405,7 +419,7 @@ std::string Agreement(const SmoothedEstimate& s, double lowest) {
 // the first stage's stencil is then centred on the lowest evaluation, and
 // after the second the lowest evaluation stands. Without `smoothed`, the
 // lowest evaluation.
-MethodResult Conclude(Evaluator* ev, std::string termination, bool smoothed,
+MethodResult Conclude(Evaluator* ev, Termination termination, bool smoothed,
                       const MethodOptions& options, const Objective& objective) {
   const ParameterSpace& space = objective.space();
   const int n = space.size();
@@ -603,19 +617,89 @@ std::string MethodList() {
 
 bool IsMethod(const std::string& name) { return FindMethod(name) != nullptr; }
 
+const char* TerminationName(TerminationType type) {
+  switch (type) {
+    case TerminationType::kConverged:
+      return "converged";
+    case TerminationType::kBudgetUsed:
+      return "budget used";
+    case TerminationType::kStopped:
+      return "stopped";
+    case TerminationType::kFailed:
+      return "failed";
+  }
+  return "?";
+}
+
+std::vector<std::string> Fingerprint::Differences(const Fingerprint& logged) const {
+  std::vector<std::string> out;
+  auto find = [](const Fingerprint& f, const std::string& what) -> const std::string* {
+    for (const auto& [name, value] : f.parts)
+      if (name == what) return &value;
+    return nullptr;
+  };
+  for (const auto& [name, value] : parts) {
+    const std::string* old = find(logged, name);
+    if (!old || *old != value) out.push_back(name);
+  }
+  for (const auto& [name, value] : logged.parts)
+    if (!find(*this, name)) out.push_back(name);
+  return out;
+}
+
+std::string HashFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "cannot read the file to fingerprint it");
+  std::uint64_t h = 14695981039346656037ull;
+  char buffer[65536];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    for (std::streamsize k = 0; k < in.gcount(); ++k) {
+      h ^= static_cast<unsigned char>(buffer[k]);
+      h *= 1099511628211ull;
+    }
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
 EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace& space,
-                             std::uint64_t seed, int rocks)
-    : path_(std::move(path)), seed_(seed), rocks_(rocks) {
+                             std::uint64_t seed, int rocks, Fingerprint fingerprint)
+    : path_(std::move(path)), seed_(seed), rocks_(rocks), fingerprint_(std::move(fingerprint)) {
   for (const auto& p : space.parameters()) names_.push_back(p.label());
   if (resume) {
     std::ifstream in(path_);
     if (!in) throw InputError(path_, "cannot resume: no evaluation log here");
     std::string line;
     int number = 0;
+    bool header = false;
     while (std::getline(in, line)) {
       ++number;
       if (line.empty()) continue;
       const std::string where = path_ + ":" + std::to_string(number);
+      if (!header) {
+        // The header: the fingerprint of the inputs the log was made with.
+        nlohmann::json h = nlohmann::json::parse(line, nullptr, false);
+        if (h.is_discarded() || !h.is_object() || !h.contains("fingerprint") ||
+            !h["fingerprint"].is_object())
+          throw InputError(where,
+                           "no fingerprint header (a log written by an older rockcal, or not an "
+                           "evaluation log): cannot tell whether its evaluations still hold; start "
+                           "afresh with --force instead of --resume");
+        Fingerprint logged;
+        for (const auto& [name, value] : h["fingerprint"].items())
+          logged.Add(name, value.is_string() ? value.get<std::string>() : value.dump());
+        const std::vector<std::string> changed = fingerprint_.Differences(logged);
+        if (!changed.empty()) {
+          std::string list;
+          for (const std::string& c : changed) list += (list.empty() ? "" : ", ") + c;
+          throw InputError(where, "cannot resume: what determines the evaluations changed since "
+                                  "this log was written: " + list +
+                                  "; restore it, or start afresh with --force instead of --resume");
+        }
+        header = true;
+        continue;
+      }
       nlohmann::json j;
       try {
         j = nlohmann::json::parse(line);
@@ -644,6 +728,9 @@ EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace
   // Rewrite the log with the good records only (drops a torn last line).
   std::ofstream out(path_, std::ios::trunc);
   if (!out) throw InputError(path_, "cannot write the evaluation log");
+  nlohmann::json parts = nlohmann::json::object();
+  for (const auto& [name, value] : fingerprint_.parts) parts[name] = value;
+  out << nlohmann::json{{"fingerprint", parts}}.dump() << '\n';
   for (const Evaluation& e : records_) {
     nlohmann::json j = ToJson(e);
     j["seed"] = seed_;
@@ -687,12 +774,12 @@ MethodResult RunMethod(const std::string& method, const Objective& objective,
   if (smoothed) ev.Reserve(SmoothingEvaluations(n));
   const std::vector<double> unit = objective.space().ToUnit(start);
   if (info->ceres) {
-    const std::string termination = RunCeres(unit, options, &ev);
+    const Termination termination = RunCeres(unit, options, &ev);
     MethodResult result = Conclude(&ev, termination, smoothed, options, objective);
     result.uncertainty = CeresUncertainty(result, objective);
     return result;
   }
-  std::string termination;
+  Termination termination;
   if (!info->global) {
     // A Monte Carlo misfit is rugged: a local method that converged may sit
     // in a dip of the noise. Restart it from its best point with a fresh
@@ -708,17 +795,21 @@ MethodResult RunMethod(const std::string& method, const Objective& objective,
       ++restarts;
       if (!(ev.best_misfit() < before * (1 - 1e-6))) restart.initial_step /= 2;
     }
-    if (restarts > 0) termination += "; " + std::to_string(restarts) + " restart(s) from the best point";
-    if (ev.exhausted() && termination.find("budget") == std::string::npos)
-      termination += "; budget used";
+    if (restarts > 0)
+      termination.message += "; " + std::to_string(restarts) + " restart(s) from the best point";
+    if (ev.exhausted() && termination.type != TerminationType::kBudgetUsed) {
+      termination.message += "; budget used";
+      termination.type = TerminationType::kBudgetUsed;
+    }
   } else {
     // Global search, then a local polish from its best point.
     const int global = std::max(2, static_cast<int>(ev.remaining() * (1 - options.polish_fraction)));
     termination = RunNlopt(info->algorithm, unit, global, options, &ev);
     if (!ev.exhausted() && ev.remaining() >= 2 && !ev.best().empty()) {
-      termination += "; polished with nlopt:bobyqa: " +
-                     RunNlopt(nlopt::LN_BOBYQA, objective.space().ToUnit(ev.best()),
-                              ev.remaining(), options, &ev);
+      const Termination polish = RunNlopt(nlopt::LN_BOBYQA, objective.space().ToUnit(ev.best()),
+                                          ev.remaining(), options, &ev);
+      termination.message += "; polished with nlopt:bobyqa: " + polish.message;
+      termination.type = polish.type;
     }
   }
   return Conclude(&ev, termination, smoothed, options, objective);

@@ -135,11 +135,24 @@ CalibratedSite ReadCalibratedSite(const std::string& result_dir) {
     throw InputError(result_dir,
                      "no such result folder; expected the --out folder of a "
                      "rockcal calibrate run");
-  out.file = (fs::path(result_dir) / "parameters.json").string();
-  if (!fs::is_regular_file(out.file, ec))
-    throw InputError(out.file,
+  const std::string file = (fs::path(result_dir) / "parameters.json").string();
+  if (!fs::is_regular_file(file, ec))
+    throw InputError(file,
                      "missing; expected the parameters.json that rockcal calibrate "
                      "writes (did the calibration finish?)");
+  out = ReadParametersFile(file);
+  out.result_dir = result_dir;
+  return out;
+}
+
+CalibratedSite ReadParametersFile(const std::string& path) {
+  CalibratedSite out;
+  std::error_code ec;
+  out.file = fs::is_directory(path, ec) ? (fs::path(path) / "parameters.json").string() : path;
+  out.result_dir = fs::path(out.file).parent_path().string();
+  if (!fs::is_regular_file(out.file, ec))
+    throw InputError(out.file, "no such file; expected the parameters.json that rockcal "
+                               "calibrate writes");
   const nlohmann::json json = sites::ReadJsonFile(out.file);
   const JsonNode root(&json, out.file, "$");
   root.Keys(

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <exception>
 
+#include "rockcal/calibrate/recording.h"
+
 namespace rockcal::calibrate {
 namespace {
 
@@ -22,16 +24,21 @@ Objective::Objective(core::Scene scene, ParameterSpace space,
       space_(std::move(space)),
       observations_(std::move(observations)),
       misfit_(std::move(misfit)) {
-  scene_.options.record = observations::RequiredRecording(observations_, scene_.options.record);
-  scene_.options.record.trajectories = 0;
+  RecordingNeeds needs;
+  needs.observations = &observations_;
+  needs.energy_check = scene_.options.record.energy_check;  // as the caller asked
+  scene_.options.record = RecordingFor(scene_, needs);
   // The number of residuals follows from the observations alone: count them
   // on an empty result shaped like a real one.
   core::SimulationResult shape;
   shape.rocks.resize(2);
+  // Every field set: `{}` for the crossing point would leave the Eigen vector
+  // uninitialised, and a NaN there made the shape "non-finite" (no residuals).
+  const core::Crossing crossed{true, 1.0, 1.0, 1.0, Eigen::Vector3d::Zero()};
   for (auto& r : shape.rocks) {
     r.outcome = core::Outcome::kStopped;
-    r.crossings.assign(scene_.partitions.size(), core::Crossing{true, 1.0, 1.0, 1.0, {}});
-    r.trees.assign(scene_.options.record.trees.size(), core::Crossing{true, 1.0, 1.0, 1.0, {}});
+    r.crossings.assign(scene_.partitions.size(), crossed);
+    r.trees.assign(scene_.options.record.trees.size(), crossed);
   }
   shape.rocks[1].stop = Eigen::Vector3d(1, 1, 0);
   residual_count_ = static_cast<int>(

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rockcal/calibrate/recording.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/random.h"
 #include "rockcal/core/statistics.h"
@@ -490,13 +491,10 @@ SensitivityResult RunSensitivity(const sites::Site& site, const observations::Ob
   core::Scene base = site.scene;
   if (opt.seed) base.options.seed = *opt.seed;
   base.options.threads = opt.threads;
-  core::RecordOptions record;
-  if (obs) record = observations::RequiredRecording(*obs, record);
-  record.partitions = !base.partitions.empty();
-  record.energy_check = false;
-  record.passages = false;
-  record.trajectories = 0;
-  base.options.record = record;
+  RecordingNeeds needs;
+  needs.observations = obs;
+  needs.partitions = !base.partitions.empty();
+  base.options.record = RecordingFor(base, needs);
   if (!base.options.IsValid(&error)) throw InputError(site.path, error);
 
   const std::vector<SiteOutput> outputs = SiteOutputs(base, obs);

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <random>
 #include <sstream>
 #include <utility>
 
@@ -144,6 +145,7 @@ class Loader final {
   std::string path_;
   const core::Scene& scene_;
   Units units_ = Units::kUS;
+  mutable std::vector<std::string> csv_files_;  // the CSV files read, in order
 };
 
 std::string Loader::Resolve(const std::string& file) const {
@@ -160,6 +162,7 @@ CsvTable Loader::ReadCsv(const JsonNode& ref, std::initializer_list<const char*>
   table.file = Resolve(name);
   if (!std::filesystem::is_regular_file(table.file))
     ref.Fail("cannot open CSV file '" + table.file + "'");
+  csv_files_.push_back(table.file);
   sites::LineReader in(table.file);
   std::string line;
   bool first = true;
@@ -552,6 +555,8 @@ Observations Loader::Load() {
   for (const Passing& p : obs.passing) {
     obs.notes.push_back(p.label + ": fraction " + FormatNumber(p.fraction));
   }
+  obs.inputs.push_back(path_);
+  obs.inputs.insert(obs.inputs.end(), csv_files_.begin(), csv_files_.end());
   return obs;
 }
 
@@ -593,6 +598,114 @@ std::vector<double> Runout::MassClassBounds() const {
   for (int k = 1; k < mass_classes; ++k)
     bounds.push_back(core::Quantile(sorted, static_cast<double>(k) / mass_classes));
   return bounds;
+}
+
+namespace {
+
+// Deals indices 0..n-1, shuffled with `rng`, round-robin into k lists.
+std::vector<std::vector<std::size_t>> Deal(std::size_t n, int k, std::mt19937_64* rng) {
+  std::vector<std::size_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = i;
+  for (std::size_t i = n; i > 1; --i) {  // Fisher-Yates, independent of the library's shuffle
+    const std::size_t j = static_cast<std::size_t>((*rng)() % i);
+    std::swap(order[i - 1], order[j]);
+  }
+  std::vector<std::vector<std::size_t>> out(static_cast<std::size_t>(k));
+  for (std::size_t i = 0; i < n; ++i) out[i % static_cast<std::size_t>(k)].push_back(order[i]);
+  for (auto& fold : out) std::sort(fold.begin(), fold.end());
+  return out;
+}
+
+// Whether index i is (held_out) or is not (training) in `fold_indices`.
+bool Keep(const std::vector<std::size_t>& fold_indices, std::size_t i, bool held_out) {
+  return std::binary_search(fold_indices.begin(), fold_indices.end(), i) == held_out;
+}
+
+}  // namespace
+
+std::vector<Fold> MakeFolds(const Observations& observations, int k, std::uint64_t seed) {
+  if (k < 2) throw InputError("--holdout", std::to_string(k) + ": expected at least 2 folds");
+  std::mt19937_64 rng(seed);
+  std::vector<Fold> folds(static_cast<std::size_t>(k));
+  for (int f = 0; f < k; ++f) {
+    folds[static_cast<std::size_t>(f)].index = f;
+    folds[static_cast<std::size_t>(f)].count = k;
+  }
+  for (const ScarSet& set : observations.tree_scars) {
+    const std::size_t n = set.ObservedHeights().size();
+    if (n < static_cast<std::size_t>(k))
+      throw InputError(observations.path, set.label + ": " + std::to_string(n) +
+                                              " heights, fewer than the " + std::to_string(k) +
+                                              " folds of --holdout");
+    const auto dealt = Deal(n, k, &rng);
+    for (int f = 0; f < k; ++f) folds[static_cast<std::size_t>(f)].scars.push_back(dealt[static_cast<std::size_t>(f)]);
+  }
+  if (observations.runout) {
+    const std::size_t n = observations.runout->distances.size();
+    if (n < static_cast<std::size_t>(k))
+      throw InputError(observations.path, "runout: " + std::to_string(n) +
+                                              " stop points, fewer than the " + std::to_string(k) +
+                                              " folds of --holdout");
+    const auto dealt = Deal(n, k, &rng);
+    for (int f = 0; f < k; ++f) folds[static_cast<std::size_t>(f)].runout = dealt[static_cast<std::size_t>(f)];
+  }
+  return folds;
+}
+
+Observations Subset(const Observations& observations, const Fold& fold, bool held_out) {
+  Observations out = observations;
+  out.tree_scars.clear();
+  int probe = 0;
+  for (std::size_t s = 0; s < observations.tree_scars.size(); ++s) {
+    const ScarSet& set = observations.tree_scars[s];
+    const std::vector<std::size_t>& in_fold = fold.scars.at(s);
+    ScarSet kept = set;
+    std::size_t i = 0;  // index into ObservedHeights()
+    if (set.at_partition()) {
+      kept.heights.clear();
+      for (double h : set.heights)
+        if (Keep(in_fold, i++, held_out)) kept.heights.push_back(h);
+    } else {
+      kept.trees.clear();
+      for (const Tree& tree : set.trees) {
+        Tree t = tree;
+        t.heights.clear();
+        for (double h : tree.heights)
+          if (Keep(in_fold, i++, held_out)) t.heights.push_back(h);
+        if (!t.heights.empty()) kept.trees.push_back(t);
+      }
+    }
+    if (kept.ObservedHeights().empty()) continue;
+    for (Tree& t : kept.trees) t.probe = probe++;
+    out.tree_scars.push_back(std::move(kept));
+  }
+  if (observations.runout) {
+    const Runout& r = *observations.runout;
+    Runout kept = r;
+    kept.distances.clear();
+    kept.stop_points.clear();
+    kept.lateral.clear();
+    kept.masses.clear();
+    for (std::size_t i = 0; i < r.distances.size(); ++i) {
+      if (!Keep(fold.runout, i, held_out)) continue;
+      kept.distances.push_back(r.distances[i]);
+      if (i < r.stop_points.size()) kept.stop_points.push_back(r.stop_points[i]);
+      if (i < r.lateral.size()) kept.lateral.push_back(r.lateral[i]);
+      if (i < r.masses.size()) kept.masses.push_back(r.masses[i]);
+    }
+    // The observed share stands for the kept rocks as for all of them; the
+    // mass classes keep at least four blocks each (none below two classes).
+    const int n = static_cast<int>(kept.distances.size());
+    const int all = static_cast<int>(r.distances.size());
+    kept.observed_rocks =
+        r.observed_rocks > all ? static_cast<int>(std::lround(1.0 * r.observed_rocks * n / all)) : n;
+    kept.mass_classes = std::min(r.mass_classes, n / 4);
+    if (kept.mass_classes < 2) kept.mass_classes = 0;
+    if (kept.distances.empty()) out.runout.reset();
+    else out.runout = std::move(kept);
+  }
+  if (held_out) out.passing.clear();
+  return out;
 }
 
 Eigen::Vector2d ReleaseCentroid(const core::Release& release) {

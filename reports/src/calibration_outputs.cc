@@ -6,6 +6,8 @@
 #include <limits>
 #include <sstream>
 
+#include "rockcal/observations/misfit.h"
+
 namespace rockcal::reports {
 namespace {
 
@@ -62,7 +64,7 @@ nlohmann::json ResidualsJson(const observations::Misfit& m) {
 
 }  // namespace
 
-nlohmann::json ParametersJson(const CalibrationRecord& record) {
+nlohmann::json ParametersJson(const CalibrationSummary& record) {
   const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
   nlohmann::json params = nlohmann::json::array();
   const auto& ps = record.space.parameters();
@@ -86,7 +88,7 @@ nlohmann::json ParametersJson(const CalibrationRecord& record) {
   return out;
 }
 
-std::string ParametersCsv(const CalibrationRecord& record) {
+std::string ParametersCsv(const CalibrationSummary& record) {
   const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
   std::ostringstream out;
   out << "material,class,name,value,lower,upper,std_error,unit\n";
@@ -101,7 +103,7 @@ std::string ParametersCsv(const CalibrationRecord& record) {
   return out.str();
 }
 
-std::string ParametersMarkdown(const CalibrationRecord& record) {
+std::string ParametersMarkdown(const CalibrationSummary& record) {
   const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
   std::ostringstream out;
   out << "| material | class | parameter | calibrated | std. error | start | bounds |\n"
@@ -126,7 +128,7 @@ std::string ParametersMarkdown(const CalibrationRecord& record) {
   return out.str();
 }
 
-std::string TraceCsv(const CalibrationRecord& record) {
+std::string TraceCsv(const CalibrationSummary& record) {
   std::ostringstream out;
   out << "method,evaluation,wall_seconds,misfit,best_misfit";
   for (const auto& p : record.space.parameters()) out << ',' << p.label();
@@ -144,13 +146,26 @@ std::string TraceCsv(const CalibrationRecord& record) {
   return out.str();
 }
 
-double LowestMisfitOfAll(const CalibrationRecord& record) {
+double LowestMisfitOfAll(const CalibrationSummary& record) {
   double lowest = std::numeric_limits<double>::infinity();
   for (const auto& m : record.methods) lowest = std::min(lowest, m.lowest_misfit);
   return lowest;
 }
 
-nlohmann::json CalibrationJson(const CalibrationRecord& record) {
+nlohmann::json VerdictJson(const CalibrationSummary& record) {
+  const observations::FitVerdict v = observations::AssessFit(record.misfit_after);
+  const core::SimulationResult& sim = record.simulation;
+  return {{"poor", v.poor},
+          {"sentence", v.Sentence()},
+          {"outside_2_sigma", v.outside},
+          {"compared", v.compared},
+          {"outcomes",
+           {{"stopped", sim.count(core::Outcome::kStopped)},
+            {"left", sim.count(core::Outcome::kLeft)},
+            {"timeout", sim.count(core::Outcome::kTimeout)}}}};
+}
+
+nlohmann::json CalibrationJson(const CalibrationSummary& record) {
   const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
   const double best_all = LowestMisfitOfAll(record);
   nlohmann::json methods = nlohmann::json::array();
@@ -165,7 +180,7 @@ nlohmann::json CalibrationJson(const CalibrationRecord& record) {
     }
     const double reach = calibrate::TimeToReach(m, best_all, 0.1);
     methods.push_back({{"method", m.method},
-                       {"termination", m.termination},
+                       {"termination", m.termination.message},
                        {"misfit", m.best_misfit},
                        {"parameters", m.best},
                        {"evaluations", m.evaluations},
@@ -187,7 +202,7 @@ nlohmann::json CalibrationJson(const CalibrationRecord& record) {
   for (const auto& p : record.space.parameters()) names.push_back(p.label());
   return {{"site", record.site},
           {"method", best.method},
-          {"termination", best.termination},
+          {"termination", best.termination.message},
           {"evaluations", best.evaluations},
           {"wall_seconds", record.wall_seconds},
           {"rocks_per_evaluation", record.rocks},
@@ -199,17 +214,18 @@ nlohmann::json CalibrationJson(const CalibrationRecord& record) {
           {"misfit_after", record.misfit_after.value},
           {"fit_before", ResidualsJson(record.misfit_before)},
           {"fit", ResidualsJson(record.misfit_after)},
+          {"verdict", VerdictJson(record)},
           {"methods", methods}};
 }
 
-std::string ComparisonCsv(const CalibrationRecord& record) {
+std::string ComparisonCsv(const CalibrationSummary& record) {
   const double best_all = LowestMisfitOfAll(record);
   std::ostringstream out;
   out << "method,misfit,lowest_misfit,evaluations,simulated,wall_seconds,"
          "seconds_to_within_10pct_of_best,termination\n";
   for (const MethodResult& m : record.methods) {
     const double reach = calibrate::TimeToReach(m, best_all, 0.1);
-    std::string term = m.termination;
+    std::string term = m.termination.message;
     std::replace(term.begin(), term.end(), ',', ';');
     out << m.method << ',' << Num(m.best_misfit, "%.6g") << ',' << Num(m.lowest_misfit, "%.6g")
         << ',' << m.evaluations << ',' << m.simulated << ',' << Num(m.wall_seconds, "%.2f") << ','
@@ -218,7 +234,7 @@ std::string ComparisonCsv(const CalibrationRecord& record) {
   return out.str();
 }
 
-std::string ComparisonMarkdown(const CalibrationRecord& record) {
+std::string ComparisonMarkdown(const CalibrationSummary& record) {
   const double best_all = LowestMisfitOfAll(record);
   std::ostringstream out;
   out << "| method | misfit | lowest evaluated | evaluations | wall s | s to within 10 % of "
@@ -229,9 +245,52 @@ std::string ComparisonMarkdown(const CalibrationRecord& record) {
     out << "| " << m.method << " | " << Num(m.best_misfit, "%.4g") << " | "
         << Num(m.lowest_misfit, "%.4g") << " | " << m.evaluations
         << " | " << Num(m.wall_seconds, "%.1f") << " | "
-        << (reach >= 0 ? Num(reach, "%.1f") : std::string("never")) << " | " << m.termination
+        << (reach >= 0 ? Num(reach, "%.1f") : std::string("never")) << " | " << m.termination.message
         << " |\n";
   }
+  return out.str();
+}
+
+nlohmann::json HoldoutJson(const calibrate::HoldoutSummary& holdout,
+                           const CalibrationSummary& full) {
+  auto optional = [](const std::optional<double>& v) {
+    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+  };
+  nlohmann::json folds = nlohmann::json::array();
+  for (const calibrate::FoldResult& f : holdout.results)
+    folds.push_back({{"fold", f.fold},
+                     {"held_out_values", f.held_out_values},
+                     {"in_sample_misfit", f.in_sample_misfit},
+                     {"held_out_misfit", f.held_out_misfit},
+                     {"runout_median_abs_error_m", optional(f.runout_error_m)},
+                     {"calibrated", f.calibrated},
+                     {"termination", f.termination.message}});
+  return {{"folds", holdout.folds},
+          {"seed", holdout.seed},
+          {"in_sample_misfit", full.misfit_after.value},
+          {"mean_in_sample_misfit", holdout.mean_in_sample_misfit},
+          {"mean_held_out_misfit", holdout.mean_held_out_misfit},
+          {"mean_runout_median_abs_error_m", optional(holdout.mean_runout_error_m)},
+          {"per_fold", folds}};
+}
+
+std::string HoldoutCsv(const calibrate::HoldoutSummary& holdout, const CalibrationSummary& full) {
+  std::ostringstream out;
+  out << "fold,held_out_values,in_sample_misfit,held_out_misfit,runout_median_abs_error_m";
+  for (const auto& p : full.space.parameters()) out << ',' << p.label();
+  out << '\n';
+  for (const calibrate::FoldResult& f : holdout.results) {
+    out << f.fold << ',' << f.held_out_values << ',' << Num(f.in_sample_misfit, "%.8g") << ','
+        << Num(f.held_out_misfit, "%.8g") << ','
+        << (f.runout_error_m ? Num(*f.runout_error_m, "%.6g") : "");
+    for (double v : f.calibrated) out << ',' << Num(v, "%.10g");
+    out << '\n';
+  }
+  out << "mean,," << Num(holdout.mean_in_sample_misfit, "%.8g") << ','
+      << Num(holdout.mean_held_out_misfit, "%.8g") << ','
+      << (holdout.mean_runout_error_m ? Num(*holdout.mean_runout_error_m, "%.6g") : "");
+  for (std::size_t k = 0; k < full.space.parameters().size(); ++k) out << ',';
+  out << '\n';
   return out.str();
 }
 

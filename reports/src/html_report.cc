@@ -1124,7 +1124,7 @@ std::string BoundsBar(double v, double lo, double hi) {
 }
 
 std::string CalibrationSection(const Context& c) {
-  const CalibrationRecord& rec = *c.in.calibration;
+  const CalibrationSummary& rec = *c.in.calibration;
   const calibrate::MethodResult& best = rec.methods[static_cast<std::size_t>(rec.best)];
   const std::string cj = "calibration.json";
   std::string s = "<table class=\"kv\">";
@@ -1134,7 +1134,7 @@ std::string CalibrationSection(const Context& c) {
                                    " methods, compared below)"
                              : std::string()));
   s += Kv("Stopped because", "<span data-json=\"" + Ref(cj, "/termination") + "\" data-value=\"" +
-                                 Escape(best.termination) + "\">" + Escape(best.termination) +
+                                 Escape(best.termination.message) + "\">" + Escape(best.termination.message) +
                                  "</span>");
   s += Kv("Evaluations", RefSpan(Ref(cj, "/evaluations"), best.evaluations, Int(best.evaluations)) +
                              " (" + Int(best.simulated) +
@@ -1236,14 +1236,14 @@ std::string CalibrationSection(const Context& c) {
                    mr.lowest_misfit, Label(mr.lowest_misfit, 4)) +
            Td(Int(mr.evaluations), true) + Td(Int(mr.simulated), true) +
            Td(Show(mr.wall_seconds), true) + Td(reach >= 0 ? Show(reach) : "never", true) +
-           Td(mr.termination) + "</tr>";
+           Td(mr.termination.message) + "</tr>";
     }
     s += "</tbody></table>";
   }
   return s;
 }
 
-std::string TracePlot(const CalibrationRecord& rec, bool by_time) {
+std::string TracePlot(const CalibrationSummary& rec, bool by_time) {
   double xmax = 0.0, ymin = kInf, ymax = 0.0;
   const double start = rec.misfit_before.penalised ? std::nan("") : rec.misfit_before.value;
   if (start > 0) ymin = ymax = start;
@@ -1289,7 +1289,7 @@ std::string TracePlot(const CalibrationRecord& rec, bool by_time) {
 }
 
 std::string TraceSection(const Context& c) {
-  const CalibrationRecord& rec = *c.in.calibration;
+  const CalibrationSummary& rec = *c.in.calibration;
   int penalised = 0;
   for (const auto& m : rec.methods)
     for (const auto& e : m.trace) penalised += e.penalised ? 1 : 0;
@@ -1315,7 +1315,7 @@ std::string TraceSection(const Context& c) {
 }
 
 std::string FitSection(const Context& c) {
-  const CalibrationRecord& rec = *c.in.calibration;
+  const CalibrationSummary& rec = *c.in.calibration;
   const auto& after = rec.misfit_after.residuals;
   // Observation labels in order, and the "before" residual of each (label, quantity).
   std::vector<std::string> labels;

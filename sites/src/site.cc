@@ -196,7 +196,8 @@ core::Release ReadRelease(const JsonNode& node, Units units, const core::HeightG
 }
 
 core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightGrid& grid,
-                          const std::string& base_dir, std::string* note) {
+                          const std::string& base_dir, std::vector<std::string>* inputs,
+                          std::string* note) {
   core::RockGroup g;
   if (node.Has("inventory")) {
     // The blocks of a field inventory; count (default one rock per block)
@@ -205,6 +206,7 @@ core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightG
     const JsonNode inv = node.Get("inventory");
     const std::string file = ResolvePath(base_dir, inv.String());
     g.inventory = ReadInventory(file, units);
+    inputs->push_back(file);
     g.shape = g.inventory.front().shape;
     g.count = node.Has("count") ? static_cast<int>(node.Get("count").Integer(1, core::kMaxRocks))
                                 : static_cast<int>(g.inventory.size());
@@ -343,8 +345,8 @@ Site LoadSite(const std::string& path) {
   core::HeightGrid& grid = scene.grid;
   const double s = grid.spacing;
   site.notes = surface.notes;
-  site.input_files = surface.files;
-  site.input_files.insert(site.input_files.begin(), path);
+  site.inputs.push_back(path);
+  site.inputs.insert(site.inputs.end(), surface.files.begin(), surface.files.end());
 
   // Roughness and calibration bounds.
   for (std::size_t k = 0; k < pending.size(); ++k) {
@@ -490,7 +492,7 @@ Site LoadSite(const std::string& path) {
   const std::vector<JsonNode> rocks = root.Get("rocks").Array(1);
   for (std::size_t k = 0; k < rocks.size(); ++k) {
     std::string note;
-    scene.groups.push_back(ReadGroup(rocks[k], units, grid, base_dir, &note));
+    scene.groups.push_back(ReadGroup(rocks[k], units, grid, base_dir, &site.inputs, &note));
     site.notes.push_back("rock group " + std::to_string(k + 1) + ": " + note);
   }
 

@@ -82,7 +82,7 @@ TEST(Calibration, LogOfAnotherCalibrationIsRefused) {
     EvaluationLog log(path, true, small.space, 7, 6);  // another seed
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
-    EXPECT_THAT(e.what(), HasSubstr(path + ":1"));
+    EXPECT_THAT(e.what(), HasSubstr(path + ":2"));  // line 1 is the header
     EXPECT_THAT(e.what(), HasSubstr("another calibration"));
   }
   std::ofstream(path, std::ios::app) << "{\"method\": \"nlopt:sb";  // a torn last line

@@ -49,7 +49,7 @@ double RangeError(const ParameterSpace& space, const std::vector<double>& x, int
 
 std::string Describe(const MethodResult& r, const ParameterSpace& space) {
   std::string s = r.method + ": misfit " + std::to_string(r.best_misfit) + " after " +
-                  std::to_string(r.evaluations) + " (" + r.termination + "; lowest evaluated " +
+                  std::to_string(r.evaluations) + " (" + r.termination.message + "; lowest evaluated " +
                   std::to_string(r.lowest_misfit) + "; " + r.smoothed.message + ")";
   for (int k = 0; k < space.size(); ++k)
     s += "\n  " + space.parameters()[k].label() + " = " + std::to_string(r.best[k]) + " (truth " +

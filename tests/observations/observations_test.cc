@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -410,6 +411,11 @@ TEST_F(ObservationsFileTest, ReadsEveryCsvFormRelativeToTheObservationsFile) {
   EXPECT_DOUBLE_EQ(obs.passing[0].fraction, 0.35);
   EXPECT_EQ(obs.passing[1].partition, 0);
   EXPECT_EQ(obs.passing[1].label, "passing[1] BP-1");
+  // Every file read, the observations file first (a calibration's log
+  // fingerprints them).
+  ASSERT_EQ(obs.inputs.size(), 6u);
+  EXPECT_EQ(obs.inputs[0], path);
+  EXPECT_EQ(obs.inputs[1], (dir_ / "data/scars.csv").string());
 
   const Observations d = LoadObservations(Write("obs2.json", R"({
     "units": "si",
@@ -554,6 +560,86 @@ TEST(ReleaseCentroidTest, PointZoneAndDegenerateZone) {
   const Eigen::Vector2d m = ReleaseCentroid(line);
   EXPECT_NEAR(m.x(), 1.0, 1e-12);
   EXPECT_NEAR(m.y(), 1.0, 1e-12);
+}
+
+// Observations with every kind of list: a partition scar set, a tree scar
+// set over two trees, runout stop points and a passing fraction.
+Observations FoldFixture() {
+  Observations obs;
+  obs.path = "obs.json";
+  ScarSet at_partition;
+  at_partition.label = "tree_scars[0] P";
+  at_partition.partition = 0;
+  at_partition.heights = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10};
+  ScarSet at_trees;
+  at_trees.label = "tree_scars[1] trees";
+  Tree a, b;
+  a.heights = {0.1, 0.2, 0.3};
+  a.probe = 0;
+  b.heights = {0.4, 0.5, 0.6, 0.7};
+  b.probe = 1;
+  at_trees.trees = {a, b};
+  obs.tree_scars = {at_partition, at_trees};
+  Runout runout;
+  for (int i = 0; i < 9; ++i) {
+    runout.stop_points.emplace_back(10.0 + i, 1.0);
+    runout.distances.push_back(10.0 + i);
+    runout.lateral.push_back(1.0);
+  }
+  obs.runout = runout;
+  obs.passing = {{"passing[0] P", 0, 0.5}};
+  return obs;
+}
+
+TEST(Folds, EveryValueIsHeldOutOnceAndTrainedOnOtherwise) {
+  const Observations obs = FoldFixture();
+  const std::vector<Fold> folds = MakeFolds(obs, 3, 7);
+  ASSERT_EQ(folds.size(), 3u);
+  std::vector<double> held_heights, held_distances;
+  for (const Fold& fold : folds) {
+    const Observations train = Subset(obs, fold, false);
+    const Observations test = Subset(obs, fold, true);
+    EXPECT_EQ(train.passing.size(), 1u);  // passing fractions train in every fold
+    EXPECT_TRUE(test.passing.empty());
+    ASSERT_TRUE(test.runout && train.runout);
+    EXPECT_EQ(test.runout->distances.size(), 3u);  // 9 dealt round-robin over 3
+    EXPECT_EQ(train.runout->distances.size() + test.runout->distances.size(), 9u);
+    EXPECT_EQ(test.runout->stop_points.size(), test.runout->distances.size());
+    ASSERT_EQ(test.tree_scars.size(), 2u);
+    for (std::size_t s = 0; s < 2; ++s) {
+      const std::size_t all = obs.tree_scars[s].ObservedHeights().size();
+      const std::size_t held = test.tree_scars[s].ObservedHeights().size();
+      EXPECT_EQ(train.tree_scars[s].ObservedHeights().size() + held, all);
+      EXPECT_LE(held, all / 3 + 1);
+      EXPECT_GE(held, all / 3);
+      for (double h : test.tree_scars[s].ObservedHeights()) held_heights.push_back(h);
+    }
+    // Tree probes are renumbered over the trees kept.
+    int probe = 0;
+    for (const Tree& t : test.tree_scars[1].trees) EXPECT_EQ(t.probe, probe++);
+    for (double d : test.runout->distances) held_distances.push_back(d);
+  }
+  std::sort(held_heights.begin(), held_heights.end());
+  std::vector<double> all_heights = obs.tree_scars[0].heights;
+  for (double h : obs.tree_scars[1].ObservedHeights()) all_heights.push_back(h);
+  std::sort(all_heights.begin(), all_heights.end());
+  EXPECT_EQ(held_heights, all_heights);
+  std::sort(held_distances.begin(), held_distances.end());
+  EXPECT_EQ(held_distances, obs.runout->distances);
+  // The same seed deals the same folds; another seed another order.
+  EXPECT_EQ(MakeFolds(obs, 3, 7)[1].runout, folds[1].runout);
+}
+
+TEST(Folds, TooFewValuesOrFoldsAreRefused) {
+  const Observations obs = FoldFixture();
+  EXPECT_THROW(MakeFolds(obs, 1, 1), InputError);
+  try {
+    MakeFolds(obs, 8, 1);  // the first tree set has 7 heights
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("tree_scars[1] trees"));
+    EXPECT_THAT(e.what(), HasSubstr("fewer than the 8 folds"));
+  }
 }
 
 }  // namespace

@@ -230,7 +230,7 @@ calibrate::MethodResult MakeMethod(const std::string& name, const calibrate::Par
                                    double misfit) {
   calibrate::MethodResult m;
   m.method = name;
-  m.termination = "evaluation budget used";
+  m.termination = {calibrate::TerminationType::kBudgetUsed, "evaluation budget used"};
   for (const auto& p : space.parameters()) m.best.push_back(0.5 * (p.lower + p.upper));
   m.best_misfit = misfit;
   for (int k = 1; k <= 5; ++k) {
@@ -248,8 +248,8 @@ calibrate::MethodResult MakeMethod(const std::string& name, const calibrate::Par
   return m;
 }
 
-CalibrationRecord MakeRecord(const sites::Site& site, int methods) {
-  CalibrationRecord record;
+CalibrationSummary MakeRecord(const sites::Site& site, int methods) {
+  CalibrationSummary record;
   record.site = site.scene.name;
   record.units = site.units;
   record.space = calibrate::ParameterSpace::FromSite(site);
@@ -276,7 +276,7 @@ CalibrationRecord MakeRecord(const sites::Site& site, int methods) {
 TEST(HtmlReportTest, CalibrationSectionsShowTheRecord) {
   const SimulatedSite run = Simulated("tutorial", 6);
   for (int methods : {1, 2}) {
-    const CalibrationRecord record = MakeRecord(run.site, methods);
+    const CalibrationSummary record = MakeRecord(run.site, methods);
     ReportInput in = Input(run);
     in.calibration = &record;
     const Parsed p = Render(in);
@@ -306,7 +306,7 @@ TEST(HtmlReportTest, CalibrationSectionsShowTheRecord) {
 
 TEST(HtmlReportTest, NoFitSectionWithoutResiduals) {
   const SimulatedSite run = Simulated("tutorial", 4);
-  CalibrationRecord record = MakeRecord(run.site, 1);
+  CalibrationSummary record = MakeRecord(run.site, 1);
   record.misfit_after = observations::Misfit{};
   ReportInput in = Input(run);
   in.calibration = &record;

@@ -7,6 +7,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rockcal/calibrate/objective.h"
@@ -26,15 +27,35 @@ struct Evaluation {
   bool replayed = false;  // taken from the log of an earlier run
 };
 
-// DIR/evaluations.jsonl: one JSON object per evaluation, appended (and
-// flushed) as each finishes.
+// What determines a calibration's evaluations, as named parts: the hash of a
+// file's bytes, or a value written out ("seed" = "1"). Stored as the first
+// line of the evaluation log, so that a resume can name what changed.
+struct Fingerprint {
+  std::vector<std::pair<std::string, std::string>> parts;  // (what, hash or value), in order
+
+  void Add(std::string what, std::string value) {
+    parts.emplace_back(std::move(what), std::move(value));
+  }
+  // The names of the parts that differ from `logged`'s (changed, added or
+  // missing), in this one's order and then `logged`'s.
+  std::vector<std::string> Differences(const Fingerprint& logged) const;
+};
+
+// FNV-1a (64 bits) of the bytes of `path`, in hex. Throws InputError when the
+// file cannot be read.
+std::string HashFile(const std::string& path);
+
+// DIR/evaluations.jsonl: a header line {"fingerprint": {...}}, then one JSON
+// object per evaluation, appended (and flushed) as each finishes.
 class EvaluationLog final {
  public:
   // Starts a new log at `path` (truncating it), or with `resume` reads the
-  // records already there first. A record that does not belong to this
+  // records already there first. A log whose header's fingerprint differs
+  // from `fingerprint` (the InputError names the parts), a log without a
+  // header (an older rockcal's), or a record that does not belong to this
   // calibration (other parameters, seed or rock count) is an InputError.
   EvaluationLog(std::string path, bool resume, const ParameterSpace& space, std::uint64_t seed,
-                int rocks);
+                int rocks, Fingerprint fingerprint = {});
   // The logged evaluation of `method` at exactly `physical`, if any.
   const Evaluation* Find(const std::string& method, const std::vector<double>& physical) const;
   void Append(const Evaluation& evaluation);
@@ -45,6 +66,7 @@ class EvaluationLog final {
   std::string path_;
   std::uint64_t seed_;
   int rocks_;
+  Fingerprint fingerprint_;
   std::vector<std::string> names_;
   std::vector<Evaluation> records_;
 };
@@ -120,9 +142,26 @@ struct SmoothedEstimate {
   double evaluated_misfit = 0.0;  // the misfit evaluated at the estimate
 };
 
+// Why a method stopped.
+enum class TerminationType {
+  kConverged,   // the optimiser's own tolerance was met
+  kBudgetUsed,  // the evaluation or time budget of MethodOptions ran out
+  kStopped,     // the optimiser gave up (round-off, a stop it reports)
+  kFailed,      // the optimiser threw an error
+};
+// "converged", "budget used", "stopped", "failed".
+const char* TerminationName(TerminationType type);
+
+struct Termination {
+  TerminationType type = TerminationType::kConverged;
+  // The detail as the optimiser gave it, with what rockcal added (restarts,
+  // the polish), e.g. "parameters converged (xtol); 2 restart(s) from the best point".
+  std::string message;
+};
+
 struct MethodResult {
   std::string method;
-  std::string termination;  // why it stopped
+  Termination termination;  // why it stopped
   std::vector<double> best;  // the calibrated values (physical)
   double best_misfit = 0.0;  // the misfit evaluated at `best`
   // The evaluation with the lowest misfit (equal to best/best_misfit unless

@@ -47,6 +47,9 @@ struct CalibratedSite {
 // or a parameter given twice are each an InputError naming the file, the JSON
 // path, the value and what was expected.
 CalibratedSite ReadCalibratedSite(const std::string& result_dir);
+// The same for a parameters.json named by its path, or by its folder
+// (result_dir is its folder).
+CalibratedSite ReadParametersFile(const std::string& file);
 
 struct DefaultTableOptions {
   // A value within this fraction of its range from a bound is "at a bound".

@@ -5,6 +5,7 @@
 #define ROCKCAL_OBSERVATIONS_OBSERVATIONS_H_
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -99,6 +100,9 @@ struct Observations {
   // What the reader found and chose (e.g. the runout direction), one line each,
   // for `rockcal validate`.
   std::vector<std::string> notes;
+  // Every file the observations were read from: the observations file, then
+  // the CSV files it named (as resolved). A calibration's log fingerprints them.
+  std::vector<std::string> inputs;
 
   bool empty() const { return tree_scars.empty() && !runout && passing.empty(); }
 };
@@ -116,6 +120,28 @@ Observations LoadObservations(const std::string& path, const core::Scene& scene)
 // `trees` replaced by the trees of the tree-form scar sets (in Tree::probe
 // order; empty when there are none). Other fields are left as in `base`.
 core::RecordOptions RequiredRecording(const Observations& observations, core::RecordOptions base);
+
+// One fold of a K-fold split of the observations: the values it holds out.
+struct Fold {
+  int index = 0, count = 1;  // fold `index` (0-based) of `count`
+  // Per scar set (in order): indices into its ObservedHeights().
+  std::vector<std::vector<std::size_t>> scars;
+  // Indices into runout.distances (and stop_points, lateral).
+  std::vector<std::size_t> runout;
+};
+
+// Splits the observations into `k` (>= 2) folds: the runout values and each
+// scar set's heights are dealt round-robin over the folds in an order
+// shuffled with `seed`, so each fold holds about 1/k of every list. Passing
+// fractions are in no fold (they stay in every training set). Throws
+// InputError when a list has fewer than k values.
+std::vector<Fold> MakeFolds(const Observations& observations, int k, std::uint64_t seed);
+
+// The observations without the fold's values (`held_out` false: its training
+// set, passing fractions included) or with only them (`held_out` true: no
+// passing fractions). A scar set or runout left without values is dropped;
+// tree probes are renumbered in order.
+Observations Subset(const Observations& observations, const Fold& fold, bool held_out);
 
 // Plan centroid of a release: the area centroid of its zone polygon (the mean
 // of its vertices when the polygon has no area), or its point.

@@ -8,48 +8,47 @@
 #include <string>
 #include <vector>
 
-#include "rockcal/calibrate/calibration.h"
+#include "rockcal/calibrate/calibration_run.h"
 #include "rockcal/observations/misfit.h"
 #include "rockcal/sites/site.h"
 
 namespace rockcal::reports {
 
-// Everything a calibration produced, as the outputs need it.
-struct CalibrationRecord {
-  std::string site;
-  sites::Units units = sites::Units::kSI;
-  double grid_spacing_m = 0.0;  // the terrain grid's spacing (0: not known)
-  calibrate::ParameterSpace space;
-  std::vector<double> start;           // physical values before
-  observations::Misfit misfit_before;  // at start
-  observations::Misfit misfit_after;   // at the calibrated values
-  std::vector<calibrate::MethodResult> methods;  // in the order run
-  int best = 0;                        // index into methods
-  int rocks = 0;
-  std::uint64_t seed = 1;
-  double wall_seconds = 0.0;           // whole command
-};
+// The record of a calibration is calibrate::CalibrationSummary (made by
+// calibrate::Calibrate); these write it.
+using calibrate::CalibrationSummary;
 
 // parameters.json of DESIGN.md (SI), for the best method, with each
 // parameter's material "class" and the grid's "grid_spacing_m" (when known)
 // added: a roughness means the same virtual spheres only at the same spacing.
-nlohmann::json ParametersJson(const CalibrationRecord& record);
+nlohmann::json ParametersJson(const CalibrationSummary& record);
 // parameters.csv: material,class,name,value,lower,upper,std_error,unit.
-std::string ParametersCsv(const CalibrationRecord& record);
+std::string ParametersCsv(const CalibrationSummary& record);
 // parameters.md: a Markdown table ready for a report (site units beside SI).
-std::string ParametersMarkdown(const CalibrationRecord& record);
+std::string ParametersMarkdown(const CalibrationSummary& record);
 // trace.csv: method,evaluation,wall_seconds,misfit,best_misfit,<parameters>,replayed.
-std::string TraceCsv(const CalibrationRecord& record);
+std::string TraceCsv(const CalibrationSummary& record);
 // calibration.json: methods, terminations, budgets, misfit before and after,
 // per-observation fit, uncertainties.
-nlohmann::json CalibrationJson(const CalibrationRecord& record);
+// The plain verdict on the fit at the calibrated values (observations::
+// AssessFit) with the outcomes of the final simulation: calibration.json's
+// "verdict".
+nlohmann::json VerdictJson(const CalibrationSummary& record);
+nlohmann::json CalibrationJson(const CalibrationSummary& record);
 // The lowest misfit any method evaluated: the target of "time to within
 // 10 %" in the comparison of methods.
-double LowestMisfitOfAll(const CalibrationRecord& record);
+double LowestMisfitOfAll(const CalibrationSummary& record);
 // The comparison of methods on the same site and budget (error against run
 // time): misfit, evaluations, wall seconds, time to within 10 % of the best.
-std::string ComparisonCsv(const CalibrationRecord& record);
-std::string ComparisonMarkdown(const CalibrationRecord& record);
+std::string ComparisonCsv(const CalibrationSummary& record);
+std::string ComparisonMarkdown(const CalibrationSummary& record);
+// holdout.json (and the "holdout" section of calibration.json): per fold the
+// in-sample and held-out misfits and the held-out runout error, their means,
+// beside the full calibration's in-sample misfit.
+nlohmann::json HoldoutJson(const calibrate::HoldoutSummary& holdout,
+                           const CalibrationSummary& full);
+// holdout.csv: fold,held_out_values,in_sample_misfit,held_out_misfit,runout_error_m,<parameters>.
+std::string HoldoutCsv(const calibrate::HoldoutSummary& holdout, const CalibrationSummary& full);
 
 }  // namespace rockcal::reports
 

@@ -42,7 +42,7 @@ struct ReportInput {
   std::vector<std::string> notes;  // what the site reader found and did
   // Optional: the calibration that chose the scene's parameters; adds the
   // calibration, trace and fit sections.
-  const CalibrationRecord* calibration = nullptr;
+  const CalibrationSummary* calibration = nullptr;
   // Optional: field observations; observed stop points are drawn on the plan.
   const observations::Observations* observations = nullptr;
   ReportOptions options;

@@ -21,8 +21,6 @@ struct ParameterBound {
 
 struct Site {
   std::string path;  // the site file
-  // Every file the site reads: the site file and its data files.
-  std::vector<std::string> input_files;
   Units units = Units::kUS;
   core::Scene scene;
   // The class of each material of scene.materials (same order): the
@@ -30,6 +28,9 @@ struct Site {
   // default tables built across sites; the simulation never uses it.
   std::vector<std::string> material_classes;
   std::vector<ParameterBound> calibrate;  // from each material's "calibrate"
+  // Every file the site was read from: the site file, then its data files
+  // (points, LIDAR, grid, STL) as resolved. A calibration's log fingerprints them.
+  std::vector<std::string> inputs;
   // What the reader found and did, for `rockcal validate` (one line each).
   std::vector<std::string> notes;
   // The barrier of the report's barrier check ("report" in the site file):

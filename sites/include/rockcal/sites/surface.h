@@ -23,7 +23,7 @@ struct Surface {
   std::string source;                  // "points", "points_file", "lidar", "grid_file" or "stl"
   bool materials_from_source = false;  // true for STL (each file names a material)
   std::vector<std::string> notes;      // what was read and how it was gridded
-  std::vector<std::string> files;      // the data files read (resolved paths)
+  std::vector<std::string> files;      // the data files read, as resolved
 };
 
 // Reads `surface` (the site's "surface" object). `base_dir` resolves

@@ -1,0 +1,149 @@
+// A whole calibration as one call: the site's parameters searched by one or
+// more methods against the observations, the best method's values applied,
+// and the site simulated once more at them with what the report needs.
+#ifndef ROCKCAL_CALIBRATE_CALIBRATION_RUN_H_
+#define ROCKCAL_CALIBRATE_CALIBRATION_RUN_H_
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rockcal/calibrate/calibration.h"
+#include "rockcal/calibrate/parameter_space.h"
+#include "rockcal/core/simulate.h"
+#include "rockcal/observations/misfit.h"
+#include "rockcal/observations/observations.h"
+#include "rockcal/sites/site.h"
+
+namespace rockcal::calibrate {
+
+// Options of Calibrate. Defaults in brackets.
+struct CalibrationOptions {
+  // The methods to run, in order, each one of MethodNames() [nlopt:bobyqa];
+  // the one with the lowest misfit gives the calibrated values.
+  std::vector<std::string> methods = {"nlopt:bobyqa"};
+  // The budget and settings of every method; its `seed` is replaced by the
+  // run's seed (below).
+  MethodOptions method;
+  observations::MisfitOptions misfit;  // how the misfit is computed [its defaults]
+  // Rocks per evaluation, spread over the rock groups in proportion to their
+  // counts; 0 keeps the site's counts [0], >= 0.
+  int rocks = 0;
+  // The seed of every evaluation (common random numbers) and of the
+  // stochastic methods; unset: the site file's [unset].
+  std::optional<std::uint64_t> seed;
+  int threads = 0;  // threads of each simulation, 0 = OpenMP's default [0], >= 0
+  // The evaluation log (one JSON line per evaluation, DIR/evaluations.jsonl);
+  // empty: none [empty].
+  std::string log_path;
+  // Continue the log at log_path: its evaluations are replayed, not
+  // simulated again [false]. Needs log_path.
+  bool resume = false;
+  // Which part of the observations file the observations are (e.g. "fold 2
+  // of 5, seed 1"); empty: all of it [empty]. Part of the log's fingerprint.
+  std::string observations_subset;
+
+  // Checks each field (the methods' names, the method options, the misfit
+  // options); on failure sets *error naming the field, its value and the rule.
+  bool IsValid(std::string* error) const;
+};
+
+struct CalibrationSummary;
+
+// Called as a calibration goes; every member may be empty.
+struct CalibrationCallbacks {
+  // Once the misfit at the start is known (summary.misfit_before, start,
+  // space, rocks and seed are set).
+  std::function<void(const CalibrationSummary&)> started;
+  std::function<void(const std::string& method)> method_started;
+  CalibrationProgress evaluated;  // after every evaluation
+  std::function<void(const MethodResult&)> method_finished;
+};
+
+// Everything a calibration produced, as its outputs need it.
+struct CalibrationSummary {
+  std::string site;  // the site's name
+  sites::Units units = sites::Units::kSI;
+  double grid_spacing_m = 0.0;  // the terrain grid's spacing (0: not known)
+  ParameterSpace space;
+  std::vector<double> start;           // physical values before
+  observations::Misfit misfit_before;  // at start
+  observations::Misfit misfit_after;   // at the calibrated values, of `simulation`
+  std::vector<MethodResult> methods;   // in the order run
+  int best = 0;                        // index into methods
+  int rocks = 0;                       // per evaluation
+  std::uint64_t seed = 1;
+  double wall_seconds = 0.0;  // the whole calibration
+  Termination termination;    // the best method's
+  // The site's scene at the calibrated values, recording what the files of
+  // a simulation need (summary.json, rocks.csv, the misfit); no trajectories.
+  core::Scene calibrated;
+  // Its simulation, recorded also for the report (passages, a few trajectories).
+  core::SimulationResult simulation;
+
+  const MethodResult& best_method() const { return methods[static_cast<std::size_t>(best)]; }
+  // A few lines: the misfit before and after, the best method, why it
+  // stopped, the evaluations and the wall time.
+  std::string BriefReport() const;
+};
+
+// What determines the evaluations of Calibrate(site, observations, options):
+// the bytes of the site file and of every data file it read (Site::inputs),
+// of the observations file and its CSV files (Observations::inputs), the seed, the rock count, the
+// methods, the method options (not the budget: a resumed run may be given more evaluations or
+// time), the misfit options and the parameters' bounds and starting values. The thread count is
+// left out (it changes no result).
+Fingerprint CalibrationFingerprint(const sites::Site& site,
+                                   const observations::Observations& observations,
+                                   const CalibrationOptions& options);
+
+// One fold of a cross-validation (CrossValidate).
+struct FoldResult {
+  int fold = 1;                   // 1-based
+  int held_out_values = 0;        // observed values held out (scar heights, stop points)
+  double in_sample_misfit = 0.0;  // the fold's calibration against its training values
+  double held_out_misfit = 0.0;   // its calibrated values against the held-out values
+  // The median over p10 ... p90 of |simulated - observed| runout distance,
+  // the observed quantiles those of the held-out stop points [m]; unset
+  // without runout observations.
+  std::optional<double> runout_error_m;
+  std::vector<double> calibrated;  // the fold's calibrated values (physical)
+  Termination termination;
+};
+
+struct HoldoutSummary {
+  int folds = 0;
+  std::uint64_t seed = 1;  // of the split
+  std::vector<FoldResult> results;
+  double mean_in_sample_misfit = 0.0, mean_held_out_misfit = 0.0;
+  std::optional<double> mean_runout_error_m;
+};
+
+// K-fold cross-validation: observations::MakeFolds(observations, folds,
+// seed); for each fold, Calibrate on the other folds' values (the log, when
+// options.log_path is set, is "evaluations-fold-<k>.jsonl" beside it; with
+// options.resume, a fold without a log yet starts afresh) and Score the
+// fold's held-out values at its calibrated values.
+HoldoutSummary CrossValidate(const sites::Site& site,
+                             const observations::Observations& observations,
+                             const CalibrationOptions& options, int folds,
+                             const CalibrationCallbacks& callbacks = {});
+
+// Throws the InputError Calibrate would throw before its first evaluation
+// (invalid options, a site without calibrated parameters), so that a caller
+// can check before it writes anything.
+void CheckCalibration(const sites::Site& site, const CalibrationOptions& options);
+
+// Calibrates `site` against `observations`. Throws InputError for invalid
+// options, a site without calibrated parameters or a log that cannot be
+// resumed; std::runtime_error when no evaluation finished.
+CalibrationSummary Calibrate(const sites::Site& site,
+                             const observations::Observations& observations,
+                             const CalibrationOptions& options,
+                             const CalibrationCallbacks& callbacks = {});
+
+}  // namespace rockcal::calibrate
+
+#endif  // ROCKCAL_CALIBRATE_CALIBRATION_RUN_H_

@@ -1,0 +1,50 @@
+// One simulation of a site scored against observations: the path every
+// misfit at given values takes (the end of a calibration, a held-out fold,
+// rockcal score).
+#ifndef ROCKCAL_CALIBRATE_SCORE_H_
+#define ROCKCAL_CALIBRATE_SCORE_H_
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rockcal/calibrate/default_table.h"
+#include "rockcal/core/simulate.h"
+#include "rockcal/observations/misfit.h"
+#include "rockcal/observations/observations.h"
+#include "rockcal/sites/site.h"
+
+namespace rockcal::calibrate {
+
+// The site's scene as a run takes it: `rocks` spread over the rock groups (0
+// keeps the site's counts), `seed` (unset: the site file's), `threads` (0:
+// OpenMP's default).
+core::Scene RunScene(const sites::Site& site, int rocks, std::optional<std::uint64_t> seed,
+                     int threads);
+
+// Applies the values of a parameters.json (ReadParametersFile) to `scene`
+// (its contact time, hardness and roughness; rebuild the terrain after).
+// A material the site lacks, or a value the site cannot take (hardness
+// outside [0, 1], roughness outside [0, half the grid spacing], contact time
+// <= 0) is an InputError naming `parameters.file`, the JSON path
+// ($.parameters[k].material or .value), the value and what was expected.
+void ApplyParameters(const CalibratedSite& parameters, core::Scene* scene);
+
+struct ScoreSummary {
+  // The scene simulated, recording what a simulation's files need
+  // (summary.json, rocks.csv, the misfit); no trajectories.
+  core::Scene scene;
+  // Its simulation, recorded also for the report (passages, a few trajectories).
+  core::SimulationResult simulation;
+  observations::Misfit misfit;  // of `simulation` against the observations
+};
+
+// Simulates `scene` once (its parameters, rocks and seed as given) and
+// computes the misfit against `observations`.
+ScoreSummary Score(const core::Scene& scene, const observations::Observations& observations,
+                   const observations::MisfitOptions& misfit = {});
+
+}  // namespace rockcal::calibrate
+
+#endif  // ROCKCAL_CALIBRATE_SCORE_H_

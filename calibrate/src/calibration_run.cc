@@ -1,0 +1,227 @@
+#include "rockcal/calibrate/calibration_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+#include "rockcal/calibrate/objective.h"
+#include "rockcal/calibrate/score.h"
+#include "rockcal/core/error.h"
+
+namespace rockcal::calibrate {
+
+bool CalibrationOptions::IsValid(std::string* error) const {
+  std::ostringstream s;
+  if (methods.empty()) {
+    s << "methods: empty; give at least one of " << MethodList();
+  } else if (rocks < 0) {
+    s << "rocks = " << rocks << ": must be >= 0 (0: the site's counts)";
+  } else if (threads < 0) {
+    s << "threads = " << threads << ": must be >= 0 (0: OpenMP's default)";
+  } else if (resume && log_path.empty()) {
+    s << "resume needs a log_path";
+  } else {
+    for (const std::string& m : methods)
+      if (!IsMethod(m)) {
+        s << "methods: unknown method '" << m << "' (allowed: " << MethodList() << ")";
+        *error = s.str();
+        return false;
+      }
+    if (!method.IsValid(error) || !misfit.IsValid(error)) return false;
+    return true;
+  }
+  *error = s.str();
+  return false;
+}
+
+std::string CalibrationSummary::BriefReport() const {
+  std::ostringstream out;
+  out << site << ": misfit " << misfit_before.value << " at the start, " << misfit_after.value
+      << " at the calibrated values";
+  if (!methods.empty()) {
+    const MethodResult& m = best_method();
+    out << " (" << m.method << ", " << m.evaluations << " evaluations, "
+        << TerminationName(termination.type) << ": " << termination.message << ")";
+  }
+  out << "; " << rocks << " rocks per evaluation, seed " << seed << ", " << wall_seconds << " s\n";
+  return out.str();
+}
+
+namespace {
+
+std::string Numbers(const std::vector<double>& values) {
+  std::ostringstream s;
+  s.precision(17);
+  for (std::size_t k = 0; k < values.size(); ++k) s << (k ? " " : "") << values[k];
+  return s.str();
+}
+
+}  // namespace
+
+Fingerprint CalibrationFingerprint(const sites::Site& site, const observations::Observations& obs,
+                                   const CalibrationOptions& options) {
+  core::Scene scene = site.scene;
+  if (options.rocks > 0) scene.SetTotalRocks(options.rocks);
+  Fingerprint f;
+  const std::vector<std::string> inputs =
+      site.inputs.empty() ? std::vector<std::string>{site.path} : site.inputs;
+  const std::filesystem::path site_dir = std::filesystem::path(site.path).parent_path();
+  for (std::size_t k = 0; k < inputs.size(); ++k) {
+    if (inputs[k].empty()) continue;
+    const std::string name = std::filesystem::path(inputs[k])
+                                 .lexically_relative(site_dir.empty() ? "." : site_dir)
+                                 .string();
+    f.Add(k == 0 ? "site file" : "site data file " + name, HashFile(inputs[k]));
+  }
+  if (!obs.path.empty()) f.Add("observations file", HashFile(obs.path));
+  const std::filesystem::path obs_dir = std::filesystem::path(obs.path).parent_path();
+  for (std::size_t k = 1; k < obs.inputs.size(); ++k)
+    f.Add("observations data file " + std::filesystem::path(obs.inputs[k])
+                                          .lexically_relative(obs_dir.empty() ? "." : obs_dir)
+                                          .string(),
+          HashFile(obs.inputs[k]));
+  if (!options.observations_subset.empty())
+    f.Add("observations subset", options.observations_subset);
+  f.Add("seed", std::to_string(options.seed ? *options.seed : scene.options.seed));
+  f.Add("rocks", std::to_string(scene.total_rocks()));
+  std::string methods;
+  for (const std::string& m : options.methods) methods += (methods.empty() ? "" : ",") + m;
+  f.Add("methods", methods);
+  const MethodOptions& m = options.method;
+  std::ostringstream method;
+  method.precision(17);
+  method << "polish_fraction " << m.polish_fraction << ", initial_step " << m.initial_step
+         << ", ceres_step " << m.ceres_step << ", ceres_loss " << m.ceres_loss << ", estimate "
+         << m.estimate << ", smoothing_radius " << m.smoothing_radius;
+  f.Add("method options", method.str());
+  std::ostringstream misfit;
+  misfit.precision(17);
+  misfit << "levels " << Numbers(options.misfit.levels) << ", include_max "
+         << options.misfit.include_max << ", penalty " << options.misfit.penalty << ", sigma_floor "
+         << options.misfit.sigma_floor;
+  f.Add("misfit options", misfit.str());
+  const ParameterSpace space = ParameterSpace::FromSite(site);
+  std::ostringstream parameters;
+  parameters.precision(17);
+  for (const Parameter& p : space.parameters())
+    parameters << p.label() << " [" << p.lower << ", " << p.upper << "] ";
+  parameters << "start " << Numbers(space.Current(scene));
+  f.Add("parameters", parameters.str());
+  return f;
+}
+
+void CheckCalibration(const sites::Site& site, const CalibrationOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("calibration options", error);
+  ParameterSpace::FromSite(site);
+}
+
+CalibrationSummary Calibrate(const sites::Site& site, const observations::Observations& obs,
+                             const CalibrationOptions& options,
+                             const CalibrationCallbacks& callbacks) {
+  const auto start_time = std::chrono::steady_clock::now();
+  CheckCalibration(site, options);
+  const core::Scene scene = RunScene(site, options.rocks, options.seed, options.threads);
+  const ParameterSpace space = ParameterSpace::FromSite(site);
+  MethodOptions method_options = options.method;
+  method_options.seed = scene.options.seed;
+
+  const Objective objective(scene, space, obs, options.misfit);
+  std::optional<EvaluationLog> log;
+  if (!options.log_path.empty())
+    log.emplace(options.log_path, options.resume, space, scene.options.seed, scene.total_rocks(),
+                CalibrationFingerprint(site, obs, options));
+
+  CalibrationSummary summary;
+  summary.site = scene.name;
+  summary.units = site.units;
+  summary.grid_spacing_m = scene.grid.spacing;
+  summary.space = space;
+  summary.rocks = scene.total_rocks();
+  summary.seed = scene.options.seed;
+  summary.start = space.Current(scene);
+  summary.misfit_before = objective.Evaluate(summary.start);
+  if (callbacks.started) callbacks.started(summary);
+  for (const std::string& method : options.methods) {
+    if (callbacks.method_started) callbacks.method_started(method);
+    summary.methods.push_back(RunMethod(method, objective, summary.start, method_options,
+                                        log ? &*log : nullptr, callbacks.evaluated));
+    if (callbacks.method_finished) callbacks.method_finished(summary.methods.back());
+  }
+  for (std::size_t k = 1; k < summary.methods.size(); ++k)
+    if (summary.methods[k].best_misfit < summary.best_method().best_misfit)
+      summary.best = static_cast<int>(k);
+  const MethodResult& best = summary.best_method();
+  if (best.best.empty()) throw std::runtime_error("no evaluation finished; nothing to report");
+  summary.termination = best.termination;
+
+  // The site at the calibrated values, simulated with what its files, the
+  // misfit and the report need.
+  core::Scene calibrated = scene;
+  space.Apply(best.best, &calibrated);
+  ScoreSummary score = Score(calibrated, obs, options.misfit);
+  summary.calibrated = std::move(score.scene);
+  summary.simulation = std::move(score.simulation);
+  summary.misfit_after = std::move(score.misfit);
+  summary.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  return summary;
+}
+
+HoldoutSummary CrossValidate(const sites::Site& site, const observations::Observations& obs,
+                             const CalibrationOptions& options, int folds,
+                             const CalibrationCallbacks& callbacks) {
+  CheckCalibration(site, options);
+  HoldoutSummary out;
+  out.folds = folds;
+  out.seed = options.seed ? *options.seed : site.scene.options.seed;
+  const std::vector<observations::Fold> split = observations::MakeFolds(obs, folds, out.seed);
+  std::vector<double> errors;
+  for (const observations::Fold& fold : split) {
+    FoldResult r;
+    r.fold = fold.index + 1;
+    for (const auto& s : fold.scars) r.held_out_values += static_cast<int>(s.size());
+    r.held_out_values += static_cast<int>(fold.runout.size());
+    CalibrationOptions o = options;
+    o.observations_subset = "fold " + std::to_string(r.fold) + " of " + std::to_string(folds) +
+                            ", seed " + std::to_string(out.seed);
+    if (!options.log_path.empty())
+      o.log_path = (std::filesystem::path(options.log_path).parent_path() /
+                    ("evaluations-fold-" + std::to_string(r.fold) + ".jsonl"))
+                       .string();
+    // A run stopped before this fold began left no log of it: start it afresh.
+    o.resume = options.resume && !o.log_path.empty() && std::filesystem::exists(o.log_path);
+    const CalibrationSummary cal =
+        Calibrate(site, observations::Subset(obs, fold, false), o, callbacks);
+    const ScoreSummary score =
+        Score(cal.calibrated, observations::Subset(obs, fold, true), options.misfit);
+    r.in_sample_misfit = cal.misfit_after.value;
+    r.held_out_misfit = score.misfit.value;
+    r.calibrated = cal.best_method().best;
+    r.termination = cal.termination;
+    std::vector<double> gaps;
+    for (const observations::Residual& res : score.misfit.residuals)
+      if (res.observation == "runout distance" && res.quantity != "max")
+        gaps.push_back(std::abs(res.simulated - res.observed));
+    if (!gaps.empty()) {
+      std::sort(gaps.begin(), gaps.end());
+      const std::size_t m = gaps.size() / 2;
+      r.runout_error_m = gaps.size() % 2 ? gaps[m] : 0.5 * (gaps[m - 1] + gaps[m]);
+      errors.push_back(*r.runout_error_m);
+    }
+    out.mean_in_sample_misfit += r.in_sample_misfit / folds;
+    out.mean_held_out_misfit += r.held_out_misfit / folds;
+    out.results.push_back(std::move(r));
+  }
+  if (!errors.empty()) {
+    double sum = 0.0;
+    for (double e : errors) sum += e;
+    out.mean_runout_error_m = sum / static_cast<double>(errors.size());
+  }
+  return out;
+}
+
+}  // namespace rockcal::calibrate

@@ -1,0 +1,91 @@
+// rockcal score: one simulation of a site (optionally at an earlier
+// calibration's values) scored against observations.
+#include "rockcal/calibrate/score.h"
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "args.h"
+#include "commands.h"
+#include "progress.h"
+#include "rockcal/core/error.h"
+#include "rockcal/observations/observations.h"
+#include "rockcal/reports/html_report.h"
+#include "rockcal/reports/output_dir.h"
+#include "rockcal/reports/simulation_outputs.h"
+#include "rockcal/sites/site.h"
+
+namespace rockcal::cli {
+namespace {
+
+// The site's scene with --rocks, --seed, --threads and --parameters.
+core::Scene SceneWithParameters(const sites::Site& site, const Args& args, int max_rocks) {
+  core::Scene scene = calibrate::RunScene(
+      site, args.Has("rocks") ? static_cast<int>(args.Integer("rocks", 0, 1, max_rocks)) : 0,
+      args.Has("seed") ? std::optional<std::uint64_t>(
+                             static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62)))
+                       : std::nullopt,
+      static_cast<int>(args.Integer("threads", 0, 0, 1024)));
+  if (args.Has("parameters"))
+    calibrate::ApplyParameters(calibrate::ReadParametersFile(args.Get("parameters")), &scene);
+  return scene;
+}
+
+}  // namespace
+
+int Score(const std::vector<std::string>& argv) {
+  const Args args(argv, {"force", "quiet"},
+                  {"observations", "parameters", "rocks", "seed", "threads", "out"});
+  const std::string site_path = args.OnlyPositional("SITE.json");
+  const std::string out = args.Get("out");
+  const sites::Site site = sites::LoadSite(site_path);
+  const observations::Observations obs =
+      observations::LoadObservations(args.Get("observations"), site.scene);
+  const core::Scene scene = SceneWithParameters(site, args, 100000000);
+  std::string error;
+  if (!scene.options.IsValid(&error)) throw InputError(site_path, error);
+
+  reports::OutputDir dir(out, args.Flag("force"));
+  const calibrate::ScoreSummary score = calibrate::Score(scene, obs);
+  const core::SimulationResult& sim = score.simulation;
+  nlohmann::json residuals = nlohmann::json::array();
+  for (const auto& r : score.misfit.residuals)
+    residuals.push_back({{"observation", r.observation},
+                         {"quantity", r.quantity},
+                         {"simulated", r.simulated},
+                         {"observed", r.observed},
+                         {"sigma", r.sigma},
+                         {"residual", r.value}});
+  const nlohmann::json json = {
+      {"site", scene.name},
+      {"observations", obs.path},
+      {"parameters", args.Has("parameters") ? nlohmann::json(args.Get("parameters")) : nullptr},
+      {"rocks", scene.total_rocks()},
+      {"seed", scene.options.seed},
+      {"misfit", score.misfit.value},
+      {"penalised", score.misfit.penalised},
+      {"message", score.misfit.message},
+      {"outcomes",
+       {{"stopped", sim.count(core::Outcome::kStopped)},
+        {"left", sim.count(core::Outcome::kLeft)},
+        {"timeout", sim.count(core::Outcome::kTimeout)}}},
+      {"residuals", residuals}};
+  reports::WriteSimulationFiles(dir.folder(), score.scene, sim);
+  reports::WriteFileAtomically(dir.File("score.json"), json.dump(2) + "\n");
+  reports::ReportInput report = SiteReport(site, score.scene, sim);
+  report.observations = &obs;
+  reports::WriteFileAtomically(dir.File("report.html"), reports::HtmlReport(report));
+  dir.Commit();
+  if (!args.Flag("quiet")) {
+    std::printf("%s: misfit %.4g with %d rocks, seed %llu (%d stopped, %d left, %d timeout)\n",
+                scene.name.c_str(), score.misfit.value, scene.total_rocks(),
+                static_cast<unsigned long long>(scene.options.seed),
+                sim.count(core::Outcome::kStopped), sim.count(core::Outcome::kLeft),
+                sim.count(core::Outcome::kTimeout));
+    std::printf("wrote %s/score.json, summary.json, rocks.csv, diagnostics.json, report.html\n",
+                out.c_str());
+  }
+  return 0;
+}
+
+}  // namespace rockcal::cli

@@ -1,0 +1,125 @@
+// A calibration as one call: Calibrate's summary, its options and the
+// recording it asks for.
+#include "rockcal/calibrate/calibration_run.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "rockcal/calibrate/objective.h"
+#include "rockcal/calibrate/recording.h"
+#include "rockcal/core/error.h"
+#include "twin_fixture.h"
+
+namespace rockcal::calibrate {
+namespace {
+
+using ::testing::HasSubstr;
+using testing::TwinObservations;
+using testing::TwinSite;
+
+const std::vector<double> kTruth = {0.65, 0.25, 0.2, 0.45};
+
+TEST(CalibrationRun, SummaryHoldsTheBestMethodAndItsSimulation) {
+  const sites::Site site = TwinSite(6);
+  const observations::Observations obs = TwinObservations(TwinSite(20), kTruth, 5);
+  CalibrationOptions options;
+  options.methods = {"nlopt:bobyqa", "nlopt:sbplx"};
+  options.method.max_evals = 4;
+  options.seed = 3;
+  int started = 0, evaluated = 0, finished = 0;
+  CalibrationCallbacks callbacks;
+  callbacks.started = [&](const CalibrationSummary& s) {
+    ++started;
+    EXPECT_EQ(s.start.size(), 4u);
+    EXPECT_GT(s.misfit_before.value, 0.0);
+  };
+  callbacks.evaluated = [&](const Evaluation&, double) { ++evaluated; };
+  callbacks.method_finished = [&](const MethodResult&) { ++finished; };
+  const CalibrationSummary s = Calibrate(site, obs, options, callbacks);
+  EXPECT_EQ(started, 1);
+  EXPECT_EQ(finished, 2);
+  EXPECT_EQ(evaluated, s.methods[0].evaluations + s.methods[1].evaluations);
+  ASSERT_EQ(s.methods.size(), 2u);
+  EXPECT_LE(s.best_method().best_misfit, s.methods[0].best_misfit);
+  EXPECT_LE(s.best_method().best_misfit, s.methods[1].best_misfit);
+  EXPECT_EQ(s.seed, 3u);
+  EXPECT_EQ(s.rocks, 6);
+  EXPECT_EQ(s.termination.type, s.best_method().termination.type);
+  EXPECT_EQ(s.termination.message, s.best_method().termination.message);
+  // Four evaluations of a budget of four: the budget ran out.
+  EXPECT_EQ(s.termination.type, TerminationType::kBudgetUsed) << s.termination.message;
+  // The calibrated scene carries the best values; its simulation was
+  // recorded for the report, and the misfit after is that simulation's.
+  const std::vector<double> values = s.space.Current(s.calibrated);
+  for (int k = 0; k < 4; ++k) EXPECT_NEAR(values[k], s.best_method().best[k], 1e-12) << k;
+  EXPECT_EQ(s.calibrated.options.record.trajectories, 0);
+  EXPECT_EQ(static_cast<int>(s.simulation.rocks.size()), 6);
+  EXPECT_FALSE(s.simulation.rocks[0].trajectory.empty());
+  EXPECT_FALSE(s.misfit_after.residuals.empty());
+  EXPECT_EQ(s.misfit_before.residuals.size(), s.misfit_after.residuals.size());
+  EXPECT_THAT(s.BriefReport(), HasSubstr("budget used"));
+}
+
+TEST(CalibrationRun, OptionsAreChecked) {
+  CalibrationOptions o;
+  std::string error;
+  EXPECT_TRUE(o.IsValid(&error)) << error;
+  o.methods = {"nlopt:nope"};
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("'nlopt:nope'"));
+  o = CalibrationOptions{};
+  o.methods.clear();
+  EXPECT_FALSE(o.IsValid(&error));
+  o = CalibrationOptions{};
+  o.rocks = -1;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("rocks = -1"));
+  o = CalibrationOptions{};
+  o.resume = true;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("log_path"));
+  o = CalibrationOptions{};
+  o.method.max_evals = 1;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("max_evals = 1"));
+  sites::Site no_bounds = TwinSite(2);
+  no_bounds.calibrate.clear();
+  EXPECT_THROW(CheckCalibration(no_bounds, CalibrationOptions{}), InputError);
+}
+
+TEST(Recording, EachReaderAddsWhatItNeeds) {
+  const sites::Site site = TwinSite(50);
+  const observations::Observations obs = TwinObservations(TwinSite(10), kTruth, 5);
+  RecordingNeeds none;
+  const core::RecordOptions bare = RecordingFor(site.scene, none);
+  EXPECT_FALSE(bare.partitions);
+  EXPECT_FALSE(bare.energy_check);
+  EXPECT_FALSE(bare.passages);
+  EXPECT_EQ(bare.trajectories, 0);
+  RecordingNeeds misfit;
+  misfit.observations = &obs;  // scar heights at partitions
+  EXPECT_TRUE(RecordingFor(site.scene, misfit).partitions);
+  RecordingNeeds report;
+  report.report = true;
+  const core::RecordOptions r = RecordingFor(site.scene, report);
+  EXPECT_TRUE(r.passages);
+  EXPECT_EQ(r.trajectories, 30);  // min(50 rocks, 30)
+  report.trajectories = 5;        // asked for: kept
+  report.sample_seconds = 0.2;
+  EXPECT_EQ(RecordingFor(site.scene, report).trajectories, 5);
+  EXPECT_EQ(RecordingFor(site.scene, report).sample_seconds, 0.2);
+}
+
+TEST(Objective, ResidualCountComesFromTheObservations) {
+  const sites::Site site = TwinSite(4);
+  const observations::Observations obs = TwinObservations(TwinSite(20), kTruth, 5);
+  const Objective objective(site.scene, ParameterSpace::FromSite(site), obs, {});
+  // Two scar sets and the runout distance and lateral offset: 4 x (9 + max),
+  // and the share of rocks that stopped.
+  EXPECT_EQ(objective.residual_count(), 41);
+}
+
+}  // namespace
+}  // namespace rockcal::calibrate
