@@ -87,9 +87,11 @@ TEST(Study, ReachWritesTablesAndReportAndNamesWhatIsOutOfReach) {
   EXPECT_EQ(j["rocks"], 6);
   ASSERT_FALSE(j["statistics"].empty());
   // Every out-of-reach statistic is printed plainly, by name.
-  for (const auto& s : j["statistics"])
-    if (!s["in_reach"].get<bool>())
+  for (const auto& s : j["statistics"]) {
+    if (!s["in_reach"].get<bool>()) {
       EXPECT_THAT(run.out, HasSubstr("OUT OF REACH: " + s["name"].get<std::string>() + " is"));
+    }
+  }
   EXPECT_TRUE(fs::exists(out + "/reach.csv"));
   const std::string html = ReadFile(out + "/report.html");
   EXPECT_THAT(html, HasSubstr("<section id=\"reach\">"));
@@ -110,9 +112,11 @@ TEST(Study, ReachReportsARunoutTheSlopeCannotProduce) {
   EXPECT_THAT(run.out, HasSubstr("OUT OF REACH: runout distance p50 is out of reach: observed"));
   EXPECT_THAT(run.out, HasSubstr("above the range"));
   const nlohmann::json j = nlohmann::json::parse(ReadFile(out + "/reach.json"));
-  for (const auto& s : j["statistics"])
-    if (s["observation"] == "runout distance")
+  for (const auto& s : j["statistics"]) {
+    if (s["observation"] == "runout distance") {
       EXPECT_EQ(s["verdict"], "out of reach (above)") << s["name"];
+    }
+  }
 }
 
 TEST(Study, ReachBadInputExitsTwoAndLeavesNothing) {
