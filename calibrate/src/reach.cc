@@ -165,7 +165,8 @@ constexpr const char* kRule =
     "sigma is the median over those points of the residual's sigma (measurement error, Monte "
     "Carlo error of the simulated value, sampling error of the observed one). Out of reach "
     "(below): the observed value is below min - sigma; (above): above max + sigma; (no value): "
-    "no design point gave a value (each was penalised for it).";
+    "no design point gave a value (each was penalised for it). at_edge: in reach only by the "
+    "sigma allowance (the observed value lies outside [min, max]).";
 
 }  // namespace
 
@@ -303,14 +304,15 @@ std::string ReachResult::FullReport() const {
                 "sigma", "min", "max", "closest", "verdict");
   out << line;
   for (const ReachStatistic& s : statistics) {
-    std::snprintf(line, sizeof line, "%-30s %11s %9s %11s %11s %9s  %s\n", s.name().c_str(),
-                  G(s.observed).c_str(), G(s.sigma, "%.3g").c_str(), G(s.min).c_str(),
-                  G(s.max).c_str(), G(s.closest_sigmas, "%+.2f").c_str(),
-                  ReachVerdictText(s.verdict));
+    std::snprintf(
+        line, sizeof line, "%-30s %11s %9s %11s %11s %9s  %s\n", s.name().c_str(),
+        G(s.observed).c_str(), G(s.sigma, "%.3g").c_str(), G(s.min).c_str(), G(s.max).c_str(),
+        G(s.closest_sigmas, "%+.2f").c_str(),
+        (std::string(ReachVerdictText(s.verdict)) + (s.at_edge() ? " (edge)" : "")).c_str());
     out << line;
   }
   out << "(SI units; closest: (simulated - observed) / sigma at the design point that came "
-         "closest)\n";
+         "closest; edge: in reach only by the sigma allowance, outside [min, max])\n";
   out << BriefReport();
   return out.str();
 }
@@ -423,6 +425,7 @@ nlohmann::json ReachJson(const std::string& site_name, const ReachResult& r) {
                      {"closest_sigmas", JsonNum(s.closest_sigmas)},
                      {"points_with_value", s.points_with_value},
                      {"in_reach", s.in_reach()},
+                     {"at_edge", s.at_edge()},
                      {"verdict", ReachVerdictText(s.verdict)}});
   nlohmann::json points = nlohmann::json::array();
   for (const ReachPoint& p : r.points) {
@@ -460,14 +463,14 @@ nlohmann::json ReachJson(const std::string& site_name, const ReachResult& r) {
 std::string ReachCsv(const ReachResult& r) {
   std::ostringstream out;
   out << "statistic,observation,quantity,observed,sigma,min,max,min_point,max_point,"
-         "closest_point,closest_simulated,closest_sigmas,points_with_value,verdict\n";
+         "closest_point,closest_simulated,closest_sigmas,points_with_value,verdict,at_edge\n";
   for (const ReachStatistic& s : r.statistics)
     out << CsvField(s.name()) << ',' << CsvField(s.observation) << ',' << CsvField(s.quantity)
         << ',' << Num(s.observed, "%.10g") << ',' << Num(s.sigma, "%.10g") << ','
         << Num(s.min, "%.10g") << ',' << Num(s.max, "%.10g") << ',' << s.min_point << ','
         << s.max_point << ',' << s.closest_point << ',' << Num(s.closest_simulated, "%.10g") << ','
         << Num(s.closest_sigmas, "%.10g") << ',' << s.points_with_value << ','
-        << ReachVerdictText(s.verdict) << '\n';
+        << ReachVerdictText(s.verdict) << ',' << (s.at_edge() ? "true" : "false") << '\n';
   return out.str();
 }
 

@@ -16,6 +16,7 @@ using svg::Px;
 
 constexpr const char* kInReach = "#1a7f37";
 constexpr const char* kOutOfReach = "#b00020";
+constexpr const char* kAtEdge = "#c07000";
 constexpr double kClip = 10.0;  // sigmas: the plot's half-width at most
 
 // (value - observed) / sigma of statistic s.
@@ -69,7 +70,7 @@ std::string ReachSvg(const calibrate::ReachResult& result) {
   for (std::size_t k = 0; k < n; ++k) {
     const calibrate::ReachStatistic& s = result.statistics[k];
     const double yc = plot.top() + row * (static_cast<double>(k) + 0.5);
-    const char* colour = s.in_reach() ? kInReach : kOutOfReach;
+    const char* colour = s.at_edge() ? kAtEdge : s.in_reach() ? kInReach : kOutOfReach;
     plot.Text(plot.left() - 6, yc + 4, s.name(),
               std::string("text-anchor=\"end\" fill=\"") + colour + "\"");
     if (s.points_with_value > 0 && s.sigma > 0.0) {
@@ -101,6 +102,9 @@ std::string ReachSection(const calibrate::ReachResult& r, const std::string& jso
   std::string s = "<p class=\"verdict " + std::string(out == 0 ? "ok" : "bad") + "\">" +
                   std::to_string(n - static_cast<std::size_t>(out)) + " of " + std::to_string(n) +
                   " statistics in reach";
+  int edge = 0;
+  for (const calibrate::ReachStatistic& st : r.statistics) edge += st.at_edge() ? 1 : 0;
+  if (edge > 0) s += " (" + std::to_string(edge) + " at the edge)";
   if (out > 0) {
     std::string names;
     for (const calibrate::ReachStatistic& st : r.statistics)
@@ -119,7 +123,8 @@ std::string ReachSection(const calibrate::ReachResult& r, const std::string& jso
        "when its observed value lies within [min &#8722; &#963;, max + &#963;] of the values "
        "the design reached, &#963; being the median of its residual's sigma over the points "
        "(measurement error, Monte Carlo error of the simulated value, sampling error of the "
-       "observed one). Out of reach means the model produces it nowhere in the box: widen the "
+       "observed one); <em>at the edge</em> when only that allowance puts it in reach. Out of "
+       "reach means the model produces it nowhere in the box: widen the "
        "box, change the model (release, shapes, contact parameters) or question the "
        "observation. A calibration then gives a best compromise, not a fit.</p>";
   s += "<table><thead><tr>" + html::Th("statistic") + html::Th("observed") + html::Th("± sigma") +
@@ -134,14 +139,18 @@ std::string ReachSection(const calibrate::ReachResult& r, const std::string& jso
     s += "<tr>" + html::Td(st.name()) + cell("observed", st.observed) + cell("sigma", st.sigma) +
          cell("min", st.min) + cell("max", st.max) + cell("closest_sigmas", st.closest_sigmas) +
          html::Td(std::to_string(st.points_with_value), true) + "<td class=\"" +
-         (st.in_reach() ? "ok" : "bad") + "\">" + Escape(calibrate::ReachVerdictText(st.verdict)) +
-         "</td></tr>";
+         (st.at_edge()    ? "warn"
+          : st.in_reach() ? "ok"
+                          : "bad") +
+         "\">" + Escape(calibrate::ReachVerdictText(st.verdict)) +
+         (st.at_edge() ? " (at the edge)" : "") + "</td></tr>";
   }
   s += "</tbody></table>";
   s += html::Figure(ReachSvg(r),
                     "Per statistic, the range of values the design reached, in sigmas from the "
                     "observed value (the dot); the shaded band is &#177;1 &#963;, the tolerance "
-                    "of the verdict. Green: in reach; red: out of reach.",
+                    "of the verdict. Green: in reach; orange: at the edge (in reach by that "
+                    "band only); red: out of reach.",
                     640.0);
   if (r.best_point >= 0) {
     const calibrate::ReachPoint& b = r.points[static_cast<std::size_t>(r.best_point)];

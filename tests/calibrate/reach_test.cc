@@ -91,6 +91,22 @@ TEST(ReachOptions, ValidatesAndNamesTheField) {
   EXPECT_FALSE(ParseDesignKind("sobol", &kind));
 }
 
+TEST(ReachStatistic, AtTheEdgeWhenOnlyTheSigmaAllowancePutsItInReach) {
+  ReachStatistic s;
+  s.observation = "runout distance";
+  s.quantity = "p90";
+  s.min = 10.0;
+  s.max = 20.0;
+  s.verdict = ReachVerdict::kInReach;
+  s.observed = 15.0;
+  EXPECT_FALSE(s.at_edge());
+  s.observed = 20.5;
+  EXPECT_TRUE(s.at_edge());
+  s.verdict = ReachVerdict::kAbove;
+  EXPECT_FALSE(s.at_edge()) << "out of reach is not at the edge";
+  EXPECT_EQ(s.name(), "runout distance p90");
+}
+
 // ---- RunReach on the twin slope -----------------------------------------------------
 
 // The twin slope with two parameters, few rocks: quick under the sanitizers.

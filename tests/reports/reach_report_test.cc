@@ -44,8 +44,9 @@ calibrate::ReachStatistic Stat(const std::string& observation, const std::string
   return s;
 }
 
-// Two points, three statistics by hand: one in reach, one far above the
-// range (beyond the plot's 10 sigmas), one with no value at any point.
+// Two points, four statistics by hand: one in reach, one far above the
+// range (beyond the plot's 10 sigmas), one with no value at any point, and
+// one in reach by its sigma only (at the edge).
 calibrate::ReachResult HandResult() {
   calibrate::ReachResult r;
   r.candidates = 10;
@@ -60,7 +61,8 @@ calibrate::ReachResult HandResult() {
   r.statistics = {
       Stat("runout distance", "p50", 40.0, 2.5, 31.0, 57.0, calibrate::ReachVerdict::kInReach),
       Stat("runout distance", "max", 500.0, 3.0, 60.0, 95.0, calibrate::ReachVerdict::kAbove),
-      Stat("passing[0] <P&1>", "fraction", 0.3, 0.05, NAN, NAN, calibrate::ReachVerdict::kNoValue)};
+      Stat("passing[0] <P&1>", "fraction", 0.3, 0.05, NAN, NAN, calibrate::ReachVerdict::kNoValue),
+      Stat("runout lateral", "p90", 10.0, 2.0, 1.0, 9.0, calibrate::ReachVerdict::kInReach)};
   calibrate::ReachStatistic& none = r.statistics[2];
   none.min_point = none.max_point = none.closest_point = -1;
   none.points_with_value = 0;
@@ -70,8 +72,8 @@ calibrate::ReachResult HandResult() {
     point.unit = {0.25 + 0.5 * k};
     point.physical = {0.25 + 0.3 * k};
     point.misfit = 80.0 - 30.0 * k;
-    point.simulated = {k ? 57.0 : 31.0, k ? 95.0 : 60.0, NAN};
-    point.sigma = {2.5, 3.0, NAN};
+    point.simulated = {k ? 57.0 : 31.0, k ? 95.0 : 60.0, NAN, k ? 9.0 : 1.0};
+    point.sigma = {2.5, 3.0, NAN, 2.0};
     r.points.push_back(point);
   }
   r.best_point = 1;
@@ -109,6 +111,10 @@ TEST(ReachReport, IsSelfContainedAndItsNumbersAreReachJson) {
   const auto ok = Cells(*section, "ok"), bad = Cells(*section, "bad");
   ASSERT_EQ(ok.size(), 1u);
   EXPECT_EQ(ok[0]->AllText(), "in reach");
+  const auto edge = Cells(*section, "warn");
+  ASSERT_EQ(edge.size(), 1u);
+  EXPECT_EQ(edge[0]->AllText(), "in reach (at the edge)");
+  EXPECT_NE(p.html.find("2 of 4 statistics in reach (1 at the edge)"), std::string::npos);
   ASSERT_EQ(bad.size(), 2u);
   EXPECT_EQ(bad[0]->AllText(), "out of reach (above)");
   EXPECT_EQ(bad[1]->AllText(), "out of reach (no value)");

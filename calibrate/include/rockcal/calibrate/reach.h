@@ -104,6 +104,9 @@ struct ReachStatistic {
 
   std::string name() const;  // "runout distance p90"
   bool in_reach() const { return verdict == ReachVerdict::kInReach; }
+  // In reach only by the sigma allowance: the observed value lies outside
+  // [min, max]. The box's edge is there; a calibration may end at a bound.
+  bool at_edge() const { return in_reach() && (observed < min || observed > max); }
 };
 
 // One design point.
