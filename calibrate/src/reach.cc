@@ -286,6 +286,12 @@ std::string ReachResult::BriefReport() const {
       << " rocks each, in " << G(wall_seconds, "%.1f") << " s; " << statistics.size()
       << " statistics, " << (statistics.size() - static_cast<std::size_t>(out_of_reach()))
       << " in reach, " << out_of_reach() << " out of reach\n";
+  int penalised = 0;
+  for (const ReachPoint& p : points) penalised += p.penalised ? 1 : 0;
+  if (penalised > 0)
+    out << penalised << " of " << points.size()
+        << " points were penalised (each point records why); their penalised "
+           "statistics are left out\n";
   if (best_point >= 0) {
     const ReachPoint& b = points[static_cast<std::size_t>(best_point)];
     out << "best point " << best_point << ": misfit " << G(b.misfit) << " at";
@@ -391,8 +397,8 @@ std::vector<std::string> OutOfReachWarnings(const ReachResult& result) {
     std::string w = s.name() + " is out of reach: observed " + G(s.observed) + ", ";
     if (s.verdict == ReachVerdict::kNoValue) {
       w += "but none of the " + design +
-           " gave a value for it (too few simulated rocks to "
-           "compare).";
+           " gave a value for it (each was penalised: too few simulated rocks to compare, or a "
+           "failed simulation).";
     } else {
       w += std::string(s.verdict == ReachVerdict::kAbove ? "above" : "below") + " the range " +
            G(s.min) + " to " + G(s.max) + " that the " + design + " reached (sigma " +
