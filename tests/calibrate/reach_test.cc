@@ -193,6 +193,35 @@ TEST(RunReach, ARunoutShorterThanAnyRockIsOutOfReachBelow) {
   EXPECT_EQ(std::string(ReachVerdictText(p10->verdict)), "out of reach (below)");
 }
 
+TEST(RunReach, ScarsWhereNoRockPassesHaveNoValueAnywhere) {
+  Twin twin;
+  // A partition behind the release (x = 0.3 m; rocks start at 1 to 4 m and
+  // run down towards +x): no rock crosses it at any point of the box, so
+  // every point's scar distribution there is penalised.
+  twin.site.scene.partitions.push_back({"behind", core::Partition::Kind::kX, 0.3});
+  observations::ScarSet behind;
+  behind.label = "tree_scars[2] behind";
+  behind.partition = 2;
+  behind.heights = {0.5, 1.0, 1.5};
+  twin.obs.tree_scars.push_back(behind);
+  const ReachResult r = RunReach(twin.MakeObjective(), FewPoints());
+  const ReachStatistic* scar = Find(r, "tree_scars[2] behind p50");
+  ASSERT_NE(scar, nullptr);
+  EXPECT_EQ(scar->verdict, ReachVerdict::kNoValue);
+  EXPECT_EQ(scar->points_with_value, 0);
+  EXPECT_TRUE(std::isnan(scar->min) && std::isnan(scar->sigma));
+  for (const ReachPoint& p : r.points) EXPECT_TRUE(p.penalised);
+  // The other statistics of the same, penalised, misfits keep their values.
+  const ReachStatistic* runout = Find(r, "runout distance p50");
+  ASSERT_NE(runout, nullptr);
+  EXPECT_EQ(runout->points_with_value, 5);
+  EXPECT_TRUE(runout->in_reach());
+  bool named = false;
+  for (const std::string& w : OutOfReachWarnings(r))
+    named = named || w.rfind("tree_scars[2] behind p50 is out of reach", 0) == 0;
+  EXPECT_TRUE(named);
+}
+
 TEST(RunReach, SameResultAtOneAndTwoThreads) {
   const ReachResult a = RunReach(Twin(1).MakeObjective(), FewPoints());
   const ReachResult b = RunReach(Twin(2).MakeObjective(), FewPoints());
