@@ -131,6 +131,15 @@ const ReachStatistic* Find(const ReachResult& r, const std::string& name) {
   return nullptr;
 }
 
+// What the points said, for a failure message: misfit and why penalised.
+std::string Points(const ReachResult& r) {
+  std::string out = std::to_string(r.statistics.size()) + " statistics; points:";
+  for (const ReachPoint& p : r.points)
+    out +=
+        "\n  misfit " + std::to_string(p.misfit) + (p.penalised ? " penalised: " + p.message : "");
+  return out;
+}
+
 ReachOptions FewPoints() {
   ReachOptions opt;
   opt.points = 5;
@@ -147,7 +156,7 @@ TEST(RunReach, ObservationsFromInsideTheBoxAreInReach) {
   // each with 9 quantiles and the max.
   EXPECT_EQ(r.statistics.size(), 4u * 10u);
   const ReachStatistic* p50 = Find(r, "runout distance p50");
-  ASSERT_NE(p50, nullptr);
+  ASSERT_NE(p50, nullptr) << Points(r);
   EXPECT_TRUE(p50->in_reach()) << "observed " << p50->observed << ", reached " << p50->min << " to "
                                << p50->max << ", sigma " << p50->sigma;
   EXPECT_LE(p50->min, p50->max);
@@ -165,14 +174,14 @@ TEST(RunReach, ARunoutFarBeyondTheSlopeIsOutOfReachAbove) {
   for (double& d : twin.obs.runout->distances) d += 500.0;
   const ReachResult r = RunReach(twin.MakeObjective(), FewPoints());
   const ReachStatistic* p50 = Find(r, "runout distance p50");
-  ASSERT_NE(p50, nullptr);
+  ASSERT_NE(p50, nullptr) << Points(r);
   EXPECT_EQ(p50->verdict, ReachVerdict::kAbove)
       << "observed " << p50->observed << ", reached " << p50->min << " to " << p50->max;
   EXPECT_LT(p50->max, 100.0);
   EXPECT_GT(p50->observed, 500.0);
   // The scar heights were not moved: still in reach.
   const ReachStatistic* scar = Find(r, "tree_scars[0] P p50");
-  ASSERT_NE(scar, nullptr);
+  ASSERT_NE(scar, nullptr) << Points(r);
   EXPECT_TRUE(scar->in_reach()) << scar->observed << " vs " << scar->min << " to " << scar->max;
   const std::vector<std::string> warnings = OutOfReachWarnings(r);
   ASSERT_FALSE(warnings.empty());
@@ -188,7 +197,7 @@ TEST(RunReach, ARunoutShorterThanAnyRockIsOutOfReachBelow) {
   for (double& d : twin.obs.runout->distances) d = -200.0 + 0.01 * d;
   const ReachResult r = RunReach(twin.MakeObjective(), FewPoints());
   const ReachStatistic* p10 = Find(r, "runout distance p10");
-  ASSERT_NE(p10, nullptr);
+  ASSERT_NE(p10, nullptr) << Points(r);
   EXPECT_EQ(p10->verdict, ReachVerdict::kBelow) << p10->observed << " vs " << p10->min;
   EXPECT_EQ(std::string(ReachVerdictText(p10->verdict)), "out of reach (below)");
 }
@@ -206,14 +215,14 @@ TEST(RunReach, ScarsWhereNoRockPassesHaveNoValueAnywhere) {
   twin.obs.tree_scars.push_back(behind);
   const ReachResult r = RunReach(twin.MakeObjective(), FewPoints());
   const ReachStatistic* scar = Find(r, "tree_scars[2] behind p50");
-  ASSERT_NE(scar, nullptr);
+  ASSERT_NE(scar, nullptr) << Points(r);
   EXPECT_EQ(scar->verdict, ReachVerdict::kNoValue);
   EXPECT_EQ(scar->points_with_value, 0);
   EXPECT_TRUE(std::isnan(scar->min) && std::isnan(scar->sigma));
   for (const ReachPoint& p : r.points) EXPECT_TRUE(p.penalised);
   // The other statistics of the same, penalised, misfits keep their values.
   const ReachStatistic* runout = Find(r, "runout distance p50");
-  ASSERT_NE(runout, nullptr);
+  ASSERT_NE(runout, nullptr) << Points(r);
   EXPECT_EQ(runout->points_with_value, 5);
   EXPECT_TRUE(runout->in_reach());
   bool named = false;
