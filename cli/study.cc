@@ -6,17 +6,21 @@
 
 #include "args.h"
 #include "progress.h"
+#include "rockcal/calibrate/objective.h"
+#include "rockcal/calibrate/reach.h"
 #include "rockcal/calibrate/study.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/limits.h"
+#include "rockcal/observations/observations.h"
 #include "rockcal/reports/output_dir.h"
+#include "rockcal/reports/reach_report.h"
 #include "rockcal/reports/study_report.h"
 #include "rockcal/sites/site.h"
 
 namespace rockcal::cli {
 namespace {
 
-constexpr const char* kStudies = "stability, convergence";
+constexpr const char* kStudies = "stability, convergence, reach";
 
 // A comma-separated list of whole numbers in [lo, hi] given to --name.
 std::vector<int> IntegerList(const Args& args, const std::string& name, long lo, long hi) {
@@ -79,7 +83,10 @@ int Stability(const Args& args, sites::Site* site, const std::string& out) {
                 {{"steps-per-contact", "a convergence option"},
                  {"rock-counts", "a convergence option; --rocks N sets the rocks per case"},
                  {"target", "a convergence option"},
-                 {"bootstrap", "a convergence option"}});
+                 {"bootstrap", "a convergence option"},
+                 {"observations", "a reach option"},
+                 {"points", "a reach option"},
+                 {"design", "a reach option"}});
   calibrate::StabilityOptions opt;
   opt.rocks = static_cast<int>(args.Integer("rocks", opt.rocks, 1, 1000000));
   if (args.Has("seed")) opt.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
@@ -120,7 +127,10 @@ int Stability(const Args& args, sites::Site* site, const std::string& out) {
 int Convergence(const Args& args, sites::Site* site, const std::string& out) {
   RejectOptions(args, "convergence",
                 {{"rocks", "use --rock-counts LIST, e.g. --rock-counts 100,300,1000"},
-                 {"cases", "a stability option"}});
+                 {"cases", "a stability option"},
+                 {"observations", "a reach option"},
+                 {"points", "a reach option"},
+                 {"design", "a reach option"}});
   calibrate::ConvergenceOptions opt;
   if (args.Has("steps-per-contact"))
     opt.steps_per_contact = IntegerList(args, "steps-per-contact", 4, 100000);
@@ -161,15 +171,76 @@ int Convergence(const Args& args, sites::Site* site, const std::string& out) {
   return 0;
 }
 
+int Reach(const Args& args, sites::Site* site, const std::string& out) {
+  RejectOptions(args, "reach",
+                {{"steps-per-contact", "a convergence option"},
+                 {"rock-counts", "a convergence option; --rocks N sets the rocks per point"},
+                 {"target", "a convergence option"},
+                 {"bootstrap", "a convergence option"},
+                 {"cases", "a stability option"}});
+  const std::string& site_path = args.positionals()[1];
+  core::Scene& scene = site->scene;
+  if (args.Has("rocks"))
+    scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, 100000000)));
+  if (args.Has("seed"))
+    scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
+  scene.options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+  calibrate::ReachOptions opt;
+  opt.seed = scene.options.seed;
+  if (args.Has("points")) opt.points = static_cast<int>(args.Integer("points", 0, 2, 100000));
+  const std::string design = args.Get("design", calibrate::DesignKindName(opt.design));
+  if (!calibrate::ParseDesignKind(design, &opt.design))
+    throw InputError("argument --design", "unknown design '" + design +
+                                              "' (allowed: " + calibrate::DesignKindList() + ")");
+  std::string error;
+  if (!opt.IsValid(&error)) throw InputError("arguments", error);
+  if (!scene.options.IsValid(&error)) throw InputError(site_path, error);
+  if (site->calibrate.empty())
+    throw InputError(site_path,
+                     "no \"calibrate\" bounds: the reach check samples the calibration box, so "
+                     "give at least one material a \"calibrate\" object, e.g. \"calibrate\": "
+                     "{\"hardness\": [0.1, 0.6]}");
+  const calibrate::ParameterSpace space = calibrate::ParameterSpace::FromSite(*site);
+  const observations::Observations obs =
+      observations::LoadObservations(args.Get("observations"), scene);
+
+  reports::OutputDir dir(out, args.Flag("force"));
+  const calibrate::Objective objective(scene, space, obs, observations::MisfitOptions{});
+  calibrate::ReachResult result;
+  {
+    Progress progress("reach", args.Flag("quiet"));
+    opt.progress = [&](int done, int total, const std::string& what) {
+      progress.Update(done, total, what);
+    };
+    result = calibrate::RunReach(objective, opt);
+  }
+  const std::string& name = scene.name;
+  reports::WriteFileAtomically(dir.File("reach.json"),
+                               calibrate::ReachJson(name, result).dump(2) + "\n");
+  reports::WriteFileAtomically(dir.File("reach.csv"), calibrate::ReachCsv(result));
+  reports::WriteFileAtomically(dir.File("report.html"),
+                               reports::ReachHtmlReport(ReportInput(*site), result));
+  dir.Commit();
+  if (!args.Flag("quiet")) {
+    std::printf("%s: reach check, %d parameters\n", name.c_str(), space.size());
+    std::fputs(result.FullReport().c_str(), stdout);
+    std::printf("wrote %s/reach.json, reach.csv, report.html\n", out.c_str());
+  } else {
+    for (const std::string& w : calibrate::OutOfReachWarnings(result))
+      std::printf("OUT OF REACH: %s\n", w.c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
 int Study(const std::vector<std::string>& argv) {
   const Args args(argv, {"force", "quiet"},
                   {"rocks", "seed", "set", "cases", "steps-per-contact", "rock-counts", "target",
-                   "bootstrap", "threads", "out"},
+                   "bootstrap", "threads", "observations", "points", "design", "out"},
                   {"set"});
   const auto& pos = args.positionals();
-  if (pos.empty() || (pos[0] != "stability" && pos[0] != "convergence"))
+  if (pos.empty() || (pos[0] != "stability" && pos[0] != "convergence" && pos[0] != "reach"))
     throw InputError("arguments", "expected the study (" + std::string(kStudies) + ")" +
                                       (pos.empty() ? "" : ", found '" + pos[0] + "'"));
   if (pos.size() != 2)
@@ -180,7 +251,9 @@ int Study(const std::vector<std::string>& argv) {
   for (const std::string& kv : args.All("set")) sites::ApplySetting(kv, &site);
   std::string error;
   if (!site.scene.IsValid(&error)) throw InputError(pos[1], error);
-  return pos[0] == "stability" ? Stability(args, &site, out) : Convergence(args, &site, out);
+  if (pos[0] == "stability") return Stability(args, &site, out);
+  if (pos[0] == "convergence") return Convergence(args, &site, out);
+  return Reach(args, &site, out);
 }
 
 }  // namespace rockcal::cli

@@ -1,4 +1,4 @@
-// rockcal study stability|convergence SITE.json ... --out DIR
+// rockcal study stability|convergence|reach SITE.json ... --out DIR
 #ifndef ROCKCAL_CLI_STUDY_H_
 #define ROCKCAL_CLI_STUDY_H_
 
