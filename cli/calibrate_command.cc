@@ -73,7 +73,7 @@ int Calibrate(const std::vector<std::string>& argv) {
   const auto start_time = std::chrono::steady_clock::now();
   const Args args(argv, {"force", "quiet", "resume"},
                   {"observations", "method", "methods", "max-evals", "max-seconds", "rocks", "seed",
-                   "threads", "loss", "estimate", "holdout", "out"});
+                   "threads", "loss", "estimate", "holdout", "reach", "out"});
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   const std::string obs_path = args.Get("observations");
@@ -104,6 +104,12 @@ int Calibrate(const std::vector<std::string>& argv) {
   options.log_path = out + "/evaluations.jsonl";
   options.resume = args.Flag("resume");
   const observations::Observations obs = observations::LoadObservations(obs_path, site.scene);
+  // Reach before fit: 4 (n + 1) design points by default, 0 for none.
+  const int parameters = calibrate::ParameterSpace::FromSite(site).size();
+  options.reach_points = static_cast<int>(
+      args.Integer("reach", 4 * (parameters + 1), 0, 100000));
+  if (options.reach_points == 1)
+    throw InputError("argument --reach", "1: expected 0 (no reach check) or at least 2 points");
   std::string error;
   if (!options.method.IsValid(&error)) throw InputError("arguments", error);
   calibrate::CheckCalibration(site, options);
@@ -118,6 +124,17 @@ int Calibrate(const std::vector<std::string>& argv) {
     if (!quiet)
       std::printf("%s: %d parameters, %d rocks per evaluation, misfit at the start %.4g\n",
                   s.site.c_str(), s.space.size(), s.rocks, s.misfit_before.value);
+  };
+  callbacks.reach_done = [&](const calibrate::ReachResult& r) {
+    const std::vector<std::string> warnings = calibrate::OutOfReachWarnings(r);
+    if (!quiet)
+      std::printf("reach before fit: %zu design points, %zu of %zu observed statistics in reach\n",
+                  r.points.size(), r.statistics.size() - warnings.size(), r.statistics.size());
+    for (const std::string& w : warnings) std::printf("OUT OF REACH: %s\n", w.c_str());
+    if (!warnings.empty())
+      std::printf("  The box cannot produce these statistics: the calibration gives a best "
+                  "compromise, not a fit (widen the box, change the model, or check the "
+                  "observations).\n");
   };
   callbacks.method_started = [&](const std::string& method) {
     progress.emplace("calibrate " + method, quiet);
@@ -159,6 +176,9 @@ int Calibrate(const std::vector<std::string>& argv) {
                                  calibration["holdout"].dump(2) + "\n");
     reports::WriteFileAtomically(out + "/holdout.csv", reports::HoldoutCsv(*holdout, summary));
   }
+  if (summary.reach)
+    reports::WriteFileAtomically(out + "/reach.json",
+                                 calibrate::ReachJson(summary.site, *summary.reach).dump(2) + "\n");
   reports::WriteFileAtomically(out + "/calibration.json", calibration.dump(2) + "\n");
   reports::ReportInput report = SiteReport(site, summary.calibrated, summary.simulation);
   report.calibration = &summary;

@@ -21,6 +21,8 @@ bool CalibrationOptions::IsValid(std::string* error) const {
     s << "rocks = " << rocks << ": must be >= 0 (0: the site's counts)";
   } else if (threads < 0) {
     s << "threads = " << threads << ": must be >= 0 (0: OpenMP's default)";
+  } else if (reach_points < 0 || reach_points == 1) {
+    s << "reach_points = " << reach_points << ": must be 0 (none) or at least 2";
   } else if (resume && log_path.empty()) {
     s << "resume needs a log_path";
   } else {
@@ -144,10 +146,24 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
   summary.seed = scene.options.seed;
   summary.start = space.Current(scene);
   summary.misfit_before = objective.Evaluate(summary.start);
+  summary.search_start = summary.start;
   if (callbacks.started) callbacks.started(summary);
+  if (options.reach_points > 0) {
+    ReachOptions reach;
+    reach.points = options.reach_points;
+    reach.seed = scene.options.seed;
+    summary.reach = RunReach(objective, reach);
+    const ReachResult& r = *summary.reach;
+    if (r.best_point >= 0) {
+      const ReachPoint& best_point = r.points[static_cast<std::size_t>(r.best_point)];
+      if (!best_point.penalised && best_point.misfit < summary.misfit_before.value)
+        summary.search_start = best_point.physical;
+    }
+    if (callbacks.reach_done) callbacks.reach_done(r);
+  }
   for (const std::string& method : options.methods) {
     if (callbacks.method_started) callbacks.method_started(method);
-    summary.methods.push_back(RunMethod(method, objective, summary.start, method_options,
+    summary.methods.push_back(RunMethod(method, objective, summary.search_start, method_options,
                                         log ? &*log : nullptr, callbacks.evaluated));
     if (callbacks.method_finished) callbacks.method_finished(summary.methods.back());
   }
@@ -186,6 +202,9 @@ HoldoutSummary CrossValidate(const sites::Site& site, const observations::Observ
     for (const auto& s : fold.scars) r.held_out_values += static_cast<int>(s.size());
     r.held_out_values += static_cast<int>(fold.runout.size());
     CalibrationOptions o = options;
+    // The folds search without a reach check of their own: its design costs
+    // as much as a calibration's first evaluations, K times over.
+    o.reach_points = 0;
     o.observations_subset = "fold " + std::to_string(r.fold) + " of " + std::to_string(folds) +
                             ", seed " + std::to_string(out.seed);
     if (!options.log_path.empty())

@@ -209,6 +209,8 @@ nlohmann::json CalibrationJson(const CalibrationSummary& record) {
           {"seed", record.seed},
           {"parameter_names", names},
           {"start", record.start},
+          {"search_start", record.search_start},
+          {"reach_points", record.reach ? static_cast<int>(record.reach->points.size()) : 0},
           {"calibrated", best.best},
           {"misfit_before", record.misfit_before.value},
           {"misfit_after", record.misfit_after.value},

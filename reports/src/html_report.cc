@@ -1,4 +1,5 @@
 #include "rockcal/reports/html_report.h"
+#include "rockcal/reports/reach_report.h"
 
 #include <algorithm>
 #include <cmath>
@@ -1443,6 +1444,7 @@ std::vector<SectionInfo> Outline(const Context& c) {
   if (c.stopped > 0) out.push_back({"runout", "Runout"});
   if (c.several_shapes) out.push_back({"shapes", "Rock shapes"});
   if (c.in.calibration && !c.in.calibration->methods.empty()) {
+    if (c.in.calibration->reach) out.push_back({"reach", "Reach before fit"});
     out.push_back({"calibration", "Calibration"});
     bool trace = false;
     for (const auto& m : c.in.calibration->methods) trace = trace || !m.trace.empty();
@@ -1542,6 +1544,8 @@ std::string HtmlReport(const ReportInput& in) {
       section.body_html = RunoutSection(c);
     else if (s.id == "shapes")
       section.body_html = ShapesSection(c);
+    else if (s.id == "reach")
+      section.body_html = ReachSection(*in.calibration->reach);
     else if (s.id == "calibration")
       section.body_html = CalibrationSection(c);
     else if (s.id == "trace")

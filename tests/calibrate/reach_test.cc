@@ -153,8 +153,8 @@ TEST(RunReach, ObservationsFromInsideTheBoxAreInReach) {
   ASSERT_EQ(r.points.size(), 5u);
   EXPECT_EQ(r.rocks, 6);
   // Statistics are the misfit's residuals: two scar sets and the runout,
-  // each with 9 quantiles and the max.
-  EXPECT_EQ(r.statistics.size(), 4u * 10u);
+  // each with 9 quantiles and the max, and the share of rocks that stopped.
+  EXPECT_EQ(r.statistics.size(), 4u * 10u + 1u);
   const ReachStatistic* p50 = Find(r, "runout distance p50");
   ASSERT_NE(p50, nullptr) << Points(r);
   EXPECT_TRUE(p50->in_reach()) << "observed " << p50->observed << ", reached " << p50->min << " to "
@@ -177,7 +177,9 @@ TEST(RunReach, ARunoutFarBeyondTheSlopeIsOutOfReachAbove) {
   ASSERT_NE(p50, nullptr) << Points(r);
   EXPECT_EQ(p50->verdict, ReachVerdict::kAbove)
       << "observed " << p50->observed << ", reached " << p50->min << " to " << p50->max;
-  EXPECT_LT(p50->max, 100.0);
+  // (A rock that left the slope is censored in the upper tail, so p50 may
+  // exceed the slope's length where most rocks left; never the observed.)
+  EXPECT_LT(p50->max, p50->observed);
   EXPECT_GT(p50->observed, 500.0);
   // The scar heights were not moved: still in reach.
   const ReachStatistic* scar = Find(r, "tree_scars[0] P p50");

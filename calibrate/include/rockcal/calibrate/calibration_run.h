@@ -12,6 +12,7 @@
 
 #include "rockcal/calibrate/calibration.h"
 #include "rockcal/calibrate/parameter_space.h"
+#include "rockcal/calibrate/reach.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/observations/misfit.h"
 #include "rockcal/observations/observations.h"
@@ -44,6 +45,12 @@ struct CalibrationOptions {
   // Which part of the observations file the observations are (e.g. "fold 2
   // of 5, seed 1"); empty: all of it [empty]. Part of the log's fingerprint.
   std::string observations_subset;
+  // Reach before fit: design points of a space-filling sample of the box
+  // (RunReach) simulated before the search; 0: none [0]. The search starts
+  // from the design's lowest misfit when that is lower than the site's
+  // starting values', and the summary keeps the reach check (which observed
+  // statistics the box reaches at all). >= 0; 1 is not a design.
+  int reach_points = 0;
 
   // Checks each field (the methods' names, the method options, the misfit
   // options); on failure sets *error naming the field, its value and the rule.
@@ -57,6 +64,8 @@ struct CalibrationCallbacks {
   // Once the misfit at the start is known (summary.misfit_before, start,
   // space, rocks and seed are set).
   std::function<void(const CalibrationSummary&)> started;
+  // After the reach check (CalibrationOptions::reach_points), before the search.
+  std::function<void(const ReachResult&)> reach_done;
   std::function<void(const std::string& method)> method_started;
   CalibrationProgress evaluated;  // after every evaluation
   std::function<void(const MethodResult&)> method_finished;
@@ -68,7 +77,10 @@ struct CalibrationSummary {
   sites::Units units = sites::Units::kSI;
   double grid_spacing_m = 0.0;  // the terrain grid's spacing (0: not known)
   ParameterSpace space;
-  std::vector<double> start;           // physical values before
+  std::vector<double> start;           // physical values before (the site's)
+  // The reach check, when run; the search then started from `search_start`.
+  std::optional<ReachResult> reach;
+  std::vector<double> search_start;    // where the methods started
   observations::Misfit misfit_before;  // at start
   observations::Misfit misfit_after;   // at the calibrated values, of `simulation`
   std::vector<MethodResult> methods;   // in the order run
