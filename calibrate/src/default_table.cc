@@ -18,12 +18,13 @@ namespace fs = std::filesystem;
 using sites::FormatNumber;
 using sites::JsonNode;
 
-constexpr const char* kNames[] = {"hardness", "roughness", "contact_time"};
+constexpr const char* kNames[] = {"hardness", "roughness", "contact_time", "rolling_resistance"};
+constexpr int kNameCount = 4;
 
 int NameOrder(const std::string& name) {
-  for (int k = 0; k < 3; ++k)
+  for (int k = 0; k < kNameCount; ++k)
     if (name == kNames[k]) return k;
-  return 3;
+  return kNameCount;
 }
 
 // A bound of parameter `name`, checked against its valid range (SI, as the
@@ -32,6 +33,7 @@ int NameOrder(const std::string& name) {
 double ReadBoundValue(const JsonNode& node, const std::string& name) {
   if (name == "hardness") return node.Number(0.0, 1.0);
   if (name == "roughness") return node.NonNegative();
+  if (name == "rolling_resistance") return node.Number(0.0, 1.0);
   const double t = node.Positive();
   if (t > 1.0) node.Fail("expected a contact time in seconds in (0, 1]");
   return t;
@@ -56,8 +58,9 @@ CalibratedParameter ReadParameter(const JsonNode& p) {
   }
   const JsonNode name = p.Get("name");
   out.name = name.String();
-  if (NameOrder(out.name) > 2)
-    name.Fail("unknown parameter name (allowed: hardness, roughness, contact_time)");
+  if (NameOrder(out.name) >= kNameCount)
+    name.Fail(
+        "unknown parameter name (allowed: hardness, roughness, contact_time, rolling_resistance)");
   out.lower = ReadBoundValue(p.Get("lower"), out.name);
   const JsonNode upper = p.Get("upper");
   out.upper = ReadBoundValue(upper, out.name);

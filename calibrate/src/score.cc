@@ -45,9 +45,14 @@ void ApplyParameters(const CalibratedSite& parameters, core::Scene* scene) {
       if (!(p.value > 0))
         throw InputError(where + ".value", value + " s: expected a contact time > 0");
       it->contact_time_s = p.value;
+    } else if (p.name == "rolling_resistance") {
+      if (!(p.value >= 0 && p.value <= 1))
+        throw InputError(where + ".value", value + ": expected a rolling resistance in [0, 1]");
+      it->rolling_resistance = p.value;
     } else {
-      throw InputError(where + ".name", "unknown parameter '" + p.name +
-                                            "' (expected hardness, roughness or contact_time)");
+      throw InputError(where + ".name",
+                       "unknown parameter '" + p.name +
+                           "' (expected hardness, roughness, contact_time or rolling_resistance)");
     }
   }
 }

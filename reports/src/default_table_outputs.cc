@@ -27,6 +27,7 @@ const char* SiUnit(const std::string& name) {
 }
 
 std::string Label(const std::string& name) {
+  if (name == "rolling_resistance") return "rolling resistance";
   return name == "contact_time" ? "contact time" : name;
 }
 
