@@ -168,9 +168,13 @@ void Comparer::Fraction(const std::string& observation, int crossed, int release
 // mass class, and the share of rocks that stopped. A rock that left the
 // terrain or was still moving at the time limit is right-censored: it
 // travelled at least to where it was last seen, so it enters the distances
-// at or beyond every stopped and observed one (the upper tail), never as a
-// missing value. Losing rocks thus raises the upper quantiles and lowers the
-// stopped share: it never lowers the misfit.
+// at D, at or beyond every stopped, observed and last-seen distance (the
+// upper tail), never as a missing value, when every observed rock stopped.
+// Losing rocks thus raises the upper quantiles and lowers the stopped share:
+// it never lowers the misfit. When some observed rocks did not stop either
+// (stopped_fraction < 1), the observed distances are those of the rocks that
+// stopped, and the simulated ones are compared in kind: the stopped rocks'
+// (the runout given stopping), with the share compared on its own.
 void CompareRunout(const Runout& runout, double error, const core::SimulationResult& result,
                    const Comparer& compare) {
   struct Rock {
@@ -188,10 +192,12 @@ void CompareRunout(const Runout& runout, double error, const core::SimulationRes
     farthest = std::max(farthest, rocks.back().distance);
     ++stopped;
   }
-  for (const core::RockRecord& rock : result.rocks) {
-    if (rock.outcome == core::Outcome::kStopped) continue;
-    rocks.push_back({rock.mass, std::max(runout.Distance(rock.stop.head<2>()), farthest)});
-  }
+  for (const core::RockRecord& rock : result.rocks)
+    if (rock.outcome != core::Outcome::kStopped)
+      farthest = std::max(farthest, runout.Distance(rock.stop.head<2>()));
+  const bool all_stopped = runout.stopped_fraction >= 1.0;
+  for (const core::RockRecord& rock : result.rocks)
+    if (all_stopped && rock.outcome != core::Outcome::kStopped) rocks.push_back({rock.mass, farthest});
   std::vector<double> distance;
   for (const Rock& r : rocks) distance.push_back(r.distance);
   compare.Distributions("runout distance", std::move(distance), runout.distances, error);

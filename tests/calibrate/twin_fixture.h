@@ -79,6 +79,10 @@ inline observations::Observations TwinObservations(const sites::Site& site,
     if (r.crossings[1].crossed) runout_scars.heights.push_back(r.crossings[1].height);
     if (r.outcome == core::Outcome::kStopped) runout.stop_points.emplace_back(r.stop.x(), r.stop.y());
   }
+  // The observed share of stopped rocks: the field would see the others go.
+  runout.observed_rocks = static_cast<int>(sim.rocks.size());
+  runout.stopped_fraction =
+      static_cast<double>(runout.stop_points.size()) / static_cast<double>(sim.rocks.size());
   runout.from = Eigen::Vector2d(2.5, 10.0);
   runout.direction = Eigen::Vector2d(1.0, 0.0);
   for (const auto& p : runout.stop_points) {
