@@ -212,7 +212,7 @@ core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightG
                                 : static_cast<int>(g.inventory.size());
     std::string release_note;
     g.release = ReadRelease(node.Get("release"), units, grid, &release_note);
-    const core::GroupExtent extent = core::GroupBodies(g, 9.80665);
+    const core::GroupExtent extent = core::GroupBodies(g, core::kStandardGravity);
     *note = std::to_string(g.count) + " rocks from the inventory " + file + " (" +
             std::to_string(g.inventory.size()) + " blocks, " +
             FormatNumber(extent.lightest.mass) + "-" + FormatNumber(extent.heaviest.mass) +
