@@ -263,11 +263,11 @@ double NumberInRange(const JsonNode& node, double value, double lo, double hi, c
   switch (kind) {
     case Quantity::kLength:
       scale = 1.0 / LengthToSI(1.0, units);
-      unit = units == Units::kUS ? "ft" : "m";
+      unit = LengthUnit(units);
       break;
     case Quantity::kSpeed:
       scale = 1.0 / LengthToSI(1.0, units);
-      unit = units == Units::kUS ? "ft/s" : "m/s";
+      unit = std::string(LengthUnit(units)) + "/s";
       break;
     case Quantity::kUnitWeight:
       scale = 1.0 / UnitWeightToSI(1.0, units);
