@@ -19,7 +19,7 @@ using ::testing::HasSubstr;
 using testing::TwinObservations;
 using testing::TwinSite;
 
-const std::vector<double> kTruth = {0.65, 0.25, 0.2, 0.45};
+using testing::kTruth;
 
 TEST(CalibrationRun, SummaryHoldsTheBestMethodAndItsSimulation) {
   const sites::Site site = TwinSite(6);

@@ -20,9 +20,7 @@ using ::testing::HasSubstr;
 using testing::TwinObservations;
 using testing::TwinSite;
 
-// Known values inside the bounds (slope hardness, slope roughness, runout
-// hardness, runout roughness).
-const std::vector<double> kTruth = {0.65, 0.25, 0.2, 0.45};
+using testing::kTruth;
 
 std::string TempPath(const std::string& name) {
   return ::testing::TempDir() + "/rockcal_calibration_" + name;

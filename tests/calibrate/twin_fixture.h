@@ -5,6 +5,7 @@
 #define ROCKCAL_TESTS_CALIBRATE_TWIN_FIXTURE_H_
 
 #include <cmath>
+#include <vector>
 
 #include "rockcal/calibrate/parameter_space.h"
 #include "rockcal/core/simulate.h"
@@ -12,6 +13,10 @@
 #include "rockcal/sites/site.h"
 
 namespace rockcal::calibrate::testing {
+
+// The twin's true values (slope hardness, slope roughness, runout hardness,
+// runout roughness), inside the bounds of TwinSite's calibrate list.
+inline const std::vector<double> kTruth = {0.65, 0.25, 0.2, 0.45};
 
 inline sites::Site TwinSite(int rocks) {
   sites::Site site;

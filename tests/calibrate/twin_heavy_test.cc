@@ -17,9 +17,7 @@ namespace {
 using testing::TwinObservations;
 using testing::TwinSite;
 
-// Known values inside the bounds (slope hardness, slope roughness, runout
-// hardness, runout roughness); the site starts elsewhere.
-const std::vector<double> kTruth = {0.65, 0.25, 0.2, 0.45};
+using testing::kTruth;  // the site starts elsewhere
 // 1000 rocks per evaluation keep the Monte Carlo noise of the misfit well
 // below its valley's depth (at 300 BOBYQA stopped far above the truth's misfit).
 constexpr int kRocks = 1000;
