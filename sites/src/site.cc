@@ -535,41 +535,64 @@ void ApplySetting(const std::string& key_value, Site* site) {
   const std::string id = key.substr(prefix.size(), dot - prefix.size());
   const std::string field = key.substr(dot + 1);
   const std::string text = key_value.substr(eq + 1);
-  std::vector<core::Material>& materials = site->scene.materials;
+  double value = 0.0;
+  if (!ParseNumber(text, &value))
+    throw InputError(where, "'" + text + "' is not a number; expected a finite number");
+  // Roughness is given in the site's length unit.
+  const double si = field == "roughness" ? LengthToSI(value, site->units) : value;
+  std::string message;
+  if (SetMaterialValue(id, field, si, site->units, &site->scene, &message) !=
+      MaterialValueFault::kNone)
+    throw InputError(where, message);
+}
+
+MaterialValueFault SetMaterialValue(const std::string& id, const std::string& field,
+                                    double value_si, Units units, core::Scene* scene,
+                                    std::string* message) {
+  std::vector<core::Material>& materials = scene->materials;
   auto it = std::find_if(materials.begin(), materials.end(),
                          [&](const core::Material& m) { return m.id == id; });
   if (it == materials.end()) {
     std::vector<std::string> ids;
     for (const core::Material& m : materials) ids.push_back(m.id);
-    throw InputError(where, "unknown material '" + id + "' (materials: " + Join(ids) + ")");
+    *message = "unknown material '" + id + "' (materials: " + Join(ids) + ")";
+    return MaterialValueFault::kMaterial;
   }
-  double value = 0.0;
-  if (!ParseNumber(text, &value))
-    throw InputError(where, "'" + text + "' is not a number; expected a finite number");
-  const Units units = site->units;
+  const double value = value_si;
   if (field == "hardness") {
-    if (value < 0 || value > 1) throw InputError(where, "expected a hardness in [0, 1]");
+    if (!(value >= 0 && value <= 1)) {
+      *message = "expected a hardness in [0, 1]";
+      return MaterialValueFault::kValue;
+    }
     it->hardness = value;
   } else if (field == "roughness") {
-    const double max_rough = site->scene.grid.spacing / 2 / LengthToSI(1.0, units);
-    if (value < 0 || value > max_rough * (1 + 1e-12)) {
-      throw InputError(where, "expected a roughness in [0, " + FormatNumber(max_rough) + "] " +
-                                  LengthUnit(units) + " (half the grid spacing)");
+    const double max_rough = scene->grid.spacing / 2;
+    if (!(value >= 0 && value <= max_rough * (1 + 1e-12))) {
+      *message = "expected a roughness in [0, " +
+                 FormatNumber(max_rough / LengthToSI(1.0, units)) + "] " + LengthUnit(units) +
+                 " (half the grid spacing)";
+      return MaterialValueFault::kValue;
     }
-    it->roughness_m = LengthToSI(value, units);
+    it->roughness_m = value;
   } else if (field == "rolling_resistance") {
-    if (!(value >= 0 && value <= 1)) throw InputError(where, "expected a rolling resistance in [0, 1]");
+    if (!(value >= 0 && value <= 1)) {
+      *message = "expected a rolling resistance in [0, 1]";
+      return MaterialValueFault::kValue;
+    }
     it->rolling_resistance = value;
   } else if (field == "contact_time") {
-    if (!(value >= kMinContactTime) || value > kMaxContactTime)
-      throw InputError(where, "expected a contact time in seconds in [" +
-                                  FormatNumber(kMinContactTime) + ", " +
-                                  FormatNumber(kMaxContactTime) +
-                                  "] (shorter ones take too many steps to finish)");
+    if (!(value >= kMinContactTime) || value > kMaxContactTime) {
+      *message = "expected a contact time in seconds in [" + FormatNumber(kMinContactTime) +
+                 ", " + FormatNumber(kMaxContactTime) +
+                 "] (shorter ones take too many steps to finish)";
+      return MaterialValueFault::kValue;
+    }
     it->contact_time_s = value;
   } else {
-    throw InputError(where, "unknown field '" + field + "' (allowed: " + kSettingFields + ")");
+    *message = "unknown field '" + field + "' (allowed: " + kSettingFields + ")";
+    return MaterialValueFault::kField;
   }
+  return MaterialValueFault::kNone;
 }
 
 }  // namespace rockcal::sites

@@ -47,6 +47,19 @@ Site LoadSite(const std::string& path);
 // (VALUE in the site's units) to site->scene. Throws InputError on a bad key or value.
 void ApplySetting(const std::string& key_value, Site* site);
 
+// What SetMaterialValue found wrong: nothing, the material id, the field
+// name or the value.
+enum class MaterialValueFault { kNone, kMaterial, kField, kValue };
+// Sets `field` ("hardness", "roughness", "contact_time" or
+// "rolling_resistance") of material `id` of `scene` to `value_si` (SI: m,
+// s), after the same range checks as the site reader: the one place --set
+// and a calibration's parameters.json change a material. On a fault nothing
+// changes and it returns which, with *message saying what was expected
+// (lengths in `units`, the file's).
+MaterialValueFault SetMaterialValue(const std::string& id, const std::string& field,
+                                    double value_si, Units units, core::Scene* scene,
+                                    std::string* message);
+
 }  // namespace rockcal::sites
 
 #endif  // ROCKCAL_SITES_SITE_H_
