@@ -40,7 +40,8 @@ constexpr const char* kUsage =
     "                   [--force] [--quiet] --out DIR\n"
     "  rockcal validate SITE.json [--observations OBS.json]\n"
     "\n"
-    "KEY for --set: material.<id>.hardness | .roughness | .contact_time (site units)\n";
+    "KEY for --set: material.<id>.hardness | .roughness | .contact_time | .rolling_resistance\n"
+    "               | .friction (site units)\n";
 
 }  // namespace
 

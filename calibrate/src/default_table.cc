@@ -9,6 +9,7 @@
 #include <system_error>
 
 #include "rockcal/core/error.h"
+#include "rockcal/core/material_field.h"
 #include "rockcal/sites/json_reader.h"
 
 namespace rockcal::calibrate {
@@ -18,25 +19,18 @@ namespace fs = std::filesystem;
 using sites::FormatNumber;
 using sites::JsonNode;
 
-constexpr const char* kNames[] = {"hardness", "roughness", "contact_time", "rolling_resistance"};
-constexpr int kNameCount = 4;
-
+// A parameter's place in the tables: core::MaterialFields() order.
 int NameOrder(const std::string& name) {
-  for (int k = 0; k < kNameCount; ++k)
-    if (name == kNames[k]) return k;
-  return kNameCount;
+  const core::MaterialFieldInfo* f = core::FindMaterialField(name);
+  return f ? static_cast<int>(f->field) : static_cast<int>(core::MaterialFields().size());
 }
 
-// A bound of parameter `name`, checked against its valid range (SI, as the
-// site reader checks it; the roughness limit of half the grid spacing is
-// checked when the file gives the spacing).
+// A bound of parameter `name` (a known field), checked against its valid
+// range (SI, as the site reader checks it; the roughness limit of half the
+// grid spacing is checked when the file gives the spacing).
 double ReadBoundValue(const JsonNode& node, const std::string& name) {
-  if (name == "hardness") return node.Number(0.0, 1.0);
-  if (name == "roughness") return node.NonNegative();
-  if (name == "rolling_resistance") return node.Number(0.0, 1.0);
-  const double t = node.Positive();
-  if (t > 1.0) node.Fail("expected a contact time in seconds in (0, 1]");
-  return t;
+  const core::MaterialFieldInfo& f = *core::FindMaterialField(name);
+  return std::isinf(f.max) ? node.NonNegative() : node.Number(f.min, f.max);
 }
 
 std::string Quote(const std::string& s) { return "'" + s + "'"; }
@@ -58,9 +52,8 @@ CalibratedParameter ReadParameter(const JsonNode& p) {
   }
   const JsonNode name = p.Get("name");
   out.name = name.String();
-  if (NameOrder(out.name) >= kNameCount)
-    name.Fail(
-        "unknown parameter name (allowed: hardness, roughness, contact_time, rolling_resistance)");
+  if (!core::FindMaterialField(out.name))
+    name.Fail("unknown parameter name (allowed: " + core::MaterialFieldNames() + ")");
   out.lower = ReadBoundValue(p.Get("lower"), out.name);
   const JsonNode upper = p.Get("upper");
   out.upper = ReadBoundValue(upper, out.name);

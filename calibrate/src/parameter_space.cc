@@ -7,19 +7,7 @@
 
 namespace rockcal::calibrate {
 
-std::string Parameter::name() const {
-  switch (kind) {
-    case ParameterKind::kHardness:
-      return "hardness";
-    case ParameterKind::kRoughness:
-      return "roughness";
-    case ParameterKind::kContactTime:
-      return "contact_time";
-    case ParameterKind::kRollingResistance:
-      return "rolling_resistance";
-  }
-  return "?";
-}
+std::string Parameter::name() const { return core::Info(kind).name; }
 
 std::string Parameter::label() const { return material + "." + name(); }
 
@@ -43,20 +31,14 @@ ParameterSpace ParameterSpace::FromSite(const sites::Site& site) {
                            [&](const core::Material& m) { return m.id == b.material; });
     assert(it != materials.end());  // the site reader checked the material
     p.material_index = static_cast<int>(it - materials.begin());
-    if (b.name == "hardness") {
-      p.kind = ParameterKind::kHardness;
-    } else if (b.name == "roughness") {
-      p.kind = ParameterKind::kRoughness;
-      if (p.lower <= 0.0)
-        throw InputError(site.path, "material '" + b.material +
+    const core::MaterialFieldInfo* field = core::FindMaterialField(b.name);
+    assert(field);  // the site reader checked the name
+    p.kind = field->field;
+    if (p.kind == ParameterKind::kRoughness && p.lower <= 0.0)
+      throw InputError(site.path, "material '" + b.material +
                                         "': calibrate.roughness lower bound must be > 0 (roughness "
                                         "0 switches from virtual spheres to smooth facets, which "
                                         "no optimiser can search across)");
-    } else if (b.name == "rolling_resistance") {
-      p.kind = ParameterKind::kRollingResistance;
-    } else {
-      p.kind = ParameterKind::kContactTime;
-    }
     out.push_back(p);
   }
   if (out.empty())
@@ -90,20 +72,8 @@ std::vector<double> ParameterSpace::Current(const core::Scene& scene) const {
   std::vector<double> x;
   for (const Parameter& p : parameters_) {
     const core::Material& m = scene.materials[static_cast<std::size_t>(p.material_index)];
-    double v = m.contact_time_s;
-    switch (p.kind) {
-      case ParameterKind::kHardness:
-        v = m.hardness;
-        break;
-      case ParameterKind::kRoughness:
-        v = m.roughness_m;
-        break;
-      case ParameterKind::kContactTime:
-        break;
-      case ParameterKind::kRollingResistance:  // explicit, or the hardness model's
-        v = core::DeriveContactLaw(m, scene.hardness_model).rolling_resistance;
-        break;
-    }
+    // Friction and rolling resistance: explicit, or the hardness model's.
+    const double v = core::FieldValue(m, p.kind, scene.hardness_model);
     x.push_back(std::clamp(v, p.lower, p.upper));
   }
   return x;
@@ -113,21 +83,8 @@ void ParameterSpace::Apply(const std::vector<double>& physical, core::Scene* sce
   assert(physical.size() == parameters_.size());
   for (std::size_t k = 0; k < physical.size(); ++k) {
     const Parameter& p = parameters_[k];
-    core::Material& m = scene->materials[static_cast<std::size_t>(p.material_index)];
-    switch (p.kind) {
-      case ParameterKind::kHardness:
-        m.hardness = physical[k];
-        break;
-      case ParameterKind::kRoughness:
-        m.roughness_m = physical[k];
-        break;
-      case ParameterKind::kContactTime:
-        m.contact_time_s = physical[k];
-        break;
-      case ParameterKind::kRollingResistance:
-        m.rolling_resistance = physical[k];
-        break;
-    }
+    core::SetFieldValue(&scene->materials[static_cast<std::size_t>(p.material_index)], p.kind,
+                        physical[k]);
   }
 }
 

@@ -30,6 +30,7 @@ const char* SiUnit(const Parameter& p) {
     case ParameterKind::kContactTime:
       return "s";
     case ParameterKind::kRollingResistance:
+    case ParameterKind::kFriction:
       return "";
   }
   return "";

@@ -1106,6 +1106,7 @@ std::string ParameterValue(const calibrate::Parameter& p, double v) {
     case calibrate::ParameterKind::kContactTime:
       return Show(v) + " s (" + Show(v * 1e3) + " ms)";
     case calibrate::ParameterKind::kRollingResistance:
+    case calibrate::ParameterKind::kFriction:
       return Printf("%.3f", v);
   }
   return Show(v);

@@ -138,6 +138,10 @@ void JsonNode::Fail(const std::string& what) const {
 }
 
 void JsonNode::Keys(std::initializer_list<const char*> allowed) const {
+  Keys(std::vector<const char*>(allowed));
+}
+
+void JsonNode::Keys(const std::vector<const char*>& allowed) const {
   if (!value_->is_object()) Fail("expected an object");
   for (auto it = value_->begin(); it != value_->end(); ++it) {
     bool ok = false;

@@ -9,6 +9,7 @@
 
 #include "rockcal/core/error.h"
 #include "rockcal/core/limits.h"
+#include "rockcal/core/material_field.h"
 #include "rockcal/sites/geometry.h"
 #include "rockcal/sites/inventory.h"
 #include "rockcal/sites/surface.h"
@@ -19,7 +20,6 @@ namespace {
 
 using core::kMaxContactTime;
 using core::kMinContactTime;
-constexpr const char* kSettingFields = "hardness, roughness, contact_time, rolling_resistance";
 
 bool ValidId(const std::string& id) {
   if (id.empty()) return false;
@@ -89,6 +89,38 @@ ParameterBound ReadBound(const JsonNode& node, const std::string& material,
               " is outside its calibrate bounds; expected lower <= value <= upper");
   }
   return ParameterBound{material, name, b[0] * to_si, b[1] * to_si, material_class};
+}
+
+// A material's "calibrate" object: bounds for any field of
+// core::MaterialFields(), in the file's units, each around the material's own
+// value (for friction and rolling resistance: explicit, or the hardness
+// model's). Roughness may not exceed half the grid spacing `max_roughness_m`.
+void ReadCalibrateBounds(const JsonNode& node, const core::Material& mat,
+                         const std::string& mat_class, Units units, double max_roughness_m,
+                         Site* site) {
+  std::vector<const char*> names;
+  for (const core::MaterialFieldInfo& f : core::MaterialFields()) names.push_back(f.name);
+  node.Keys(names);
+  const double to_si = LengthToSI(1.0, units);
+  for (const core::MaterialFieldInfo& f : core::MaterialFields()) {
+    auto b = node.Find(f.name);
+    if (!b) continue;
+    if (f.field == core::MaterialField::kHardness && mat.restitution && mat.friction) {
+      b->Fail(
+          "hardness has no effect when both 'restitution' and 'friction' are given; "
+          "expected no hardness bounds for this material");
+    }
+    const double value = core::FieldValue(mat, f.field, site->scene.hardness_model);
+    if (f.unit == core::FieldUnit::kLength) {
+      site->calibrate.push_back(ReadBound(*b, mat.id, mat_class, f.name, f.min / to_si,
+                                          max_roughness_m / to_si, false, value / to_si, to_si,
+                                          std::string(" ") + LengthUnit(units)));
+    } else {
+      site->calibrate.push_back(ReadBound(*b, mat.id, mat_class, f.name, f.min, f.max, false,
+                                          value, 1.0,
+                                          f.unit == core::FieldUnit::kTime ? " s" : ""));
+    }
+  }
 }
 
 void ReadSimulation(const JsonNode& node, Units units, core::SimulationOptions* o) {
@@ -361,33 +393,7 @@ Site LoadSite(const std::string& path) {
                 "roughness in [0, " +
                 FormatNumber(max_rough) + "]");
     }
-    if (auto c = m.Find("calibrate")) {
-      c->Keys({"hardness", "roughness", "contact_time", "rolling_resistance"});
-      if (auto b = c->Find("hardness")) {
-        if (mat.restitution && mat.friction) {
-          b->Fail(
-              "hardness has no effect when both 'restitution' and 'friction' are given; "
-              "expected no hardness bounds for this material");
-        }
-        site.calibrate.push_back(
-            ReadBound(*b, mat.id, mat_class, "hardness", 0.0, 1.0, false, mat.hardness, 1.0, ""));
-      }
-      if (auto b = c->Find("roughness")) {
-        site.calibrate.push_back(ReadBound(*b, mat.id, mat_class, "roughness", 0.0, max_rough,
-                                           false, mat.roughness_m * to_file, 1.0 / to_file,
-                                           std::string(" ") + unit));
-      }
-      if (auto b = c->Find("contact_time")) {
-        site.calibrate.push_back(ReadBound(*b, mat.id, mat_class, "contact_time", kMinContactTime,
-                                           kMaxContactTime, false, mat.contact_time_s, 1.0, " s"));
-      }
-      if (auto b = c->Find("rolling_resistance")) {
-        // Against the material's value: explicit, or the hardness model's.
-        const double mu = core::DeriveContactLaw(mat, core::HardnessModel{}).rolling_resistance;
-        site.calibrate.push_back(ReadBound(*b, mat.id, mat_class, "rolling_resistance", 0.0, 1.0,
-                                           false, mu, 1.0, ""));
-      }
-    }
+    if (auto c = m.Find("calibrate")) ReadCalibrateBounds(*c, mat, mat_class, units, s / 2, &site);
   }
 
   // Material zones: the last zone holding a node wins.
@@ -530,7 +536,7 @@ void ApplySetting(const std::string& key_value, Site* site) {
   if (eq == std::string::npos || key.compare(0, prefix.size(), prefix) != 0 ||
       dot < prefix.size()) {
     throw InputError(where, std::string("expected material.<id>.<field>=VALUE with field one of ") +
-                                kSettingFields);
+                                core::MaterialFieldNames());
   }
   const std::string id = key.substr(prefix.size(), dot - prefix.size());
   const std::string field = key.substr(dot + 1);
@@ -558,40 +564,30 @@ MaterialValueFault SetMaterialValue(const std::string& id, const std::string& fi
     *message = "unknown material '" + id + "' (materials: " + Join(ids) + ")";
     return MaterialValueFault::kMaterial;
   }
+  const core::MaterialFieldInfo* f = core::FindMaterialField(field);
+  if (!f) {
+    *message = "unknown field '" + field + "' (allowed: " + core::MaterialFieldNames() + ")";
+    return MaterialValueFault::kField;
+  }
   const double value = value_si;
-  if (field == "hardness") {
-    if (!(value >= 0 && value <= 1)) {
-      *message = "expected a hardness in [0, 1]";
-      return MaterialValueFault::kValue;
-    }
-    it->hardness = value;
-  } else if (field == "roughness") {
+  if (f->unit == core::FieldUnit::kLength) {
     const double max_rough = scene->grid.spacing / 2;
-    if (!(value >= 0 && value <= max_rough * (1 + 1e-12))) {
-      *message = "expected a roughness in [0, " +
+    if (!(value >= f->min && value <= max_rough * (1 + 1e-12))) {
+      *message = std::string("expected a ") + f->label + " in [0, " +
                  FormatNumber(max_rough / LengthToSI(1.0, units)) + "] " + LengthUnit(units) +
                  " (half the grid spacing)";
       return MaterialValueFault::kValue;
     }
-    it->roughness_m = value;
-  } else if (field == "rolling_resistance") {
-    if (!(value >= 0 && value <= 1)) {
-      *message = "expected a rolling resistance in [0, 1]";
-      return MaterialValueFault::kValue;
-    }
-    it->rolling_resistance = value;
-  } else if (field == "contact_time") {
-    if (!(value >= kMinContactTime) || value > kMaxContactTime) {
-      *message = "expected a contact time in seconds in [" + FormatNumber(kMinContactTime) +
-                 ", " + FormatNumber(kMaxContactTime) +
-                 "] (shorter ones take too many steps to finish)";
-      return MaterialValueFault::kValue;
-    }
-    it->contact_time_s = value;
-  } else {
-    *message = "unknown field '" + field + "' (allowed: " + kSettingFields + ")";
-    return MaterialValueFault::kField;
+  } else if (!(value >= f->min && value <= f->max)) {
+    *message = std::string("expected a ") + f->label +
+               (f->unit == core::FieldUnit::kTime ? " in seconds" : "") + " in [" +
+               FormatNumber(f->min) + ", " + FormatNumber(f->max) + "]" +
+               (f->field == core::MaterialField::kContactTime
+                    ? " (shorter ones take too many steps to finish)"
+                    : "");
+    return MaterialValueFault::kValue;
   }
+  core::SetFieldValue(&*it, f->field, value);
   return MaterialValueFault::kNone;
 }
 

@@ -313,6 +313,29 @@ TEST(ParameterSpace, UnitBoxRoundTripAndApply) {
   EXPECT_TRUE(space.SameTerrain(x, {0.4, 0.35, 0.2, 0.6}));
 }
 
+TEST(ParameterSpace, FrictionAndRollingResistanceStartFromTheHardnessModel) {
+  sites::Site site = TwinSite(4);
+  site.calibrate.push_back({site.scene.materials[1].id, "friction", 0.3, 0.9, ""});
+  site.calibrate.push_back({site.scene.materials[1].id, "rolling_resistance", 0.0, 0.6, ""});
+  const ParameterSpace space = ParameterSpace::FromSite(site);
+  ASSERT_EQ(space.size(), 6);
+  EXPECT_EQ(space.parameters()[4].kind, ParameterKind::kFriction);
+  core::Scene scene = site.scene;
+  // No explicit values: the hardness model's, f = 0.9 - 0.5 H and
+  // mu_r = 0.15 - 0.13 H.
+  const double h = scene.materials[1].hardness;
+  const std::vector<double> start = space.Current(scene);
+  EXPECT_DOUBLE_EQ(start[4], 0.9 - 0.5 * h);
+  EXPECT_DOUBLE_EQ(start[5], 0.15 - 0.13 * h);
+  std::vector<double> x = start;
+  x[4] = 0.42;
+  x[5] = 0.25;
+  space.Apply(x, &scene);
+  EXPECT_EQ(core::DeriveContactLaw(scene.materials[1]).friction, 0.42);
+  EXPECT_EQ(core::DeriveContactLaw(scene.materials[1]).rolling_resistance, 0.25);
+  EXPECT_EQ(space.Current(scene), x);
+}
+
 TEST(ParameterSpace, RoughnessBoundAtZeroIsRefused) {
   sites::Site site = TwinSite(4);
   site.calibrate[1].lower = 0.0;

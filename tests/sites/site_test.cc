@@ -357,10 +357,10 @@ TEST(LoadSite, CalibrateErrors) {
               }),
               HasSubstr("$.materials[1].calibrate.contact_time: expected bounds within [1e-05, 1] s"));
   EXPECT_THAT(LoadError([](Json& s) {
-                s["materials"][1]["calibrate"]["friction"] = {0, 1};
+                s["materials"][1]["calibrate"]["colour"] = {0, 1};
               }),
-              HasSubstr("$.materials[1].calibrate.friction: unknown key 'friction' (allowed keys: "
-                        "hardness, roughness, contact_time, rolling_resistance)"));
+              HasSubstr("$.materials[1].calibrate.colour: unknown key 'colour' (allowed keys: "
+                        "hardness, roughness, contact_time, rolling_resistance, friction)"));
   EXPECT_THAT(LoadError([](Json& s) {
                 s["materials"][1]["restitution"] = 0.4;
                 s["materials"][1]["friction"] = 0.6;
@@ -528,7 +528,8 @@ TEST(ApplySetting, Errors) {
               HasSubstr("--set material.granite.hardness=0.4: unknown material 'granite' "
                         "(materials: rock, talus)"));
   EXPECT_THAT(error("material.rock.colour=1"),
-              HasSubstr("unknown field 'colour' (allowed: hardness, roughness, contact_time, rolling_resistance)"));
+              HasSubstr("unknown field 'colour' (allowed: hardness, roughness, contact_time, "
+                        "rolling_resistance, friction)"));
   EXPECT_THAT(error("material.rock.hardness=high"), HasSubstr("'high' is not a number"));
   EXPECT_THAT(error("material.rock.hardness="), HasSubstr("'' is not a number"));
   EXPECT_THAT(error("material.rock.hardness=1.5"), HasSubstr("expected a hardness in [0, 1]"));
@@ -642,6 +643,26 @@ TEST(LoadSite, RollingResistanceIsCalibrated) {
               }),
               HasSubstr("$.materials[1].calibrate.rolling_resistance: the material's "
                         "rolling_resistance 0.111 is outside its calibrate bounds"));
+}
+
+TEST(LoadSite, FrictionIsCalibratedAndSet) {
+  TempDir dir;
+  Json json = BaseSite();
+  json["materials"][1]["calibrate"]["friction"] = {0.35, 0.9};
+  Site site = LoadSite(WriteSite(dir, json));
+  EXPECT_EQ(site.calibrate.back().name, "friction");
+  EXPECT_DOUBLE_EQ(site.calibrate.back().lower, 0.35);
+  // Without an explicit friction, the bounds hold the hardness model's
+  // (0.9 - 0.5 H = 0.75 at H = 0.3).
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["calibrate"]["friction"] = {0.35, 0.7}; }),
+              HasSubstr("$.materials[1].calibrate.friction: the material's friction 0.75 is "
+                        "outside its calibrate bounds"));
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["calibrate"]["friction"] = {0.5, 11}; }),
+              HasSubstr("$.materials[1].calibrate.friction: expected bounds within [0, 10]"));
+  ApplySetting("material." + site.scene.materials[1].id + ".friction=0.42", &site);
+  EXPECT_DOUBLE_EQ(core::DeriveContactLaw(site.scene.materials[1]).friction, 0.42);
+  EXPECT_THROW(ApplySetting("material." + site.scene.materials[1].id + ".friction=-1", &site),
+               InputError);
 }
 
 }  // namespace

@@ -6,12 +6,14 @@
 #include <string>
 #include <vector>
 
+#include "rockcal/core/material_field.h"
 #include "rockcal/core/scene.h"
 #include "rockcal/sites/site.h"
 
 namespace rockcal::calibrate {
 
-enum class ParameterKind { kHardness, kRoughness, kContactTime, kRollingResistance };
+// What a parameter is: one of the material values of core::MaterialFields().
+using ParameterKind = core::MaterialField;
 
 struct Parameter {
   std::string material;  // material id
@@ -22,7 +24,7 @@ struct Parameter {
   ParameterKind kind = ParameterKind::kHardness;
   double lower = 0.0, upper = 1.0;  // SI (roughness m, contact time s)
 
-  std::string name() const;  // "hardness", "roughness", "contact_time"
+  std::string name() const;  // core::Info(kind).name: "hardness", "roughness", ...
   std::string label() const;  // "talus.hardness"
   // material_class, or the material id when it is empty.
   const std::string& class_name() const;

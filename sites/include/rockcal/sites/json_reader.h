@@ -38,6 +38,7 @@ class JsonNode final {
   // Objects. Keys() rejects any key not in `allowed`, naming it and listing
   // the allowed ones.
   void Keys(std::initializer_list<const char*> allowed) const;
+  void Keys(const std::vector<const char*>& allowed) const;
   bool Has(const char* key) const;
   JsonNode Get(const char* key) const;  // required
   std::optional<JsonNode> Find(const char* key) const;

@@ -14,7 +14,7 @@ namespace rockcal::sites {
 // time in s; hardness dimensionless).
 struct ParameterBound {
   std::string material;  // material id
-  std::string name;      // "hardness", "roughness" or "contact_time"
+  std::string name;      // a field of core::MaterialFields(): "hardness", "roughness", ...
   double lower = 0.0, upper = 0.0;
   std::string material_class;  // the material's class ("class"; empty: the id)
 };

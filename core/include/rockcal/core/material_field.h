@@ -1,0 +1,49 @@
+// The material values a site gives, calibrates and changes with --set, in one
+// list: the site reader, the calibration, the parameter tables and the
+// reports all read their names, units and ranges from here.
+#ifndef ROCKCAL_CORE_MATERIAL_FIELD_H_
+#define ROCKCAL_CORE_MATERIAL_FIELD_H_
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "rockcal/core/material.h"
+
+namespace rockcal::core {
+
+enum class MaterialField { kHardness, kRoughness, kContactTime, kRollingResistance, kFriction };
+
+enum class FieldUnit { kNone, kLength, kTime };
+
+struct MaterialFieldInfo {
+  MaterialField field;
+  const char* name;   // the key in site files, --set and parameter tables
+  const char* label;  // in prose
+  FieldUnit unit;
+  // Allowed range, SI. Roughness is further limited by half the grid
+  // spacing, which only a site knows.
+  double min, max;
+};
+
+// Every field, in the order the tables list them.
+const std::vector<MaterialFieldInfo>& MaterialFields();
+
+const MaterialFieldInfo& Info(MaterialField field);
+
+// The field called `name`, or nullptr.
+const MaterialFieldInfo* FindMaterialField(std::string_view name);
+
+// "hardness, roughness, ...": the names, for messages.
+std::string MaterialFieldNames();
+
+// The value a run uses: the material's own, or for friction and rolling
+// resistance without one, the hardness model's.
+double FieldValue(const Material& material, MaterialField field, const HardnessModel& model);
+
+// Sets the field (SI); friction and rolling resistance become explicit.
+void SetFieldValue(Material* material, MaterialField field, double value);
+
+}  // namespace rockcal::core
+
+#endif  // ROCKCAL_CORE_MATERIAL_FIELD_H_
