@@ -72,8 +72,8 @@ void PrepareFolder(const std::string& out, bool resume, bool force, const sites:
 int Calibrate(const std::vector<std::string>& argv) {
   const auto start_time = std::chrono::steady_clock::now();
   const Args args(argv, {"force", "quiet", "resume"},
-                  {"observations", "method", "methods", "max-evals", "max-seconds", "rocks", "seed",
-                   "threads", "loss", "estimate", "holdout", "reach", "out"});
+                  {"observations", "method", "methods", "max-evals", "max-seconds", "rocks",
+                   "refine", "seed", "threads", "loss", "estimate", "holdout", "reach", "out"});
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   const std::string obs_path = args.Get("observations");
@@ -110,6 +110,11 @@ int Calibrate(const std::vector<std::string>& argv) {
       args.Integer("reach", 4 * (parameters + 1), 0, 100000));
   if (options.reach_points == 1)
     throw InputError("argument --reach", "1: expected 0 (no reach check) or at least 2 points");
+  // Enough rocks where the search ends: without a fixed --rocks, a refining
+  // stage with 4 times the rocks; the misfit's noise from 3 more seeds.
+  options.refine_factor =
+      static_cast<int>(args.Integer("refine", args.Has("rocks") ? 1 : 4, 1, 1000));
+  options.noise_seeds = 3;
   std::string error;
   if (!options.method.IsValid(&error)) throw InputError("arguments", error);
   calibrate::CheckCalibration(site, options);

@@ -23,6 +23,14 @@ bool CalibrationOptions::IsValid(std::string* error) const {
     s << "threads = " << threads << ": must be >= 0 (0: OpenMP's default)";
   } else if (reach_points < 0 || reach_points == 1) {
     s << "reach_points = " << reach_points << ": must be 0 (none) or at least 2";
+  } else if (refine_factor < 1) {
+    s << "refine_factor = " << refine_factor << ": must be >= 1 (1: one stage)";
+  } else if (!(refine_share > 0.0 && refine_share < 1.0)) {
+    s << "refine_share = " << refine_share << ": must be in (0, 1)";
+  } else if (!(refine_step > 0.0 && refine_step <= 1.0)) {
+    s << "refine_step = " << refine_step << ": must be in (0, 1]";
+  } else if (noise_seeds < 0) {
+    s << "noise_seeds = " << noise_seeds << ": must be >= 0";
   } else if (resume && log_path.empty()) {
     s << "resume needs a log_path";
   } else {
@@ -59,6 +67,77 @@ std::string Numbers(const std::vector<double>& values) {
   s.precision(17);
   for (std::size_t k = 0; k < values.size(); ++k) s << (k ? " " : "") << values[k];
   return s.str();
+}
+
+// The first stage's share of the evaluations when a refining stage follows.
+int FirstStageEvaluations(const CalibrationOptions& options) {
+  const int total = options.method.max_evals;
+  const int refining = static_cast<int>(std::lround(options.refine_share * total));
+  return std::max(2, total - refining);
+}
+
+// The log of the refining stage: "<stem>-refine.jsonl" beside the log.
+std::string RefineLogPath(const std::string& log_path) {
+  if (log_path.empty()) return log_path;
+  const std::filesystem::path p(log_path);
+  return (p.parent_path() / (p.stem().string() + "-refine" + p.extension().string())).string();
+}
+
+// The refining stage of Calibrate: the best method again, from its values,
+// with refine_factor times the rocks. Appends its result to summary->methods
+// (and makes it the best); returns the scene it searched.
+core::Scene RefineStage(const sites::Site& site, const observations::Observations& obs,
+                        const CalibrationOptions& options, const ParameterSpace& space,
+                        const CalibrationCallbacks& callbacks, CalibrationSummary* summary) {
+  CalibrationOptions o = options;
+  o.rocks = summary->rocks * options.refine_factor;
+  o.refine_factor = 1;
+  o.log_path = RefineLogPath(options.log_path);
+  o.resume = options.resume && !o.log_path.empty() && std::filesystem::exists(o.log_path);
+  const core::Scene scene = RunScene(site, o.rocks, options.seed, options.threads);
+  const Objective objective(scene, space, obs, options.misfit);
+  std::optional<EvaluationLog> log;
+  if (!o.log_path.empty())
+    log.emplace(o.log_path, o.resume, space, scene.options.seed, scene.total_rocks(),
+                CalibrationFingerprint(site, obs, o));
+  MethodOptions method_options = options.method;
+  method_options.seed = scene.options.seed;
+  method_options.max_evals =
+      std::max(2, options.method.max_evals - FirstStageEvaluations(options));
+  method_options.initial_step = options.refine_step;
+  const MethodResult& first = summary->best_method();
+  const std::string name = first.method + ", " + std::to_string(scene.total_rocks()) + " rocks";
+  if (callbacks.method_started) callbacks.method_started(name);
+  MethodResult result = RunMethod(first.method, objective, first.best, method_options,
+                                  log ? &*log : nullptr, callbacks.evaluated);
+  result.method = name;
+  if (callbacks.method_finished) callbacks.method_finished(result);
+  summary->methods.push_back(std::move(result));
+  summary->best = static_cast<int>(summary->methods.size()) - 1;
+  return scene;
+}
+
+// CalibrationOptions::noise_seeds: the calibrated values at other seeds.
+void MeasureMisfitNoise(const sites::Site& site, const observations::Observations& obs,
+                        const CalibrationOptions& options, const ParameterSpace& space,
+                        CalibrationSummary* summary) {
+  if (options.noise_seeds <= 0) return;
+  std::vector<double> all = {summary->misfit_after.value};
+  for (int k = 1; k <= options.noise_seeds; ++k) {
+    const std::uint64_t seed = summary->seed + static_cast<std::uint64_t>(k);
+    const core::Scene scene = RunScene(site, summary->final_rocks, seed, options.threads);
+    const double misfit = Objective(scene, space, obs, options.misfit)
+                              .Evaluate(summary->best_method().best)
+                              .value;
+    summary->noise_seeds.push_back(seed);
+    summary->noise_misfits.push_back(misfit);
+    all.push_back(misfit);
+  }
+  double mean = 0.0;
+  for (double v : all) mean += v / static_cast<double>(all.size());
+  double ss = 0.0;
+  for (double v : all) ss += (v - mean) * (v - mean);
+  summary->misfit_noise_sd = std::sqrt(ss / static_cast<double>(all.size() - 1));
 }
 
 }  // namespace
@@ -128,8 +207,10 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
   CheckCalibration(site, options);
   const core::Scene scene = RunScene(site, options.rocks, options.seed, options.threads);
   const ParameterSpace space = ParameterSpace::FromSite(site);
+  const bool refine = options.refine_factor > 1;
   MethodOptions method_options = options.method;
   method_options.seed = scene.options.seed;
+  if (refine) method_options.max_evals = FirstStageEvaluations(options);
 
   const Objective objective(scene, space, obs, options.misfit);
   std::optional<EvaluationLog> log;
@@ -170,18 +251,26 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
   for (std::size_t k = 1; k < summary.methods.size(); ++k)
     if (summary.methods[k].best_misfit < summary.best_method().best_misfit)
       summary.best = static_cast<int>(k);
+  if (summary.best_method().best.empty())
+    throw std::runtime_error("no evaluation finished; nothing to report");
+  summary.final_rocks = summary.rocks;
+  core::Scene final_scene = scene;
+  if (refine) {
+    final_scene = RefineStage(site, obs, options, space, callbacks, &summary);
+    summary.final_rocks = final_scene.total_rocks();
+  }
   const MethodResult& best = summary.best_method();
-  if (best.best.empty()) throw std::runtime_error("no evaluation finished; nothing to report");
   summary.termination = best.termination;
 
   // The site at the calibrated values, simulated with what its files, the
   // misfit and the report need.
-  core::Scene calibrated = scene;
+  core::Scene calibrated = final_scene;
   space.Apply(best.best, &calibrated);
   ScoreSummary score = Score(calibrated, obs, options.misfit);
   summary.calibrated = std::move(score.scene);
   summary.simulation = std::move(score.simulation);
   summary.misfit_after = std::move(score.misfit);
+  MeasureMisfitNoise(site, obs, options, space, &summary);
   summary.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return summary;

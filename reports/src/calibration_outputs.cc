@@ -207,7 +207,13 @@ nlohmann::json CalibrationJson(const CalibrationSummary& record) {
           {"evaluations", best.evaluations},
           {"wall_seconds", record.wall_seconds},
           {"rocks_per_evaluation", record.rocks},
+          {"rocks_final", record.final_rocks},
           {"seed", record.seed},
+          {"misfit_noise",
+           {{"seeds", record.noise_seeds},
+            {"misfits", record.noise_misfits},
+            {"sd", record.noise_seeds.empty() ? nlohmann::json(nullptr)
+                                              : nlohmann::json(record.misfit_noise_sd)}}},
           {"parameter_names", names},
           {"start", record.start},
           {"search_start", record.search_start},

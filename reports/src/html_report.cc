@@ -1517,7 +1517,13 @@ std::string HtmlReport(const ReportInput& in) {
         std::string(verdict.poor ? " Calibration searched with " : " Parameters calibrated with ") +
         Escape(rec.methods[static_cast<std::size_t>(rec.best)].method) + ": misfit " +
         Escape(Label(rec.misfit_before.value, 3)) + " at the start, " +
-        Escape(Label(rec.misfit_after.value, 3)) + " at the calibrated values. <b>Fit " +
+        Escape(Label(rec.misfit_after.value, 3)) + " at the calibrated values" +
+        (rec.noise_seeds.empty()
+             ? std::string()
+             : " (" + Int(rec.final_rocks) + " rocks; its Monte Carlo noise, from " +
+                   Int(static_cast<long>(rec.noise_seeds.size()) + 1) + " seeds, " +
+                   Escape(Label(rec.misfit_noise_sd, 2)) + ")") +
+        ". <b>Fit " +
         Escape(verdict.Sentence()) + ".</b>" +
         (verdict.poor ? " The calibrated values do not reproduce the observations: do not use "
                         "them as if they did (widen the box, change the model, or check the "

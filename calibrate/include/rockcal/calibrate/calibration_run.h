@@ -51,6 +51,21 @@ struct CalibrationOptions {
   // starting values', and the summary keeps the reach check (which observed
   // statistics the box reaches at all). >= 0; 1 is not a design.
   int reach_points = 0;
+  // Enough rocks where the search ends (retrospective approximation): with
+  // refine_factor > 1, after the methods have searched at `rocks` per
+  // evaluation, the best of them searches again from its calibrated values
+  // with refine_factor times as many rocks, a first step of refine_step (unit
+  // box) and refine_share of max_evals (the first stage keeps the rest); its
+  // values are the calibrated ones and the final simulation has as many
+  // rocks. 1: one stage [1], >= 1. The refining log is the log's name with
+  // "-refine" before ".jsonl".
+  int refine_factor = 1;
+  double refine_share = 1.0 / 3.0;  // (0, 1)
+  double refine_step = 0.05;        // (0, 1]
+  // The misfit's Monte Carlo noise where the search ended: the calibrated
+  // values simulated again at this many other seeds (seed + 1, seed + 2, ...)
+  // with the final rock count; 0: none [0], >= 0.
+  int noise_seeds = 0;
 
   // Checks each field (the methods' names, the method options, the misfit
   // options); on failure sets *error naming the field, its value and the rule.
@@ -89,6 +104,15 @@ struct CalibrationSummary {
   std::uint64_t seed = 1;
   double wall_seconds = 0.0;  // the whole calibration
   Termination termination;    // the best method's
+  // With CalibrationOptions::refine_factor > 1: the first stage's rocks per
+  // evaluation are `rocks`, the refining stage's (the last of `methods`, named
+  // "<method>, <N> rocks", and the best) `final_rocks`; else both are `rocks`.
+  int final_rocks = 0;
+  // CalibrationOptions::noise_seeds: the misfit at the calibrated values at
+  // other seeds, and the standard deviation of those and misfit_after.value.
+  std::vector<std::uint64_t> noise_seeds;
+  std::vector<double> noise_misfits;
+  double misfit_noise_sd = 0.0;
   // The site's scene at the calibrated values, recording what the files of
   // a simulation need (summary.json, rocks.csv, the misfit); no trajectories.
   core::Scene calibrated;
