@@ -8,6 +8,9 @@
 #include <Eigen/Geometry>
 #include <limits>
 
+#include "flight.h"
+#include "recording.h"
+#include "rock_state.h"
 #include "rockcal/core/contact.h"
 #include "rockcal/core/random.h"
 
@@ -38,12 +41,6 @@ struct ContactState {
   std::int64_t key;
   int element;
   Eigen::Vector3d u;  // tangential spring displacement
-};
-
-struct State {
-  Eigen::Vector3d x, v, w;  // centre, velocity, angular velocity (world)
-  Eigen::Quaterniond q;     // body -> world (clusters only)
-  double t;
 };
 
 // Everything a rock needs that is shared by all rocks of the scene.
@@ -87,7 +84,8 @@ class RockRun {
   RockRun(const SceneContext& ctx, const RockBody& body, const StepSizes& steps, RockRecord* rec)
       : ctx_(ctx), opt_(ctx.scene.options), body_(body), steps_(steps), dt_(steps.finest),
         exact_flight_(opt_.exact_flight && !opt_.reference_path), neighbours_(!opt_.reference_path),
-        single_element_(body.elements.size() == 1), rec_(rec) {
+        single_element_(body.elements.size() == 1), rec_(rec),
+        recorder_(ctx.scene, ctx.terrain, body, kCluster, rec) {
     inv_inertia_ = body.inertia.cwiseInverse();
     inertia_min_ = body.inertia.minCoeff();
     g_ = ctx.gravity.norm();
@@ -99,22 +97,20 @@ class RockRun {
   // The loop of DESIGN.md: advance (an exact flight while nothing is near,
   // a contact step otherwise), record what the advance crossed, and end the
   // rock when it stopped, left the slope or ran out of time.
-  void Run(State s) {
+  void Run(RockState s) {
     Start(s);
     Outcome outcome = Outcome::kTimeout;
     while (s_.t < opt_.max_time) {
-      const State before = s_;
+      const RockState before = s_;
       const bool flew = Advance();
       if (!s_.x.allFinite() || !s_.v.allFinite() || !s_.w.allFinite()) {
         rec_->max_relative_energy_gain = kInf;  // flagged; the caller counts it
         outcome = Outcome::kLeft;
         break;
       }
-      Events(before, flew);
+      recorder_.Advance(before, s_, flew);
       const int cell = ctx_.terrain.CellOf(s_.x.x(), s_.x.y());
-      if (opt_.record.passages) {
-        if (cell >= 0 && (rec_->cells.empty() || rec_->cells.back() != cell)) rec_->cells.push_back(cell);
-      }
+      recorder_.Cell(cell);
       if (opt_.record.energy_check && !flew) CheckEnergy();
       if (Ended(cell, before.t, &outcome)) break;
     }
@@ -123,18 +119,12 @@ class RockRun {
 
  private:
   // The state at release, the first accelerations and what is recorded.
-  void Start(const State& s) {
+  void Start(const RockState& s) {
     s_ = s;
     a_ = ctx_.gravity;
     alpha_.setZero();
     UpdateNeighbours();  // and the local contact step, before the first advance
-    const int np = static_cast<int>(ctx_.scene.partitions.size());
-    const auto& rec_opt = opt_.record;
-    if (rec_opt.partitions) rec_->crossings.assign(np, Crossing{});
-    rec_->trees.assign(rec_opt.trees.size(), Crossing{});
-    record_trajectory_ = rec_opt.trajectories > rec_->rock;
-    next_sample_ = 0.0;
-    Sample(s_);
+    recorder_.Start(s_);
     const double scale_floor = body_.mass * g_ * body_.bounding_radius;
     energy_min_ = Energy();
     ke_max_ = scale_floor;
@@ -174,7 +164,7 @@ class RockRun {
       Step(dt);
       return;
     }
-    const State s0 = s_;
+    const RockState s0 = s_;
     const Eigen::Vector3d a0 = a_, alpha0 = alpha_;
     const double spring0 = spring_energy_, penetration0 = rec_->max_penetration;
     Step(dt);
@@ -228,14 +218,10 @@ class RockRun {
   }
 
   void Finish(Outcome outcome) {
-    if (opt_.record.passages) {
-      std::sort(rec_->cells.begin(), rec_->cells.end());
-      rec_->cells.erase(std::unique(rec_->cells.begin(), rec_->cells.end()), rec_->cells.end());
-    }
     rec_->outcome = outcome;
     rec_->stop = s_.x;
     rec_->time = s_.t;
-    if (record_trajectory_) Sample(s_, /*force=*/true);
+    recorder_.Finish(s_);
   }
 
   Eigen::Matrix3d Rotation() const {
@@ -255,17 +241,7 @@ class RockRun {
     return torque * inv_inertia_.x();
   }
 
-  double RotationalEnergy(const State& s) const {
-    if constexpr (kCluster) {
-      const Eigen::Vector3d wb = s.q.conjugate() * s.w;
-      return 0.5 * wb.dot(body_.inertia.cwiseProduct(wb));
-    }
-    return 0.5 * body_.inertia.x() * s.w.squaredNorm();
-  }
-
-  double KineticEnergy(const State& s) const {
-    return 0.5 * body_.mass * s.v.squaredNorm() + RotationalEnergy(s);
-  }
+  double KineticEnergy(const RockState& s) const { return core::KineticEnergy<kCluster>(body_, s); }
 
   // Mechanical energy including the energy stored in contact springs.
   double Energy() const {
@@ -283,20 +259,11 @@ class RockRun {
     }
   }
 
-  // Longest time the rock can fly freely from s_ without touching anything.
+  // Longest time the rock can fly freely from s_ without touching anything
+  // (flight.h).
   double FlightTime() {
-    const double s = ctx_.terrain.grid().spacing;
-    const double vh = std::hypot(s_.v.x(), s_.v.y());
-    const double t_cap = std::min(vh > 0 ? s / vh : kInf, 1.0);
     const double rb = body_.bounding_radius;
-    const double x1 = s_.x.x() + s_.v.x() * t_cap, y1 = s_.x.y() + s_.v.y() * t_cap;
-    const double ceiling = ctx_.terrain.Ceiling(std::min(s_.x.x(), x1) - rb, std::max(s_.x.x(), x1) + rb,
-                                                std::min(s_.x.y(), y1) - rb, std::max(s_.x.y(), y1) + rb);
-    // Vertical clearance above every obstacle under the swept footprint.
-    const double h = s_.x.z() - rb - ceiling;
-    const double vz = s_.v.z();  // gravity is along -z
-    double tau = 0.0;
-    if (h > 0.0) tau = std::min(t_cap, (vz + std::sqrt(vz * vz + 2.0 * g_ * h)) / g_);
+    const double tau = CeilingFlightTime(ctx_.terrain, s_, rb, g_);
     if (tau > 4.0 * dt_) return tau;
     // Close to the ground: the true gap of the bounding sphere bounds how far
     // any point of the rock may move. Look ahead over a short horizon only.
@@ -306,53 +273,15 @@ class RockRun {
     const double reach = speed * horizon + 0.5 * g_ * horizon * horizon;
     const double gap = std::min(NearGap(reach), reach);
     if (!(gap > 0.0)) return tau;
-    const double d = kFlightReach * gap;
-    const double t_gap = 2.0 * d / (speed + std::sqrt(speed * speed + 2.0 * g_ * d));
-    return std::max(tau, t_gap);
+    return std::max(tau, GapFlightTime(kFlightReach * gap, speed, g_));
   }
 
   // Exact ballistic advance by tau (free rotation for clusters).
   void Fly(double tau) {
-    s_.x += s_.v * tau + 0.5 * ctx_.gravity * tau * tau;
-    s_.v += ctx_.gravity * tau;
-    if constexpr (kCluster) {
-      // Torque-free rotation: the angular momentum L is fixed in the world;
-      // isotropic bodies keep w, others follow w = R I^-1 R^T L in midpoint
-      // sub-steps (no energy is pumped in, unlike explicit Euler equations).
-      const bool isotropic = (body_.inertia - Eigen::Vector3d::Constant(body_.inertia.x()))
-                                 .cwiseAbs()
-                                 .maxCoeff() < 1e-12 * body_.inertia.x();
-      if (isotropic) {
-        Rotate(s_.w, tau);
-      } else {
-        const Eigen::Vector3d lb = body_.inertia.cwiseProduct(s_.q.conjugate() * s_.w);
-        const Eigen::Vector3d l = s_.q * lb;
-        auto omega = [&](const Eigen::Quaterniond& q) {
-          return Eigen::Vector3d(q * inv_inertia_.cwiseProduct(q.conjugate() * l));
-        };
-        const int n = std::max(1, static_cast<int>(std::ceil(tau / kFlightRotationStep)));
-        const double h = tau / n;
-        for (int k = 0; k < n; ++k) {
-          const Eigen::Quaterniond q0 = s_.q;
-          Rotate(omega(s_.q), 0.5 * h);
-          const Eigen::Vector3d w_mid = omega(s_.q);
-          s_.q = q0;
-          Rotate(w_mid, h);
-        }
-        s_.w = omega(s_.q);
-      }
-    }
-    s_.t += tau;
+    FlyCentre(ctx_.gravity, tau, &s_);
+    if constexpr (kCluster) RotateFree(body_, inv_inertia_, tau, kFlightRotationStep, &s_);
     a_ = ctx_.gravity;
     alpha_.setZero();
-  }
-
-  void Rotate(const Eigen::Vector3d& w, double h) {
-    const double angle = w.norm() * h;
-    if (angle > 0.0) {
-      s_.q = Eigen::Quaterniond(Eigen::AngleAxisd(angle, w.normalized())) * s_.q;
-      s_.q.normalize();
-    }
   }
 
   // Contact forces at the current state for obstacles within the landing
@@ -450,7 +379,7 @@ class RockRun {
     const Eigen::Vector3d v_half = s_.v + 0.5 * dt * a_;
     const Eigen::Vector3d w_half = s_.w + 0.5 * dt * alpha_;
     s_.x += dt * v_half;
-    if constexpr (kCluster) Rotate(w_half, dt);
+    if constexpr (kCluster) Rotate(w_half, dt, &s_.q);
     s_.t += dt;
     // Angular velocity estimate at the new time for the gyroscopic term.
     const Eigen::Vector3d w_pred = w_half + 0.5 * dt * alpha_;
@@ -548,91 +477,6 @@ class RockRun {
     return Eigen::Vector3d::Zero();
   }
 
-  // State at fraction f of the last advance: exact parabola after a flight,
-  // linear within a small step.
-  State Between(const State& s0, double f, bool flew) const {
-    State s = s0;
-    const double tau = f * (s_.t - s0.t);
-    if (flew) {
-      s.x = s0.x + s0.v * tau + 0.5 * ctx_.gravity * tau * tau;
-      s.v = s0.v + ctx_.gravity * tau;
-    } else {
-      s.x = s0.x + f * (s_.x - s0.x);
-      s.v = s0.v + f * (s_.v - s0.v);
-    }
-    s.w = s0.w + f * (s_.w - s0.w);
-    s.q = s_.q;
-    s.t = s0.t + tau;
-    return s;
-  }
-
-  Crossing Record(const State& s) const {
-    Crossing c;
-    c.crossed = true;
-    double ground = s.x.z();
-    ctx_.terrain.GroundHeight(s.x.x(), s.x.y(), &ground);
-    c.height = s.x.z() - ground;
-    c.speed = s.v.norm();
-    c.energy = KineticEnergy(s);
-    c.point = s.x;
-    return c;
-  }
-
-  // Partition crossings, tree passages and trajectory samples within the
-  // advance from s0 to s_.
-  void Events(const State& s0, bool flew) {
-    const auto& parts = ctx_.scene.partitions;
-    if (opt_.record.partitions) {
-      for (std::size_t p = 0; p < parts.size(); ++p) {
-        Crossing& cr = rec_->crossings[p];
-        if (cr.crossed) continue;
-        const Partition& part = parts[p];
-        double f0, f1;
-        if (part.kind == Partition::Kind::kX) {
-          f0 = s0.x.x() - part.value;
-          f1 = s_.x.x() - part.value;
-        } else {
-          double z0, z1;
-          if (!ctx_.terrain.Elevation(s0.x.x(), s0.x.y(), &z0) ||
-              !ctx_.terrain.Elevation(s_.x.x(), s_.x.y(), &z1))
-            continue;
-          f0 = z0 - part.value;
-          f1 = z1 - part.value;
-        }
-        if ((f0 < 0) != (f1 < 0)) cr = Record(Between(s0, f0 / (f0 - f1), flew));
-      }
-    }
-    const auto& trees = opt_.record.trees;
-    for (std::size_t k = 0; k < trees.size(); ++k) {
-      Crossing& cr = rec_->trees[k];
-      if (cr.crossed) continue;
-      // First time the plan path (straight over one advance) comes within
-      // reach of the trunk.
-      const double reach = trees[k].radius + body_.bounding_radius;
-      const Eigen::Vector2d p0(s0.x.x() - trees[k].x, s0.x.y() - trees[k].y);
-      const Eigen::Vector2d d(s_.x.x() - s0.x.x(), s_.x.y() - s0.x.y());
-      const double aa = d.squaredNorm(), bb = 2.0 * p0.dot(d), cc = p0.squaredNorm() - reach * reach;
-      if (cc <= 0.0) continue;  // started inside: not a passage
-      const double disc = bb * bb - 4.0 * aa * cc;
-      if (aa <= 0.0 || disc < 0.0) continue;
-      const double f = (-bb - std::sqrt(disc)) / (2.0 * aa);
-      if (f >= 0.0 && f <= 1.0) cr = Record(Between(s0, f, flew));
-    }
-    if (record_trajectory_) {
-      while (next_sample_ <= s_.t) {
-        const double f = s_.t > s0.t ? (next_sample_ - s0.t) / (s_.t - s0.t) : 1.0;
-        Sample(Between(s0, std::clamp(f, 0.0, 1.0), flew));
-      }
-    }
-  }
-
-  void Sample(const State& s, bool force = false) {
-    if (!record_trajectory_) return;
-    if (!force && s.t + 1e-12 < next_sample_) return;
-    rec_->trajectory.push_back({s.t, s.x, s.v, s.w, Eigen::Vector4d(s.q.w(), s.q.x(), s.q.y(), s.q.z())});
-    next_sample_ += opt_.record.sample_seconds;
-  }
-
   const SceneContext& ctx_;
   const SimulationOptions& opt_;
   const RockBody& body_;
@@ -645,7 +489,8 @@ class RockRun {
   const bool single_element_;              // a sphere (on either path)
   double needed_dt_ = 0.0;  // the step the last step's contacts ask for
   RockRecord* rec_;
-  State s_;
+  Recorder recorder_;  // what the record keeps of the path (recording.h)
+  RockState s_;
   Eigen::Vector3d a_, alpha_;  // accelerations at the current state
   Eigen::Vector3d inv_inertia_;
   double inertia_min_ = 0.0;
@@ -653,23 +498,21 @@ class RockRun {
   double spring_energy_ = 0.0, energy_min_ = 0.0, ke_max_ = 0.0;
   // Since when the rock has been slow, and below the floor (-1: it is not).
   double slow_since_ = -1.0, below_since_ = -1.0;
-  bool record_trajectory_ = false;
   bool landing_ = false;  // the last advance was a flight
   // The neighbourhood (UpdateNeighbours): virtual spheres within skin_ of the
   // bounding sphere at near_ref_, and the floor's clearance there.
   Eigen::Vector3d near_ref_ = Eigen::Vector3d::Zero();
   double skin_ = 0.0, floor_clear_ = 0.0;
   std::vector<int> near_;
-  double next_sample_ = 0.0;
   std::vector<TerrainContact> found_;
   std::vector<ContactState> contacts_, next_;
 };
 
 // Release: a random point of the zone, a random size and orientation, then
 // placed so the lowest point is `height` above every obstacle.
-State ReleaseRock(const SceneContext& ctx, const RockGroup& group, const RockBody& body,
+RockState ReleaseRock(const SceneContext& ctx, const RockGroup& group, const RockBody& body,
               RandomStream* rng, double u_pos[2], Eigen::Quaterniond q) {
-  State s;
+  RockState s;
   const core::Release& rel = group.release;
   double x = rel.point.x(), y = rel.point.y();
   if (!rel.zone.empty()) {
@@ -887,7 +730,7 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
     rec.mass = body.mass;
     rec.dt = dt;
     const bool cluster = body.elements.size() > 1 || scene.options.reference_path;
-    const State s0 = ReleaseRock(ctx, group, body, &rng, u_pos,
+    const RockState s0 = ReleaseRock(ctx, group, body, &rng, u_pos,
                              cluster ? q.normalized() : Eigen::Quaterniond::Identity());
     rec.start = s0.x;
     if (cluster) {
