@@ -8,7 +8,6 @@
 #include "args.h"
 #include "commands.h"
 #include "progress.h"
-#include "rockcal/core/error.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/reports/html_report.h"
 #include "rockcal/reports/output_dir.h"
@@ -16,6 +15,7 @@
 #include "rockcal/sites/site.h"
 
 namespace rockcal::cli {
+
 int Score(const std::vector<std::string>& argv) {
   const Args args(argv, {"force", "quiet"},
                   {"observations", "parameters", "rocks", "seed", "threads", "out"});

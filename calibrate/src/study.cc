@@ -363,8 +363,9 @@ std::vector<StabilityVariant> StabilityVariants(const core::Scene& site,
   const double site_dt = SmallestStep(base);
   std::vector<StabilityVariant> out;
   for (const auto& [name, make] : kCases) {
-    if (!opt.cases.empty() && std::find(opt.cases.begin(), opt.cases.end(), name) == opt.cases.end())
-      continue;
+    const bool wanted =
+        opt.cases.empty() || std::find(opt.cases.begin(), opt.cases.end(), name) != opt.cases.end();
+    if (!wanted) continue;
     CaseScene c = make(base, opt);
     const double dt = SmallestStep(c.scene);
     if (dt < site_dt * (1.0 - 1e-9))

@@ -1,7 +1,7 @@
 #include "rockcal/core/contact.h"
 
-#include <algorithm>
 #include <Eigen/Geometry>
+#include <algorithm>
 
 namespace rockcal::core {
 

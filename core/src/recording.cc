@@ -7,8 +7,13 @@ namespace rockcal::core {
 
 Recorder::Recorder(const Scene& scene, const Terrain& terrain, const RockBody& body, bool cluster,
                    RockRecord* rec)
-    : scene_(scene), opt_(scene.options.record), terrain_(terrain), body_(body),
-      cluster_(cluster), gravity_(0, 0, -scene.gravity), rec_(rec) {}
+    : scene_(scene),
+      opt_(scene.options.record),
+      terrain_(terrain),
+      body_(body),
+      cluster_(cluster),
+      gravity_(0, 0, -scene.gravity),
+      rec_(rec) {}
 
 void Recorder::Start(const RockState& s) {
   const int np = static_cast<int>(scene_.partitions.size());
@@ -109,7 +114,8 @@ Crossing Recorder::Record(const RockState& s) const {
 void Recorder::Sample(const RockState& s, bool force) {
   if (!trajectory_) return;
   if (!force && s.t + 1e-12 < next_sample_) return;
-  rec_->trajectory.push_back({s.t, s.x, s.v, s.w, Eigen::Vector4d(s.q.w(), s.q.x(), s.q.y(), s.q.z())});
+  rec_->trajectory.push_back(
+      {s.t, s.x, s.v, s.w, Eigen::Vector4d(s.q.w(), s.q.x(), s.q.y(), s.q.z())});
   next_sample_ += opt_.sample_seconds;
 }
 

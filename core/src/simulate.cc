@@ -437,9 +437,10 @@ class RockRun {
     const double kn = m * law.stiffness_per_mass;
     // Normal velocity at the end of the step, with the dashpot taken
     // implicitly (trapezoidal): v_n = v_n,half + dt/2 (k d / m - c v_n + g_n).
-    const double vn = (vc_half.dot(c.normal) +
-                       0.5 * dt * (law.stiffness_per_mass * c.overlap + ctx_.gravity.dot(c.normal))) /
-                      (1.0 + 0.5 * dt * law.damping_per_mass);
+    const double vn =
+        (vc_half.dot(c.normal) +
+         0.5 * dt * (law.stiffness_per_mass * c.overlap + ctx_.gravity.dot(c.normal))) /
+        (1.0 + 0.5 * dt * law.damping_per_mass);
     const double fn = NormalForce({kn, m * law.damping_per_mass}, c.overlap, vn);
     const MaterialSteps& ms = steps_.material[static_cast<std::size_t>(c.material)];
     needed_dt_ = std::min(needed_dt_, std::abs(vn) < ms.gentle_speed ? ms.gentle : ms.contact);
@@ -471,7 +472,8 @@ class RockRun {
   // The tangential spring displacement contact `key` of element e had at
   // the last step, carried into the tangent plane of `normal`; zero for a
   // new contact.
-  Eigen::Vector3d CarriedDisplacement(std::int64_t key, int e, const Eigen::Vector3d& normal) const {
+  Eigen::Vector3d CarriedDisplacement(std::int64_t key, int e,
+                                      const Eigen::Vector3d& normal) const {
     for (const ContactState& old : contacts_)
       if (old.key == key && old.element == e) return CarryTangentialDisplacement(old.u, normal);
     return Eigen::Vector3d::Zero();

@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <Eigen/Geometry>
+#include <cmath>
 
 #include "rockcal/core/material.h"
 
@@ -75,8 +75,8 @@ TEST(NormalForce, ClampedDampedImpactMatchesTheClosedForm) {
     const double ratio =
         -std::exp(-zeta * omega * t_end) * (std::cos(phase) - zeta / s * std::sin(phase));
     const Impact impact = NormalImpact({omega * omega, 2.0 * zeta * omega}, 2.0);
-    EXPECT_NEAR(impact.rebound_ratio, ratio, 1e-6) << "zeta " << zeta << ": ratio "
-                                                   << impact.rebound_ratio;
+    EXPECT_NEAR(impact.rebound_ratio, ratio, 1e-6)
+        << "zeta " << zeta << ": ratio " << impact.rebound_ratio;
     // The force reaches 0 before the overlap does, so the contact lasts
     // longer than t_end and less than the unclamped half period pi / w_d.
     EXPECT_GT(impact.duration, t_end) << "zeta " << zeta;
@@ -119,7 +119,7 @@ TEST(TangentialForce, AtTheCapTheForceIsFrictionTimesNormalAndTheSpringShortens)
 // until it reaches f N, and then stays there (sliding).
 TEST(TangentialForce, SteadySlipBuildsUpToTheCoulombLimit) {
   const TangentialSpring law{2000.0, 0.4};
-  const double normal_force = 50.0, v = 0.1, dt = 1e-3;  // limit 20 N at t = 0.1 s
+  const double normal_force = 50.0, v = 0.1, dt = 1e-3;                // limit 20 N at t = 0.1 s
   const Eigen::Vector3d normal(0.0, 0.0, 1.0), velocity(v, 0.0, 0.3);  // 0.3: normal, no slip
   Eigen::Vector3d u = Eigen::Vector3d::Zero();
   for (int k = 1; k <= 300; ++k) {

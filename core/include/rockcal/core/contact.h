@@ -37,7 +37,8 @@ struct TangentialSpring {
 // A contact's spring displacement `u` carried into the tangent plane of
 // `normal` (unit) at the next step: its normal part removed, its length kept
 // (a spring turning with the contact neither stretches nor relaxes).
-Eigen::Vector3d CarryTangentialDisplacement(const Eigen::Vector3d& u, const Eigen::Vector3d& normal);
+Eigen::Vector3d CarryTangentialDisplacement(const Eigen::Vector3d& u,
+                                            const Eigen::Vector3d& normal);
 
 // The tangential part of `velocity` times dt: the slip the spring takes in
 // one step.
