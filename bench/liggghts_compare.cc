@@ -453,6 +453,139 @@ void PrintComparisonRow(const char* label, const std::vector<double>& a,
               qb.value, qb.se, diff, tol, std::abs(diff) <= tol ? "yes" : "NO");
 }
 
+// ---- the three parts of the comparison ---------------------------------------
+
+// rockcal at 1 and 2 threads, `runs` times each.
+struct RockcalRuns {
+  bench::TimedRuns timed[2];
+  bool same = false;          // identical results at 1 and 2 threads
+  double max_time = 0.0;      // s, the longest rock's simulated time
+  double rock_seconds = 0.0;  // s, simulated time summed over the rocks
+};
+
+RockcalRuns RunRockcal(const core::Scene& scene, const core::Terrain& terrain, int runs) {
+  RockcalRuns out;
+  std::printf("rockcal (median of %d runs)\n", runs);
+  std::printf("%-8s %10s %12s %9s %14s %18s %9s\n", "threads", "wall_s", "steps", "flights",
+              "rock_steps/s", "fixed_dt_equiv/s", "speed-up");
+  bench::TimedRuns* timed = out.timed;
+  for (int k = 0; k < 2; ++k) {
+    const int threads = k + 1;
+    timed[k] = bench::TimeSimulation(scene, terrain, threads, runs);
+    const core::SimulationResult& r = timed[k].result;
+    const double w = timed[k].median_wall;
+    char speedup[32] = "";
+    if (k == 1) std::snprintf(speedup, sizeof speedup, "%.2fx", timed[0].median_wall / w);
+    std::printf("%-8d %10.3f %12ld %9ld %14.3g %18.3g %9s\n", threads, w, r.steps, r.flights,
+                r.steps / w, bench::FixedStepRockSteps(r) / w, speedup);
+    std::fflush(stdout);
+  }
+  const core::SimulationResult& result = timed[0].result;
+  bool same = result.rocks.size() == timed[1].result.rocks.size();
+  for (std::size_t k = 0; same && k < result.rocks.size(); ++k)
+    same = result.rocks[k].stop == timed[1].result.rocks[k].stop &&
+           result.rocks[k].outcome == timed[1].result.rocks[k].outcome;
+  out.same = same;
+  for (const core::RockRecord& r : result.rocks) {
+    out.max_time = std::max(out.max_time, r.time);
+    out.rock_seconds += r.time;
+  }
+  std::printf(
+      "identical results at 1 and 2 threads: %s; contact step %.3g s; simulated rock time "
+      "%.1f s in all, longest rock %.2f s\n\n",
+      same ? "yes" : "NO", result.dt_max, out.rock_seconds, out.max_time);
+  return out;
+}
+
+// Writes the LIGGGHTS deck of rockcal's run `result` into a fresh temporary
+// folder; false when the folder cannot be made.
+bool MakeDeck(const core::Scene& scene, const core::Terrain& terrain,
+              const core::SimulationResult& result, const core::ContactLaw& law, double max_time,
+              Deck* deck) {
+  const std::string dir_name =
+      (std::filesystem::temp_directory_path() / "rockcal_liggghts_XXXXXX").string();
+  std::vector<char> dir_buffer(dir_name.begin(), dir_name.end());
+  dir_buffer.push_back('\0');
+  const char* made = ::mkdtemp(dir_buffer.data());
+  if (made == nullptr) return false;
+  deck->dir = made;
+  deck->terrain_atoms = scene.grid.nx * scene.grid.ny;
+  deck->rock_atoms = static_cast<int>(result.rocks.size());
+  deck->dt = result.dt_max;  // t_c / 50 for every rock of this scene
+  deck->chunk_steps = static_cast<int>(std::lround(kCheckSeconds / deck->dt));
+  deck->chunks = static_cast<int>(std::ceil(max_time / kCheckSeconds - 1e-9));
+  deck->time_limit = deck->chunks * deck->chunk_steps * deck->dt;
+  {
+    std::vector<double> masses;
+    for (const core::RockRecord& r : result.rocks) masses.push_back(r.mass);
+    deck->kn_median = law.stiffness_per_mass * bench::Median(masses);
+  }
+  WriteData(*deck, scene, terrain, result);
+  const int triangles = WriteCatchStl(*deck, terrain);
+  WriteInput(*deck, scene, terrain, result, law);
+  std::printf(
+      "LIGGGHTS deck: %s/in.slope (%d frozen virtual spheres, %d rocks, %d atom types: "
+      "k_n per rock mass; catch surface mesh %d triangles);\n"
+      "  dt %.3g s, at most %.2f s simulated (rockcal's longest rock), stopping early once "
+      "every rock is below %.2g m/s at two checks %.2g s apart\n",
+      deck->dir.c_str(), deck->terrain_atoms, deck->rock_atoms,
+      kFirstRockType - 1 + deck->rock_atoms, triangles, deck->dt, deck->time_limit,
+      scene.options.stop_speed, kCheckSeconds);
+  std::fflush(stdout);
+  return true;
+}
+
+// LIGGGHTS on the deck, `runs` times (fewer when a run is long).
+struct LiggghtsRuns {
+  bool ok = false;
+  LiggghtsRun first;
+  int planned = 0;
+  double wall = 0.0, loop = 0.0;  // medians [s]
+};
+
+LiggghtsRuns RunLiggghtsRepeatedly(const std::string& exe, const Deck& deck, int runs) {
+  LiggghtsRuns out;
+  std::vector<double> walls, loops;
+  out.planned = runs;
+  for (int r = 0; r < out.planned; ++r) {
+    const LiggghtsRun run = RunLiggghts(exe, deck);
+    if (!run.ok) return out;
+    if (r == 0) {
+      out.first = run;
+      if (run.wall > kVeryLongRun) {
+        out.planned = 1;
+      } else if (run.wall > kLongRun) {
+        out.planned = std::min(runs, 3);
+      }
+    }
+    walls.push_back(run.wall);
+    loops.push_back(run.loop_time);
+  }
+  out.ok = true;
+  out.wall = bench::Median(walls);
+  out.loop = bench::Median(loops);
+  return out;
+}
+
+void PrintSideBySide(const EngineResult& ours, const EngineResult& theirs) {
+  std::printf("%-18s %22s %22s %8s %8s  %s\n", "", "rockcal", "LIGGGHTS", "diff", "2se", "agree");
+  std::printf("%-18s %22d %22d\n", "rocks stopped", ours.stopped, theirs.stopped);
+  std::printf("%-18s %22d %22d\n", "rocks left", ours.left, theirs.left);
+  std::printf("%-18s %22d %22d\n", "timeout / moving", ours.moving, theirs.moving);
+  std::printf("%-18s %22zu %22zu\n", "crossed X60", ours.heights.size(), theirs.heights.size());
+  auto below = [](const std::vector<double>& h) {
+    return std::count_if(h.begin(), h.end(), [](double v) { return v < 0.0; });
+  };
+  std::printf("%-18s %22ld %22ld\n", "  centre below gnd", static_cast<long>(below(ours.heights)),
+              static_cast<long>(below(theirs.heights)));
+  PrintComparisonRow("runout x p10 [m]", ours.runout, theirs.runout, 0.10);
+  PrintComparisonRow("runout x p50 [m]", ours.runout, theirs.runout, 0.50);
+  PrintComparisonRow("runout x p90 [m]", ours.runout, theirs.runout, 0.90);
+  PrintComparisonRow("height p50 [m]", ours.heights, theirs.heights, 0.50);
+  PrintComparisonRow("height p90 [m]", ours.heights, theirs.heights, 0.90);
+  PrintComparisonRow("height p95 [m]", ours.heights, theirs.heights, 0.95);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -475,136 +608,44 @@ int main(int argc, char** argv) {
       law.restitution, law.contact_time, law.stiffness_per_mass, law.damping_per_mass,
       law.damping_ratio, law.tangential_ratio, law.friction, law.rolling_resistance);
 
-  // ---- rockcal
-  std::printf("rockcal (median of %d runs)\n", runs);
-  std::printf("%-8s %10s %12s %9s %14s %18s %9s\n", "threads", "wall_s", "steps", "flights",
-              "rock_steps/s", "fixed_dt_equiv/s", "speed-up");
-  bench::TimedRuns timed[2];
-  for (int k = 0; k < 2; ++k) {
-    const int threads = k + 1;
-    timed[k] = bench::TimeSimulation(scene, terrain, threads, runs);
-    const core::SimulationResult& r = timed[k].result;
-    const double w = timed[k].median_wall;
-    char speedup[32] = "";
-    if (k == 1) std::snprintf(speedup, sizeof speedup, "%.2fx", timed[0].median_wall / w);
-    std::printf("%-8d %10.3f %12ld %9ld %14.3g %18.3g %9s\n", threads, w, r.steps, r.flights,
-                r.steps / w, bench::FixedStepRockSteps(r) / w, speedup);
-    std::fflush(stdout);
-  }
-  const core::SimulationResult& result = timed[0].result;
-  bool same = result.rocks.size() == timed[1].result.rocks.size();
-  for (std::size_t k = 0; same && k < result.rocks.size(); ++k)
-    same = result.rocks[k].stop == timed[1].result.rocks[k].stop &&
-           result.rocks[k].outcome == timed[1].result.rocks[k].outcome;
-  double max_time = 0.0, rock_seconds = 0.0;
-  for (const core::RockRecord& r : result.rocks) {
-    max_time = std::max(max_time, r.time);
-    rock_seconds += r.time;
-  }
+  const RockcalRuns rockcal = RunRockcal(scene, terrain, runs);
+  const core::SimulationResult& result = rockcal.timed[0].result;
   const EngineResult ours = FromRockcal(result);
-  std::printf(
-      "identical results at 1 and 2 threads: %s; contact step %.3g s; simulated rock time "
-      "%.1f s in all, longest rock %.2f s\n\n",
-      same ? "yes" : "NO", result.dt_max, rock_seconds, max_time);
 
-  // ---- LIGGGHTS
   std::string exe;
   if (!FindOnPath("liggghts", &exe)) {
     std::printf("liggghts is not on PATH: no comparison (rockcal figures above only).\n");
     return 0;
   }
-  const std::string dir_name =
-      (std::filesystem::temp_directory_path() / "rockcal_liggghts_XXXXXX").string();
-  std::vector<char> dir_buffer(dir_name.begin(), dir_name.end());
-  dir_buffer.push_back('\0');
-  const char* made = ::mkdtemp(dir_buffer.data());
-  if (made == nullptr) {
+  Deck deck;
+  if (!MakeDeck(scene, terrain, result, law, rockcal.max_time, &deck)) {
     std::fprintf(stderr, "liggghts_compare: cannot create a temporary folder\n");
     return 1;
   }
-  Deck deck;
-  deck.dir = made;
-  deck.terrain_atoms = scene.grid.nx * scene.grid.ny;
-  deck.rock_atoms = static_cast<int>(result.rocks.size());
-  deck.dt = result.dt_max;  // t_c / 50 for every rock of this scene
-  deck.chunk_steps = static_cast<int>(std::lround(kCheckSeconds / deck.dt));
-  deck.chunks = static_cast<int>(std::ceil(max_time / kCheckSeconds - 1e-9));
-  deck.time_limit = deck.chunks * deck.chunk_steps * deck.dt;
-  {
-    std::vector<double> masses;
-    for (const core::RockRecord& r : result.rocks) masses.push_back(r.mass);
-    deck.kn_median = law.stiffness_per_mass * bench::Median(masses);
-  }
-  WriteData(deck, scene, terrain, result);
-  const int triangles = WriteCatchStl(deck, terrain);
-  WriteInput(deck, scene, terrain, result, law);
-  std::printf(
-      "LIGGGHTS deck: %s/in.slope (%d frozen virtual spheres, %d rocks, %d atom types: "
-      "k_n per rock mass; catch surface mesh %d triangles);\n"
-      "  dt %.3g s, at most %.2f s simulated (rockcal's longest rock), stopping early once "
-      "every rock is below %.2g m/s at two checks %.2g s apart\n",
-      deck.dir.c_str(), deck.terrain_atoms, deck.rock_atoms, kFirstRockType - 1 + deck.rock_atoms,
-      triangles, deck.dt, deck.time_limit, scene.options.stop_speed, kCheckSeconds);
-  std::fflush(stdout);
-
-  std::vector<double> walls, loops;
-  LiggghtsRun first;
-  int planned = runs;
-  for (int r = 0; r < planned; ++r) {
-    const LiggghtsRun run = RunLiggghts(exe, deck);
-    if (!run.ok) {
-      std::printf("liggghts failed (see %s/log.liggghts): no comparison.\n", deck.dir.c_str());
-      return 1;
-    }
-    if (r == 0) {
-      first = run;
-      if (run.wall > kVeryLongRun) {
-        planned = 1;
-      } else if (run.wall > kLongRun) {
-        planned = std::min(runs, 3);
-      }
-    }
-    walls.push_back(run.wall);
-    loops.push_back(run.loop_time);
+  const LiggghtsRuns lig = RunLiggghtsRepeatedly(exe, deck, runs);
+  if (!lig.ok) {
+    std::printf("liggghts failed (see %s/log.liggghts): no comparison.\n", deck.dir.c_str());
+    return 1;
   }
   const EngineResult theirs = ReadLiggghtsResult(deck, scene, terrain);
   std::filesystem::remove(deck.dir + "/traj.dump");
-  const double lig_wall = bench::Median(walls);
-  const double lig_loop = bench::Median(loops);
-  if (planned < runs)
+  if (lig.planned < runs)
     std::printf(
         "LIGGGHTS runs: %d instead of %d (the first took %.1f s; more than %.0f s gives "
         "at most 3 runs, more than %.0f s one)\n",
-        planned, runs, first.wall, kLongRun, kVeryLongRun);
+        lig.planned, runs, lig.first.wall, kLongRun, kVeryLongRun);
   std::printf(
       "LIGGGHTS (1 core, median of %d runs): wall %.2f s (Loop time %.2f s), %ld steps "
       "(%.2f s simulated) x rock atoms = %.4g rock-steps, %.3g rock-steps/s\n",
-      planned, lig_wall, lig_loop, first.steps, first.steps * deck.dt, first.rock_steps,
-      first.rock_steps / lig_wall);
+      lig.planned, lig.wall, lig.loop, lig.first.steps, lig.first.steps * deck.dt,
+      lig.first.rock_steps, lig.first.rock_steps / lig.wall);
   std::printf(
       "simulated rock time: rockcal %.0f rock-s (each rock until it stops or leaves), "
       "LIGGGHTS %.0f rock-s (every rock for the whole run)\n",
-      rock_seconds, first.rock_steps * deck.dt);
+      rockcal.rock_seconds, lig.first.rock_steps * deck.dt);
   std::printf("wall-time ratio LIGGGHTS / rockcal: %.1fx at 1 thread, %.1fx at 2 threads\n\n",
-              lig_wall / timed[0].median_wall, lig_wall / timed[1].median_wall);
-
-  // ---- side by side
-  std::printf("%-18s %22s %22s %8s %8s  %s\n", "", "rockcal", "LIGGGHTS", "diff", "2se", "agree");
-  std::printf("%-18s %22d %22d\n", "rocks stopped", ours.stopped, theirs.stopped);
-  std::printf("%-18s %22d %22d\n", "rocks left", ours.left, theirs.left);
-  std::printf("%-18s %22d %22d\n", "timeout / moving", ours.moving, theirs.moving);
-  std::printf("%-18s %22zu %22zu\n", "crossed X60", ours.heights.size(), theirs.heights.size());
-  auto below = [](const std::vector<double>& h) {
-    return std::count_if(h.begin(), h.end(), [](double v) { return v < 0.0; });
-  };
-  std::printf("%-18s %22ld %22ld\n", "  centre below gnd", static_cast<long>(below(ours.heights)),
-              static_cast<long>(below(theirs.heights)));
-  PrintComparisonRow("runout x p10 [m]", ours.runout, theirs.runout, 0.10);
-  PrintComparisonRow("runout x p50 [m]", ours.runout, theirs.runout, 0.50);
-  PrintComparisonRow("runout x p90 [m]", ours.runout, theirs.runout, 0.90);
-  PrintComparisonRow("height p50 [m]", ours.heights, theirs.heights, 0.50);
-  PrintComparisonRow("height p90 [m]", ours.heights, theirs.heights, 0.90);
-  PrintComparisonRow("height p95 [m]", ours.heights, theirs.heights, 0.95);
+              lig.wall / rockcal.timed[0].median_wall, lig.wall / rockcal.timed[1].median_wall);
+  PrintSideBySide(ours, theirs);
   std::printf(
       "se: order-statistic standard error (half the spread of the sample quantiles at p -/+ "
       "sqrt(p(1-p)/n));\nagree: |diff| <= 2 sqrt(se_rockcal^2 + se_LIGGGHTS^2). Deck and log "

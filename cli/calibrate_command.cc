@@ -67,16 +67,8 @@ void PrepareFolder(const std::string& out, bool resume, bool force, const sites:
   reports::WriteOutputMarker(out, "calibrate", std::nullopt);
 }
 
-}  // namespace
-
-int Calibrate(const std::vector<std::string>& argv) {
-  const auto start_time = std::chrono::steady_clock::now();
-  const Args args(argv, {"force", "quiet", "resume"},
-                  {"observations", "method", "methods", "max-evals", "max-seconds", "rocks",
-                   "refine", "seed", "threads", "loss", "estimate", "holdout", "reach", "out"});
-  const std::string site_path = args.OnlyPositional("SITE.json");
-  const std::string out = args.Get("out");
-  const std::string obs_path = args.Get("observations");
+// --method or --methods, each checked against calibrate::MethodNames().
+std::vector<std::string> MethodsFromArgs(const Args& args) {
   if (args.Has("method") && args.Has("methods"))
     throw InputError("arguments", "give --method or --methods, not both");
   std::vector<std::string> methods =
@@ -87,12 +79,13 @@ int Calibrate(const std::vector<std::string>& argv) {
     if (!calibrate::IsMethod(m))
       throw InputError("argument --method" + std::string(args.Has("methods") ? "s" : ""),
                        "unknown method '" + m + "' (allowed: " + calibrate::MethodList() + ")");
-  if (args.Flag("resume") && args.Flag("force"))
-    throw InputError("arguments", "give --resume or --force, not both");
+  return methods;
+}
 
-  const sites::Site site = sites::LoadSite(site_path);
+// The calibration's options from the arguments, but for the methods and the
+// reach check (whose default depends on the site's parameters).
+calibrate::CalibrationOptions OptionsFromArgs(const Args& args, const std::string& out) {
   calibrate::CalibrationOptions options;
-  options.methods = methods;
   if (args.Has("rocks")) options.rocks = static_cast<int>(args.Integer("rocks", 0, 1, 10000000));
   if (args.Has("seed"))
     options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
@@ -103,34 +96,25 @@ int Calibrate(const std::vector<std::string>& argv) {
   options.method.estimate = args.Get("estimate", "lowest");
   options.log_path = out + "/evaluations.jsonl";
   options.resume = args.Flag("resume");
-  const observations::Observations obs = observations::LoadObservations(obs_path, site.scene);
-  // Reach before fit: 4 (n + 1) design points by default, 0 for none.
-  const int parameters = calibrate::ParameterSpace::FromSite(site).size();
-  options.reach_points = static_cast<int>(
-      args.Integer("reach", 4 * (parameters + 1), 0, 100000));
-  if (options.reach_points == 1)
-    throw InputError("argument --reach", "1: expected 0 (no reach check) or at least 2 points");
   // Enough rocks where the search ends: without a fixed --rocks, a refining
   // stage with 4 times the rocks; the misfit's noise from 3 more seeds.
   options.refine_factor =
       static_cast<int>(args.Integer("refine", args.Has("rocks") ? 1 : 4, 1, 1000));
   options.noise_seeds = 3;
-  std::string error;
-  if (!options.method.IsValid(&error)) throw InputError("arguments", error);
-  calibrate::CheckCalibration(site, options);
-  const int folds = args.Has("holdout") ? static_cast<int>(args.Integer("holdout", 0, 2, 1000)) : 0;
-  if (folds > 0) observations::MakeFolds(obs, folds, 0);  // enough values for the folds?
+  return options;
+}
 
-  PrepareFolder(out, args.Flag("resume"), args.Flag("force"), site, obs_path);
-  const bool quiet = args.Flag("quiet");
-  std::optional<Progress> progress;
+// What the calibration shows as it goes: the start, the reach check, a
+// progress bar per method and each method's result.
+calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
+                                                  std::optional<Progress>* progress) {
   calibrate::CalibrationCallbacks callbacks;
-  callbacks.started = [&](const calibrate::CalibrationSummary& s) {
+  callbacks.started = [quiet](const calibrate::CalibrationSummary& s) {
     if (!quiet)
       std::printf("%s: %d parameters, %d rocks per evaluation, misfit at the start %.4g\n",
                   s.site.c_str(), s.space.size(), s.rocks, s.misfit_before.value);
   };
-  callbacks.reach_done = [&](const calibrate::ReachResult& r) {
+  callbacks.reach_done = [quiet](const calibrate::ReachResult& r) {
     const std::vector<std::string> warnings = calibrate::OutOfReachWarnings(r);
     if (!quiet)
       std::printf("reach before fit: %zu design points, %zu of %zu observed statistics in reach\n",
@@ -141,33 +125,30 @@ int Calibrate(const std::vector<std::string>& argv) {
                   "compromise, not a fit (widen the box, change the model, or check the "
                   "observations).\n");
   };
-  callbacks.method_started = [&](const std::string& method) {
-    progress.emplace("calibrate " + method, quiet);
+  callbacks.method_started = [quiet, progress](const std::string& method) {
+    progress->emplace("calibrate " + method, quiet);
   };
-  callbacks.evaluated = [&](const calibrate::Evaluation& e, double best) {
+  callbacks.evaluated = [max_evals, progress](const calibrate::Evaluation& e, double best) {
     char extra[96];
     std::snprintf(extra, sizeof extra, " best misfit %.4g, %.0f s", best, e.elapsed);
-    progress->Update(e.index, options.method.max_evals, extra);
+    (*progress)->Update(e.index, max_evals, extra);
   };
-  callbacks.method_finished = [&](const calibrate::MethodResult& result) {
-    progress.reset();
+  callbacks.method_finished = [quiet, progress](const calibrate::MethodResult& result) {
+    progress->reset();
     if (!quiet)
       std::printf("  %-18s misfit %.4g after %d evaluations (%d simulated) in %.1f s: %s\n",
                   result.method.c_str(), result.best_misfit, result.evaluations, result.simulated,
                   result.wall_seconds, result.termination.message.c_str());
   };
-  const calibrate::CalibrationSummary summary =
-      calibrate::Calibrate(site, obs, options, callbacks);
-  // The folds after the full calibration: its log exists first, so that a
-  // stopped run resumes.
-  std::optional<calibrate::HoldoutSummary> holdout;
-  if (folds > 0) {
-    holdout = calibrate::CrossValidate(site, obs, options, folds, callbacks);
-    if (!quiet)
-      std::printf("holdout, %d folds: misfit in sample %.4g, held out %.4g (means)\n", folds,
-                  holdout->mean_in_sample_misfit, holdout->mean_held_out_misfit);
-  }
+  return callbacks;
+}
 
+// Every file of a finished calibration in DIR `out`; calibration.json, which
+// marks the folder complete, after parameters.json.
+void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
+                           const observations::Observations& obs,
+                           const calibrate::CalibrationSummary& summary,
+                           const std::optional<calibrate::HoldoutSummary>& holdout) {
   reports::WriteSimulationFiles(out, summary.calibrated, summary.simulation);
   reports::WriteFileAtomically(out + "/parameters.json",
                                reports::ParametersJson(summary).dump(2) + "\n");
@@ -193,23 +174,79 @@ int Calibrate(const std::vector<std::string>& argv) {
     reports::WriteFileAtomically(out + "/comparison.csv", reports::ComparisonCsv(summary));
     reports::WriteFileAtomically(out + "/comparison.md", reports::ComparisonMarkdown(summary));
   }
-  if (!quiet) {
-    const core::SimulationResult& sim = summary.simulation;
-    std::printf("\nat the calibrated values: %d of %zu rocks stopped, %d left the terrain, %d timed "
-                "out\nfit %s\n",
-                sim.count(core::Outcome::kStopped), sim.rocks.size(),
-                sim.count(core::Outcome::kLeft), sim.count(core::Outcome::kTimeout),
-                observations::AssessFit(summary.misfit_after).Sentence().c_str());
-    std::printf("\n%s", reports::ParametersMarkdown(summary).c_str());
-    if (summary.methods.size() > 1)
-      std::printf("\n%s", reports::ComparisonMarkdown(summary).c_str());
-    std::printf("\nwrote %s/ in %.1f s: parameters.{json,csv,md}, trace.csv, calibration.json, "
-                "evaluations.jsonl, summary.json, rocks.csv, report.html%s%s\n",
-                out.c_str(),
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count(),
-                summary.methods.size() > 1 ? ", comparison.{csv,md}" : "",
-                holdout ? ", holdout.{json,csv}, evaluations-fold-*.jsonl" : "");
+}
+
+// The closing lines: the rocks at the calibrated values, the verdict on the
+// fit, the parameter table and what was written.
+void PrintCalibration(const std::string& out, const calibrate::CalibrationSummary& summary,
+                      bool holdout, double wall_seconds) {
+  const core::SimulationResult& sim = summary.simulation;
+  std::printf("\nat the calibrated values: %d of %zu rocks stopped, %d left the terrain, %d timed "
+              "out\nfit %s\n",
+              sim.count(core::Outcome::kStopped), sim.rocks.size(),
+              sim.count(core::Outcome::kLeft), sim.count(core::Outcome::kTimeout),
+              observations::AssessFit(summary.misfit_after).Sentence().c_str());
+  std::printf("\n%s", reports::ParametersMarkdown(summary).c_str());
+  if (summary.methods.size() > 1)
+    std::printf("\n%s", reports::ComparisonMarkdown(summary).c_str());
+  std::printf("\nwrote %s/ in %.1f s: parameters.{json,csv,md}, trace.csv, calibration.json, "
+              "evaluations.jsonl, summary.json, rocks.csv, report.html%s%s\n",
+              out.c_str(), wall_seconds,
+              summary.methods.size() > 1 ? ", comparison.{csv,md}" : "",
+              holdout ? ", holdout.{json,csv}, evaluations-fold-*.jsonl" : "");
+}
+
+}  // namespace
+
+int Calibrate(const std::vector<std::string>& argv) {
+  const auto start_time = std::chrono::steady_clock::now();
+  const Args args(argv, {"force", "quiet", "resume"},
+                  {"observations", "method", "methods", "max-evals", "max-seconds", "rocks",
+                   "refine", "seed", "threads", "loss", "estimate", "holdout", "reach", "out"});
+  const std::string site_path = args.OnlyPositional("SITE.json");
+  const std::string out = args.Get("out");
+  const std::string obs_path = args.Get("observations");
+  std::vector<std::string> methods = MethodsFromArgs(args);
+  if (args.Flag("resume") && args.Flag("force"))
+    throw InputError("arguments", "give --resume or --force, not both");
+
+  const sites::Site site = sites::LoadSite(site_path);
+  calibrate::CalibrationOptions options = OptionsFromArgs(args, out);
+  options.methods = methods;
+  const observations::Observations obs = observations::LoadObservations(obs_path, site.scene);
+  // Reach before fit: 4 (n + 1) design points by default, 0 for none.
+  const int parameters = calibrate::ParameterSpace::FromSite(site).size();
+  options.reach_points = static_cast<int>(
+      args.Integer("reach", 4 * (parameters + 1), 0, 100000));
+  if (options.reach_points == 1)
+    throw InputError("argument --reach", "1: expected 0 (no reach check) or at least 2 points");
+  std::string error;
+  if (!options.method.IsValid(&error)) throw InputError("arguments", error);
+  calibrate::CheckCalibration(site, options);
+  const int folds = args.Has("holdout") ? static_cast<int>(args.Integer("holdout", 0, 2, 1000)) : 0;
+  if (folds > 0) observations::MakeFolds(obs, folds, 0);  // enough values for the folds?
+
+  PrepareFolder(out, args.Flag("resume"), args.Flag("force"), site, obs_path);
+  const bool quiet = args.Flag("quiet");
+  std::optional<Progress> progress;
+  const calibrate::CalibrationCallbacks callbacks =
+      ProgressCallbacks(quiet, options.method.max_evals, &progress);
+  const calibrate::CalibrationSummary summary =
+      calibrate::Calibrate(site, obs, options, callbacks);
+  // The folds after the full calibration: its log exists first, so that a
+  // stopped run resumes.
+  std::optional<calibrate::HoldoutSummary> holdout;
+  if (folds > 0) {
+    holdout = calibrate::CrossValidate(site, obs, options, folds, callbacks);
+    if (!quiet)
+      std::printf("holdout, %d folds: misfit in sample %.4g, held out %.4g (means)\n", folds,
+                  holdout->mean_in_sample_misfit, holdout->mean_held_out_misfit);
   }
+  WriteCalibrationFiles(out, site, obs, summary, holdout);
+  if (!quiet)
+    PrintCalibration(
+        out, summary, holdout.has_value(),
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count());
   return 0;
 }
 

@@ -43,8 +43,7 @@ int Simulate(const std::vector<std::string>& argv) {
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   sites::Site site = sites::LoadSite(site_path);
-  if (args.Has("parameters"))
-    calibrate::ApplyParameters(calibrate::ReadParametersFile(args.Get("parameters")), &site.scene);
+  if (args.Has("parameters")) calibrate::ApplyParametersFile(args.Get("parameters"), &site.scene);
   for (const std::string& kv : args.All("set")) sites::ApplySetting(kv, &site);
   core::Scene& scene = site.scene;
   if (args.Has("rocks"))

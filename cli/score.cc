@@ -8,7 +8,6 @@
 #include "args.h"
 #include "commands.h"
 #include "progress.h"
-#include "rockcal/core/error.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/reports/html_report.h"
 #include "rockcal/reports/output_dir.h"
@@ -16,22 +15,6 @@
 #include "rockcal/sites/site.h"
 
 namespace rockcal::cli {
-namespace {
-
-// The site's scene with --rocks, --seed, --threads and --parameters.
-core::Scene SceneWithParameters(const sites::Site& site, const Args& args, int max_rocks) {
-  core::Scene scene = calibrate::RunScene(
-      site, args.Has("rocks") ? static_cast<int>(args.Integer("rocks", 0, 1, max_rocks)) : 0,
-      args.Has("seed") ? std::optional<std::uint64_t>(
-                             static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62)))
-                       : std::nullopt,
-      static_cast<int>(args.Integer("threads", 0, 0, 1024)));
-  if (args.Has("parameters"))
-    calibrate::ApplyParameters(calibrate::ReadParametersFile(args.Get("parameters")), &scene);
-  return scene;
-}
-
-}  // namespace
 
 int Score(const std::vector<std::string>& argv) {
   const Args args(argv, {"force", "quiet"},
@@ -41,9 +24,13 @@ int Score(const std::vector<std::string>& argv) {
   const sites::Site site = sites::LoadSite(site_path);
   const observations::Observations obs =
       observations::LoadObservations(args.Get("observations"), site.scene);
-  const core::Scene scene = SceneWithParameters(site, args, 100000000);
-  std::string error;
-  if (!scene.options.IsValid(&error)) throw InputError(site_path, error);
+  calibrate::ScoreOptions options;
+  if (args.Has("rocks")) options.rocks = static_cast<int>(args.Integer("rocks", 0, 1, 100000000));
+  if (args.Has("seed"))
+    options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
+  options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+  if (args.Has("parameters")) options.parameters_file = args.Get("parameters");
+  const core::Scene scene = calibrate::ScoreScene(site, options);
 
   reports::OutputDir dir(out, args.Flag("force"));
   const calibrate::ScoreSummary score = calibrate::Score(scene, obs);

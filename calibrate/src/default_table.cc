@@ -208,16 +208,11 @@ ValueStatistics Statistics(const std::vector<double>& values,
   return s;
 }
 
-DefaultTable BuildDefaultTable(const std::vector<CalibratedSite>& sites,
-                               const DefaultTableOptions& options) {
-  std::string error;
-  if (!options.IsValid(&error)) throw InputError("table options", error);
-  DefaultTable table;
-  table.options = options;
-  table.sites = sites;
+namespace {
 
-  // The same folder twice, or two folders holding one calibration, would
-  // count a calibration twice.
+// The same folder twice, or two folders holding one calibration, would
+// count a calibration twice: an InputError.
+void CheckEachCalibrationOnce(const std::vector<CalibratedSite>& sites) {
   for (std::size_t a = 0; a < sites.size(); ++a) {
     for (std::size_t b = 0; b < a; ++b) {
       if (Canonical(sites[a].result_dir) == Canonical(sites[b].result_dir)) {
@@ -233,8 +228,11 @@ DefaultTable BuildDefaultTable(const std::vector<CalibratedSite>& sites,
       }
     }
   }
+}
 
-  // Notes on the inputs.
+// Notes on the inputs: materials without a class, sites from several folders.
+void AddInputNotes(const std::vector<CalibratedSite>& sites, DefaultTable* table_out) {
+  DefaultTable& table = *table_out;
   std::map<std::string, std::vector<std::string>> folders_of_site;
   for (const CalibratedSite& s : sites) {
     folders_of_site[s.site].push_back(s.result_dir);
@@ -257,8 +255,11 @@ DefaultTable BuildDefaultTable(const std::vector<CalibratedSite>& sites,
                             "site counts once in \"sites\"");
     }
   }
+}
 
-  // Rows.
+// One row per material class and parameter name, holding every site's value.
+std::map<std::pair<std::string, int>, TableRow> CollectRows(
+    const std::vector<CalibratedSite>& sites, const DefaultTableOptions& options) {
   std::map<std::pair<std::string, int>, TableRow> rows;
   for (const CalibratedSite& s : sites) {
     for (const CalibratedParameter& p : s.parameters) {
@@ -279,46 +280,68 @@ DefaultTable BuildDefaultTable(const std::vector<CalibratedSite>& sites,
       row.values.push_back(v);
     }
   }
-  for (auto& [key, row] : rows) {
-    std::vector<double> all, counted;
-    std::vector<std::string> all_sites, counted_sites;
-    std::set<double> spacings;
-    bool spacing_unknown = false;
-    for (const TableValue& v : row.values) {
-      all.push_back(v.value);
-      all_sites.push_back(v.site);
-      if (v.counted) {
-        counted.push_back(v.value);
-        counted_sites.push_back(v.site);
-      }
-      if (v.bound != BoundPosition::kInside) {
-        ++row.at_bound;
-        table.notes.push_back(
-            row.material_class + " " + row.name + ": " + v.site + " (" + v.result_dir +
-            ", material " + v.material + ") is at its " + BoundName(v.bound) + " bound (" +
-            FormatNumber(v.value) + " in [" + FormatNumber(v.lower) + ", " + FormatNumber(v.upper) +
-            "]); " + (v.counted ? "counted (--include-at-bound)" : "left out of the statistics"));
-      }
-      if (!v.grid_spacing_m) {
-        spacing_unknown = true;
-      } else if (std::none_of(spacings.begin(), spacings.end(), [&](double s) {
-                   return std::abs(s - *v.grid_spacing_m) <= 1e-9 * s;  // 12 ft in m, rounded
-                 })) {
-        spacings.insert(*v.grid_spacing_m);
-      }
+  return rows;
+}
+
+// A row's statistics (all values, and the counted ones), with notes on values
+// at a bound and on roughness from grids of different spacings.
+void SummariseRow(TableRow* row_out, DefaultTable* table_out) {
+  TableRow& row = *row_out;
+  DefaultTable& table = *table_out;
+  std::vector<double> all, counted;
+  std::vector<std::string> all_sites, counted_sites;
+  std::set<double> spacings;
+  bool spacing_unknown = false;
+  for (const TableValue& v : row.values) {
+    all.push_back(v.value);
+    all_sites.push_back(v.site);
+    if (v.counted) {
+      counted.push_back(v.value);
+      counted_sites.push_back(v.site);
     }
-    row.all = Statistics(all, all_sites);
-    row.headline = Statistics(counted, counted_sites);
-    if (row.name == "roughness" && row.values.size() > 1 &&
-        (spacings.size() > 1 || spacing_unknown)) {
-      std::vector<std::string> list;
-      for (double s : spacings) list.push_back(FormatNumber(s) + " m");
+    if (v.bound != BoundPosition::kInside) {
+      ++row.at_bound;
       table.notes.push_back(
-          row.material_class + " roughness: the values come from grids of " +
-          (spacings.size() > 1 ? "different spacings (" + Join(list) + ")"
-                               : std::string("unknown spacing (files without grid_spacing_m)")) +
-          "; a roughness means the same virtual spheres only at the same spacing");
+          row.material_class + " " + row.name + ": " + v.site + " (" + v.result_dir +
+          ", material " + v.material + ") is at its " + BoundName(v.bound) + " bound (" +
+          FormatNumber(v.value) + " in [" + FormatNumber(v.lower) + ", " + FormatNumber(v.upper) +
+          "]); " + (v.counted ? "counted (--include-at-bound)" : "left out of the statistics"));
     }
+    if (!v.grid_spacing_m) {
+      spacing_unknown = true;
+    } else if (std::none_of(spacings.begin(), spacings.end(), [&](double s) {
+                 return std::abs(s - *v.grid_spacing_m) <= 1e-9 * s;  // 12 ft in m, rounded
+               })) {
+      spacings.insert(*v.grid_spacing_m);
+    }
+  }
+  row.all = Statistics(all, all_sites);
+  row.headline = Statistics(counted, counted_sites);
+  if (row.name == "roughness" && row.values.size() > 1 &&
+      (spacings.size() > 1 || spacing_unknown)) {
+    std::vector<std::string> list;
+    for (double s : spacings) list.push_back(FormatNumber(s) + " m");
+    table.notes.push_back(
+        row.material_class + " roughness: the values come from grids of " +
+        (spacings.size() > 1 ? "different spacings (" + Join(list) + ")"
+                             : std::string("unknown spacing (files without grid_spacing_m)")) +
+        "; a roughness means the same virtual spheres only at the same spacing");
+  }
+}
+
+}  // namespace
+
+DefaultTable BuildDefaultTable(const std::vector<CalibratedSite>& sites,
+                               const DefaultTableOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("table options", error);
+  DefaultTable table;
+  table.options = options;
+  table.sites = sites;
+  CheckEachCalibrationOnce(sites);
+  AddInputNotes(sites, &table);
+  for (auto& [key, row] : CollectRows(sites, options)) {
+    SummariseRow(&row, &table);
     table.rows.push_back(std::move(row));
   }
   return table;

@@ -36,6 +36,18 @@ void ApplyParameters(const CalibratedSite& parameters, core::Scene* scene) {
   }
 }
 
+void ApplyParametersFile(const std::string& path, core::Scene* scene) {
+  ApplyParameters(ReadParametersFile(path), scene);
+}
+
+core::Scene ScoreScene(const sites::Site& site, const ScoreOptions& options) {
+  core::Scene scene = RunScene(site, options.rocks, options.seed, options.threads);
+  if (!options.parameters_file.empty()) ApplyParametersFile(options.parameters_file, &scene);
+  std::string error;
+  if (!scene.options.IsValid(&error)) throw InputError(site.path, error);
+  return scene;
+}
+
 ScoreSummary Score(const core::Scene& scene, const observations::Observations& obs,
                    const observations::MisfitOptions& misfit) {
   ScoreSummary out;

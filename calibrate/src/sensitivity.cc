@@ -481,6 +481,93 @@ std::vector<double> OutputNoise(const std::vector<SiteOutput>& outputs, const co
 
 }  // namespace
 
+namespace {
+
+// The reducer: one entry per parameter and output, with its effect over the
+// output's Monte Carlo noise (delta: the Morris step, in unit-box units).
+void AddEntries(SensitivityMethod method, double delta, SensitivityResult* result) {
+  SensitivityResult& res = *result;
+  const int k = static_cast<int>(res.parameters.size()), m = static_cast<int>(res.outputs.size());
+  for (int i = 0; i < k; ++i) {
+    for (int o = 0; o < m; ++o) {
+      SensitivityEntry e;
+      e.parameter = i;
+      e.output = o;
+      const double noise = res.outputs[static_cast<std::size_t>(o)].noise;
+      if (method == SensitivityMethod::kMorris) {
+        e.morris = res.morris.index[static_cast<std::size_t>(o)][static_cast<std::size_t>(i)];
+        const double ee_noise = std::sqrt(2.0) * noise / delta;
+        e.effect_over_noise = ee_noise > 0 ? e.morris.mu_star / ee_noise : kNaN;
+      } else {
+        e.sobol = res.sobol.index[static_cast<std::size_t>(o)][static_cast<std::size_t>(i)];
+        const double v = res.sobol.variance[static_cast<std::size_t>(o)];
+        e.effect_over_noise =
+            noise > 0 ? std::sqrt(std::max(e.sobol.first, 0.0) * v) / noise : kNaN;
+      }
+      res.entries.push_back(e);
+    }
+  }
+
+}
+
+// Notes on outputs without a value, without noise, or that no parameter moves.
+void AddNotes(SensitivityMethod method, SensitivityResult* result) {
+  SensitivityResult& res = *result;
+  for (const auto& out : res.outputs) {
+    if (std::isnan(out.value))
+      res.notes.push_back(out.name + ": no value at the current parameters (no rock counted)");
+    else if (!(out.noise > 0))
+      res.notes.push_back(out.name +
+                          ": no Monte Carlo noise seen at the current parameters (every "
+                          "resample gave the same value), so effect / noise is unknown");
+  }
+  for (std::size_t o = 0; o < res.outputs.size(); ++o) {
+    bool constant = true;
+    if (method == SensitivityMethod::kMorris) {
+      for (const auto& idx : res.morris.index[o]) constant = constant && idx.mu_star == 0.0;
+    } else {
+      constant = !(res.sobol.variance[o] > 0.0);
+    }
+    if (constant)
+      res.notes.push_back(res.outputs[o].name +
+                          ": the same at every point of the design (no parameter moves it)");
+  }
+  if (res.non_finite_runs > 0)
+    res.notes.push_back(std::to_string(res.non_finite_runs) +
+                        " simulations had a rock in a non-finite state");
+}
+
+// The one-paragraph summary: cost, and how many pairs stand above the noise.
+std::string Summary(SensitivityMethod method, const SensitivityResult& res) {
+  const int k = static_cast<int>(res.parameters.size()), m = static_cast<int>(res.outputs.size());
+  std::ostringstream s;
+  s << SensitivityMethodName(method) << ", "
+    << (method == SensitivityMethod::kMorris ? "r = " : "N = ") << res.samples << ": "
+    << res.simulations << " simulations of " << res.rocks << " rocks in "
+    << Num(res.wall_seconds, "%.3g") << " s ("
+    << Num(res.simulations / std::max(res.wall_seconds, 1e-9), "%.3g") << " simulations/s). ";
+  int resolved = 0;
+  std::vector<std::string> unresolved;
+  for (int i = 0; i < k; ++i) {
+    bool any = false;
+    for (int o = 0; o < m; ++o) {
+      const double ratio = res.at(i, o).effect_over_noise;
+      if (ratio >= kResolved) ++resolved, any = true;
+    }
+    if (!any) unresolved.push_back(res.parameters[static_cast<std::size_t>(i)].label());
+  }
+  s << resolved << " of " << k * m << " parameter-output pairs have an effect of at least "
+    << Num(kResolved, "%g") << " times the Monte Carlo noise";
+  if (!unresolved.empty()) {
+    s << "; not above the noise on any output: ";
+    for (std::size_t u = 0; u < unresolved.size(); ++u) s << (u ? ", " : "") << unresolved[u];
+  }
+  s << ".";
+  return s.str();
+}
+
+}  // namespace
+
 SensitivityResult RunSensitivity(const sites::Site& site, const observations::Observations* obs,
                                  const SensitivityOptions& opt) {
   const auto start = std::chrono::steady_clock::now();
@@ -567,76 +654,11 @@ SensitivityResult RunSensitivity(const sites::Site& site, const observations::Ob
     res.sobol = RunSobol(k, m, model, so);
   }
 
-  // Entries and effect / noise.
-  for (int i = 0; i < k; ++i) {
-    for (int o = 0; o < m; ++o) {
-      SensitivityEntry e;
-      e.parameter = i;
-      e.output = o;
-      const double noise = res.outputs[static_cast<std::size_t>(o)].noise;
-      if (opt.method == SensitivityMethod::kMorris) {
-        e.morris = res.morris.index[static_cast<std::size_t>(o)][static_cast<std::size_t>(i)];
-        const double ee_noise = std::sqrt(2.0) * noise / delta;
-        e.effect_over_noise = ee_noise > 0 ? e.morris.mu_star / ee_noise : kNaN;
-      } else {
-        e.sobol = res.sobol.index[static_cast<std::size_t>(o)][static_cast<std::size_t>(i)];
-        const double v = res.sobol.variance[static_cast<std::size_t>(o)];
-        e.effect_over_noise =
-            noise > 0 ? std::sqrt(std::max(e.sobol.first, 0.0) * v) / noise : kNaN;
-      }
-      res.entries.push_back(e);
-    }
-  }
-
-  // Notes and the summary.
-  for (const auto& out : res.outputs) {
-    if (std::isnan(out.value))
-      res.notes.push_back(out.name + ": no value at the current parameters (no rock counted)");
-    else if (!(out.noise > 0))
-      res.notes.push_back(out.name +
-                          ": no Monte Carlo noise seen at the current parameters (every "
-                          "resample gave the same value), so effect / noise is unknown");
-  }
-  for (std::size_t o = 0; o < res.outputs.size(); ++o) {
-    bool constant = true;
-    if (opt.method == SensitivityMethod::kMorris) {
-      for (const auto& idx : res.morris.index[o]) constant = constant && idx.mu_star == 0.0;
-    } else {
-      constant = !(res.sobol.variance[o] > 0.0);
-    }
-    if (constant)
-      res.notes.push_back(res.outputs[o].name +
-                          ": the same at every point of the design (no parameter moves it)");
-  }
-  if (res.non_finite_runs > 0)
-    res.notes.push_back(std::to_string(res.non_finite_runs) +
-                        " simulations had a rock in a non-finite state");
+  AddEntries(opt.method, delta, &res);
+  AddNotes(opt.method, &res);
   res.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::ostringstream s;
-  s << SensitivityMethodName(opt.method) << ", "
-    << (opt.method == SensitivityMethod::kMorris ? "r = " : "N = ") << res.samples << ": "
-    << res.simulations << " simulations of " << res.rocks << " rocks in "
-    << Num(res.wall_seconds, "%.3g") << " s ("
-    << Num(res.simulations / std::max(res.wall_seconds, 1e-9), "%.3g") << " simulations/s). ";
-  int resolved = 0;
-  std::vector<std::string> unresolved;
-  for (int i = 0; i < k; ++i) {
-    bool any = false;
-    for (int o = 0; o < m; ++o) {
-      const double ratio = res.at(i, o).effect_over_noise;
-      if (ratio >= kResolved) ++resolved, any = true;
-    }
-    if (!any) unresolved.push_back(res.parameters[static_cast<std::size_t>(i)].label());
-  }
-  s << resolved << " of " << k * m << " parameter-output pairs have an effect of at least "
-    << Num(kResolved, "%g") << " times the Monte Carlo noise";
-  if (!unresolved.empty()) {
-    s << "; not above the noise on any output: ";
-    for (std::size_t u = 0; u < unresolved.size(); ++u) s << (u ? ", " : "") << unresolved[u];
-  }
-  s << ".";
-  res.summary = s.str();
+  res.summary = Summary(opt.method, res);
   return res;
 }
 

@@ -238,109 +238,139 @@ bool StabilityOptions::IsValid(std::string* error) const {
   return true;
 }
 
+namespace {
+
+// ---- The table of stability cases: a name and how its scene is made --------
+
+// A case's scene made from the base scene (BaseScene).
+struct CaseScene {
+  std::string description;
+  core::Scene scene;
+  bool must_stop = false;
+};
+using CaseMaker = CaseScene (*)(const core::Scene& base, const StabilityOptions& opt);
+
+CaseScene SiteCase(const core::Scene& base, const StabilityOptions&) {
+  return {"the site's scene as given", base};
+}
+
+CaseScene Hardness0Case(const core::Scene& base, const StabilityOptions&) {
+  core::Scene s = base;
+  SetHardness(0.0, &s);
+  return {"every material hardness 0: restitution at its lower clamp, softest friction "
+          "(heavily overdamped contact)",
+          s};
+}
+
+CaseScene Hardness1Case(const core::Scene& base, const StabilityOptions&) {
+  core::Scene s = base;
+  SetHardness(1.0, &s);
+  return {"every material hardness 1: restitution at its upper clamp, hardest friction", s};
+}
+
+CaseScene StiffCase(const core::Scene& base, const StabilityOptions&) {
+  core::Scene s = base;
+  ForEachMaterial(&s, [](core::Material* m) { m->contact_time_s = 5e-5; });
+  return {"every material contact time 0.05 ms (stiff: k_n/m 10^4 times the default)", s};
+}
+
+CaseScene SoftCase(const core::Scene& base, const StabilityOptions&) {
+  core::Scene s = base;
+  ForEachMaterial(&s, [](core::Material* m) { m->contact_time_s = 0.05; });
+  return {"every material contact time 50 ms (soft)", s};
+}
+
+CaseScene SizesCase(const core::Scene& base, const StabilityOptions& opt) {
+  core::Scene s = base;
+  core::RockGroup small = base.groups.front();
+  small.size_min = small.size_max = 0.01;
+  core::RockGroup huge = small;
+  huge.size_min = huge.size_max = 10.0;
+  // A huge rock touches tens of virtual spheres at once and costs far more
+  // per step: a tenth of the rocks (at least one of each size).
+  huge.count = std::max(1, opt.rocks / 10);
+  small.count = std::max(1, opt.rocks - huge.count);
+  s.groups = {small, huge};
+  return {std::string("rocks of 1 cm and of 10 m (") + core::ShapeName(small.shape) +
+              ", 9 small to 1 huge) released together from the first group's release",
+          s};
+}
+
+CaseScene CliffCase(const core::Scene& base, const StabilityOptions&) {
+  return {"synthetic strip: 30-degree approach, a 30 m drop between two neighbouring nodes "
+          "(the steepest a height grid holds), flat foot; site's hardest and softest materials",
+          CliffScene(base, true)};
+}
+
+CaseScene FaceCase(const core::Scene& base, const StabilityOptions&) {
+  return {"synthetic strip: 30-degree approach, a 30 m face at 80 degrees (no overhang), flat "
+          "foot; site's hardest and softest materials",
+          CliffScene(base, false)};
+}
+
+CaseScene FlatCase(const core::Scene& base, const StabilityOptions& opt) {
+  core::Scene s = FlatScene(base, opt.max_time);
+  const core::Material& m = s.materials[static_cast<std::size_t>(s.grid.material.front())];
+  std::string description = "synthetic flat of " +
+                            Num((s.grid.nx - 1) * base.grid.spacing, "%.0f") + " m of material '" +
+                            m.id + "' (the site's softest" +
+                            (m.roughness_m > 0 ? " rough" : ", smooth") +
+                            " material); rocks arrive at 10 m/s and must all stop";
+  return {std::move(description), s, /*must_stop=*/true};
+}
+
+CaseScene SmoothCase(const core::Scene& base, const StabilityOptions&) {
+  core::Scene s = base;
+  ForEachMaterial(&s, [](core::Material* m) { m->roughness_m = 0.0; });
+  return {"every material roughness 0 (rocks touch the terrain facets)", s};
+}
+
+CaseScene RoughestCase(const core::Scene& base, const StabilityOptions&) {
+  core::Scene s = base;
+  const double sp = base.grid.spacing;
+  ForEachMaterial(&s, [sp](core::Material* m) { m->roughness_m = 0.5 * sp; });
+  return {"every material roughness s/2 = " + Num(0.5 * sp, "%.3g") +
+              " m (virtual spheres of radius s/2, the roughest)",
+          s};
+}
+
+CaseScene FastCase(const core::Scene& base, const StabilityOptions&) {
+  core::Scene s = base;
+  SetHardness(1.0, &s);
+  ForEachMaterial(&s, [](core::Material* m) { m->contact_time_s = 5e-5; });
+  for (auto& g : s.groups) g.release.velocity = Eigen::Vector3d(0.0, 0.0, -kFastSpeed);
+  return {"released straight down at 50 m/s onto the hardest material of the suite (hardness 1, "
+          "contact time 0.05 ms)",
+          s};
+}
+
+// In StabilityCaseNames() order.
+const std::pair<const char*, CaseMaker> kCases[] = {
+    {kSite, SiteCase},   {kHardness0, Hardness0Case}, {kHardness1, Hardness1Case},
+    {kStiff, StiffCase}, {kSoft, SoftCase},           {kSizes, SizesCase},
+    {kCliff, CliffCase}, {kFace, FaceCase},           {kFlat, FlatCase},
+    {kSmooth, SmoothCase}, {kRoughest, RoughestCase}, {kFast, FastCase}};
+
+}  // namespace
+
 std::vector<StabilityVariant> StabilityVariants(const core::Scene& site,
                                                 const StabilityOptions& opt) {
   std::string error;
   if (!opt.IsValid(&error)) throw std::invalid_argument(error);
   if (site.groups.empty()) throw std::invalid_argument("the scene has no rock groups");
   const core::Scene base = BaseScene(site, opt);
-  const double sp = site.grid.spacing;
-  std::vector<StabilityVariant> out;
-  auto wanted = [&](const char* name) {
-    return opt.cases.empty() ||
-           std::find(opt.cases.begin(), opt.cases.end(), name) != opt.cases.end();
-  };
   // Cases whose step is smaller than the site's get a budget of steps.
   const double site_dt = SmallestStep(base);
-  auto add = [&](const char* name, std::string description, core::Scene scene,
-                 bool must_stop = false) {
-    const double dt = SmallestStep(scene);
+  std::vector<StabilityVariant> out;
+  for (const auto& [name, make] : kCases) {
+    const bool wanted =
+        opt.cases.empty() || std::find(opt.cases.begin(), opt.cases.end(), name) != opt.cases.end();
+    if (!wanted) continue;
+    CaseScene c = make(base, opt);
+    const double dt = SmallestStep(c.scene);
     if (dt < site_dt * (1.0 - 1e-9))
-      CapTime(opt.max_case_steps / std::max(scene.total_rocks(), 1), dt, &scene);
-    out.push_back({name, std::move(description), std::move(scene), must_stop});
-  };
-  if (wanted(kSite)) add(kSite, "the site's scene as given", base);
-  if (wanted(kHardness0)) {
-    core::Scene s = base;
-    SetHardness(0.0, &s);
-    add(kHardness0,
-        "every material hardness 0: restitution at its lower clamp, softest friction "
-        "(heavily overdamped contact)",
-        s);
-  }
-  if (wanted(kHardness1)) {
-    core::Scene s = base;
-    SetHardness(1.0, &s);
-    add(kHardness1, "every material hardness 1: restitution at its upper clamp, hardest friction",
-        s);
-  }
-  if (wanted(kStiff)) {
-    core::Scene s = base;
-    ForEachMaterial(&s, [](core::Material* m) { m->contact_time_s = 5e-5; });
-    add(kStiff, "every material contact time 0.05 ms (stiff: k_n/m 10^4 times the default)", s);
-  }
-  if (wanted(kSoft)) {
-    core::Scene s = base;
-    ForEachMaterial(&s, [](core::Material* m) { m->contact_time_s = 0.05; });
-    add(kSoft, "every material contact time 50 ms (soft)", s);
-  }
-  if (wanted(kSizes)) {
-    core::Scene s = base;
-    core::RockGroup small = base.groups.front();
-    small.size_min = small.size_max = 0.01;
-    core::RockGroup huge = small;
-    huge.size_min = huge.size_max = 10.0;
-    // A huge rock touches tens of virtual spheres at once and costs far more
-    // per step: a tenth of the rocks (at least one of each size).
-    huge.count = std::max(1, opt.rocks / 10);
-    small.count = std::max(1, opt.rocks - huge.count);
-    s.groups = {small, huge};
-    add(kSizes,
-        std::string("rocks of 1 cm and of 10 m (") + core::ShapeName(small.shape) +
-            ", 9 small to 1 huge) released together from the first group's release",
-        s);
-  }
-  if (wanted(kCliff))
-    add(kCliff,
-        "synthetic strip: 30-degree approach, a 30 m drop between two neighbouring nodes "
-        "(the steepest a height grid holds), flat foot; site's hardest and softest materials",
-        CliffScene(base, true));
-  if (wanted(kFace))
-    add(kFace,
-        "synthetic strip: 30-degree approach, a 30 m face at 80 degrees (no overhang), flat "
-        "foot; site's hardest and softest materials",
-        CliffScene(base, false));
-  if (wanted(kFlat)) {
-    core::Scene s = FlatScene(base, opt.max_time);
-    const core::Material& m = s.materials[static_cast<std::size_t>(s.grid.material.front())];
-    add(kFlat,
-        "synthetic flat of " + Num((s.grid.nx - 1) * sp, "%.0f") + " m of material '" + m.id +
-            "' (the site's softest" + (m.roughness_m > 0 ? " rough" : ", smooth") +
-            " material); rocks arrive at 10 m/s and must all stop",
-        s, /*must_stop=*/true);
-  }
-  if (wanted(kSmooth)) {
-    core::Scene s = base;
-    ForEachMaterial(&s, [](core::Material* m) { m->roughness_m = 0.0; });
-    add(kSmooth, "every material roughness 0 (rocks touch the terrain facets)", s);
-  }
-  if (wanted(kRoughest)) {
-    core::Scene s = base;
-    ForEachMaterial(&s, [sp](core::Material* m) { m->roughness_m = 0.5 * sp; });
-    add(kRoughest,
-        "every material roughness s/2 = " + Num(0.5 * sp, "%.3g") +
-            " m (virtual spheres of radius s/2, the roughest)",
-        s);
-  }
-  if (wanted(kFast)) {
-    core::Scene s = base;
-    SetHardness(1.0, &s);
-    ForEachMaterial(&s, [](core::Material* m) { m->contact_time_s = 5e-5; });
-    for (auto& g : s.groups) g.release.velocity = Eigen::Vector3d(0.0, 0.0, -kFastSpeed);
-    add(kFast,
-        "released straight down at 50 m/s onto the hardest material of the suite (hardness 1, "
-        "contact time 0.05 ms)",
-        s);
+      CapTime(opt.max_case_steps / std::max(c.scene.total_rocks(), 1), dt, &c.scene);
+    out.push_back({name, std::move(c.description), std::move(c.scene), c.must_stop});
   }
   return out;
 }
@@ -616,37 +646,38 @@ bool ConvergenceOptions::IsValid(std::string* error) const {
   return true;
 }
 
-ConvergenceResult RunConvergence(const core::Scene& site, const ConvergenceOptions& opt) {
-  std::string error;
-  if (!opt.IsValid(&error)) throw std::invalid_argument(error);
-  std::vector<int> ncs = opt.steps_per_contact, counts = opt.rock_counts;
-  std::sort(ncs.begin(), ncs.end());
-  ncs.erase(std::unique(ncs.begin(), ncs.end()), ncs.end());
-  std::sort(counts.begin(), counts.end());
-  counts.erase(std::unique(counts.begin(), counts.end()), counts.end());
+namespace {
 
-  core::Scene base = site;
-  if (opt.seed) base.options.seed = *opt.seed;
-  base.options.threads = opt.threads;
-  base.options.record = core::RecordOptions{};
-  base.options.record.partitions = !base.partitions.empty();
-  base.options.record.energy_check = false;  // the stability study's business
-  const core::Terrain terrain = core::BuildTerrain(base);
+// The table of settings: N_c and rock counts, each ascending without repeats.
+struct ConvergenceGrid {
+  std::vector<int> ncs, counts;
+  std::size_t index(std::size_t count_index, std::size_t nc_index) const {
+    return count_index * ncs.size() + nc_index;
+  }
+};
 
-  ConvergenceResult out;
-  out.target = opt.target;
-  out.bootstrap = opt.bootstrap;
-  out.confidence = opt.confidence;
-  out.seed = base.options.seed;
-  out.threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+ConvergenceGrid MakeGrid(const ConvergenceOptions& opt) {
+  ConvergenceGrid grid{opt.steps_per_contact, opt.rock_counts};
+  for (std::vector<int>* v : {&grid.ncs, &grid.counts}) {
+    std::sort(v->begin(), v->end());
+    v->erase(std::unique(v->begin(), v->end()), v->end());
+  }
+  return grid;
+}
 
-  // Runs: rock count major so each count's N_c series shares its rocks.
+// The runner: every setting of the grid on `base`, rock count major so each
+// count's N_c series shares its rocks; runs[grid.index(count, nc)].
+std::vector<RunData> RunConvergenceGrid(const core::Scene& base, const core::Terrain& terrain,
+                                        const ConvergenceGrid& grid,
+                                        const ConvergenceOptions& opt) {
+  const std::vector<int>& ncs = grid.ncs;
   const std::size_t sources = base.partitions.size() + 1;
   long total_work = 0;
-  for (int n : counts) total_work += static_cast<long>(n) * static_cast<long>(ncs.size());
+  for (int n : grid.counts) total_work += static_cast<long>(n) * static_cast<long>(ncs.size());
   long done_before = 0;
-  std::vector<RunData> runs;  // index: count index * ncs.size() + nc index
-  for (int n : counts) {
+  std::string error;
+  std::vector<RunData> runs;
+  for (int n : grid.counts) {
     core::Scene scene = base;
     scene.SetTotalRocks(n);
     for (int nc : ncs) {
@@ -688,26 +719,31 @@ ConvergenceResult RunConvergence(const core::Scene& site, const ConvergenceOptio
       runs.push_back(std::move(run));
     }
   }
-  auto run_at = [&](std::size_t count_index, std::size_t nc_index) -> const RunData& {
-    return runs[count_index * ncs.size() + nc_index];
-  };
-  const RunData& ref = run_at(counts.size() - 1, ncs.size() - 1);
+  return runs;
+}
 
-  // Quantities present at the reference with enough values and a non-zero value.
-  struct Quantity {
-    std::size_t index;  // source * kLevelCount + level
-    std::string name;
-    double scale;
-  };
+// A quantity the study measures: present at the reference with enough
+// values and a non-zero value.
+struct Quantity {
+  std::size_t index;  // source * kLevelCount + level
+  std::string name;
+  double scale;
+};
+
+// The quantities of the reference run `ref`; out->quantities and notes on
+// those left out.
+std::vector<Quantity> MeasuredQuantities(const core::Scene& base, const RunData& ref,
+                                         const ConvergenceOptions& opt, ConvergenceResult* out) {
+  const std::size_t sources = base.partitions.size() + 1;
   std::vector<Quantity> quantities;
   for (std::size_t src = 0; src < sources; ++src) {
     const bool runout = src + 1 == sources;
     const std::string source = runout ? "runout" : base.partitions[src].id + ".height";
     const int count = ref.counts[src];
     if (count < opt.min_values) {
-      out.notes.push_back(source + ": left out, only " + std::to_string(count) +
-                          (runout ? " stopped rocks" : " crossings") +
-                          " in the reference run (need " + std::to_string(opt.min_values) + ")");
+      out->notes.push_back(source + ": left out, only " + std::to_string(count) +
+                           (runout ? " stopped rocks" : " crossings") +
+                           " in the reference run (need " + std::to_string(opt.min_values) + ")");
       continue;
     }
     for (int l = 0; l < kLevelCount; ++l) {
@@ -715,93 +751,98 @@ ConvergenceResult RunConvergence(const core::Scene& site, const ConvergenceOptio
       const double v = ref.values[i];
       const std::string name = source + "." + kLevelNames[l];
       if (!(std::abs(v) > 1e-9)) {
-        out.notes.push_back(name +
-                            ": left out, zero at the reference (no scale for a relative error)");
+        out->notes.push_back(name +
+                             ": left out, zero at the reference (no scale for a relative error)");
         continue;
       }
       quantities.push_back({i, name, std::abs(v)});
-      out.quantities.push_back(name);
+      out->quantities.push_back(name);
     }
   }
   if (quantities.empty())
-    out.notes.push_back(
+    out->notes.push_back(
         "no summary quantity to measure: no partition crossings or stopped rocks "
         "enough at the reference");
-  out.notes.push_back(
+  out->notes.push_back(
       "runout quantities are distances along x from each rock's release point to where it "
       "stopped (stopped rocks only); heights are rock-centre heights above the ground at each "
       "partition");
+  return quantities;
+}
 
-  // Rows in N_c order, then rock count.
-  for (std::size_t ni = 0; ni < ncs.size(); ++ni) {
-    for (std::size_t ci = 0; ci < counts.size(); ++ci) {
-      const RunData& run = run_at(ci, ni);
-      const RunData& finest = run_at(ci, ncs.size() - 1);
-      // The discretisation error of this N_c does not depend on the rock
-      // count: the estimate takes it where it is best resolved, at the most rocks.
-      const RunData& most = run_at(counts.size() - 1, ni);
-      ConvergenceRow row;
-      row.steps_per_contact = run.steps_per_contact;
-      row.rocks = run.rocks;
-      row.dt_min = run.result.dt_min;
-      row.dt_max = run.result.dt_max;
-      row.dt_shrunk = run.result.dt_shrunk;
-      row.wall_seconds = run.result.wall_seconds;
-      row.steps = run.result.steps;
-      row.flights = run.result.flights;
-      row.stopped = run.result.count(core::Outcome::kStopped);
-      row.left = run.result.count(core::Outcome::kLeft);
-      row.timeout = run.result.count(core::Outcome::kTimeout);
-      for (const Quantity& q : quantities) {
-        QuantityError e;
-        e.name = q.name;
-        e.value = run.values[q.index];
-        e.count = run.counts[q.index / kLevelCount];
-        const double fine = finest.values[q.index];
-        const double hw = HalfWidth(run.replicates[q.index], opt.confidence);
-        std::vector<double> diff(run.replicates[q.index].size());
-        for (std::size_t b = 0; b < diff.size(); ++b)
-          diff[b] = run.replicates[q.index][b] - finest.replicates[q.index][b];
-        const double diff_hw = HalfWidth(diff, opt.confidence);
-        e.total_error =
-            std::isnan(e.value) ? kInf : std::abs(e.value - ref.values[q.index]) / q.scale;
-        e.discretisation_error =
-            std::isnan(e.value) || std::isnan(fine) ? kInf : std::abs(e.value - fine) / q.scale;
-        e.mc_error = e.count < opt.min_values || std::isnan(hw) ? kInf : hw / q.scale;
-        e.discretisation_noise = &run == &finest ? 0.0
-                                 : e.count < opt.min_values || std::isnan(diff_hw)
-                                     ? kInf
-                                     : diff_hw / q.scale;
-        const double most_value = most.values[q.index];
-        const double discretisation =
-            std::isnan(most_value) ? kInf : std::abs(most_value - ref.values[q.index]) / q.scale;
-        e.estimate = discretisation + e.mc_error;
-        row.max_total_error = std::max(row.max_total_error, e.total_error);
-        row.max_mc_error = std::max(row.max_mc_error, e.mc_error);
-        row.max_discretisation_error =
-            std::max(row.max_discretisation_error, e.discretisation_error);
-        row.max_discretisation_noise =
-            std::max(row.max_discretisation_noise, e.discretisation_noise);
-        row.max_estimate = std::max(row.max_estimate, e.estimate);
-        row.quantities.push_back(e);
-      }
-      if (quantities.empty()) row.max_estimate = kInf;
-      row.meets_target = row.max_estimate <= opt.target;
-      if (&run == &ref) out.reference = static_cast<int>(out.rows.size());
-      out.rows.push_back(std::move(row));
-    }
+// The errors of quantity q in `run`, against the reference `ref`, the run
+// of the finest N_c with the same rocks (`finest`) and the run of the same
+// N_c with the most rocks (`most`).
+QuantityError ErrorOf(const Quantity& q, const RunData& run, const RunData& finest,
+                      const RunData& most, const RunData& ref, const ConvergenceOptions& opt) {
+  QuantityError e;
+  e.name = q.name;
+  e.value = run.values[q.index];
+  e.count = run.counts[q.index / kLevelCount];
+  const double fine = finest.values[q.index];
+  const double hw = HalfWidth(run.replicates[q.index], opt.confidence);
+  std::vector<double> diff(run.replicates[q.index].size());
+  for (std::size_t b = 0; b < diff.size(); ++b)
+    diff[b] = run.replicates[q.index][b] - finest.replicates[q.index][b];
+  const double diff_hw = HalfWidth(diff, opt.confidence);
+  e.total_error = std::isnan(e.value) ? kInf : std::abs(e.value - ref.values[q.index]) / q.scale;
+  e.discretisation_error =
+      std::isnan(e.value) || std::isnan(fine) ? kInf : std::abs(e.value - fine) / q.scale;
+  e.mc_error = e.count < opt.min_values || std::isnan(hw) ? kInf : hw / q.scale;
+  e.discretisation_noise = &run == &finest                                  ? 0.0
+                           : e.count < opt.min_values || std::isnan(diff_hw) ? kInf
+                                                                            : diff_hw / q.scale;
+  const double most_value = most.values[q.index];
+  const double discretisation =
+      std::isnan(most_value) ? kInf : std::abs(most_value - ref.values[q.index]) / q.scale;
+  e.estimate = discretisation + e.mc_error;
+  return e;
+}
+
+// The reducer: one row of the result from its run (see ErrorOf).
+ConvergenceRow RowOf(const RunData& run, const RunData& finest, const RunData& most,
+                     const RunData& ref, const std::vector<Quantity>& quantities,
+                     const ConvergenceOptions& opt) {
+  ConvergenceRow row;
+  row.steps_per_contact = run.steps_per_contact;
+  row.rocks = run.rocks;
+  row.dt_min = run.result.dt_min;
+  row.dt_max = run.result.dt_max;
+  row.dt_shrunk = run.result.dt_shrunk;
+  row.wall_seconds = run.result.wall_seconds;
+  row.steps = run.result.steps;
+  row.flights = run.result.flights;
+  row.stopped = run.result.count(core::Outcome::kStopped);
+  row.left = run.result.count(core::Outcome::kLeft);
+  row.timeout = run.result.count(core::Outcome::kTimeout);
+  for (const Quantity& q : quantities) {
+    const QuantityError e = ErrorOf(q, run, finest, most, ref, opt);
+    row.max_total_error = std::max(row.max_total_error, e.total_error);
+    row.max_mc_error = std::max(row.max_mc_error, e.mc_error);
+    row.max_discretisation_error = std::max(row.max_discretisation_error, e.discretisation_error);
+    row.max_discretisation_noise = std::max(row.max_discretisation_noise, e.discretisation_noise);
+    row.max_estimate = std::max(row.max_estimate, e.estimate);
+    row.quantities.push_back(e);
   }
-  for (std::size_t k = 0; k < out.rows.size(); ++k) {
-    const ConvergenceRow& row = out.rows[k];
+  if (quantities.empty()) row.max_estimate = kInf;
+  row.meets_target = row.max_estimate <= opt.target;
+  return row;
+}
+
+// out->recommended (the cheapest row within the target) and the sentence
+// that says it, or why there is none.
+void Recommend(const ConvergenceOptions& opt, ConvergenceResult* out) {
+  for (std::size_t k = 0; k < out->rows.size(); ++k) {
+    const ConvergenceRow& row = out->rows[k];
     if (row.meets_target &&
-        (out.recommended < 0 ||
-         row.wall_seconds < out.rows[static_cast<std::size_t>(out.recommended)].wall_seconds))
-      out.recommended = static_cast<int>(k);
+        (out->recommended < 0 ||
+         row.wall_seconds < out->rows[static_cast<std::size_t>(out->recommended)].wall_seconds))
+      out->recommended = static_cast<int>(k);
   }
-  const ConvergenceRow& reference = out.rows[static_cast<std::size_t>(out.reference)];
+  const ConvergenceRow& reference = out->rows[static_cast<std::size_t>(out->reference)];
   std::ostringstream sentence;
-  if (out.recommended >= 0) {
-    const ConvergenceRow& r = out.rows[static_cast<std::size_t>(out.recommended)];
+  if (out->recommended >= 0) {
+    const ConvergenceRow& r = out->rows[static_cast<std::size_t>(out->recommended)];
     sentence << "N_c = " << r.steps_per_contact << " with " << r.rocks << " rocks: error estimate "
              << Percent(r.max_estimate) << " <= target " << Percent(opt.target) << " in "
              << Num(r.wall_seconds, "%.3g")
@@ -809,11 +850,11 @@ ConvergenceResult RunConvergence(const core::Scene& site, const ConvergenceOptio
              << reference.rocks << " rocks, took " << Num(reference.wall_seconds, "%.3g") << " s)";
   } else {
     int best = -1;
-    for (std::size_t k = 0; k < out.rows.size(); ++k)
+    for (std::size_t k = 0; k < out->rows.size(); ++k)
       if (best < 0 ||
-          out.rows[k].max_estimate < out.rows[static_cast<std::size_t>(best)].max_estimate)
+          out->rows[k].max_estimate < out->rows[static_cast<std::size_t>(best)].max_estimate)
         best = static_cast<int>(k);
-    const ConvergenceRow& b = out.rows[static_cast<std::size_t>(best)];
+    const ConvergenceRow& b = out->rows[static_cast<std::size_t>(best)];
     sentence << "none: no setting's error estimate is within the target " << Percent(opt.target);
     if (std::isfinite(b.max_estimate))
       sentence << " (smallest " << Percent(b.max_estimate) << " at N_c = " << b.steps_per_contact
@@ -826,7 +867,51 @@ ConvergenceResult RunConvergence(const core::Scene& site, const ConvergenceOptio
                << " rocks (if it falls as 1/sqrt(rocks))";
     }
   }
-  out.recommendation = sentence.str();
+  out->recommendation = sentence.str();
+}
+
+}  // namespace
+
+ConvergenceResult RunConvergence(const core::Scene& site, const ConvergenceOptions& opt) {
+  std::string error;
+  if (!opt.IsValid(&error)) throw std::invalid_argument(error);
+  const ConvergenceGrid grid = MakeGrid(opt);
+
+  core::Scene base = site;
+  if (opt.seed) base.options.seed = *opt.seed;
+  base.options.threads = opt.threads;
+  base.options.record = core::RecordOptions{};
+  base.options.record.partitions = !base.partitions.empty();
+  base.options.record.energy_check = false;  // the stability study's business
+  const core::Terrain terrain = core::BuildTerrain(base);
+
+  ConvergenceResult out;
+  out.target = opt.target;
+  out.bootstrap = opt.bootstrap;
+  out.confidence = opt.confidence;
+  out.seed = base.options.seed;
+  out.threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+
+  const std::vector<RunData> runs = RunConvergenceGrid(base, terrain, grid, opt);
+  auto run_at = [&](std::size_t count_index, std::size_t nc_index) -> const RunData& {
+    return runs[grid.index(count_index, nc_index)];
+  };
+  const std::size_t last_nc = grid.ncs.size() - 1, last_count = grid.counts.size() - 1;
+  const RunData& ref = run_at(last_count, last_nc);
+  const std::vector<Quantity> quantities = MeasuredQuantities(base, ref, opt, &out);
+
+  // Rows in N_c order, then rock count.
+  for (std::size_t ni = 0; ni < grid.ncs.size(); ++ni) {
+    for (std::size_t ci = 0; ci < grid.counts.size(); ++ci) {
+      const RunData& run = run_at(ci, ni);
+      // The discretisation error of this N_c does not depend on the rock
+      // count: the estimate takes it where it is best resolved, at the most rocks.
+      if (&run == &ref) out.reference = static_cast<int>(out.rows.size());
+      out.rows.push_back(
+          RowOf(run, run_at(ci, last_nc), run_at(last_count, ni), ref, quantities, opt));
+    }
+  }
+  Recommend(opt, &out);
   return out;
 }
 

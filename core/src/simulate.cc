@@ -8,6 +8,9 @@
 #include <Eigen/Geometry>
 #include <limits>
 
+#include "flight.h"
+#include "recording.h"
+#include "rock_state.h"
 #include "rockcal/core/contact.h"
 #include "rockcal/core/random.h"
 
@@ -38,12 +41,6 @@ struct ContactState {
   std::int64_t key;
   int element;
   Eigen::Vector3d u;  // tangential spring displacement
-};
-
-struct State {
-  Eigen::Vector3d x, v, w;  // centre, velocity, angular velocity (world)
-  Eigen::Quaterniond q;     // body -> world (clusters only)
-  double t;
 };
 
 // Everything a rock needs that is shared by all rocks of the scene.
@@ -87,7 +84,8 @@ class RockRun {
   RockRun(const SceneContext& ctx, const RockBody& body, const StepSizes& steps, RockRecord* rec)
       : ctx_(ctx), opt_(ctx.scene.options), body_(body), steps_(steps), dt_(steps.finest),
         exact_flight_(opt_.exact_flight && !opt_.reference_path), neighbours_(!opt_.reference_path),
-        single_element_(body.elements.size() == 1), rec_(rec) {
+        single_element_(body.elements.size() == 1), rec_(rec),
+        recorder_(ctx.scene, ctx.terrain, body, kCluster, rec) {
     inv_inertia_ = body.inertia.cwiseInverse();
     inertia_min_ = body.inertia.minCoeff();
     g_ = ctx.gravity.norm();
@@ -96,118 +94,136 @@ class RockRun {
     next_.reserve(16);
   }
 
-  void Run(State s) {
-    s_ = s;
-    a_ = ctx_.gravity;
-    alpha_.setZero();
-    UpdateNeighbours();  // and the local contact step, before the first advance
-    const int np = static_cast<int>(ctx_.scene.partitions.size());
-    const auto& rec_opt = opt_.record;
-    if (rec_opt.partitions) rec_->crossings.assign(np, Crossing{});
-    rec_->trees.assign(rec_opt.trees.size(), Crossing{});
-    record_trajectory_ = rec_opt.trajectories > rec_->rock;
-    next_sample_ = 0.0;
-    Sample(s_);
-    const double scale_floor = body_.mass * g_ * body_.bounding_radius;
-    energy_min_ = Energy();
-    ke_max_ = scale_floor;
-    double slow_since = -1.0, below_since = -1.0;
+  // The loop of DESIGN.md: advance (an exact flight while nothing is near,
+  // a contact step otherwise), record what the advance crossed, and end the
+  // rock when it stopped, left the slope or ran out of time.
+  void Run(RockState s) {
+    Start(s);
     Outcome outcome = Outcome::kTimeout;
     while (s_.t < opt_.max_time) {
-      const State before = s_;
-      bool flew = false;
-      if (contacts_.empty() && exact_flight_) {
-        const double tau = std::min(FlightTime(), opt_.max_time - s_.t);
-        if (tau > kMinFlight * dt_) {
-          Fly(tau);
-          flew = true;
-          landing_ = true;
-          ++rec_->flights;
-        }
-      }
-      if (!flew) {
-        // After a flight the rock is within a small fraction of a step of the
-        // terrain: the contact force at the step start is the dashpot's.
-        if (landing_ && contacts_.empty()) PrimeLanding();
-        landing_ = false;
-        // The step the last one's contacts asked for (their materials, gentle
-        // or not), or the local contact step without contacts. A step whose
-        // contacts ask for a shorter one is taken back and redone with that
-        // (none can ask for less than the scene's finest).
-        double dt = contacts_.empty() ? dt_ : needed_dt_;
-        if (dt > steps_.finest) {
-          const State s0 = s_;
-          const Eigen::Vector3d a0 = a_, alpha0 = alpha_;
-          const double spring0 = spring_energy_, penetration0 = rec_->max_penetration;
-          Step(dt);
-          for (int retry = 0; needed_dt_ < dt && retry < kMaxRetries; ++retry) {
-            s_ = s0;
-            a_ = a0;
-            alpha_ = alpha0;
-            spring_energy_ = spring0;
-            rec_->max_penetration = penetration0;
-            contacts_.swap(next_);  // the contacts before the step
-            ++rec_->retried_steps;
-            dt = needed_dt_;
-            Step(dt);
-          }
-          if (dt > dt_) ++rec_->gentle_steps;
-        } else {
-          Step(dt);
-        }
-        ++rec_->steps;
-      }
+      const RockState before = s_;
+      const bool flew = Advance();
       if (!s_.x.allFinite() || !s_.v.allFinite() || !s_.w.allFinite()) {
         rec_->max_relative_energy_gain = kInf;  // flagged; the caller counts it
         outcome = Outcome::kLeft;
         break;
       }
-      Events(before, flew);
+      recorder_.Advance(before, s_, flew);
       const int cell = ctx_.terrain.CellOf(s_.x.x(), s_.x.y());
-      if (opt_.record.passages) {
-        if (cell >= 0 && (rec_->cells.empty() || rec_->cells.back() != cell)) rec_->cells.push_back(cell);
-      }
+      recorder_.Cell(cell);
       if (opt_.record.energy_check && !flew) CheckEnergy();
-      if (!ctx_.terrain.CellOnSlope(cell)) {
-        outcome = Outcome::kLeft;
-        break;
-      }
-      // Below the floor by more than its radius: a hard impact of a small
-      // rock overlaps for less than a contact time (about v t_c / pi deep,
-      // whatever its size); a rock still there after two has gone through.
-      // A rock whose bounding sphere is known to clear the floor is not below it.
-      if (!FloorClear() &&
-          ctx_.terrain.FloorHeight(s_.x.x(), s_.x.y()) - s_.x.z() > body_.bounding_radius) {
-        if (below_since < 0) below_since = before.t;
-        if (s_.t - below_since > 2.0 * ctx_.max_contact_time) {
-          rec_->tunneled = true;
-          outcome = Outcome::kLeft;
-          break;
-        }
-      } else {
-        below_since = -1.0;
-      }
-      if (s_.v.norm() < opt_.stop_speed) {
-        if (slow_since < 0) slow_since = before.t;
-        if (s_.t - slow_since >= opt_.stop_duration) {
-          outcome = Outcome::kStopped;
-          break;
-        }
-      } else {
-        slow_since = -1.0;
-      }
+      if (Ended(cell, before.t, &outcome)) break;
     }
-    if (opt_.record.passages) {
-      std::sort(rec_->cells.begin(), rec_->cells.end());
-      rec_->cells.erase(std::unique(rec_->cells.begin(), rec_->cells.end()), rec_->cells.end());
-    }
-    rec_->outcome = outcome;
-    rec_->stop = s_.x;
-    rec_->time = s_.t;
-    if (record_trajectory_) Sample(s_, /*force=*/true);
+    Finish(outcome);
   }
 
  private:
+  // The state at release, the first accelerations and what is recorded.
+  void Start(const RockState& s) {
+    s_ = s;
+    a_ = ctx_.gravity;
+    alpha_.setZero();
+    UpdateNeighbours();  // and the local contact step, before the first advance
+    recorder_.Start(s_);
+    const double scale_floor = body_.mass * g_ * body_.bounding_radius;
+    energy_min_ = Energy();
+    ke_max_ = scale_floor;
+    slow_since_ = -1.0;
+    below_since_ = -1.0;
+  }
+
+  // One advance: an exact flight up to the next possible contact when
+  // nothing touches and the flight is worth it, a contact step otherwise.
+  // True for a flight.
+  bool Advance() {
+    if (contacts_.empty() && exact_flight_) {
+      const double tau = std::min(FlightTime(), opt_.max_time - s_.t);
+      if (tau > kMinFlight * dt_) {
+        Fly(tau);
+        landing_ = true;
+        ++rec_->flights;
+        return true;
+      }
+    }
+    // After a flight the rock is within a small fraction of a step of the
+    // terrain: the contact force at the step start is the dashpot's.
+    if (landing_ && contacts_.empty()) PrimeLanding();
+    landing_ = false;
+    ContactStep();
+    ++rec_->steps;
+    return false;
+  }
+
+  // The step the last one's contacts asked for (their materials, gentle or
+  // not), or the local contact step without contacts. A step whose contacts
+  // ask for a shorter one is taken back and redone with that (none can ask
+  // for less than the scene's finest).
+  void ContactStep() {
+    double dt = contacts_.empty() ? dt_ : needed_dt_;
+    if (!(dt > steps_.finest)) {
+      Step(dt);
+      return;
+    }
+    const RockState s0 = s_;
+    const Eigen::Vector3d a0 = a_, alpha0 = alpha_;
+    const double spring0 = spring_energy_, penetration0 = rec_->max_penetration;
+    Step(dt);
+    for (int retry = 0; needed_dt_ < dt && retry < kMaxRetries; ++retry) {
+      s_ = s0;
+      a_ = a0;
+      alpha_ = alpha0;
+      spring_energy_ = spring0;
+      rec_->max_penetration = penetration0;
+      contacts_.swap(next_);  // the contacts before the step
+      ++rec_->retried_steps;
+      dt = needed_dt_;
+      Step(dt);
+    }
+    if (dt > dt_) ++rec_->gentle_steps;
+  }
+
+  // After an advance that began at t0 and ended over grid cell `cell`: sets
+  // *outcome and returns true when the rock has left the slope, gone
+  // through it, or stopped.
+  bool Ended(int cell, double t0, Outcome* outcome) {
+    if (!ctx_.terrain.CellOnSlope(cell)) {
+      *outcome = Outcome::kLeft;
+      return true;
+    }
+    // Below the floor by more than its radius: a hard impact of a small
+    // rock overlaps for less than a contact time (about v t_c / pi deep,
+    // whatever its size); a rock still there after two has gone through.
+    // A rock whose bounding sphere is known to clear the floor is not below it.
+    if (!FloorClear() &&
+        ctx_.terrain.FloorHeight(s_.x.x(), s_.x.y()) - s_.x.z() > body_.bounding_radius) {
+      if (below_since_ < 0) below_since_ = t0;
+      if (s_.t - below_since_ > 2.0 * ctx_.max_contact_time) {
+        rec_->tunneled = true;
+        *outcome = Outcome::kLeft;
+        return true;
+      }
+    } else {
+      below_since_ = -1.0;
+    }
+    if (s_.v.norm() < opt_.stop_speed) {
+      if (slow_since_ < 0) slow_since_ = t0;
+      if (s_.t - slow_since_ >= opt_.stop_duration) {
+        *outcome = Outcome::kStopped;
+        return true;
+      }
+    } else {
+      slow_since_ = -1.0;
+    }
+    return false;
+  }
+
+  void Finish(Outcome outcome) {
+    rec_->outcome = outcome;
+    rec_->stop = s_.x;
+    rec_->time = s_.t;
+    recorder_.Finish(s_);
+  }
+
   Eigen::Matrix3d Rotation() const {
     if constexpr (kCluster) return s_.q.toRotationMatrix();
     return Eigen::Matrix3d::Identity();
@@ -225,17 +241,7 @@ class RockRun {
     return torque * inv_inertia_.x();
   }
 
-  double RotationalEnergy(const State& s) const {
-    if constexpr (kCluster) {
-      const Eigen::Vector3d wb = s.q.conjugate() * s.w;
-      return 0.5 * wb.dot(body_.inertia.cwiseProduct(wb));
-    }
-    return 0.5 * body_.inertia.x() * s.w.squaredNorm();
-  }
-
-  double KineticEnergy(const State& s) const {
-    return 0.5 * body_.mass * s.v.squaredNorm() + RotationalEnergy(s);
-  }
+  double KineticEnergy(const RockState& s) const { return core::KineticEnergy<kCluster>(body_, s); }
 
   // Mechanical energy including the energy stored in contact springs.
   double Energy() const {
@@ -253,20 +259,11 @@ class RockRun {
     }
   }
 
-  // Longest time the rock can fly freely from s_ without touching anything.
+  // Longest time the rock can fly freely from s_ without touching anything
+  // (flight.h).
   double FlightTime() {
-    const double s = ctx_.terrain.grid().spacing;
-    const double vh = std::hypot(s_.v.x(), s_.v.y());
-    const double t_cap = std::min(vh > 0 ? s / vh : kInf, 1.0);
     const double rb = body_.bounding_radius;
-    const double x1 = s_.x.x() + s_.v.x() * t_cap, y1 = s_.x.y() + s_.v.y() * t_cap;
-    const double ceiling = ctx_.terrain.Ceiling(std::min(s_.x.x(), x1) - rb, std::max(s_.x.x(), x1) + rb,
-                                                std::min(s_.x.y(), y1) - rb, std::max(s_.x.y(), y1) + rb);
-    // Vertical clearance above every obstacle under the swept footprint.
-    const double h = s_.x.z() - rb - ceiling;
-    const double vz = s_.v.z();  // gravity is along -z
-    double tau = 0.0;
-    if (h > 0.0) tau = std::min(t_cap, (vz + std::sqrt(vz * vz + 2.0 * g_ * h)) / g_);
+    const double tau = CeilingFlightTime(ctx_.terrain, s_, rb, g_);
     if (tau > 4.0 * dt_) return tau;
     // Close to the ground: the true gap of the bounding sphere bounds how far
     // any point of the rock may move. Look ahead over a short horizon only.
@@ -276,53 +273,15 @@ class RockRun {
     const double reach = speed * horizon + 0.5 * g_ * horizon * horizon;
     const double gap = std::min(NearGap(reach), reach);
     if (!(gap > 0.0)) return tau;
-    const double d = kFlightReach * gap;
-    const double t_gap = 2.0 * d / (speed + std::sqrt(speed * speed + 2.0 * g_ * d));
-    return std::max(tau, t_gap);
+    return std::max(tau, GapFlightTime(kFlightReach * gap, speed, g_));
   }
 
   // Exact ballistic advance by tau (free rotation for clusters).
   void Fly(double tau) {
-    s_.x += s_.v * tau + 0.5 * ctx_.gravity * tau * tau;
-    s_.v += ctx_.gravity * tau;
-    if constexpr (kCluster) {
-      // Torque-free rotation: the angular momentum L is fixed in the world;
-      // isotropic bodies keep w, others follow w = R I^-1 R^T L in midpoint
-      // sub-steps (no energy is pumped in, unlike explicit Euler equations).
-      const bool isotropic = (body_.inertia - Eigen::Vector3d::Constant(body_.inertia.x()))
-                                 .cwiseAbs()
-                                 .maxCoeff() < 1e-12 * body_.inertia.x();
-      if (isotropic) {
-        Rotate(s_.w, tau);
-      } else {
-        const Eigen::Vector3d lb = body_.inertia.cwiseProduct(s_.q.conjugate() * s_.w);
-        const Eigen::Vector3d l = s_.q * lb;
-        auto omega = [&](const Eigen::Quaterniond& q) {
-          return Eigen::Vector3d(q * inv_inertia_.cwiseProduct(q.conjugate() * l));
-        };
-        const int n = std::max(1, static_cast<int>(std::ceil(tau / kFlightRotationStep)));
-        const double h = tau / n;
-        for (int k = 0; k < n; ++k) {
-          const Eigen::Quaterniond q0 = s_.q;
-          Rotate(omega(s_.q), 0.5 * h);
-          const Eigen::Vector3d w_mid = omega(s_.q);
-          s_.q = q0;
-          Rotate(w_mid, h);
-        }
-        s_.w = omega(s_.q);
-      }
-    }
-    s_.t += tau;
+    FlyCentre(ctx_.gravity, tau, &s_);
+    if constexpr (kCluster) RotateFree(body_, inv_inertia_, tau, kFlightRotationStep, &s_);
     a_ = ctx_.gravity;
     alpha_.setZero();
-  }
-
-  void Rotate(const Eigen::Vector3d& w, double h) {
-    const double angle = w.norm() * h;
-    if (angle > 0.0) {
-      s_.q = Eigen::Quaterniond(Eigen::AngleAxisd(angle, w.normalized())) * s_.q;
-      s_.q.normalize();
-    }
   }
 
   // Contact forces at the current state for obstacles within the landing
@@ -345,7 +304,9 @@ class RockRun {
         const Eigen::Vector3d arm = c.point - s_.x;
         const double vn = (s_.v + s_.w.cross(arm)).dot(c.normal);
         const double overlap = std::max(c.overlap - tol, 0.0);
-        const double fn = std::max(0.0, m * (law.stiffness_per_mass * overlap - law.damping_per_mass * vn));
+        // Per unit mass, as the law keeps it, then times the mass.
+        const double fn =
+            m * NormalForce({law.stiffness_per_mass, law.damping_per_mass}, overlap, vn);
         force += fn * c.normal;
         torque += arm.cross(fn * c.normal);
       }
@@ -418,179 +379,104 @@ class RockRun {
     const Eigen::Vector3d v_half = s_.v + 0.5 * dt * a_;
     const Eigen::Vector3d w_half = s_.w + 0.5 * dt * alpha_;
     s_.x += dt * v_half;
-    if constexpr (kCluster) Rotate(w_half, dt);
+    if constexpr (kCluster) Rotate(w_half, dt, &s_.q);
     s_.t += dt;
     // Angular velocity estimate at the new time for the gyroscopic term.
     const Eigen::Vector3d w_pred = w_half + 0.5 * dt * alpha_;
     const Eigen::Matrix3d rot = Rotation();
-    Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
-    Eigen::Vector3d rolling = Eigen::Vector3d::Zero();
+    Load load;
     next_.clear();
     spring_energy_ = 0.0;
-    const double m = body_.mass;
-    const double a = body_.element_radius;
     const bool floor = UpdateNeighbours() >= floor_clear_;
     for (std::size_t e = 0; e < body_.elements.size(); ++e) {
-      found_.clear();
       Eigen::Vector3d centre = s_.x;
       if constexpr (kCluster) centre += rot * body_.elements[e];
-      if (neighbours_) {
-        ctx_.terrain.SphereContacts(centre, a, near_.data(), near_.data() + near_.size(), &found_);
-        if (floor) ctx_.terrain.FloorContacts(centre, a, &found_);
-      } else {
-        ctx_.terrain.FindContacts(centre, a, &found_);
-      }
-      for (const TerrainContact& c : found_) {
-        const ContactLaw& law = ctx_.laws[static_cast<std::size_t>(c.material)];
-        const Eigen::Vector3d arm = c.point - s_.x;
-        const Eigen::Vector3d vc_half = v_half + w_half.cross(arm);
-        const double kn = m * law.stiffness_per_mass;
-        // Normal velocity at the end of the step, with the dashpot taken
-        // implicitly (trapezoidal): v_n = v_n,half + dt/2 (k d / m - c v_n + g_n).
-        const double vn = (vc_half.dot(c.normal) +
-                           0.5 * dt * (law.stiffness_per_mass * c.overlap + ctx_.gravity.dot(c.normal))) /
-                          (1.0 + 0.5 * dt * law.damping_per_mass);
-        const double fn = std::max(0.0, kn * c.overlap - m * law.damping_per_mass * vn);
-        const MaterialSteps& ms = steps_.material[static_cast<std::size_t>(c.material)];
-        needed_dt_ = std::min(needed_dt_, std::abs(vn) < ms.gentle_speed ? ms.gentle : ms.contact);
-        // Tangential spring: carry the displacement over, rotated into the
-        // current tangent plane, and add this step's sliding.
-        Eigen::Vector3d u = Eigen::Vector3d::Zero();
-        for (const ContactState& old : contacts_) {
-          if (old.key == c.key && old.element == static_cast<int>(e)) {
-            const double len = old.u.norm();
-            u = old.u - c.normal * c.normal.dot(old.u);
-            const double nlen = u.norm();
-            if (nlen > 0) u *= len / nlen;
-            break;
-          }
-        }
-        u += dt * (vc_half - c.normal * c.normal.dot(vc_half));
-        const double ks = kn * law.tangential_ratio;
-        Eigen::Vector3d ft = -ks * u;
-        const double cap = law.friction * fn;
-        const double ftn = ft.norm();
-        if (ftn > cap) {
-          ft *= cap / ftn;
-          u = -ft / ks;
-        }
-        const Eigen::Vector3d f = fn * c.normal + ft;
-        force += f;
-        torque += arm.cross(f);
-        // Rolling resistance (core/contact.h) against rolling, not spin about
-        // this contact's normal, on the spring's normal force k_n d: the load
-        // on the contact (the dashpot's share nets about zero over an impact),
-        // as general DEM codes take it (LIGGGHTS' CDT model). The lever is
-        // the contact's distance from the rolling axis (a sphere's radius a;
-        // with the element radius instead, a block tumbling over its edges
-        // felt a fraction of the resistance a sphere of its size feels).
-        if (law.rolling_resistance > 0.0) {
-          const Eigen::Vector3d roll = w_half - c.normal * c.normal.dot(w_half);
-          const double lever = single_element_ ? a : RollingLever(roll, arm);
-          rolling += RollingResistanceTorque(law.rolling_resistance, lever, kn * c.overlap, roll);
-        }
-        spring_energy_ += 0.5 * kn * c.overlap * c.overlap + 0.5 * ks * u.squaredNorm();
-        next_.push_back({c.key, static_cast<int>(e), u});
-        rec_->max_penetration = std::max(rec_->max_penetration, c.overlap / a);
-      }
+      FindElementContacts(centre, floor);
+      for (const TerrainContact& c : found_)
+        AddContactForce(c, static_cast<int>(e), v_half, w_half, dt, &load);
     }
-    // The rolling torques together may at most stop the rotation in one step
-    // (each one opposes the rotation, so their sum only takes energy out).
-    const double rolling_norm = rolling.norm();
-    const double rolling_limit = inertia_min_ * w_half.norm() / dt;
-    if (rolling_norm > rolling_limit) rolling *= rolling_limit / rolling_norm;
-    torque += rolling;
+    const Eigen::Vector3d torque =
+        load.torque + LimitRollingTorque(load.rolling, inertia_min_, w_half.norm(), dt);
     if (next_.empty()) needed_dt_ = dt_;
     contacts_.swap(next_);
-    a_ = ctx_.gravity + force / m;
+    a_ = ctx_.gravity + load.force / body_.mass;
     alpha_ = AngularAcceleration(torque, w_pred, rot);
     s_.v = v_half + 0.5 * dt * a_;
     s_.w = w_half + 0.5 * dt * alpha_;
   }
 
-  // State at fraction f of the last advance: exact parabola after a flight,
-  // linear within a small step.
-  State Between(const State& s0, double f, bool flew) const {
-    State s = s0;
-    const double tau = f * (s_.t - s0.t);
-    if (flew) {
-      s.x = s0.x + s0.v * tau + 0.5 * ctx_.gravity * tau * tau;
-      s.v = s0.v + ctx_.gravity * tau;
+  // The forces and torques of a step's contacts, summed.
+  struct Load {
+    Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+    Eigen::Vector3d rolling = Eigen::Vector3d::Zero();  // rolling resistance, before its limit
+  };
+
+  // found_: the contacts of an element centred at `centre`; the floor
+  // (facets and catch surface) only where the rock may reach it.
+  void FindElementContacts(const Eigen::Vector3d& centre, bool floor) {
+    found_.clear();
+    const double a = body_.element_radius;
+    if (neighbours_) {
+      ctx_.terrain.SphereContacts(centre, a, near_.data(), near_.data() + near_.size(), &found_);
+      if (floor) ctx_.terrain.FloorContacts(centre, a, &found_);
     } else {
-      s.x = s0.x + f * (s_.x - s0.x);
-      s.v = s0.v + f * (s_.v - s0.v);
-    }
-    s.w = s0.w + f * (s_.w - s0.w);
-    s.q = s_.q;
-    s.t = s0.t + tau;
-    return s;
-  }
-
-  Crossing Record(const State& s) const {
-    Crossing c;
-    c.crossed = true;
-    double ground = s.x.z();
-    ctx_.terrain.GroundHeight(s.x.x(), s.x.y(), &ground);
-    c.height = s.x.z() - ground;
-    c.speed = s.v.norm();
-    c.energy = KineticEnergy(s);
-    c.point = s.x;
-    return c;
-  }
-
-  // Partition crossings, tree passages and trajectory samples within the
-  // advance from s0 to s_.
-  void Events(const State& s0, bool flew) {
-    const auto& parts = ctx_.scene.partitions;
-    if (opt_.record.partitions) {
-      for (std::size_t p = 0; p < parts.size(); ++p) {
-        Crossing& cr = rec_->crossings[p];
-        if (cr.crossed) continue;
-        const Partition& part = parts[p];
-        double f0, f1;
-        if (part.kind == Partition::Kind::kX) {
-          f0 = s0.x.x() - part.value;
-          f1 = s_.x.x() - part.value;
-        } else {
-          double z0, z1;
-          if (!ctx_.terrain.Elevation(s0.x.x(), s0.x.y(), &z0) ||
-              !ctx_.terrain.Elevation(s_.x.x(), s_.x.y(), &z1))
-            continue;
-          f0 = z0 - part.value;
-          f1 = z1 - part.value;
-        }
-        if ((f0 < 0) != (f1 < 0)) cr = Record(Between(s0, f0 / (f0 - f1), flew));
-      }
-    }
-    const auto& trees = opt_.record.trees;
-    for (std::size_t k = 0; k < trees.size(); ++k) {
-      Crossing& cr = rec_->trees[k];
-      if (cr.crossed) continue;
-      // First time the plan path (straight over one advance) comes within
-      // reach of the trunk.
-      const double reach = trees[k].radius + body_.bounding_radius;
-      const Eigen::Vector2d p0(s0.x.x() - trees[k].x, s0.x.y() - trees[k].y);
-      const Eigen::Vector2d d(s_.x.x() - s0.x.x(), s_.x.y() - s0.x.y());
-      const double aa = d.squaredNorm(), bb = 2.0 * p0.dot(d), cc = p0.squaredNorm() - reach * reach;
-      if (cc <= 0.0) continue;  // started inside: not a passage
-      const double disc = bb * bb - 4.0 * aa * cc;
-      if (aa <= 0.0 || disc < 0.0) continue;
-      const double f = (-bb - std::sqrt(disc)) / (2.0 * aa);
-      if (f >= 0.0 && f <= 1.0) cr = Record(Between(s0, f, flew));
-    }
-    if (record_trajectory_) {
-      while (next_sample_ <= s_.t) {
-        const double f = s_.t > s0.t ? (next_sample_ - s0.t) / (s_.t - s0.t) : 1.0;
-        Sample(Between(s0, std::clamp(f, 0.0, 1.0), flew));
-      }
+      ctx_.terrain.FindContacts(centre, a, &found_);
     }
   }
 
-  void Sample(const State& s, bool force = false) {
-    if (!record_trajectory_) return;
-    if (!force && s.t + 1e-12 < next_sample_) return;
-    rec_->trajectory.push_back({s.t, s.x, s.v, s.w, Eigen::Vector4d(s.q.w(), s.q.x(), s.q.y(), s.q.z())});
-    next_sample_ += opt_.record.sample_seconds;
+  // The contact law (core/contact.h) on contact c of element e over a step
+  // of dt from the half-step velocities: adds its force and torques to
+  // *load, keeps its spring in next_ and its energy in spring_energy_, and
+  // lowers needed_dt_ to the step it asks for.
+  void AddContactForce(const TerrainContact& c, int e, const Eigen::Vector3d& v_half,
+                       const Eigen::Vector3d& w_half, double dt, Load* load) {
+    const ContactLaw& law = ctx_.laws[static_cast<std::size_t>(c.material)];
+    const double m = body_.mass;
+    const Eigen::Vector3d arm = c.point - s_.x;
+    const Eigen::Vector3d vc_half = v_half + w_half.cross(arm);
+    const double kn = m * law.stiffness_per_mass;
+    // Normal velocity at the end of the step, with the dashpot taken
+    // implicitly (trapezoidal): v_n = v_n,half + dt/2 (k d / m - c v_n + g_n).
+    const double vn =
+        (vc_half.dot(c.normal) +
+         0.5 * dt * (law.stiffness_per_mass * c.overlap + ctx_.gravity.dot(c.normal))) /
+        (1.0 + 0.5 * dt * law.damping_per_mass);
+    const double fn = NormalForce({kn, m * law.damping_per_mass}, c.overlap, vn);
+    const MaterialSteps& ms = steps_.material[static_cast<std::size_t>(c.material)];
+    needed_dt_ = std::min(needed_dt_, std::abs(vn) < ms.gentle_speed ? ms.gentle : ms.contact);
+    // Tangential spring: carry the displacement over, rotated into the
+    // current tangent plane, and add this step's sliding.
+    Eigen::Vector3d u = CarriedDisplacement(c.key, e, c.normal);
+    u += TangentialSlip(vc_half, c.normal, dt);
+    const double ks = kn * law.tangential_ratio;
+    const Eigen::Vector3d ft = TangentialForce({ks, law.friction}, fn, &u);
+    const Eigen::Vector3d f = fn * c.normal + ft;
+    load->force += f;
+    load->torque += arm.cross(f);
+    // Rolling resistance against rolling, not spin about this contact's
+    // normal, on the spring's normal force k_n d: the load on the contact
+    // (the dashpot's share nets about zero over an impact). The lever is the
+    // contact's distance from the rolling axis (a sphere's radius a; with the
+    // element radius instead, a block tumbling over its edges felt a fraction
+    // of the resistance a sphere of its size feels).
+    if (law.rolling_resistance > 0.0) {
+      const Eigen::Vector3d roll = RollingRate(w_half, c.normal);
+      const double lever = single_element_ ? body_.element_radius : RollingLever(roll, arm);
+      load->rolling += RollingResistanceTorque(law.rolling_resistance, lever, kn * c.overlap, roll);
+    }
+    spring_energy_ += 0.5 * kn * c.overlap * c.overlap + 0.5 * ks * u.squaredNorm();
+    next_.push_back({c.key, e, u});
+    rec_->max_penetration = std::max(rec_->max_penetration, c.overlap / body_.element_radius);
+  }
+
+  // The tangential spring displacement contact `key` of element e had at
+  // the last step, carried into the tangent plane of `normal`; zero for a
+  // new contact.
+  Eigen::Vector3d CarriedDisplacement(std::int64_t key, int e,
+                                      const Eigen::Vector3d& normal) const {
+    for (const ContactState& old : contacts_)
+      if (old.key == key && old.element == e) return CarryTangentialDisplacement(old.u, normal);
+    return Eigen::Vector3d::Zero();
   }
 
   const SceneContext& ctx_;
@@ -605,29 +491,30 @@ class RockRun {
   const bool single_element_;              // a sphere (on either path)
   double needed_dt_ = 0.0;  // the step the last step's contacts ask for
   RockRecord* rec_;
-  State s_;
+  Recorder recorder_;  // what the record keeps of the path (recording.h)
+  RockState s_;
   Eigen::Vector3d a_, alpha_;  // accelerations at the current state
   Eigen::Vector3d inv_inertia_;
   double inertia_min_ = 0.0;
   double g_ = 0.0;
   double spring_energy_ = 0.0, energy_min_ = 0.0, ke_max_ = 0.0;
-  bool record_trajectory_ = false;
+  // Since when the rock has been slow, and below the floor (-1: it is not).
+  double slow_since_ = -1.0, below_since_ = -1.0;
   bool landing_ = false;  // the last advance was a flight
   // The neighbourhood (UpdateNeighbours): virtual spheres within skin_ of the
   // bounding sphere at near_ref_, and the floor's clearance there.
   Eigen::Vector3d near_ref_ = Eigen::Vector3d::Zero();
   double skin_ = 0.0, floor_clear_ = 0.0;
   std::vector<int> near_;
-  double next_sample_ = 0.0;
   std::vector<TerrainContact> found_;
   std::vector<ContactState> contacts_, next_;
 };
 
 // Release: a random point of the zone, a random size and orientation, then
 // placed so the lowest point is `height` above every obstacle.
-State ReleaseRock(const SceneContext& ctx, const RockGroup& group, const RockBody& body,
+RockState ReleaseRock(const SceneContext& ctx, const RockGroup& group, const RockBody& body,
               RandomStream* rng, double u_pos[2], Eigen::Quaterniond q) {
-  State s;
+  RockState s;
   const core::Release& rel = group.release;
   double x = rel.point.x(), y = rel.point.y();
   if (!rel.zone.empty()) {
@@ -737,6 +624,59 @@ Terrain BuildTerrain(const Scene& scene) {
   return Terrain(scene.grid, roughness, max_radius);
 }
 
+namespace {
+
+// A rock's contact steps on each material of the scene; sets *any_shrunk
+// when one was cut below t_c / N_c for stability.
+StepSizes RockSteps(const RockBody& body, const std::vector<ContactLaw>& laws, const Scene& scene,
+                    bool* any_shrunk) {
+  StepSizes steps;
+  steps.finest = kInf;
+  for (const auto& law : laws) {
+    bool sh = false;
+    const double dt = ContactTimeStep(body, law, scene.options, &sh);
+    steps.material.push_back({dt, std::max(dt, GentleTimeStep(body, law, scene.options)),
+                              scene.gravity * law.contact_time});
+    steps.finest = std::min(steps.finest, dt);
+    *any_shrunk = *any_shrunk || sh;
+  }
+  return steps;
+}
+
+// The result's totals from its rocks (`shrunk`: per rock, its step was cut).
+void AddUpRocks(const Scene& scene, const std::vector<char>& shrunk, SimulationResult* out) {
+  SimulationResult& result = *out;
+  result.dt_min = kInf;
+  result.dt_max = 0.0;
+  for (std::size_t k = 0; k < result.rocks.size(); ++k) {
+    const RockRecord& r = result.rocks[k];
+    result.steps += r.steps;
+    result.gentle_steps += r.gentle_steps;
+    result.retried_steps += r.retried_steps;
+    result.flights += r.flights;
+    result.dt_min = std::min(result.dt_min, r.dt);
+    result.dt_max = std::max(result.dt_max, r.dt);
+    result.dt_shrunk += shrunk[k];
+    result.tunneled += r.tunneled;
+    if (!std::isfinite(r.max_relative_energy_gain) || !r.stop.allFinite()) {
+      ++result.non_finite;
+    } else {
+      result.max_relative_energy_gain =
+          std::max(result.max_relative_energy_gain, r.max_relative_energy_gain);
+    }
+    result.max_penetration = std::max(result.max_penetration, r.max_penetration);
+  }
+  if (result.rocks.empty()) result.dt_min = 0.0;
+  if (scene.options.record.passages) {
+    result.passages.assign(static_cast<std::size_t>(std::max(scene.grid.nx - 1, 0)) *
+                               std::max(scene.grid.ny - 1, 0), 0);
+    for (const RockRecord& r : result.rocks)
+      for (int cell : r.cells) ++result.passages[static_cast<std::size_t>(cell)];
+  }
+}
+
+}  // namespace
+
 SimulationResult Simulate(const Scene& scene) { return Simulate(scene, BuildTerrain(scene)); }
 
 SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const ProgressFn& progress) {
@@ -780,17 +720,8 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
                                std::sqrt(u1) * std::sin(2 * kPi * u3),
                                std::sqrt(u1) * std::cos(2 * kPi * u3));
     const RockBody body = GroupRockBody(group, job.in_group, u_size, scene.gravity);
-    StepSizes steps;
-    steps.finest = kInf;
     bool any_shrunk = false;
-    for (const auto& law : ctx.laws) {
-      bool sh = false;
-      const double dt = ContactTimeStep(body, law, scene.options, &sh);
-      steps.material.push_back({dt, std::max(dt, GentleTimeStep(body, law, scene.options)),
-                                scene.gravity * law.contact_time});
-      steps.finest = std::min(steps.finest, dt);
-      any_shrunk = any_shrunk || sh;
-    }
+    const StepSizes steps = RockSteps(body, ctx.laws, scene, &any_shrunk);
     const double dt = steps.finest;
     shrunk[static_cast<std::size_t>(k)] = any_shrunk;
     RockRecord& rec = result.rocks[static_cast<std::size_t>(k)];
@@ -801,7 +732,7 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
     rec.mass = body.mass;
     rec.dt = dt;
     const bool cluster = body.elements.size() > 1 || scene.options.reference_path;
-    const State s0 = ReleaseRock(ctx, group, body, &rng, u_pos,
+    const RockState s0 = ReleaseRock(ctx, group, body, &rng, u_pos,
                              cluster ? q.normalized() : Eigen::Quaterniond::Identity());
     rec.start = s0.x;
     if (cluster) {
@@ -814,33 +745,7 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
       progress(++done, static_cast<int>(n));
     }
   }
-  result.dt_min = kInf;
-  result.dt_max = 0.0;
-  for (std::size_t k = 0; k < result.rocks.size(); ++k) {
-    const RockRecord& r = result.rocks[k];
-    result.steps += r.steps;
-    result.gentle_steps += r.gentle_steps;
-    result.retried_steps += r.retried_steps;
-    result.flights += r.flights;
-    result.dt_min = std::min(result.dt_min, r.dt);
-    result.dt_max = std::max(result.dt_max, r.dt);
-    result.dt_shrunk += shrunk[k];
-    result.tunneled += r.tunneled;
-    if (!std::isfinite(r.max_relative_energy_gain) || !r.stop.allFinite()) {
-      ++result.non_finite;
-    } else {
-      result.max_relative_energy_gain =
-          std::max(result.max_relative_energy_gain, r.max_relative_energy_gain);
-    }
-    result.max_penetration = std::max(result.max_penetration, r.max_penetration);
-  }
-  if (result.rocks.empty()) result.dt_min = 0.0;
-  if (scene.options.record.passages) {
-    result.passages.assign(static_cast<std::size_t>(std::max(scene.grid.nx - 1, 0)) *
-                               std::max(scene.grid.ny - 1, 0), 0);
-    for (const RockRecord& r : result.rocks)
-      for (int cell : r.cells) ++result.passages[static_cast<std::size_t>(cell)];
-  }
+  AddUpRocks(scene, shrunk, &result);
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

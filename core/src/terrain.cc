@@ -131,6 +131,13 @@ void Terrain::BuildSpheres(const std::vector<double>& roughness_m) {
   }
 }
 
+// The nodes that may reach a cell, with their heights over it (reused from
+// cell to cell).
+struct Terrain::CellScratch {
+  std::vector<int> reach;
+  std::vector<double> tops, touch;
+};
+
 void Terrain::BuildCandidates() {
   const int cx = std::max(grid_.nx - 1, 0), cy = std::max(grid_.ny - 1, 0);
   const double s = grid_.spacing, a = max_element_radius_;
@@ -144,82 +151,96 @@ void Terrain::BuildCandidates() {
     if (!std::isinf(r)) r_max = std::max(r_max, r);
   // Nodes whose sphere may reach a cell expanded by a: within r + offset + a.
   const int rings = static_cast<int>(std::ceil((r_max + max_offset_ + a) / s)) + 1;
-  std::vector<int> reach;
-  std::vector<double> tops, touch;
+  CellScratch scratch;
   for (int j = 0; j < cy; ++j) {
     for (int i = 0; i < cx; ++i) {
       const std::size_t cell = static_cast<std::size_t>(j) * cx + i;
-      const double x0 = grid_.x(i), x1 = grid_.x(i + 1), y0 = grid_.y(j), y1 = grid_.y(j + 1);
-      // floor: a lower bound of the obstacle envelope over the cell, the
-      // highest of the spheres' lowest points over it (min of a max >= max of mins).
-      double floor = -kInf, top = -kInf;
-      if (smooth_cell_[cell]) {
-        double lo = kInf;
-        for (int k = 0; k < 4; ++k) {
-          const double z = grid_.z[grid_.index(i + (k & 1), j + (k >> 1))];
-          lo = std::min(lo, z);
-          top = std::max(top, z);
-        }
-        floor = lo;
-      }
-      reach.clear();
-      tops.clear();
-      touch.clear();
-      for (int jj = std::max(j - rings, 0); jj <= std::min(j + 1 + rings, grid_.ny - 1); ++jj) {
-        for (int ii = std::max(i - rings, 0); ii <= std::min(i + 1 + rings, grid_.nx - 1); ++ii) {
-          const int n = grid_.index(ii, jj);
-          const double r = radius_[n];
-          if (std::isinf(r)) continue;
-          const Eigen::Vector3d& c = centre_[n];
-          // Highest point over the cell expanded by a (where an element
-          // centred in the cell may touch it).
-          const double dx = std::max({x0 - a - c.x(), 0.0, c.x() - x1 - a});
-          const double dy = std::max({y0 - a - c.y(), 0.0, c.y() - y1 - a});
-          const double near2 = dx * dx + dy * dy;
-          if (near2 >= r * r) continue;
-          // Highest centre of an element of radius a touching it over the cell.
-          const double cdx = std::max({x0 - c.x(), 0.0, c.x() - x1});
-          const double cdy = std::max({y0 - c.y(), 0.0, c.y() - y1});
-          const double ra = r + a;
-          const double cell2 = cdx * cdx + cdy * cdy;
-          reach.push_back(n);
-          tops.push_back(c.z() + std::sqrt(r * r - near2));
-          touch.push_back(cell2 < ra * ra ? c.z() + std::sqrt(ra * ra - cell2) : -kInf);
-          // Lowest point over the cell itself, if the sphere covers all of it.
-          const double fx = std::max(std::abs(x0 - c.x()), std::abs(x1 - c.x()));
-          const double fy = std::max(std::abs(y0 - c.y()), std::abs(y1 - c.y()));
-          const double far2 = fx * fx + fy * fy;
-          if (far2 < r * r) floor = std::max(floor, c.z() + std::sqrt(r * r - far2));
-        }
-      }
-      // An element that overlaps no sphere by more than its radius has its
-      // centre outside every sphere, so above the envelope, so above floor.
-      // It touches sphere k only with its centre inside k inflated by a: a
-      // sphere whose inflated top over the cell is below floor is buried.
-      for (std::size_t k = 0; k < reach.size(); ++k) {
-        if (touch[k] < floor) continue;
-        list_.push_back(reach[k]);
-        top = std::max(top, tops[k]);
-      }
-      list_start_[cell + 1] = static_cast<int>(list_.size());
-      // The catch surface closes holes of the sphere surface (R > 0.207 s,
-      // sharp breaks). Over a rough cell it must stay below the envelope:
-      // below floor where a sphere covers the whole cell; where none does (a
-      // hole), below the lowest corner less the largest corner roughness.
-      if (!smooth_cell_[cell] && CellValid(i, j)) {
-        double lowest = kInf, roughness = 0.0;
-        for (int k = 0; k < 4; ++k) {
-          const int n = grid_.index(i + (k & 1), j + (k >> 1));
-          lowest = std::min(lowest, grid_.z[n]);
-          const double r = radius_[n];
-          // R from r = (R^2 + (s/2)^2) / (2R): the sag between neighbours.
-          if (!std::isinf(r)) roughness = std::max(roughness, r - std::sqrt(r * r - 0.25 * s * s));
-        }
-        cell_floor[cell] = std::isfinite(floor) ? floor : lowest - roughness;
-      }
-      ceiling_[cell] = top;
+      cell_floor[cell] = BuildCellCandidates(i, j, rings, &scratch);
     }
   }
+  BuildCatchSurface(cell_floor);
+  BuildFloorTops();
+}
+
+double Terrain::BuildCellCandidates(int i, int j, int rings, CellScratch* scratch) {
+  const int cx = std::max(grid_.nx - 1, 0);
+  const double s = grid_.spacing, a = max_element_radius_;
+  const std::size_t cell = static_cast<std::size_t>(j) * cx + i;
+  const double x0 = grid_.x(i), x1 = grid_.x(i + 1), y0 = grid_.y(j), y1 = grid_.y(j + 1);
+  // floor: a lower bound of the obstacle envelope over the cell, the
+  // highest of the spheres' lowest points over it (min of a max >= max of mins).
+  double floor = -kInf, top = -kInf;
+  if (smooth_cell_[cell]) {
+    double lo = kInf;
+    for (int k = 0; k < 4; ++k) {
+      const double z = grid_.z[grid_.index(i + (k & 1), j + (k >> 1))];
+      lo = std::min(lo, z);
+      top = std::max(top, z);
+    }
+    floor = lo;
+  }
+  std::vector<int>& reach = scratch->reach;
+  std::vector<double>& tops = scratch->tops;
+  std::vector<double>& touch = scratch->touch;
+  reach.clear();
+  tops.clear();
+  touch.clear();
+  for (int jj = std::max(j - rings, 0); jj <= std::min(j + 1 + rings, grid_.ny - 1); ++jj) {
+    for (int ii = std::max(i - rings, 0); ii <= std::min(i + 1 + rings, grid_.nx - 1); ++ii) {
+      const int n = grid_.index(ii, jj);
+      const double r = radius_[n];
+      if (std::isinf(r)) continue;
+      const Eigen::Vector3d& c = centre_[n];
+      // Highest point over the cell expanded by a (where an element
+      // centred in the cell may touch it).
+      const double dx = std::max({x0 - a - c.x(), 0.0, c.x() - x1 - a});
+      const double dy = std::max({y0 - a - c.y(), 0.0, c.y() - y1 - a});
+      const double near2 = dx * dx + dy * dy;
+      if (near2 >= r * r) continue;
+      // Highest centre of an element of radius a touching it over the cell.
+      const double cdx = std::max({x0 - c.x(), 0.0, c.x() - x1});
+      const double cdy = std::max({y0 - c.y(), 0.0, c.y() - y1});
+      const double ra = r + a;
+      const double cell2 = cdx * cdx + cdy * cdy;
+      reach.push_back(n);
+      tops.push_back(c.z() + std::sqrt(r * r - near2));
+      touch.push_back(cell2 < ra * ra ? c.z() + std::sqrt(ra * ra - cell2) : -kInf);
+      // Lowest point over the cell itself, if the sphere covers all of it.
+      const double fx = std::max(std::abs(x0 - c.x()), std::abs(x1 - c.x()));
+      const double fy = std::max(std::abs(y0 - c.y()), std::abs(y1 - c.y()));
+      const double far2 = fx * fx + fy * fy;
+      if (far2 < r * r) floor = std::max(floor, c.z() + std::sqrt(r * r - far2));
+    }
+  }
+  // An element that overlaps no sphere by more than its radius has its
+  // centre outside every sphere, so above the envelope, so above floor.
+  // It touches sphere k only with its centre inside k inflated by a: a
+  // sphere whose inflated top over the cell is below floor is buried.
+  for (std::size_t k = 0; k < reach.size(); ++k) {
+    if (touch[k] < floor) continue;
+    list_.push_back(reach[k]);
+    top = std::max(top, tops[k]);
+  }
+  list_start_[cell + 1] = static_cast<int>(list_.size());
+  ceiling_[cell] = top;
+  // The catch surface closes holes of the sphere surface (R > 0.207 s,
+  // sharp breaks). Over a rough cell it must stay below the envelope:
+  // below floor where a sphere covers the whole cell; where none does (a
+  // hole), below the lowest corner less the largest corner roughness.
+  if (smooth_cell_[cell] || !CellValid(i, j)) return -kInf;
+  double lowest = kInf, roughness = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    const int n = grid_.index(i + (k & 1), j + (k >> 1));
+    lowest = std::min(lowest, grid_.z[n]);
+    const double r = radius_[n];
+    // R from r = (R^2 + (s/2)^2) / (2R): the sag between neighbours.
+    if (!std::isinf(r)) roughness = std::max(roughness, r - std::sqrt(r * r - 0.25 * s * s));
+  }
+  return std::isfinite(floor) ? floor : lowest - roughness;
+}
+
+void Terrain::BuildCatchSurface(const std::vector<double>& cell_floor) {
+  const int cx = std::max(grid_.nx - 1, 0), cy = std::max(grid_.ny - 1, 0);
   // The catch surface is the terrain's triangulation with every node lowered
   // to the lowest floor of the rough cells around it: linear on each facet,
   // so below floor wherever all its corners are, and continuous from cell to
@@ -234,6 +255,11 @@ void Terrain::BuildCandidates() {
         z = std::min(z, f);
       }
     }
+}
+
+void Terrain::BuildFloorTops() {
+  const int cx = std::max(grid_.nx - 1, 0), cy = std::max(grid_.ny - 1, 0);
+  const std::size_t cells = static_cast<std::size_t>(cx) * cy;
   // Per cell, the highest corner of its floor surface (facets or catch), and
   // the ceiling grows by the floor surfaces an element centred there may touch.
   floor_top_.assign(cells, -kInf);

@@ -31,6 +31,25 @@ core::Scene RunScene(const sites::Site& site, int rocks, std::optional<std::uint
 // ($.parameters[k].material or .value), the value and what was expected.
 void ApplyParameters(const CalibratedSite& parameters, core::Scene* scene);
 
+// Reads the parameters.json at `path` (or in the folder `path`:
+// ReadParametersFile) and applies its values to `scene` (ApplyParameters).
+void ApplyParametersFile(const std::string& path, core::Scene* scene);
+
+// What `rockcal score` simulates. Defaults in brackets.
+struct ScoreOptions {
+  int rocks = 0;  // spread over the rock groups; 0 keeps the site's counts [0], >= 0
+  std::optional<std::uint64_t> seed;  // unset: the site file's [unset]
+  int threads = 0;                    // 0: OpenMP's default [0], >= 0
+  // An earlier calibration's parameters.json (or its folder) whose values
+  // the site takes; empty: the site's own values [empty].
+  std::string parameters_file;
+};
+
+// The site's scene as `options` set it (RunScene, then the parameters
+// file). Throws InputError for a parameters file the site cannot take, or
+// simulation options that are not valid (naming the site file).
+core::Scene ScoreScene(const sites::Site& site, const ScoreOptions& options);
+
 struct ScoreSummary {
   // The scene simulated, recording what a simulation's files need
   // (summary.json, rocks.csv, the misfit); no trajectories.

@@ -139,6 +139,16 @@ class Terrain final {
   // Per cell: the virtual spheres an element centred in it may touch (those
   // reaching the cell that are not buried under the others), and the ceiling.
   void BuildCandidates();
+  struct CellScratch;
+  // The candidates of cell (i, j) (appended to list_) and its ceiling, from
+  // the nodes within `rings` cells; returns the floor of its catch surface
+  // (-inf: a smooth cell or a hole).
+  double BuildCellCandidates(int i, int j, int rings, CellScratch* scratch);
+  // catch_z_ from the floors of the rough cells (BuildCellCandidates).
+  void BuildCatchSurface(const std::vector<double>& cell_floor);
+  // floor_top_ and floor_up_ per cell, and the ceilings raised by the floor
+  // surfaces of the neighbouring cells.
+  void BuildFloorTops();
   bool CellValid(int i, int j) const;  // all four corners are data
   // The cells (i0..i1, j0..j1) overlapping the plan square of half-width w around c.
   void CellWindow(const Eigen::Vector3d& c, double w, int* i0, int* i1, int* j0, int* j1) const;

@@ -1,0 +1,122 @@
+#include "recording.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rockcal::core {
+
+Recorder::Recorder(const Scene& scene, const Terrain& terrain, const RockBody& body, bool cluster,
+                   RockRecord* rec)
+    : scene_(scene),
+      opt_(scene.options.record),
+      terrain_(terrain),
+      body_(body),
+      cluster_(cluster),
+      gravity_(0, 0, -scene.gravity),
+      rec_(rec) {}
+
+void Recorder::Start(const RockState& s) {
+  const int np = static_cast<int>(scene_.partitions.size());
+  if (opt_.partitions) rec_->crossings.assign(np, Crossing{});
+  rec_->trees.assign(opt_.trees.size(), Crossing{});
+  trajectory_ = opt_.trajectories > rec_->rock;
+  next_sample_ = 0.0;
+  Sample(s);
+}
+
+void Recorder::Advance(const RockState& s0, const RockState& s, bool flew) {
+  const auto& parts = scene_.partitions;
+  if (opt_.partitions) {
+    for (std::size_t p = 0; p < parts.size(); ++p) {
+      Crossing& cr = rec_->crossings[p];
+      if (cr.crossed) continue;
+      const Partition& part = parts[p];
+      double f0, f1;
+      if (part.kind == Partition::Kind::kX) {
+        f0 = s0.x.x() - part.value;
+        f1 = s.x.x() - part.value;
+      } else {
+        double z0, z1;
+        if (!terrain_.Elevation(s0.x.x(), s0.x.y(), &z0) ||
+            !terrain_.Elevation(s.x.x(), s.x.y(), &z1))
+          continue;
+        f0 = z0 - part.value;
+        f1 = z1 - part.value;
+      }
+      if ((f0 < 0) != (f1 < 0)) cr = Record(Between(s0, s, f0 / (f0 - f1), flew));
+    }
+  }
+  const auto& trees = opt_.trees;
+  for (std::size_t k = 0; k < trees.size(); ++k) {
+    Crossing& cr = rec_->trees[k];
+    if (cr.crossed) continue;
+    // First time the plan path (straight over one advance) comes within
+    // reach of the trunk.
+    const double reach = trees[k].radius + body_.bounding_radius;
+    const Eigen::Vector2d p0(s0.x.x() - trees[k].x, s0.x.y() - trees[k].y);
+    const Eigen::Vector2d d(s.x.x() - s0.x.x(), s.x.y() - s0.x.y());
+    const double aa = d.squaredNorm(), bb = 2.0 * p0.dot(d), cc = p0.squaredNorm() - reach * reach;
+    if (cc <= 0.0) continue;  // started inside: not a passage
+    const double disc = bb * bb - 4.0 * aa * cc;
+    if (aa <= 0.0 || disc < 0.0) continue;
+    const double f = (-bb - std::sqrt(disc)) / (2.0 * aa);
+    if (f >= 0.0 && f <= 1.0) cr = Record(Between(s0, s, f, flew));
+  }
+  if (trajectory_) {
+    while (next_sample_ <= s.t) {
+      const double f = s.t > s0.t ? (next_sample_ - s0.t) / (s.t - s0.t) : 1.0;
+      Sample(Between(s0, s, std::clamp(f, 0.0, 1.0), flew));
+    }
+  }
+}
+
+void Recorder::Cell(int cell) {
+  if (!opt_.passages) return;
+  if (cell >= 0 && (rec_->cells.empty() || rec_->cells.back() != cell)) rec_->cells.push_back(cell);
+}
+
+void Recorder::Finish(const RockState& s) {
+  if (opt_.passages) {
+    std::sort(rec_->cells.begin(), rec_->cells.end());
+    rec_->cells.erase(std::unique(rec_->cells.begin(), rec_->cells.end()), rec_->cells.end());
+  }
+  if (trajectory_) Sample(s, /*force=*/true);
+}
+
+RockState Recorder::Between(const RockState& s0, const RockState& s1, double f, bool flew) const {
+  RockState s = s0;
+  const double tau = f * (s1.t - s0.t);
+  if (flew) {
+    s.x = s0.x + s0.v * tau + 0.5 * gravity_ * tau * tau;
+    s.v = s0.v + gravity_ * tau;
+  } else {
+    s.x = s0.x + f * (s1.x - s0.x);
+    s.v = s0.v + f * (s1.v - s0.v);
+  }
+  s.w = s0.w + f * (s1.w - s0.w);
+  s.q = s1.q;
+  s.t = s0.t + tau;
+  return s;
+}
+
+Crossing Recorder::Record(const RockState& s) const {
+  Crossing c;
+  c.crossed = true;
+  double ground = s.x.z();
+  terrain_.GroundHeight(s.x.x(), s.x.y(), &ground);
+  c.height = s.x.z() - ground;
+  c.speed = s.v.norm();
+  c.energy = cluster_ ? KineticEnergy<true>(body_, s) : KineticEnergy<false>(body_, s);
+  c.point = s.x;
+  return c;
+}
+
+void Recorder::Sample(const RockState& s, bool force) {
+  if (!trajectory_) return;
+  if (!force && s.t + 1e-12 < next_sample_) return;
+  rec_->trajectory.push_back(
+      {s.t, s.x, s.v, s.w, Eigen::Vector4d(s.q.w(), s.q.x(), s.q.y(), s.q.z())});
+  next_sample_ += opt_.sample_seconds;
+}
+
+}  // namespace rockcal::core

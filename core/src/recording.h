@@ -1,0 +1,50 @@
+// What a rock's record keeps of its path (RecordOptions): partition
+// crossings, tree passages, trajectory samples and the grid cells it passed
+// over. Only what the options ask for is recorded. Internal to core.
+#ifndef ROCKCAL_CORE_SRC_RECORDING_H_
+#define ROCKCAL_CORE_SRC_RECORDING_H_
+
+#include "rock_state.h"
+#include "rockcal/core/scene.h"
+#include "rockcal/core/simulate.h"
+#include "rockcal/core/terrain.h"
+
+namespace rockcal::core {
+
+class Recorder final {
+ public:
+  // cluster: the rock turns as a cluster (orientation, full inertia).
+  Recorder(const Scene& scene, const Terrain& terrain, const RockBody& body, bool cluster,
+           RockRecord* rec);
+
+  // At release: empty crossings and passages, the first trajectory sample.
+  void Start(const RockState& s);
+  // Partition crossings, tree passages and trajectory samples within the
+  // advance from s0 to s (flew: on the exact parabola; else a small step).
+  void Advance(const RockState& s0, const RockState& s, bool flew);
+  // The grid cell the rock's centre is over after an advance (-1: none).
+  void Cell(int cell);
+  // At the end, in state s: the cells in order, the last sample.
+  void Finish(const RockState& s);
+
+ private:
+  // State at fraction f of the advance from s0 to s: exact parabola after a
+  // flight, linear within a small step.
+  RockState Between(const RockState& s0, const RockState& s, double f, bool flew) const;
+  Crossing Record(const RockState& s) const;
+  void Sample(const RockState& s, bool force = false);
+
+  const Scene& scene_;
+  const RecordOptions& opt_;
+  const Terrain& terrain_;
+  const RockBody& body_;
+  const bool cluster_;
+  const Eigen::Vector3d gravity_;
+  RockRecord* rec_;
+  bool trajectory_ = false;
+  double next_sample_ = 0.0;
+};
+
+}  // namespace rockcal::core
+
+#endif  // ROCKCAL_CORE_SRC_RECORDING_H_
