@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "rockcal/core/format.h"
 #include "rockcal/core/material.h"
 #include "rockcal/core/rock_shape.h"
 #include "rockcal/observations/observations.h"
@@ -14,16 +15,12 @@
 namespace rockcal::reports::html {
 namespace {
 
+using core::FormatNumber;
+
 using svg::Escape;
 using svg::Label;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-std::string Printf(const char* format, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
 
 std::string Int(long v) { return std::to_string(v); }
 
@@ -71,17 +68,17 @@ std::string Show(double v) {
   if (!std::isfinite(v)) return v > 0 ? "inf" : "-inf";
   const double a = std::fabs(v);
   if (a == 0.0) return "0";
-  if (a >= 100.0) return Printf("%.0f", v);
-  if (a >= 10.0) return Printf("%.1f", v);
-  if (a >= 1.0) return Printf("%.2f", v);
-  return Printf("%.3g", v);
+  if (a >= 100.0) return FormatNumber(v, "%.0f");
+  if (a >= 10.0) return FormatNumber(v, "%.1f");
+  if (a >= 1.0) return FormatNumber(v, "%.2f");
+  return FormatNumber(v, "%.3g");
 }
 
 std::string ShowPercent(double fraction) { return Show(100.0 * fraction) + " %"; }
 
-std::string Percent(double fraction) { return Printf("%.1f", 100.0 * fraction) + " %"; }
+std::string Percent(double fraction) { return FormatNumber(100.0 * fraction, "%.1f") + " %"; }
 
-std::string Exact(double v) { return Printf("%.10g", v); }
+std::string Exact(double v) { return FormatNumber(v, "%.10g"); }
 
 std::string Ref(const std::string& file, const std::string& pointer) {
   return file + "#" + pointer;
@@ -187,24 +184,26 @@ std::string SiteTables(const core::Scene& scene, const std::string& site_file, s
     };
     s += "<tr>" + Td(m.id) +
          Td(Percent(valid ? static_cast<double>(nodes[k]) / valid : 0.0), true) +
-         Td(Printf("%.3f", m.hardness), true) +
+         Td(FormatNumber(m.hardness, "%.3f"), true) +
          Td(m.roughness_m > 0 ? Length(m.roughness_m) : "0 (smooth facets)", true) +
          Td(std::isfinite(r) ? Length(r) : "-", true) +
-         Td(Printf("%.3f", law.restitution) + mark(m.restitution.has_value()), true) +
-         Td(Printf("%.3f", law.friction) + mark(m.friction.has_value()), true) +
-         Td(Printf("%.3f", law.rolling_resistance) + mark(m.rolling_resistance.has_value()), true) +
+         Td(FormatNumber(law.restitution, "%.3f") + mark(m.restitution.has_value()), true) +
+         Td(FormatNumber(law.friction, "%.3f") + mark(m.friction.has_value()), true) +
+         Td(FormatNumber(law.rolling_resistance, "%.3f") + mark(m.rolling_resistance.has_value()),
+            true) +
          Td(Show(law.contact_time * 1e3) + " ms", true) +
-         Td(Printf("%.3f", law.damping_ratio) + " (" + Printf("%.3f", law.eq13_damping_ratio) + ")",
+         Td(FormatNumber(law.damping_ratio, "%.3f") + " (" +
+                FormatNumber(law.eq13_damping_ratio, "%.3f") + ")",
             true) +
          "</tr>";
   }
   s += "</tbody></table><p class=\"note\">Derived from hardness by the default model: e = H, "
        "friction " +
-       Printf("%.2f", sc.hardness_model.friction_soft) + " - (" +
-       Printf("%.2f", sc.hardness_model.friction_soft) + " - " +
-       Printf("%.2f", sc.hardness_model.friction_hard) + ") H, rolling resistance " +
-       Printf("%.2f", sc.hardness_model.rolling_soft) + " to " +
-       Printf("%.2f", sc.hardness_model.rolling_hard) + " with H" +
+       FormatNumber(sc.hardness_model.friction_soft, "%.2f") + " - (" +
+       FormatNumber(sc.hardness_model.friction_soft, "%.2f") + " - " +
+       FormatNumber(sc.hardness_model.friction_hard, "%.2f") + ") H, rolling resistance " +
+       FormatNumber(sc.hardness_model.rolling_soft, "%.2f") + " to " +
+       FormatNumber(sc.hardness_model.rolling_hard, "%.2f") + " with H" +
        (overridden ? "; * set in the site file instead" : "") +
        ". The damping ratio is the one that gives e with a contact that never pulls; the manual's "
        "eq. 13 value is "

@@ -1,5 +1,4 @@
 #include "rockcal/reports/html_report.h"
-#include "rockcal/reports/reach_report.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,15 +9,19 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rockcal/core/format.h"
 #include "rockcal/core/material.h"
 #include "rockcal/core/rock_shape.h"
 #include "rockcal/core/statistics.h"
 #include "rockcal/reports/html_page.h"
+#include "rockcal/reports/reach_report.h"
 #include "rockcal/reports/simulation_outputs.h"
 #include "rockcal/reports/svg.h"
 
 namespace rockcal::reports {
 namespace {
+
+using core::FormatNumber;
 
 using svg::Escape;
 using svg::Label;
@@ -50,12 +53,6 @@ constexpr const char* kReleaseColour = "#009E73";
 constexpr const char* kStopColour = "#0072B2";
 constexpr const char* kTimeoutColour = "#CC79A7";
 constexpr const char* kFenceColour = "#d62728";
-
-std::string Printf(const char* format, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
 
 std::string Int(long v) { return std::to_string(v); }
 
@@ -684,7 +681,7 @@ std::string ProfileSection(const Context& c) {
            "other "
            "ground, whose range across the slope is shaded.";
   cap += exaggeration > 1.05
-             ? " Vertical exaggeration " + Escape(Printf("%.1f", exaggeration)) + "x."
+             ? " Vertical exaggeration " + Escape(FormatNumber(exaggeration, "%.1f")) + "x."
              : " True scale (no vertical exaggeration).";
   return Figure(plot.Svg(), cap, o.width);
 }
@@ -1100,13 +1097,13 @@ std::string DiagnosticsSection(const Context& c) {
 std::string ParameterValue(const calibrate::Parameter& p, double v) {
   switch (p.kind) {
     case calibrate::ParameterKind::kHardness:
-      return Printf("%.3f", v);
+      return FormatNumber(v, "%.3f");
     case calibrate::ParameterKind::kRoughness:
       return Length(v);
     case calibrate::ParameterKind::kContactTime:
       return Show(v) + " s (" + Show(v * 1e3) + " ms)";
     case calibrate::ParameterKind::kRollingResistance:
-      return Printf("%.3f", v);
+      return FormatNumber(v, "%.3f");
   }
   return Show(v);
 }
@@ -1216,7 +1213,7 @@ std::string CalibrationSection(const Context& c) {
     for (std::size_t a = 0; a < ps.size(); ++a) {
       s += "<tr><th>" + Escape(ps[a].label()) + "</th>";
       for (std::size_t b = 0; b < ps.size(); ++b)
-        s += Td(Printf("%.2f", u.correlation[a][b]), true);
+        s += Td(FormatNumber(u.correlation[a][b], "%.2f"), true);
       s += "</tr>";
     }
     s += "</tbody></table>";
@@ -1385,7 +1382,7 @@ std::string FitSection(const Context& c) {
     const auto& r = after[k];
     const bool fraction = r.quantity == "fraction";
     auto value = [&](double v) {
-      if (fraction) return Printf("%.3f", v);
+      if (fraction) return FormatNumber(v, "%.3f");
       return us ? Show(v) + " m (" + Show(v / kFt) + " ft)" : Show(v) + " m";
     };
     const auto it = before.find({r.observation, r.quantity});
