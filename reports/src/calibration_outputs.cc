@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "rockcal/core/format.h"
+#include "rockcal/core/scene.h"
 #include "rockcal/observations/misfit.h"
 
 namespace rockcal::reports {
@@ -35,7 +36,7 @@ const char* SiUnit(const Parameter& p) {
 // A value in the site's units for display (roughness in ft for US sites).
 std::string SiteValue(const Parameter& p, double v, sites::Units units) {
   if (p.kind == ParameterKind::kRoughness && units == sites::Units::kUS)
-    return FormatNumber(v / 0.3048, "%.3g") + " ft";
+    return FormatNumber(v / core::kFoot, "%.3g") + " ft";
   if (p.kind == ParameterKind::kContactTime) return FormatNumber(v * 1e3, "%.3g") + " ms";
   if (p.kind == ParameterKind::kRoughness) return FormatNumber(v, "%.3g") + " m";
   return FormatNumber(v, "%.3f");

@@ -4,20 +4,20 @@
 #include <sstream>
 
 #include "rockcal/core/format.h"
+#include "rockcal/core/scene.h"
 
 namespace rockcal::reports {
 namespace {
 
 using core::CsvField;
 using core::FormatNumber;
+using core::kFoot;
 
 using calibrate::BoundPosition;
 using calibrate::DefaultTable;
 using calibrate::TableRow;
 using calibrate::TableValue;
 using calibrate::ValueStatistics;
-
-constexpr double kFoot = 0.3048;  // m
 
 const char* SiUnit(const std::string& name) {
   if (name == "roughness") return "m";

@@ -115,7 +115,7 @@ std::string Figure(const std::string& svg, const std::string& caption_html, doub
          svg + "<figcaption>" + caption_html + "</figcaption></figure>";
 }
 
-std::string Length(double m) { return Show(m) + " m (" + Show(m / kFt) + " ft)"; }
+std::string Length(double m) { return Show(m) + " m (" + Show(m / core::kFoot) + " ft)"; }
 
 std::string PageHtml(const Page& page) {
   std::string h =
@@ -217,14 +217,13 @@ std::string SiteTables(const core::Scene& scene, const std::string& site_file, s
     const core::GroupExtent extent = core::GroupBodies(grp, sc.gravity);
     const core::RockBody& a = extent.lightest;
     const core::RockBody& b = extent.heaviest;
-    const std::string size = !grp.inventory.empty()
-                                 ? "inventory of " + Int(static_cast<long>(grp.inventory.size())) +
-                                       " blocks"
-                             : grp.size_min == grp.size_max
-                                 ? Length(grp.size_min)
-                                 : Show(grp.size_min) + "-" + Show(grp.size_max) + " m (" +
-                                       Show(grp.size_min / kFt) + "-" + Show(grp.size_max / kFt) +
-                                       " ft)";
+    const std::string size =
+        !grp.inventory.empty()
+            ? "inventory of " + Int(static_cast<long>(grp.inventory.size())) + " blocks"
+        : grp.size_min == grp.size_max ? Length(grp.size_min)
+                                       : Show(grp.size_min) + "-" + Show(grp.size_max) + " m (" +
+                                             Show(grp.size_min / core::kFoot) + "-" +
+                                             Show(grp.size_max / core::kFoot) + " ft)";
     const std::string mass = a.mass == b.mass
                                  ? Show(a.mass) + " kg (" + Show(a.mass / kPound) + " lb)"
                                  : Show(a.mass) + "-" + Show(b.mass) + " kg (" +

@@ -22,6 +22,7 @@ namespace rockcal::reports {
 namespace {
 
 using core::FormatNumber;
+using core::kFoot;
 
 using svg::Escape;
 using svg::Label;
@@ -29,7 +30,6 @@ using svg::Px;
 
 using html::Exact;
 using html::Figure;
-using html::kFt;
 using html::kFtTon;
 using html::Kv;
 using html::Length;
@@ -248,8 +248,8 @@ svg::Plot PlanPlot(const Context& c, const View& view, double max_width, double 
   svg::Plot plot(xlo, xhi, ylo, yhi, o);
   plot.Axes("x [m]", "y [m]");
   if (us) {
-    plot.TopAxis(1.0 / kFt, "x [ft]");
-    plot.RightAxis(1.0 / kFt, "y [ft]");
+    plot.TopAxis(1.0 / kFoot, "x [ft]");
+    plot.RightAxis(1.0 / kFoot, "y [ft]");
   }
   return plot;
 }
@@ -611,8 +611,8 @@ std::string ProfileSection(const Context& c) {
   svg::Plot plot(xlo, xhi, zlo, zhi, o);
   plot.Axes("x [m]", "elevation [m]");
   if (us) {
-    plot.TopAxis(1.0 / kFt, "x [ft]");
-    plot.RightAxis(1.0 / kFt, "elevation [ft]");
+    plot.TopAxis(1.0 / kFoot, "x [ft]");
+    plot.RightAxis(1.0 / kFoot, "elevation [ft]");
   }
   const bool is3d = !c.one_cell_wide;
   if (is3d) {
@@ -790,9 +790,9 @@ std::string StatsRow(const std::string& name, const std::string& key, int p,
   const double h = pick(ps.height), v = pick(ps.velocity), e = pick(ps.energy) * 1e-3;
   return "<tr><th>" + Escape(name) + "</th>" +
          RefCell(Ref("summary.json", base + "height_m/" + key), h, Show(h)) +
-         Td(Show(h / kFt), true) +
+         Td(Show(h / kFoot), true) +
          RefCell(Ref("summary.json", base + "velocity_mps/" + key), v, Show(v)) +
-         Td(Show(v / kFt), true) +
+         Td(Show(v / kFoot), true) +
          RefCell(Ref("summary.json", base + "energy_kj/" + key), e, Show(e)) +
          Td(Show(e * 1e3 / kFtTon), true) + "</tr>";
 }
@@ -829,11 +829,11 @@ std::string PartitionSection(const Context& c, int p) {
   const double fh = c.in.options.barrier_height_m, fe = c.in.options.barrier_energy_j * 1e-3;
   s += "<div class=\"figs\">";
   const std::string n = Int(ps.passed) + " rocks at " + Escape(part.id);
-  s += Figure(Histogram(h, "bounce height [m]", 1.0 / kFt, "bounce height [ft]", fh,
+  s += Figure(Histogram(h, "bounce height [m]", 1.0 / kFoot, "bounce height [ft]", fh,
                         "fence " + Label(fh, 3) + " m", "Histogram of bounce height at " + part.id,
                         std::min(0.0, *std::min_element(h.begin(), h.end()))),
               "<b>Bounce height</b>, " + n + "; dashed: the fence height.", 300);
-  s += Figure(Histogram(v, "speed [m/s]", 1.0 / kFt, "speed [ft/s]", std::nan(""), "",
+  s += Figure(Histogram(v, "speed [m/s]", 1.0 / kFoot, "speed [ft/s]", std::nan(""), "",
                         "Histogram of speed at " + part.id),
               "<b>Speed</b>, " + n + ".", 300);
   s += Figure(
@@ -945,14 +945,14 @@ std::string RunoutSection(const Context& c) {
          (row.key ? RefCell(Ref("summary.json", std::string("/runout/x_m/") + row.key), row.x,
                             Show(row.x))
                   : Td(Show(row.x), true)) +
-         Td(Show(row.x / kFt), true);
-    if (lateral) s += Td(Show(row.y), true) + Td(Show(row.y / kFt), true);
+         Td(Show(row.x / kFoot), true);
+    if (lateral) s += Td(Show(row.y), true) + Td(Show(row.y / kFoot), true);
     s += "</tr>";
   }
   s += "</tbody></table>";
   // Histogram and exceedance curve of stop x.
   s += "<div class=\"figs\">";
-  s += Figure(Histogram(xs, "stop x [m]", 1.0 / kFt, "stop x [ft]", std::nan(""), "",
+  s += Figure(Histogram(xs, "stop x [m]", 1.0 / kFoot, "stop x [ft]", std::nan(""), "",
                         "Histogram of stop x", sorted_x.front()),
               "<b>Stop x</b> of the " + Int(c.stopped) + " stopped rocks.", 300);
   svg::Plot::Options o;
@@ -960,7 +960,7 @@ std::string RunoutSection(const Context& c) {
   o.title = "Share of the released rocks that stopped beyond x";
   svg::Plot plot(sorted_x.front(), sorted_x.back(), 0.0, 100.0, o);
   plot.Axes("x [m]", "rocks beyond x [%]");
-  plot.TopAxis(1.0 / kFt, "x [ft]");
+  plot.TopAxis(1.0 / kFoot, "x [ft]");
   std::vector<double> px, py;
   const double n = Rocks(c);
   for (std::size_t k = 0; k < sorted_x.size(); ++k) {
@@ -1383,7 +1383,7 @@ std::string FitSection(const Context& c) {
     const bool fraction = r.quantity == "fraction";
     auto value = [&](double v) {
       if (fraction) return FormatNumber(v, "%.3f");
-      return us ? Show(v) + " m (" + Show(v / kFt) + " ft)" : Show(v) + " m";
+      return us ? Show(v) + " m (" + Show(v / kFoot) + " ft)" : Show(v) + " m";
     };
     const auto it = before.find({r.observation, r.quantity});
     const std::string base = "/fit/" + Int(static_cast<long>(k)) + "/";
