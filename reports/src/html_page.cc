@@ -138,9 +138,10 @@ std::string PageHtml(const Page& page) {
   return h;
 }
 
-std::string SiteTables(const core::Scene& scene, const std::string& site_file, sites::Units units,
-                       const PartitionPassage* passage) {
-  const core::Scene& sc = scene;
+namespace {
+
+// The site, its file and units, and the terrain grid.
+std::string SiteKv(const core::Scene& sc, const std::string& site_file, sites::Units units) {
   const core::HeightGrid& g = sc.grid;
   const bool us = units == sites::Units::kUS;
   double zmin = kInf, zmax = -kInf;
@@ -163,16 +164,22 @@ std::string SiteTables(const core::Scene& scene, const std::string& site_file, s
                  Label(zmax) + " m" + (holes ? "; " + Int(holes) + " nodes without data" : "") +
                  (one_cell_wide ? "; a 2D profile one cell wide" : "")));
   s += "</table>";
+  return s;
+}
 
-  // Materials.
+// The materials with their share of the slope and the contact law derived
+// from each.
+std::string MaterialsTable(const core::Scene& sc) {
+  const core::HeightGrid& g = sc.grid;
   std::vector<int> nodes(sc.materials.size(), 0);
   int valid = 0;
   for (std::size_t n = 0; n < g.z.size(); ++n)
     if (std::isfinite(g.z[n])) ++nodes[static_cast<std::size_t>(g.material[n])], ++valid;
-  s += "<h3>Materials</h3><table><thead><tr>" + Th("material") + Th("share of the slope") +
-       Th("hardness H") + Th("roughness R") + Th("virtual sphere radius") + Th("restitution e") +
-       Th("friction f") + Th("rolling resistance") + Th("contact time") +
-       Th("damping ratio (eq. 13)") + "</tr></thead><tbody>";
+  std::string s = "<h3>Materials</h3><table><thead><tr>" + Th("material") +
+                  Th("share of the slope") + Th("hardness H") + Th("roughness R") +
+                  Th("virtual sphere radius") + Th("restitution e") + Th("friction f") +
+                  Th("rolling resistance") + Th("contact time") + Th("damping ratio (eq. 13)") +
+                  "</tr></thead><tbody>";
   bool overridden = false;
   for (std::size_t k = 0; k < sc.materials.size(); ++k) {
     const core::Material& m = sc.materials[k];
@@ -208,10 +215,35 @@ std::string SiteTables(const core::Scene& scene, const std::string& site_file, s
        ". The damping ratio is the one that gives e with a contact that never pulls; the manual's "
        "eq. 13 value is "
        "shown beside it. Virtual sphere radius r = (R&#178; + (s/2)&#178;) / (2R).</p>";
+  return s;
+}
 
-  // Rock groups.
-  s += "<h3>Rock groups</h3><table><thead><tr>" + Th("group") + Th("rocks") + Th("shape") +
-       Th("size") + Th("unit weight") + Th("mass") + Th("release") + "</tr></thead><tbody>";
+// Where group `grp` is released: zone or point, height or elevation, velocity.
+std::string GroupRelease(const core::RockGroup& grp) {
+  std::string release;
+  if (!grp.release.zone.empty()) {
+    const Eigen::Vector2d cen = observations::ReleaseCentroid(grp.release);
+    release = "zone of " + Int(static_cast<long>(grp.release.zone.size())) + " vertices around (" +
+              Label(cen.x()) + ", " + Label(cen.y()) + ") m";
+  } else {
+    release =
+        "point (" + Label(grp.release.point.x()) + ", " + Label(grp.release.point.y()) + ") m";
+  }
+  if (grp.release.elevation)
+    release += ", dropped from elevation " + Length(*grp.release.elevation);
+  else if (grp.release.height > 0)
+    release += ", " + Length(grp.release.height) + " above the ground";
+  if (grp.release.velocity.norm() > 0)
+    release += ", initial velocity (" + Label(grp.release.velocity.x()) + ", " +
+               Label(grp.release.velocity.y()) + ", " + Label(grp.release.velocity.z()) + ") m/s";
+  return release;
+}
+
+// The rock groups: count, shape, size, unit weight, mass and release.
+std::string RockGroupsTable(const core::Scene& sc) {
+  std::string s = "<h3>Rock groups</h3><table><thead><tr>" + Th("group") + Th("rocks") +
+                  Th("shape") + Th("size") + Th("unit weight") + Th("mass") + Th("release") +
+                  "</tr></thead><tbody>";
   for (std::size_t k = 0; k < sc.groups.size(); ++k) {
     const core::RockGroup& grp = sc.groups[k];
     const core::GroupExtent extent = core::GroupBodies(grp, sc.gravity);
@@ -228,31 +260,18 @@ std::string SiteTables(const core::Scene& scene, const std::string& site_file, s
                                  ? Show(a.mass) + " kg (" + Show(a.mass / kPound) + " lb)"
                                  : Show(a.mass) + "-" + Show(b.mass) + " kg (" +
                                        Show(a.mass / kPound) + "-" + Show(b.mass / kPound) + " lb)";
-    std::string release;
-    if (!grp.release.zone.empty()) {
-      const Eigen::Vector2d cen = observations::ReleaseCentroid(grp.release);
-      release = "zone of " + Int(static_cast<long>(grp.release.zone.size())) +
-                " vertices around (" + Label(cen.x()) + ", " + Label(cen.y()) + ") m";
-    } else {
-      release =
-          "point (" + Label(grp.release.point.x()) + ", " + Label(grp.release.point.y()) + ") m";
-    }
-    if (grp.release.elevation)
-      release += ", dropped from elevation " + Length(*grp.release.elevation);
-    else if (grp.release.height > 0)
-      release += ", " + Length(grp.release.height) + " above the ground";
-    if (grp.release.velocity.norm() > 0)
-      release += ", initial velocity (" + Label(grp.release.velocity.x()) + ", " +
-                 Label(grp.release.velocity.y()) + ", " + Label(grp.release.velocity.z()) + ") m/s";
     s += "<tr>" + Td(Int(static_cast<long>(k + 1)), true) + Td(Int(grp.count), true) +
          Td(grp.inventory.empty() ? core::ShapeName(grp.shape) : "blocks") + Td(size) +
          Td(Show(grp.unit_weight * 1e-3) + " kN/m³ (" + Show(grp.unit_weight / kLbfPerFt3) +
             " lbf/ft³)") +
-         Td(mass) + Td(release) + "</tr>";
+         Td(mass) + Td(GroupRelease(grp)) + "</tr>";
   }
-  s += "</tbody></table>";
+  return s + "</tbody></table>";
+}
 
-  // Partitions.
+// The partitions, with the rocks that passed each when `passage` is given.
+std::string PartitionsTable(const core::Scene& sc, const PartitionPassage* passage) {
+  std::string s;
   if (!sc.partitions.empty()) {
     s += "<h3>Partitions</h3><table><thead><tr>" + Th("partition") + Th("kind") + Th("at") +
          (passage ? Th("rocks passed") : std::string()) + "</tr></thead><tbody>";
@@ -277,6 +296,14 @@ std::string SiteTables(const core::Scene& scene, const std::string& site_file, s
     s += "</tbody></table>";
   }
   return s;
+}
+
+}  // namespace
+
+std::string SiteTables(const core::Scene& scene, const std::string& site_file, sites::Units units,
+                       const PartitionPassage* passage) {
+  return SiteKv(scene, site_file, units) + MaterialsTable(scene) + RockGroupsTable(scene) +
+         PartitionsTable(scene, passage);
 }
 
 std::string SiteNotes(const std::vector<std::string>& notes) {
