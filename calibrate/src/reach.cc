@@ -154,9 +154,7 @@ void Reduce(const std::vector<ReachPoint>& points, std::size_t s, ReachStatistic
 
 std::string G(double v, const char* format = "%.4g") {
   if (std::isnan(v)) return "-";
-  char buf[48];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
+  return core::FormatNumber(v, format);
 }
 
 constexpr const char* kRule =

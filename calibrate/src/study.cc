@@ -30,9 +30,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 std::string Percent(double fraction) {
   if (!std::isfinite(fraction)) return "unknown";
-  char buf[48];
-  std::snprintf(buf, sizeof buf, fraction < 0.001 ? "%.2g %%" : "%.3g %%", 100.0 * fraction);
-  return buf;
+  return core::FormatNumber(100.0 * fraction, fraction < 0.001 ? "%.2g %%" : "%.3g %%");
 }
 
 // Applies `f` to every material of the scene.

@@ -4,19 +4,16 @@
 #define ROCKCAL_CALIBRATE_SRC_TABLE_TEXT_H_
 
 #include <cmath>
-#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
+
+#include "rockcal/core/format.h"
 
 namespace rockcal::calibrate::text {
 
 // A number for CSV: empty for NaN, "inf" / "-inf" for infinities.
 inline std::string Num(double v, const char* format = "%.6g") {
-  if (std::isnan(v)) return "";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  char buf[48];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
+  return std::isnan(v) ? "" : core::FormatNumber(v, format);
 }
 
 // JSON number, null when not finite (JSON has no inf or NaN).
@@ -24,16 +21,7 @@ inline nlohmann::json JsonNum(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
 }
 
-// CSV field: quoted when it holds a comma, quote or newline.
-inline std::string CsvField(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + "\"";
-}
+using core::CsvField;
 
 }  // namespace rockcal::calibrate::text
 

@@ -2,16 +2,17 @@
 
 #include <omp.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <Eigen/Geometry>
 #include <limits>
 
 #include "flight.h"
 #include "recording.h"
 #include "rock_state.h"
 #include "rockcal/core/contact.h"
+#include "rockcal/core/polygon.h"
 #include "rockcal/core/random.h"
 
 namespace rockcal::core {
@@ -62,18 +63,6 @@ struct StepSizes {
   std::vector<MaterialSteps> material;  // Scene::materials order
   double finest = 0.0;                  // the shortest contact step
 };
-
-// Point in polygon (even-odd rule).
-bool InPolygon(const std::vector<Eigen::Vector2d>& poly, double x, double y) {
-  bool inside = false;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    const auto& a = poly[i];
-    const auto& b = poly[j];
-    if ((a.y() > y) != (b.y() > y) && x < (b.x() - a.x()) * (y - a.y()) / (b.y() - a.y()) + a.x())
-      inside = !inside;
-  }
-  return inside;
-}
 
 // One rock, from release to its outcome. kCluster selects the rigid-cluster
 // path (orientation, full inertia); spheres carry no orientation work.
@@ -527,7 +516,8 @@ RockState ReleaseRock(const SceneContext& ctx, const RockGroup& group, const Roc
     }
     x = xmin + u_pos[0] * (xmax - xmin);
     y = ymin + u_pos[1] * (ymax - ymin);
-    for (int tries = 0; tries < 10000 && !InPolygon(rel.zone, x, y); ++tries) {
+    for (int tries = 0; tries < 10000 && !PointInPolygon(rel.zone, Eigen::Vector2d(x, y));
+         ++tries) {
       x = rng->Uniform(xmin, xmax);
       y = rng->Uniform(ymin, ymax);
     }

@@ -6,18 +6,15 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rockcal/core/format.h"
 #include "rockcal/core/statistics.h"
 
 namespace rockcal::observations {
 namespace {
 
-constexpr double kAbsoluteSigmaFloor = 1e-9;
+using core::FormatNumber;
 
-std::string FormatNumber(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
+constexpr double kAbsoluteSigmaFloor = 1e-9;
 
 // Value at a fractional position k in [0, n - 1] of an ascending sample,
 // interpolated linearly between neighbouring order statistics.
@@ -111,7 +108,7 @@ void Comparer::Quantiles(const std::string& observation, std::vector<double> sim
   if (sparse) {
     Penalise(observation + ": " + std::to_string(simulated.size()) + " simulated value" +
              (simulated.size() == 1 ? "" : "s") + " (fewer than 2); penalty " +
-             FormatNumber(options_.penalty) + " added.");
+             FormatNumber(options_.penalty, "%.6g") + " added.");
   }
   const double min_sigma = Floor(error);
   auto compare = [&](const std::string& quantity, double sim, double obs, double sim_error,
@@ -135,8 +132,8 @@ void Comparer::Quantiles(const std::string& observation, std::vector<double> sim
 void Comparer::Share(const std::string& observation, int k_sim, int n_sim, double observed,
                      int n_obs) const {
   if (n_sim <= 0) {
-    Penalise(observation + ": no rocks released; penalty " + FormatNumber(options_.penalty) +
-             " added.");
+    Penalise(observation + ": no rocks released; penalty " +
+             FormatNumber(options_.penalty, "%.6g") + " added.");
     Add(observation, "share", 0.0, observed, 1.0, std::sqrt(2.0 * options_.penalty));
     return;
   }
@@ -152,8 +149,8 @@ void Comparer::Share(const std::string& observation, int k_sim, int n_sim, doubl
 void Comparer::Fraction(const std::string& observation, int crossed, int released, double observed,
                         double error) const {
   if (released <= 0) {
-    Penalise(observation + ": no rocks released; penalty " + FormatNumber(options_.penalty) +
-             " added.");
+    Penalise(observation + ": no rocks released; penalty " +
+             FormatNumber(options_.penalty, "%.6g") + " added.");
     Add(observation, "fraction", 0.0, observed, std::max(error, Floor(error)),
         std::sqrt(2.0 * options_.penalty));
     return;
@@ -220,11 +217,11 @@ void CompareRunout(const Runout& runout, double error, const core::SimulationRes
       if (class_of(runout.masses[k]) == c) obs.push_back(runout.distances[k]);
     if (obs.empty()) continue;  // ties at a bound can empty a class
     const std::string range =
-        c == 0 ? "< " + FormatNumber(std::round(bounds[0]))
+        c == 0 ? "< " + FormatNumber(std::round(bounds[0]), "%.6g")
         : c + 1 == runout.mass_classes
-            ? ">= " + FormatNumber(std::round(bounds[static_cast<std::size_t>(c - 1)]))
-            : FormatNumber(std::round(bounds[static_cast<std::size_t>(c - 1)])) + "-" +
-                  FormatNumber(std::round(bounds[static_cast<std::size_t>(c)]));
+            ? ">= " + FormatNumber(std::round(bounds[static_cast<std::size_t>(c - 1)]), "%.6g")
+            : FormatNumber(std::round(bounds[static_cast<std::size_t>(c - 1)]), "%.6g") + "-" +
+                  FormatNumber(std::round(bounds[static_cast<std::size_t>(c)]), "%.6g");
     const std::string label = "runout distance, mass " + range + " kg";
     compare.Quantiles(label, std::move(sim), std::move(obs), error, {0.5}, false);
   }
@@ -244,15 +241,16 @@ bool MisfitOptions::IsValid(std::string* error) const {
   }
   for (std::size_t i = 0; i < levels.size(); ++i) {
     if (!(levels[i] >= 0.0 && levels[i] <= 1.0)) {
-      return fail("levels[" + std::to_string(i) + "] = " + FormatNumber(levels[i]) +
+      return fail("levels[" + std::to_string(i) + "] = " + FormatNumber(levels[i], "%.6g") +
                   " (expected a level in [0, 1])");
     }
   }
   if (!(std::isfinite(penalty) && penalty > 0.0)) {
-    return fail("penalty = " + FormatNumber(penalty) + " (expected a finite number > 0)");
+    return fail("penalty = " + FormatNumber(penalty, "%.6g") + " (expected a finite number > 0)");
   }
   if (!(sigma_floor > 0.0 && sigma_floor <= 1.0)) {
-    return fail("sigma_floor = " + FormatNumber(sigma_floor) + " (expected a number in (0, 1])");
+    return fail("sigma_floor = " + FormatNumber(sigma_floor, "%.6g") +
+                " (expected a number in (0, 1])");
   }
   return true;
 }
@@ -331,10 +329,7 @@ std::string LevelName(double level) {
   if (std::abs(percent - rounded) < 1e-9) {
     return "p" + std::to_string(static_cast<long>(rounded));
   }
-  std::ostringstream s;
-  s.precision(6);
-  s << "p" << percent;
-  return s.str();
+  return "p" + FormatNumber(percent, "%.6g");
 }
 
 Misfit ComputeMisfit(const Observations& observations, const core::Scene& scene,
@@ -349,7 +344,7 @@ Misfit ComputeMisfit(const Observations& observations, const core::Scene& scene,
     misfit.penalised = true;
     misfit.message = "the simulation produced " + std::to_string(non_finite) +
                      " rock(s) with a non-finite state; misfit set to the penalty " +
-                     FormatNumber(options.penalty) + ".";
+                     FormatNumber(options.penalty, "%.6g") + ".";
     return misfit;
   }
 

@@ -116,6 +116,31 @@ double CsvNonNegative(const CsvTable& table, const CsvRow& row, std::size_t i, c
 
 // ---------------------------------------------------------------------------
 
+// The unit vector from `from` towards the mean of `stop_points`: the runout
+// direction when the file gives none. Throws, naming `node`, when the mean
+// stop point is the origin or the direction has no finite normalisation.
+Eigen::Vector2d TowardsMeanStop(const JsonNode& node,
+                                const std::vector<Eigen::Vector2d>& stop_points,
+                                const Eigen::Vector2d& from) {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& p : stop_points) mean += p;
+  mean /= static_cast<double>(stop_points.size());
+  const Eigen::Vector2d d = mean - from;
+  if (!(d.norm() > 1e-9 * (1.0 + from.norm()))) {
+    throw InputError(node.where(), "cannot choose a runout direction: the mean stop point " +
+                                       FormatPoint(mean) + " m coincides with the origin " +
+                                       FormatPoint(from) + " m (expected 'direction' [dx, dy])");
+  }
+  const Eigen::Vector2d direction = d / d.norm();
+  if (!direction.allFinite() || !(std::abs(direction.norm() - 1.0) < 1e-9)) {
+    throw InputError(node.where(), "cannot choose a runout direction: the direction from " +
+                                       FormatPoint(from) + " to the mean stop point " +
+                                       FormatPoint(mean) +
+                                       " m has no finite normalisation (expected 'direction')");
+  }
+  return direction;
+}
+
 class Loader final {
  public:
   Loader(const std::string& path, const core::Scene& scene) : path_(path), scene_(scene) {}
@@ -410,23 +435,7 @@ Runout Loader::ReadRunoutPositions(const JsonNode& node, std::vector<std::string
   if (direction) {
     runout.direction = *direction;
   } else {
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    for (const Eigen::Vector2d& p : runout.stop_points) mean += p;
-    mean /= static_cast<double>(runout.stop_points.size());
-    const Eigen::Vector2d d = mean - runout.from;
-    if (!(d.norm() > 1e-9 * (1.0 + runout.from.norm()))) {
-      throw InputError(node.where(), "cannot choose a runout direction: the mean stop point " +
-                                         FormatPoint(mean) + " m coincides with the origin " +
-                                         FormatPoint(runout.from) +
-                                         " m (expected 'direction' [dx, dy])");
-    }
-    runout.direction = d / d.norm();
-    if (!runout.direction.allFinite() || !(std::abs(runout.direction.norm() - 1.0) < 1e-9)) {
-      throw InputError(node.where(), "cannot choose a runout direction: the direction from " +
-                                         FormatPoint(runout.from) + " to the mean stop point " +
-                                         FormatPoint(mean) +
-                                         " m has no finite normalisation (expected 'direction')");
-    }
+    runout.direction = TowardsMeanStop(node, runout.stop_points, runout.from);
     direction_note = "towards the mean stop point";
   }
   for (const Eigen::Vector2d& p : runout.stop_points) {

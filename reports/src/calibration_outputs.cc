@@ -6,20 +6,18 @@
 #include <limits>
 #include <sstream>
 
+#include "rockcal/core/format.h"
+#include "rockcal/core/scene.h"
 #include "rockcal/observations/misfit.h"
 
 namespace rockcal::reports {
 namespace {
 
+using core::FormatNumber;
+
 using calibrate::MethodResult;
 using calibrate::Parameter;
 using calibrate::ParameterKind;
-
-std::string Num(double v, const char* format = "%.6g") {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
 
 const char* SiUnit(const Parameter& p) {
   switch (p.kind) {
@@ -39,10 +37,10 @@ const char* SiUnit(const Parameter& p) {
 // A value in the site's units for display (roughness in ft for US sites).
 std::string SiteValue(const Parameter& p, double v, sites::Units units) {
   if (p.kind == ParameterKind::kRoughness && units == sites::Units::kUS)
-    return Num(v / 0.3048, "%.3g") + " ft";
-  if (p.kind == ParameterKind::kContactTime) return Num(v * 1e3, "%.3g") + " ms";
-  if (p.kind == ParameterKind::kRoughness) return Num(v, "%.3g") + " m";
-  return Num(v, "%.3f");
+    return FormatNumber(v / core::kFoot, "%.3g") + " ft";
+  if (p.kind == ParameterKind::kContactTime) return FormatNumber(v * 1e3, "%.3g") + " ms";
+  if (p.kind == ParameterKind::kRoughness) return FormatNumber(v, "%.3g") + " m";
+  return FormatNumber(v, "%.3f");
 }
 
 // The best method's standard error of parameter k, if computed.
@@ -97,9 +95,9 @@ std::string ParametersCsv(const CalibrationSummary& record) {
   for (std::size_t k = 0; k < ps.size(); ++k) {
     const double* se = StdError(best, k);
     out << ps[k].material << ',' << ps[k].class_name() << ',' << ps[k].name() << ','
-        << Num(best.best[k], "%.10g") << ',' << Num(ps[k].lower, "%.10g") << ','
-        << Num(ps[k].upper, "%.10g") << ',' << (se ? Num(*se, "%.6g") : "") << ',' << SiUnit(ps[k])
-        << '\n';
+        << FormatNumber(best.best[k], "%.10g") << ',' << FormatNumber(ps[k].lower, "%.10g") << ','
+        << FormatNumber(ps[k].upper, "%.10g") << ',' << (se ? FormatNumber(*se, "%.6g") : "") << ','
+        << SiUnit(ps[k]) << '\n';
   }
   return out.str();
 }
@@ -120,8 +118,9 @@ std::string ParametersMarkdown(const CalibrationSummary& record) {
         << SiteValue(ps[k], ps[k].upper, record.units) << "] |\n";
   }
   out << "\nSite " << record.site << "; method " << best.method << ", " << best.evaluations
-      << " evaluations in " << Num(best.wall_seconds, "%.1f") << " s; misfit "
-      << Num(record.misfit_before.value, "%.4g") << " before, " << Num(best.best_misfit, "%.4g")
+      << " evaluations in " << FormatNumber(best.wall_seconds, "%.1f") << " s; misfit "
+      << FormatNumber(record.misfit_before.value, "%.4g") << " before, "
+      << FormatNumber(best.best_misfit, "%.4g")
       << " after (half the sum of squared residuals in units of their uncertainty); "
       << record.rocks << " rocks per evaluation, seed " << record.seed << ".\n";
   if (best.uncertainty.computed && best.uncertainty.rank_deficient)
@@ -138,9 +137,9 @@ std::string TraceCsv(const CalibrationSummary& record) {
     double best = std::numeric_limits<double>::infinity();
     for (const auto& e : m.trace) {
       best = std::min(best, e.misfit);
-      out << m.method << ',' << e.index << ',' << Num(e.elapsed, "%.4f") << ','
-          << Num(e.misfit, "%.8g") << ',' << Num(best, "%.8g");
-      for (double v : e.parameters) out << ',' << Num(v, "%.10g");
+      out << m.method << ',' << e.index << ',' << FormatNumber(e.elapsed, "%.4f") << ','
+          << FormatNumber(e.misfit, "%.8g") << ',' << FormatNumber(best, "%.8g");
+      for (double v : e.parameters) out << ',' << FormatNumber(v, "%.10g");
       out << ',' << (e.replayed ? 1 : 0) << '\n';
     }
   }
@@ -236,9 +235,10 @@ std::string ComparisonCsv(const CalibrationSummary& record) {
     const double reach = calibrate::TimeToReach(m, best_all, 0.1);
     std::string term = m.termination.message;
     std::replace(term.begin(), term.end(), ',', ';');
-    out << m.method << ',' << Num(m.best_misfit, "%.6g") << ',' << Num(m.lowest_misfit, "%.6g")
-        << ',' << m.evaluations << ',' << m.simulated << ',' << Num(m.wall_seconds, "%.2f") << ','
-        << (reach >= 0 ? Num(reach, "%.2f") : "") << ",\"" << term << "\"\n";
+    out << m.method << ',' << FormatNumber(m.best_misfit, "%.6g") << ','
+        << FormatNumber(m.lowest_misfit, "%.6g") << ',' << m.evaluations << ',' << m.simulated
+        << ',' << FormatNumber(m.wall_seconds, "%.2f") << ','
+        << (reach >= 0 ? FormatNumber(reach, "%.2f") : "") << ",\"" << term << "\"\n";
   }
   return out.str();
 }
@@ -251,11 +251,11 @@ std::string ComparisonMarkdown(const CalibrationSummary& record) {
       << "|---|---|---|---|---|---|---|\n";
   for (const MethodResult& m : record.methods) {
     const double reach = calibrate::TimeToReach(m, best_all, 0.1);
-    out << "| " << m.method << " | " << Num(m.best_misfit, "%.4g") << " | "
-        << Num(m.lowest_misfit, "%.4g") << " | " << m.evaluations
-        << " | " << Num(m.wall_seconds, "%.1f") << " | "
-        << (reach >= 0 ? Num(reach, "%.1f") : std::string("never")) << " | " << m.termination.message
-        << " |\n";
+    out << "| " << m.method << " | " << FormatNumber(m.best_misfit, "%.4g") << " | "
+        << FormatNumber(m.lowest_misfit, "%.4g") << " | " << m.evaluations << " | "
+        << FormatNumber(m.wall_seconds, "%.1f") << " | "
+        << (reach >= 0 ? FormatNumber(reach, "%.1f") : std::string("never")) << " | "
+        << m.termination.message << " |\n";
   }
   return out.str();
 }
@@ -289,15 +289,15 @@ std::string HoldoutCsv(const calibrate::HoldoutSummary& holdout, const Calibrati
   for (const auto& p : full.space.parameters()) out << ',' << p.label();
   out << '\n';
   for (const calibrate::FoldResult& f : holdout.results) {
-    out << f.fold << ',' << f.held_out_values << ',' << Num(f.in_sample_misfit, "%.8g") << ','
-        << Num(f.held_out_misfit, "%.8g") << ','
-        << (f.runout_error_m ? Num(*f.runout_error_m, "%.6g") : "");
-    for (double v : f.calibrated) out << ',' << Num(v, "%.10g");
+    out << f.fold << ',' << f.held_out_values << ',' << FormatNumber(f.in_sample_misfit, "%.8g")
+        << ',' << FormatNumber(f.held_out_misfit, "%.8g") << ','
+        << (f.runout_error_m ? FormatNumber(*f.runout_error_m, "%.6g") : "");
+    for (double v : f.calibrated) out << ',' << FormatNumber(v, "%.10g");
     out << '\n';
   }
-  out << "mean,," << Num(holdout.mean_in_sample_misfit, "%.8g") << ','
-      << Num(holdout.mean_held_out_misfit, "%.8g") << ','
-      << (holdout.mean_runout_error_m ? Num(*holdout.mean_runout_error_m, "%.6g") : "");
+  out << "mean,," << FormatNumber(holdout.mean_in_sample_misfit, "%.8g") << ','
+      << FormatNumber(holdout.mean_held_out_misfit, "%.8g") << ','
+      << (holdout.mean_runout_error_m ? FormatNumber(*holdout.mean_runout_error_m, "%.6g") : "");
   for (std::size_t k = 0; k < full.space.parameters().size(); ++k) out << ',';
   out << '\n';
   return out.str();

@@ -3,22 +3,21 @@
 #include <cstdio>
 #include <sstream>
 
+#include "rockcal/core/format.h"
+#include "rockcal/core/scene.h"
+
 namespace rockcal::reports {
 namespace {
+
+using core::CsvField;
+using core::FormatNumber;
+using core::kFoot;
 
 using calibrate::BoundPosition;
 using calibrate::DefaultTable;
 using calibrate::TableRow;
 using calibrate::TableValue;
 using calibrate::ValueStatistics;
-
-constexpr double kFoot = 0.3048;  // m
-
-std::string Num(double v, const char* format = "%.10g") {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
 
 const char* SiUnit(const std::string& name) {
   if (name == "roughness") return "m";
@@ -33,8 +32,8 @@ std::string Label(const std::string& name) {
 
 // A value for reading: hardness as it is, roughness in m, contact time in ms.
 std::string Show(const std::string& name, double v) {
-  if (name == "contact_time") return Num(v * 1e3, "%.3g");
-  return Num(v, "%.3g");
+  if (name == "contact_time") return FormatNumber(v * 1e3, "%.3g");
+  return FormatNumber(v, "%.3g");
 }
 std::string Unit(const std::string& name) {
   if (name == "roughness") return " m";
@@ -44,23 +43,16 @@ std::string Unit(const std::string& name) {
 // "0.21 m (0.69 ft)", "0.4", "5 ms".
 std::string ShowOne(const std::string& name, double v) {
   std::string s = Show(name, v) + Unit(name);
-  if (name == "roughness") s += " (" + Num(v / kFoot, "%.3g") + " ft)";
+  if (name == "roughness") s += " (" + FormatNumber(v / kFoot, "%.3g") + " ft)";
   return s;
 }
 // "0.15 – 0.3 m (0.49 – 0.98 ft)".
 std::string ShowRange(const std::string& name, double lo, double hi) {
   std::string s = Show(name, lo) + " – " + Show(name, hi) + Unit(name);
   if (name == "roughness")
-    s += " (" + Num(lo / kFoot, "%.3g") + " – " + Num(hi / kFoot, "%.3g") + " ft)";
+    s +=
+        " (" + FormatNumber(lo / kFoot, "%.3g") + " – " + FormatNumber(hi / kFoot, "%.3g") + " ft)";
   return s;
-}
-
-// A CSV field, quoted when it holds a comma, a quote or a line break.
-std::string Field(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
 }
 
 // Markdown cell text: '|' would end the cell.
@@ -82,14 +74,15 @@ nlohmann::json StatsJson(const ValueStatistics& s) {
 std::string StatsCsv(const ValueStatistics& s) {
   const bool any = s.values > 0;
   return std::to_string(s.sites) + ',' + std::to_string(s.values) + ',' +
-         (any ? Num(s.median) : "") + ',' + (any ? Num(s.min) : "") + ',' + (any ? Num(s.max) : "");
+         (any ? FormatNumber(s.median) : "") + ',' + (any ? FormatNumber(s.min) : "") + ',' +
+         (any ? FormatNumber(s.max) : "");
 }
 
 nlohmann::json Optional(const std::optional<double>& v) {
   return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
 }
 
-std::string Percent(double fraction) { return Num(fraction * 100, "%.3g") + " %"; }
+std::string Percent(double fraction) { return FormatNumber(fraction * 100, "%.3g") + " %"; }
 
 // The Markdown summary table of `stats` (headline or all) per row.
 void SummaryTable(const DefaultTable& table, bool headline, std::ostringstream& out) {
@@ -155,7 +148,7 @@ std::string DefaultTableCsv(const DefaultTable& table) {
   out << "class,parameter,unit,sites,values,median,min,max,at_bound,"
          "sites_all,values_all,median_all,min_all,max_all\n";
   for (const TableRow& row : table.rows) {
-    out << Field(row.material_class) << ',' << row.name << ',' << SiUnit(row.name) << ','
+    out << CsvField(row.material_class) << ',' << row.name << ',' << SiUnit(row.name) << ','
         << StatsCsv(row.headline) << ',' << row.at_bound << ',' << StatsCsv(row.all) << '\n';
   }
   return out.str();
@@ -166,11 +159,11 @@ std::string DefaultTableValuesCsv(const DefaultTable& table) {
   out << "class,parameter,unit,site,folder,material,value,lower,upper,std_error,at_bound,counted\n";
   for (const TableRow& row : table.rows) {
     for (const TableValue& v : row.values) {
-      out << Field(row.material_class) << ',' << row.name << ',' << SiUnit(row.name) << ','
-          << Field(v.site) << ',' << Field(v.result_dir) << ',' << Field(v.material) << ','
-          << Num(v.value) << ',' << Num(v.lower) << ',' << Num(v.upper) << ','
-          << (v.std_error ? Num(*v.std_error) : "") << ',' << calibrate::BoundName(v.bound) << ','
-          << (v.counted ? 1 : 0) << '\n';
+      out << CsvField(row.material_class) << ',' << row.name << ',' << SiUnit(row.name) << ','
+          << CsvField(v.site) << ',' << CsvField(v.result_dir) << ',' << CsvField(v.material) << ','
+          << FormatNumber(v.value) << ',' << FormatNumber(v.lower) << ',' << FormatNumber(v.upper)
+          << ',' << (v.std_error ? FormatNumber(*v.std_error) : "") << ','
+          << calibrate::BoundName(v.bound) << ',' << (v.counted ? 1 : 0) << '\n';
     }
   }
   return out.str();
@@ -223,8 +216,9 @@ std::string DefaultTableMarkdown(const DefaultTable& table) {
       << "|---|---|---|---|---|---|\n";
   for (const calibrate::CalibratedSite& s : table.sites) {
     out << "| " << Cell(s.result_dir) << " | " << Cell(s.site) << " | " << Cell(s.method) << " | "
-        << s.evaluations << " | " << Num(s.misfit, "%.4g") << " | "
-        << (s.grid_spacing_m ? Num(*s.grid_spacing_m, "%.4g") + " m" : std::string("-")) << " |\n";
+        << s.evaluations << " | " << FormatNumber(s.misfit, "%.4g") << " | "
+        << (s.grid_spacing_m ? FormatNumber(*s.grid_spacing_m, "%.4g") + " m" : std::string("-"))
+        << " |\n";
   }
   if (!table.notes.empty()) {
     out << "\n### Notes\n\n";

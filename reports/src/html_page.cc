@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "rockcal/core/format.h"
 #include "rockcal/core/material.h"
 #include "rockcal/core/rock_shape.h"
 #include "rockcal/observations/observations.h"
@@ -14,16 +15,12 @@
 namespace rockcal::reports::html {
 namespace {
 
+using core::FormatNumber;
+
 using svg::Escape;
 using svg::Label;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-std::string Printf(const char* format, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
 
 std::string Int(long v) { return std::to_string(v); }
 
@@ -71,17 +68,17 @@ std::string Show(double v) {
   if (!std::isfinite(v)) return v > 0 ? "inf" : "-inf";
   const double a = std::fabs(v);
   if (a == 0.0) return "0";
-  if (a >= 100.0) return Printf("%.0f", v);
-  if (a >= 10.0) return Printf("%.1f", v);
-  if (a >= 1.0) return Printf("%.2f", v);
-  return Printf("%.3g", v);
+  if (a >= 100.0) return FormatNumber(v, "%.0f");
+  if (a >= 10.0) return FormatNumber(v, "%.1f");
+  if (a >= 1.0) return FormatNumber(v, "%.2f");
+  return FormatNumber(v, "%.3g");
 }
 
 std::string ShowPercent(double fraction) { return Show(100.0 * fraction) + " %"; }
 
-std::string Percent(double fraction) { return Printf("%.1f", 100.0 * fraction) + " %"; }
+std::string Percent(double fraction) { return FormatNumber(100.0 * fraction, "%.1f") + " %"; }
 
-std::string Exact(double v) { return Printf("%.10g", v); }
+std::string Exact(double v) { return FormatNumber(v, "%.10g"); }
 
 std::string Ref(const std::string& file, const std::string& pointer) {
   return file + "#" + pointer;
@@ -118,7 +115,7 @@ std::string Figure(const std::string& svg, const std::string& caption_html, doub
          svg + "<figcaption>" + caption_html + "</figcaption></figure>";
 }
 
-std::string Length(double m) { return Show(m) + " m (" + Show(m / kFt) + " ft)"; }
+std::string Length(double m) { return Show(m) + " m (" + Show(m / core::kFoot) + " ft)"; }
 
 std::string PageHtml(const Page& page) {
   std::string h =
@@ -141,9 +138,10 @@ std::string PageHtml(const Page& page) {
   return h;
 }
 
-std::string SiteTables(const core::Scene& scene, const std::string& site_file, sites::Units units,
-                       const PartitionPassage* passage) {
-  const core::Scene& sc = scene;
+namespace {
+
+// The site, its file and units, and the terrain grid.
+std::string SiteKv(const core::Scene& sc, const std::string& site_file, sites::Units units) {
   const core::HeightGrid& g = sc.grid;
   const bool us = units == sites::Units::kUS;
   double zmin = kInf, zmax = -kInf;
@@ -166,16 +164,22 @@ std::string SiteTables(const core::Scene& scene, const std::string& site_file, s
                  Label(zmax) + " m" + (holes ? "; " + Int(holes) + " nodes without data" : "") +
                  (one_cell_wide ? "; a 2D profile one cell wide" : "")));
   s += "</table>";
+  return s;
+}
 
-  // Materials.
+// The materials with their share of the slope and the contact law derived
+// from each.
+std::string MaterialsTable(const core::Scene& sc) {
+  const core::HeightGrid& g = sc.grid;
   std::vector<int> nodes(sc.materials.size(), 0);
   int valid = 0;
   for (std::size_t n = 0; n < g.z.size(); ++n)
     if (std::isfinite(g.z[n])) ++nodes[static_cast<std::size_t>(g.material[n])], ++valid;
-  s += "<h3>Materials</h3><table><thead><tr>" + Th("material") + Th("share of the slope") +
-       Th("hardness H") + Th("roughness R") + Th("virtual sphere radius") + Th("restitution e") +
-       Th("friction f") + Th("rolling resistance") + Th("contact time") +
-       Th("damping ratio (eq. 13)") + "</tr></thead><tbody>";
+  std::string s = "<h3>Materials</h3><table><thead><tr>" + Th("material") +
+                  Th("share of the slope") + Th("hardness H") + Th("roughness R") +
+                  Th("virtual sphere radius") + Th("restitution e") + Th("friction f") +
+                  Th("rolling resistance") + Th("contact time") + Th("damping ratio (eq. 13)") +
+                  "</tr></thead><tbody>";
   bool overridden = false;
   for (std::size_t k = 0; k < sc.materials.size(); ++k) {
     const core::Material& m = sc.materials[k];
@@ -187,74 +191,87 @@ std::string SiteTables(const core::Scene& scene, const std::string& site_file, s
     };
     s += "<tr>" + Td(m.id) +
          Td(Percent(valid ? static_cast<double>(nodes[k]) / valid : 0.0), true) +
-         Td(Printf("%.3f", m.hardness), true) +
+         Td(FormatNumber(m.hardness, "%.3f"), true) +
          Td(m.roughness_m > 0 ? Length(m.roughness_m) : "0 (smooth facets)", true) +
          Td(std::isfinite(r) ? Length(r) : "-", true) +
-         Td(Printf("%.3f", law.restitution) + mark(m.restitution.has_value()), true) +
-         Td(Printf("%.3f", law.friction) + mark(m.friction.has_value()), true) +
-         Td(Printf("%.3f", law.rolling_resistance) + mark(m.rolling_resistance.has_value()), true) +
+         Td(FormatNumber(law.restitution, "%.3f") + mark(m.restitution.has_value()), true) +
+         Td(FormatNumber(law.friction, "%.3f") + mark(m.friction.has_value()), true) +
+         Td(FormatNumber(law.rolling_resistance, "%.3f") + mark(m.rolling_resistance.has_value()),
+            true) +
          Td(Show(law.contact_time * 1e3) + " ms", true) +
-         Td(Printf("%.3f", law.damping_ratio) + " (" + Printf("%.3f", law.eq13_damping_ratio) + ")",
+         Td(FormatNumber(law.damping_ratio, "%.3f") + " (" +
+                FormatNumber(law.eq13_damping_ratio, "%.3f") + ")",
             true) +
          "</tr>";
   }
   s += "</tbody></table><p class=\"note\">Derived from hardness by the default model: e = H, "
        "friction " +
-       Printf("%.2f", sc.hardness_model.friction_soft) + " - (" +
-       Printf("%.2f", sc.hardness_model.friction_soft) + " - " +
-       Printf("%.2f", sc.hardness_model.friction_hard) + ") H, rolling resistance " +
-       Printf("%.2f", sc.hardness_model.rolling_soft) + " to " +
-       Printf("%.2f", sc.hardness_model.rolling_hard) + " with H" +
+       FormatNumber(sc.hardness_model.friction_soft, "%.2f") + " - (" +
+       FormatNumber(sc.hardness_model.friction_soft, "%.2f") + " - " +
+       FormatNumber(sc.hardness_model.friction_hard, "%.2f") + ") H, rolling resistance " +
+       FormatNumber(sc.hardness_model.rolling_soft, "%.2f") + " to " +
+       FormatNumber(sc.hardness_model.rolling_hard, "%.2f") + " with H" +
        (overridden ? "; * set in the site file instead" : "") +
        ". The damping ratio is the one that gives e with a contact that never pulls; the manual's "
        "eq. 13 value is "
        "shown beside it. Virtual sphere radius r = (R&#178; + (s/2)&#178;) / (2R).</p>";
+  return s;
+}
 
-  // Rock groups.
-  s += "<h3>Rock groups</h3><table><thead><tr>" + Th("group") + Th("rocks") + Th("shape") +
-       Th("size") + Th("unit weight") + Th("mass") + Th("release") + "</tr></thead><tbody>";
+// Where group `grp` is released: zone or point, height or elevation, velocity.
+std::string GroupRelease(const core::RockGroup& grp) {
+  std::string release;
+  if (!grp.release.zone.empty()) {
+    const Eigen::Vector2d cen = observations::ReleaseCentroid(grp.release);
+    release = "zone of " + Int(static_cast<long>(grp.release.zone.size())) + " vertices around (" +
+              Label(cen.x()) + ", " + Label(cen.y()) + ") m";
+  } else {
+    release =
+        "point (" + Label(grp.release.point.x()) + ", " + Label(grp.release.point.y()) + ") m";
+  }
+  if (grp.release.elevation)
+    release += ", dropped from elevation " + Length(*grp.release.elevation);
+  else if (grp.release.height > 0)
+    release += ", " + Length(grp.release.height) + " above the ground";
+  if (grp.release.velocity.norm() > 0)
+    release += ", initial velocity (" + Label(grp.release.velocity.x()) + ", " +
+               Label(grp.release.velocity.y()) + ", " + Label(grp.release.velocity.z()) + ") m/s";
+  return release;
+}
+
+// The rock groups: count, shape, size, unit weight, mass and release.
+std::string RockGroupsTable(const core::Scene& sc) {
+  std::string s = "<h3>Rock groups</h3><table><thead><tr>" + Th("group") + Th("rocks") +
+                  Th("shape") + Th("size") + Th("unit weight") + Th("mass") + Th("release") +
+                  "</tr></thead><tbody>";
   for (std::size_t k = 0; k < sc.groups.size(); ++k) {
     const core::RockGroup& grp = sc.groups[k];
     const core::GroupExtent extent = core::GroupBodies(grp, sc.gravity);
     const core::RockBody& a = extent.lightest;
     const core::RockBody& b = extent.heaviest;
-    const std::string size = !grp.inventory.empty()
-                                 ? "inventory of " + Int(static_cast<long>(grp.inventory.size())) +
-                                       " blocks"
-                             : grp.size_min == grp.size_max
-                                 ? Length(grp.size_min)
-                                 : Show(grp.size_min) + "-" + Show(grp.size_max) + " m (" +
-                                       Show(grp.size_min / kFt) + "-" + Show(grp.size_max / kFt) +
-                                       " ft)";
+    const std::string size =
+        !grp.inventory.empty()
+            ? "inventory of " + Int(static_cast<long>(grp.inventory.size())) + " blocks"
+        : grp.size_min == grp.size_max ? Length(grp.size_min)
+                                       : Show(grp.size_min) + "-" + Show(grp.size_max) + " m (" +
+                                             Show(grp.size_min / core::kFoot) + "-" +
+                                             Show(grp.size_max / core::kFoot) + " ft)";
     const std::string mass = a.mass == b.mass
                                  ? Show(a.mass) + " kg (" + Show(a.mass / kPound) + " lb)"
                                  : Show(a.mass) + "-" + Show(b.mass) + " kg (" +
                                        Show(a.mass / kPound) + "-" + Show(b.mass / kPound) + " lb)";
-    std::string release;
-    if (!grp.release.zone.empty()) {
-      const Eigen::Vector2d cen = observations::ReleaseCentroid(grp.release);
-      release = "zone of " + Int(static_cast<long>(grp.release.zone.size())) +
-                " vertices around (" + Label(cen.x()) + ", " + Label(cen.y()) + ") m";
-    } else {
-      release =
-          "point (" + Label(grp.release.point.x()) + ", " + Label(grp.release.point.y()) + ") m";
-    }
-    if (grp.release.elevation)
-      release += ", dropped from elevation " + Length(*grp.release.elevation);
-    else if (grp.release.height > 0)
-      release += ", " + Length(grp.release.height) + " above the ground";
-    if (grp.release.velocity.norm() > 0)
-      release += ", initial velocity (" + Label(grp.release.velocity.x()) + ", " +
-                 Label(grp.release.velocity.y()) + ", " + Label(grp.release.velocity.z()) + ") m/s";
     s += "<tr>" + Td(Int(static_cast<long>(k + 1)), true) + Td(Int(grp.count), true) +
          Td(grp.inventory.empty() ? core::ShapeName(grp.shape) : "blocks") + Td(size) +
          Td(Show(grp.unit_weight * 1e-3) + " kN/m³ (" + Show(grp.unit_weight / kLbfPerFt3) +
             " lbf/ft³)") +
-         Td(mass) + Td(release) + "</tr>";
+         Td(mass) + Td(GroupRelease(grp)) + "</tr>";
   }
-  s += "</tbody></table>";
+  return s + "</tbody></table>";
+}
 
-  // Partitions.
+// The partitions, with the rocks that passed each when `passage` is given.
+std::string PartitionsTable(const core::Scene& sc, const PartitionPassage* passage) {
+  std::string s;
   if (!sc.partitions.empty()) {
     s += "<h3>Partitions</h3><table><thead><tr>" + Th("partition") + Th("kind") + Th("at") +
          (passage ? Th("rocks passed") : std::string()) + "</tr></thead><tbody>";
@@ -279,6 +296,14 @@ std::string SiteTables(const core::Scene& scene, const std::string& site_file, s
     s += "</tbody></table>";
   }
   return s;
+}
+
+}  // namespace
+
+std::string SiteTables(const core::Scene& scene, const std::string& site_file, sites::Units units,
+                       const PartitionPassage* passage) {
+  return SiteKv(scene, site_file, units) + MaterialsTable(scene) + RockGroupsTable(scene) +
+         PartitionsTable(scene, passage);
 }
 
 std::string SiteNotes(const std::vector<std::string>& notes) {

@@ -6,31 +6,28 @@
 #include <stdexcept>
 #include <string>
 
+#include "rockcal/core/format.h"
 #include "rockcal/reports/output_dir.h"
 
 namespace rockcal::reports {
 namespace {
+
+using core::FormatNumber;
 
 nlohmann::json StatsJson(const core::Stats& s, double scale = 1.0) {
   return {{"mean", s.mean * scale}, {"p50", s.p50 * scale}, {"p90", s.p90 * scale},
           {"p95", s.p95 * scale},   {"max", s.max * scale}};
 }
 
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
-
 // A value of `file` (rock `rock`, column `column`); a non-finite one is an
 // internal failure, never written as "inf" or "nan".
-std::string Num(double v, const char* file, long rock, const std::string& column) {
+std::string FiniteNumber(double v, const char* file, long rock, const std::string& column) {
   if (!std::isfinite(v)) {
     throw std::runtime_error("internal failure: " + std::string(file) + " rock " +
-                             std::to_string(rock) + " column " + column + " is " + Num(v) +
+                             std::to_string(rock) + " column " + column + " is " + FormatNumber(v) +
                              ", not a finite number; nothing written");
   }
-  return Num(v);
+  return FormatNumber(v);
 }
 
 // Throws (an internal failure) at the first non-finite number in `j`, naming
@@ -38,7 +35,8 @@ std::string Num(double v, const char* file, long rock, const std::string& column
 void CheckFinite(const nlohmann::json& j, const std::string& file, const std::string& path) {
   if (j.is_number_float() && !std::isfinite(j.get<double>())) {
     throw std::runtime_error("internal failure: " + file + " " + path + " is " +
-                             Num(j.get<double>()) + ", not a finite number; nothing written");
+                             FormatNumber(j.get<double>()) +
+                             ", not a finite number; nothing written");
   }
   if (j.is_object())
     for (auto it = j.begin(); it != j.end(); ++it) CheckFinite(*it, file, path + "." + it.key());
@@ -99,16 +97,18 @@ std::string RocksCsv(const core::Scene& scene, const core::SimulationResult& res
   for (const auto& r : result.rocks) {
     const char* f = "rocks.csv";
     out << r.rock << ',' << r.group << ',' << core::ShapeName(r.shape) << ','
-        << Num(r.size, f, r.rock, "size_m") << ',' << Num(r.mass, f, r.rock, "mass_kg") << ','
-        << core::OutcomeName(r.outcome) << ',' << Num(r.stop.x(), f, r.rock, "stop_x") << ','
-        << Num(r.stop.y(), f, r.rock, "stop_y") << ',' << Num(r.stop.z(), f, r.rock, "stop_z");
+        << FiniteNumber(r.size, f, r.rock, "size_m") << ','
+        << FiniteNumber(r.mass, f, r.rock, "mass_kg") << ',' << core::OutcomeName(r.outcome) << ','
+        << FiniteNumber(r.stop.x(), f, r.rock, "stop_x") << ','
+        << FiniteNumber(r.stop.y(), f, r.rock, "stop_y") << ','
+        << FiniteNumber(r.stop.z(), f, r.rock, "stop_z");
     for (std::size_t p = 0; p < scene.partitions.size(); ++p) {
       if (p < r.crossings.size() && r.crossings[p].crossed) {
         const auto& c = r.crossings[p];
         const std::string& id = scene.partitions[p].id;
-        out << ',' << Num(c.height, f, r.rock, id + ".height_m") << ','
-            << Num(c.speed, f, r.rock, id + ".velocity_mps") << ','
-            << Num(c.energy * 1e-3, f, r.rock, id + ".energy_kj");
+        out << ',' << FiniteNumber(c.height, f, r.rock, id + ".height_m") << ','
+            << FiniteNumber(c.speed, f, r.rock, id + ".velocity_mps") << ','
+            << FiniteNumber(c.energy * 1e-3, f, r.rock, id + ".energy_kj");
       } else {
         out << ",,,";
       }
@@ -123,9 +123,10 @@ std::string TrajectoriesCsv(const core::SimulationResult& result) {
   out << "rock,t,x,y,z,vx,vy,vz,wx,wy,wz\n";
   for (const auto& r : result.rocks) {
     for (const auto& s : r.trajectory) {
-      out << r.rock << ',' << Num(s.t, "trajectories.csv", r.rock, "t");
+      out << r.rock << ',' << FiniteNumber(s.t, "trajectories.csv", r.rock, "t");
       for (const Eigen::Vector3d* v : {&s.x, &s.v, &s.w})
-        for (int k = 0; k < 3; ++k) out << ',' << Num((*v)[k], "trajectories.csv", r.rock, "x/v/w");
+        for (int k = 0; k < 3; ++k)
+          out << ',' << FiniteNumber((*v)[k], "trajectories.csv", r.rock, "x/v/w");
       out << '\n';
     }
   }

@@ -216,6 +216,70 @@ void CheckResult(const calibrate::ConvergenceResult& result) {
     throw std::invalid_argument("ConvergenceHtmlReport: the result has no reference row");
 }
 
+// Row k of the settings table.
+std::string ConvergenceRowHtml(const JsonFile& j, const calibrate::ConvergenceResult& result,
+                               std::size_t k) {
+  const calibrate::ConvergenceRow& r = result.rows[k];
+  const std::string p = "/rows/" + std::to_string(k) + "/";
+  const bool is_ref = static_cast<int>(k) == result.reference;
+  const bool is_rec = static_cast<int>(k) == result.recommended;
+  std::string step = j.Span(p + "dt_min_seconds", Show);
+  if (r.dt_max != r.dt_min) step += " to " + j.Span(p + "dt_max_seconds", Show);
+  // The quantity with the largest estimate.
+  int worst = -1;
+  for (std::size_t q = 0; q < r.quantities.size(); ++q)
+    if (std::isfinite(r.quantities[q].estimate) &&
+        (worst < 0 ||
+         r.quantities[q].estimate > r.quantities[static_cast<std::size_t>(worst)].estimate))
+      worst = static_cast<int>(q);
+  std::string role = is_ref ? "reference" : "";
+  if (is_rec) role += role.empty() ? "recommended" : ", recommended";
+  return std::string(is_rec ? "<tr class=\"best\">" : "<tr>") +
+         j.Cell(p + "steps_per_contact", Int) + j.Cell(p + "rocks", Int) + "<td class=\"n\">" +
+         step + "</td>" + j.Cell(p + "rocks_with_step_shrunk", Int) +
+         j.Cell(p + "wall_seconds", Show) + j.Cell(p + "steps", Int) +
+         j.Cell(p + "max_discretisation_error", ShowPercent) +
+         j.Cell(p + "max_discretisation_noise", ShowPercent) +
+         j.Cell(p + "max_mc_error", ShowPercent) +
+         j.Cell(p + "max_estimate", ShowPercent, r.meets_target ? "ok" : "") +
+         "<td class=\"name\">" +
+         (worst >= 0 ? j.Text(p + "quantities/" + std::to_string(worst) + "/name")
+                     : std::string("-")) +
+         "</td>" + j.Cell(p + "max_total_error", ShowPercent) + Td(r.meets_target ? "yes" : "no") +
+         Td(role) + "</tr>";
+}
+
+// The quantities at the reference run, and the study's notes.
+std::string ConvergenceQuantities(const JsonFile& j, const calibrate::ConvergenceResult& result) {
+  const auto& rows = result.rows;
+  const std::size_t ref = static_cast<std::size_t>(result.reference);
+  const std::string rp = "/rows/" + std::to_string(ref) + "/quantities/";
+  std::string s =
+      "<h3>Quantities</h3><p>Bounce height quantiles at each partition (rock centre above the "
+      "ground where it crosses) and runout quantiles (distance along x from the release point "
+      "to the stop point of each stopped rock), at the reference run.</p>";
+  if (rows[ref].quantities.empty()) {
+    s += "<p class=\"warn\">No quantity has enough values in the reference run (see the "
+         "notes): run more rocks.</p>";
+  } else {
+    s += "<table><thead><tr>" + Th("quantity") + Th("value [m]") + Th("rocks counted") +
+         Th("Monte Carlo error") + "</tr></thead><tbody>";
+    for (std::size_t q = 0; q < rows[ref].quantities.size(); ++q) {
+      const std::string p = rp + std::to_string(q) + "/";
+      s += "<tr><td>" + j.Text(p + "name") + "</td>" + j.Cell(p + "value", Show, "", "-") +
+           j.Cell(p + "count", Int) + j.Cell(p + "mc_error", ShowPercent) + "</tr>";
+    }
+    s += "</tbody></table>";
+  }
+  if (!result.notes.empty()) {
+    s += "<h3>Notes</h3><ul class=\"notes\">";
+    for (std::size_t k = 0; k < result.notes.size(); ++k)
+      s += "<li>" + j.Text("/notes/" + std::to_string(k)) + "</li>";
+    s += "</ul>";
+  }
+  return s;
+}
+
 std::string ConvergenceBody(const JsonFile& j, const calibrate::ConvergenceResult& result) {
   const auto& rows = result.rows;
   const std::vector<int> ncs = StepsPerContact(result);
@@ -255,36 +319,7 @@ std::string ConvergenceBody(const JsonFile& j, const calibrate::ConvergenceResul
        Th("discretisation error") + Th("its noise") + Th("Monte Carlo error") + Th("estimate") +
        Th("largest for") + Th("error against the reference") + Th("within target") + Th("row") +
        "</tr></thead><tbody>";
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const calibrate::ConvergenceRow& r = rows[k];
-    const std::string p = "/rows/" + std::to_string(k) + "/";
-    const bool is_ref = static_cast<int>(k) == result.reference;
-    const bool is_rec = static_cast<int>(k) == result.recommended;
-    std::string step = j.Span(p + "dt_min_seconds", Show);
-    if (r.dt_max != r.dt_min) step += " to " + j.Span(p + "dt_max_seconds", Show);
-    // The quantity with the largest estimate.
-    int worst = -1;
-    for (std::size_t q = 0; q < r.quantities.size(); ++q)
-      if (std::isfinite(r.quantities[q].estimate) &&
-          (worst < 0 ||
-           r.quantities[q].estimate > r.quantities[static_cast<std::size_t>(worst)].estimate))
-        worst = static_cast<int>(q);
-    std::string role = is_ref ? "reference" : "";
-    if (is_rec) role += role.empty() ? "recommended" : ", recommended";
-    s += std::string(is_rec ? "<tr class=\"best\">" : "<tr>") +
-         j.Cell(p + "steps_per_contact", Int) + j.Cell(p + "rocks", Int) + "<td class=\"n\">" +
-         step + "</td>" + j.Cell(p + "rocks_with_step_shrunk", Int) +
-         j.Cell(p + "wall_seconds", Show) + j.Cell(p + "steps", Int) +
-         j.Cell(p + "max_discretisation_error", ShowPercent) +
-         j.Cell(p + "max_discretisation_noise", ShowPercent) +
-         j.Cell(p + "max_mc_error", ShowPercent) +
-         j.Cell(p + "max_estimate", ShowPercent, r.meets_target ? "ok" : "") +
-         "<td class=\"name\">" +
-         (worst >= 0 ? j.Text(p + "quantities/" + std::to_string(worst) + "/name")
-                     : std::string("-")) +
-         "</td>" + j.Cell(p + "max_total_error", ShowPercent) + Td(r.meets_target ? "yes" : "no") +
-         Td(role) + "</tr>";
-  }
+  for (std::size_t k = 0; k < rows.size(); ++k) s += ConvergenceRowHtml(j, result, k);
   s += "</tbody></table>";
   s += "<p class=\"note\">Errors are relative to each quantity's value in the reference run and "
        "are the largest over the quantities. Discretisation error: |value &#8722; value at the "
@@ -296,32 +331,7 @@ std::string ConvergenceBody(const JsonFile& j, const calibrate::ConvergenceResul
        "cheapest setting whose estimate is within the target. Wall times depend on the machine "
        "and its load: compare rows of one run only. The finest N_c is taken as exact.</p>";
 
-  // The quantities at the reference.
-  const std::size_t ref = static_cast<std::size_t>(result.reference);
-  const std::string rp = "/rows/" + std::to_string(ref) + "/quantities/";
-  s += "<h3>Quantities</h3><p>Bounce height quantiles at each partition (rock centre above the "
-       "ground where it crosses) and runout quantiles (distance along x from the release point "
-       "to the stop point of each stopped rock), at the reference run.</p>";
-  if (rows[ref].quantities.empty()) {
-    s += "<p class=\"warn\">No quantity has enough values in the reference run (see the "
-         "notes): run more rocks.</p>";
-  } else {
-    s += "<table><thead><tr>" + Th("quantity") + Th("value [m]") + Th("rocks counted") +
-         Th("Monte Carlo error") + "</tr></thead><tbody>";
-    for (std::size_t q = 0; q < rows[ref].quantities.size(); ++q) {
-      const std::string p = rp + std::to_string(q) + "/";
-      s += "<tr><td>" + j.Text(p + "name") + "</td>" + j.Cell(p + "value", Show, "", "-") +
-           j.Cell(p + "count", Int) + j.Cell(p + "mc_error", ShowPercent) + "</tr>";
-    }
-    s += "</tbody></table>";
-  }
-  if (!result.notes.empty()) {
-    s += "<h3>Notes</h3><ul class=\"notes\">";
-    for (std::size_t k = 0; k < result.notes.size(); ++k)
-      s += "<li>" + j.Text("/notes/" + std::to_string(k)) + "</li>";
-    s += "</ul>";
-  }
-  return s;
+  return s + ConvergenceQuantities(j, result);
 }
 
 }  // namespace
@@ -488,7 +498,8 @@ double EffectNoise(const calibrate::SensitivityResult& r, std::size_t o) {
   return std::sqrt(2.0) * r.outputs[o].noise / r.morris.delta;
 }
 
-std::string SensitivityBody(const JsonFile& j, const calibrate::SensitivityResult& r) {
+// The verdict, the design and the cost.
+std::string SensitivityIntro(const JsonFile& j, const calibrate::SensitivityResult& r) {
   const bool morris = IsMorris(r);
   std::string s = "<p class=\"verdict\">" + j.Text("/summary") + "</p>";
   if (morris) {
@@ -518,9 +529,13 @@ std::string SensitivityBody(const JsonFile& j, const calibrate::SensitivityResul
        j.Span("/wall_seconds", Show) + " s of wall time, " +
        j.Span("/simulations_per_second", Show) + " simulations per second, " +
        j.Span("/threads", Int) + " threads.</p>";
+  return s;
+}
 
-  s += "<h3>Parameters</h3><table><thead><tr>" + Th("") + Th("parameter") + Th("lower") +
-       Th("upper") + Th("current") + "</tr></thead><tbody>";
+// The parameters and their box.
+std::string SensitivityParameters(const JsonFile& j, const calibrate::SensitivityResult& r) {
+  std::string s = "<h3>Parameters</h3><table><thead><tr>" + Th("") + Th("parameter") + Th("lower") +
+                  Th("upper") + Th("current") + "</tr></thead><tbody>";
   for (std::size_t i = 0; i < r.parameters.size(); ++i) {
     const std::string p = "/parameters/" + std::to_string(i) + "/";
     s += "<tr>" + Td(std::to_string(i + 1), true) + "<td>" + j.Text(p + "label") + "</td>" +
@@ -529,11 +544,17 @@ std::string SensitivityBody(const JsonFile& j, const calibrate::SensitivityResul
   }
   s += "</tbody></table><p class=\"note\">SI units (roughness in m, contact time in s). Charts "
        "number the parameters as here.</p>";
+  return s;
+}
 
-  s += "<h3>Outputs and their Monte Carlo noise</h3><table><thead><tr>" + Th("output") +
-       Th("unit") + Th("at the current parameters") + Th("noise") +
-       (morris ? Th("noise of one effect") : Th("variance over the box") + Th("rows used")) +
-       "</tr></thead><tbody>";
+// The outputs with their Monte Carlo noise.
+std::string SensitivityOutputs(const JsonFile& j, const calibrate::SensitivityResult& r) {
+  const bool morris = IsMorris(r);
+  std::string s =
+      "<h3>Outputs and their Monte Carlo noise</h3><table><thead><tr>" + Th("output") + Th("unit") +
+      Th("at the current parameters") + Th("noise") +
+      (morris ? Th("noise of one effect") : Th("variance over the box") + Th("rows used")) +
+      "</tr></thead><tbody>";
   for (std::size_t o = 0; o < r.outputs.size(); ++o) {
     const std::string p = "/outputs/" + std::to_string(o) + "/";
     s += "<tr><td>" + j.Text(p + "name") + "<span class=\"desc\">" + j.Text(p + "description") +
@@ -551,8 +572,13 @@ std::string SensitivityBody(const JsonFile& j, const calibrate::SensitivityResul
   s += morris ? "The noise of one effect, &#8730;2 noise / &#916;, is the spread an elementary "
                 "effect would have from Monte Carlo noise alone (two runs a step apart).</p>"
               : "</p>";
+  return s;
+}
 
-  s += "<h3>Charts</h3>";
+// One chart per output.
+std::string SensitivityCharts(const calibrate::SensitivityResult& r) {
+  const bool morris = IsMorris(r);
+  std::string s = "<h3>Charts</h3>";
   for (std::size_t o = 0; o < r.outputs.size(); ++o) {
     const std::string chart = SensitivitySvg(r, static_cast<int>(o));
     const std::string caption =
@@ -565,9 +591,14 @@ std::string SensitivityBody(const JsonFile& j, const calibrate::SensitivityResul
     const double width = w == std::string::npos ? 0.0 : std::atof(chart.c_str() + w + 7);
     s += html::Figure(chart, caption, width);
   }
+  return s;
+}
 
-  s += "<h3>Every parameter and output</h3><table class=\"wide\"><thead><tr>" + Th("parameter") +
-       Th("output");
+// Every (parameter, output) pair, and the notes.
+std::string SensitivityEntries(const JsonFile& j, const calibrate::SensitivityResult& r) {
+  const bool morris = IsMorris(r);
+  std::string s = "<h3>Every parameter and output</h3><table class=\"wide\"><thead><tr>" +
+                  Th("parameter") + Th("output");
   s += morris ? Th("μ") + Th("μ*") + Th("σ") + Th("effects")
               : Th("S_i") + Th("interval") + Th("ST_i") + Th("interval");
   s += Th("effect / noise") + "</tr></thead><tbody>";
@@ -603,6 +634,11 @@ std::string SensitivityBody(const JsonFile& j, const calibrate::SensitivityResul
     s += "</ul>";
   }
   return s;
+}
+
+std::string SensitivityBody(const JsonFile& j, const calibrate::SensitivityResult& r) {
+  return SensitivityIntro(j, r) + SensitivityParameters(j, r) + SensitivityOutputs(j, r) +
+         SensitivityCharts(r) + SensitivityEntries(j, r);
 }
 
 // A bar of the chart from y = 0 to v between data x0 and x1.

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+#include <string>
+
+#include "rockcal/core/format.h"
 
 namespace rockcal::reports::svg {
 namespace {
@@ -72,24 +74,19 @@ std::string Escape(const std::string& text) {
 
 std::string Px(double v) {
   if (!std::isfinite(v)) v = 0.0;
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.1f", v);
-  return TrimZeros(buf);
+  return TrimZeros(core::FormatNumber(v, "%.1f"));
 }
 
 std::string Label(double v, int digits) {
   if (!std::isfinite(v)) return std::isnan(v) ? "NaN" : (v > 0 ? "inf" : "-inf");
   if (v == 0.0) return "0";
   const double a = std::fabs(v);
-  char buf[64];
   if (a >= 1e-4 && a < 1e7) {
     const int magnitude = static_cast<int>(std::floor(std::log10(a)));
     const int decimals = std::max(0, digits - 1 - magnitude);
-    std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-    return TrimZeros(buf);
+    return TrimZeros(core::FormatNumber(v, ("%." + std::to_string(decimals) + "f").c_str()));
   }
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
+  return core::FormatNumber(v, ("%." + std::to_string(digits) + "g").c_str());
 }
 
 double NiceStep(double span, int count) {

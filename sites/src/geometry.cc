@@ -93,31 +93,6 @@ std::optional<std::pair<int, int>> FindSelfIntersection(const Polygon& ring) {
   return std::nullopt;
 }
 
-bool PointInPolygon(const Polygon& polygon, const Eigen::Vector2d& p) {
-  if (polygon.size() < 3) return false;
-  Eigen::Vector2d lo = polygon[0], hi = polygon[0];
-  for (const Eigen::Vector2d& v : polygon) {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  }
-  const double tol = 1e-9 * std::max(1.0, (hi - lo).norm());
-  bool inside = false;
-  for (std::size_t k = 0, l = polygon.size() - 1; k < polygon.size(); l = k++) {
-    const Eigen::Vector2d& a = polygon[l];
-    const Eigen::Vector2d& b = polygon[k];
-    // On the edge a-b?
-    const Eigen::Vector2d ab = b - a;
-    const double len2 = ab.squaredNorm();
-    const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-    if ((a + t * ab - p).norm() <= tol) return true;
-    if ((a.y() > p.y()) != (b.y() > p.y())) {
-      const double x = a.x() + (p.y() - a.y()) / (b.y() - a.y()) * (b.x() - a.x());
-      if (p.x() < x) inside = !inside;
-    }
-  }
-  return inside;
-}
-
 bool OnTerrain(const core::HeightGrid& grid, double x, double y) {
   int i = 0, j = 0;
   double fx = 0, fy = 0;

@@ -239,13 +239,6 @@ std::vector<double> JsonNode::Numbers(std::size_t n) const {
   return out;
 }
 
-std::string FormatNumber(double value) {
-  std::ostringstream s;
-  s.precision(10);
-  s << value;
-  return s.str();
-}
-
 Units ReadUnits(const JsonNode& node) {
   const std::string u = node.String();
   if (u == "us") return Units::kUS;

@@ -14,13 +14,12 @@
 
 namespace rockcal::reports::html {
 
-// US units beside SI: metres in a foot, kilograms in a pound, N/m^3 in a
-// lbf/ft^3, and joules in a ft-ton (foot times short ton-force, as CRSP
-// reports kinetic energy).
-inline constexpr double kFt = 0.3048;
+// US units beside SI (metres in a foot: core::kFoot): kilograms in a pound,
+// N/m^3 in a lbf/ft^3, and joules in a ft-ton (foot times short ton-force, as
+// CRSP reports kinetic energy).
 inline constexpr double kPound = 0.45359237;
-inline constexpr double kLbfPerFt3 = 4.4482216152605 / (0.3048 * 0.3048 * 0.3048);
-inline constexpr double kFtTon = 2000.0 * 4.4482216152605 * 0.3048;
+inline constexpr double kLbfPerFt3 = 4.4482216152605 / (core::kFoot * core::kFoot * core::kFoot);
+inline constexpr double kFtTon = 2000.0 * 4.4482216152605 * core::kFoot;
 
 // ---- Numbers and cells ---------------------------------------------------------
 

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "rockcal/core/polygon.h"
 #include "rockcal/core/terrain.h"
 
 namespace rockcal::sites {
@@ -27,7 +28,7 @@ std::optional<std::pair<int, int>> FindSelfIntersection(const Polygon& polygon);
 // True when p is inside the polygon or on its boundary (within 1e-9 of the
 // polygon's size). Even-odd rule, so a self-intersecting polygon keeps the
 // parts covered an odd number of times.
-bool PointInPolygon(const Polygon& polygon, const Eigen::Vector2d& p);
+using core::PointInPolygon;
 
 // True when (x, y) is on the slope: inside the grid and in a cell whose four
 // corner nodes have elevations (no hole). The same rule as

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rockcal/core/error.h"
+#include "rockcal/core/format.h"
 
 namespace rockcal::sites {
 
@@ -65,7 +66,7 @@ class JsonNode final {
 
 // A number for messages: shortest form with up to 10 significant digits
 // ("0.3048", "12", "1e-05").
-std::string FormatNumber(double value);
+using core::FormatNumber;
 
 // Unit conversions of the site and observation files.
 enum class Units { kUS, kSI };

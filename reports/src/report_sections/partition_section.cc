@@ -1,0 +1,80 @@
+// One section per partition of report.html: the statistics at the partition
+// and histograms of bounce height, speed and kinetic energy.
+#include <algorithm>
+#include <cmath>
+
+#include "sections.h"
+
+namespace rockcal::reports::sections {
+namespace {
+
+std::string StatsRow(const std::string& name, const std::string& key, int p,
+                     const core::PartitionStats& ps) {
+  auto pick = [&](const core::Stats& st) {
+    if (key == "mean") return st.mean;
+    if (key == "p50") return st.p50;
+    if (key == "p90") return st.p90;
+    if (key == "p95") return st.p95;
+    return st.max;
+  };
+  const std::string base = "/partitions/" + Int(p) + "/";
+  const double h = pick(ps.height), v = pick(ps.velocity), e = pick(ps.energy) * 1e-3;
+  return "<tr><th>" + Escape(name) + "</th>" +
+         RefCell(Ref("summary.json", base + "height_m/" + key), h, Show(h)) +
+         Td(Show(h / kFoot), true) +
+         RefCell(Ref("summary.json", base + "velocity_mps/" + key), v, Show(v)) +
+         Td(Show(v / kFoot), true) +
+         RefCell(Ref("summary.json", base + "energy_kj/" + key), e, Show(e)) +
+         Td(Show(e * 1e3 / kFtTon), true) + "</tr>";
+}
+
+}  // namespace
+
+std::string PartitionSection(const Context& c, int p) {
+  const core::Partition& part = c.scene.partitions[static_cast<std::size_t>(p)];
+  const core::PartitionStats& ps = c.stats.partitions[static_cast<std::size_t>(p)];
+  std::string s =
+      "<p>" + Escape(Capitalised(PartitionWhere(part))) + ". " +
+      RefSpan(Ref("summary.json", "/partitions/" + Int(p) + "/passed"), ps.passed, Int(ps.passed)) +
+      " of " + Int(Rocks(c)) + " released rocks passed it (" +
+      Percent(Rocks(c) ? static_cast<double>(ps.passed) / Rocks(c) : 0.0) +
+      "). Values when a rock's centre first crossed it: bounce height (rock centre above the "
+      "ground "
+      "below it), translational speed and kinetic energy (translational plus rotational).</p>";
+  s += "<table class=\"stats\"><thead><tr><th rowspan=\"2\"></th><th colspan=\"2\">bounce "
+       "height</th>"
+       "<th colspan=\"2\">speed</th><th colspan=\"2\">kinetic energy</th></tr><tr>" +
+       Th("m") + Th("ft") + Th("m/s") + Th("ft/s") + Th("kJ") + Th("ft-tons") +
+       "</tr></thead><tbody>";
+  s += StatsRow("mean", "mean", p, ps) + StatsRow("median (p50)", "p50", p, ps) +
+       StatsRow("90th percentile", "p90", p, ps) + StatsRow("95th percentile", "p95", p, ps) +
+       StatsRow("maximum", "max", p, ps);
+  s += "</tbody></table>";
+  if (ps.passed == 0) return s + "<p>No rock crossed this partition: no histograms.</p>";
+  std::vector<double> h, v, e;
+  for (const core::RockRecord& r : c.result.rocks) {
+    if (static_cast<std::size_t>(p) < r.crossings.size() &&
+        r.crossings[static_cast<std::size_t>(p)].crossed) {
+      const core::Crossing& cr = r.crossings[static_cast<std::size_t>(p)];
+      h.push_back(cr.height), v.push_back(cr.speed), e.push_back(cr.energy * 1e-3);
+    }
+  }
+  const double fh = c.in.options.barrier_height_m, fe = c.in.options.barrier_energy_j * 1e-3;
+  s += "<div class=\"figs\">";
+  const std::string n = Int(ps.passed) + " rocks at " + Escape(part.id);
+  s += Figure(Histogram(h, "bounce height [m]", 1.0 / kFoot, "bounce height [ft]", fh,
+                        "fence " + Label(fh, 3) + " m", "Histogram of bounce height at " + part.id,
+                        std::min(0.0, *std::min_element(h.begin(), h.end()))),
+              "<b>Bounce height</b>, " + n + "; dashed: the fence height.", 300);
+  s += Figure(Histogram(v, "speed [m/s]", 1.0 / kFoot, "speed [ft/s]", std::nan(""), "",
+                        "Histogram of speed at " + part.id),
+              "<b>Speed</b>, " + n + ".", 300);
+  s += Figure(
+      Histogram(e, "kinetic energy [kJ]", 1e3 / kFtTon, "kinetic energy [ft-tons]", fe,
+                "fence " + Label(fe, 3) + " kJ", "Histogram of kinetic energy at " + part.id),
+      "<b>Kinetic energy</b>, " + n + "; dashed: the fence capacity.", 300);
+  s += "</div>";
+  return s;
+}
+
+}  // namespace rockcal::reports::sections

@@ -1,0 +1,110 @@
+// The sections of report.html (simulate and calibrate), one source file each,
+// and what they share: the context of one report and the small drawing helpers.
+// html_report.cc lists the sections in order; the outline and the body both
+// come from that list. Private to reports/src.
+#ifndef ROCKCAL_REPORTS_SRC_REPORT_SECTIONS_SECTIONS_H_
+#define ROCKCAL_REPORTS_SRC_REPORT_SECTIONS_SECTIONS_H_
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "rockcal/core/format.h"
+#include "rockcal/core/scene.h"
+#include "rockcal/core/simulate.h"
+#include "rockcal/core/statistics.h"
+#include "rockcal/reports/html_page.h"
+#include "rockcal/reports/html_report.h"
+#include "rockcal/reports/svg.h"
+
+namespace rockcal::reports::sections {
+
+using core::FormatNumber;
+using core::kFoot;
+
+using svg::Escape;
+using svg::Label;
+using svg::Px;
+
+using html::Exact;
+using html::Figure;
+using html::kFtTon;
+using html::Kv;
+using html::Length;
+using html::Percent;
+using html::Ref;
+using html::RefCell;
+using html::RefSpan;
+using html::Show;
+using html::Td;
+using html::Th;
+
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Colours shared by the sections' figures and legends.
+inline constexpr const char* kPartitionColour = "#6a3d9a";
+inline constexpr const char* kReleaseColour = "#009E73";
+inline constexpr const char* kStopColour = "#0072B2";
+inline constexpr const char* kTimeoutColour = "#CC79A7";
+inline constexpr const char* kFenceColour = "#d62728";
+
+// What every section reads: the report's input and figures of the run
+// computed once.
+struct Context {
+  const ReportInput& in;
+  const core::Scene& scene;
+  const core::SimulationResult& result;
+  core::ResultStats stats;
+  bool one_cell_wide = false;  // a 2D profile: no plan view
+  bool several_shapes = false;
+  int stopped = 0, left = 0, timeout = 0;
+  double zmin = kInf, zmax = -kInf;  // terrain elevation range (valid nodes)
+};
+
+// Checks the input (scene, result and options) and computes the context;
+// throws std::invalid_argument when the input is incomplete or invalid.
+Context MakeContext(const ReportInput& in);
+
+// ---- Small helpers ---------------------------------------------------------------
+
+std::string Int(long v);
+// "X" or "Z".
+const char* KindName(core::Partition::Kind kind);
+// "X partition: the vertical plane x = 12.3 m (40.4 ft)", ...
+std::string PartitionWhere(const core::Partition& p);
+// `s` with its first letter in upper case.
+std::string Capitalised(std::string s);
+// Number of rocks of the run.
+int Rocks(const Context& c);
+
+// A legend swatch of `colour`: kind "bar" (a filled box), "line", "dash",
+// "point", "ring", "cross" or "zone".
+std::string Swatch(const std::string& colour, const std::string& kind = "bar");
+// A legend item: a swatch and its escaped label.
+std::string LegendItem(const std::string& swatch, const std::string& label);
+
+// A histogram of `values` (display units); `top_scale` converts to the
+// secondary units on top; a dashed line marks `mark` when finite.
+std::string Histogram(const std::vector<double>& values, const std::string& x_label,
+                      double top_scale, const std::string& top_label, double mark,
+                      const std::string& mark_label, const std::string& title,
+                      double xmin_hint = 0.0);
+
+// ---- The sections' bodies (HTML), one source file each ------------------------------
+
+std::string SiteSection(const Context& c);              // site_section.cc
+std::string PlanSection(const Context& c);              // plan_section.cc
+std::string ProfileSection(const Context& c);           // profile_section.cc
+std::string PartitionSection(const Context& c, int p);  // partition_section.cc
+std::string BarrierSection(const Context& c);           // barrier_section.cc
+std::string RunoutSection(const Context& c);            // runout_section.cc
+std::string ShapesSection(const Context& c);            // shapes_section.cc
+std::string CalibrationSection(const Context& c);       // calibration_section.cc
+std::string TraceSection(const Context& c);             // trace_section.cc
+std::string FitSection(const Context& c);               // fit_section.cc
+std::string DiagnosticsSection(const Context& c);       // diagnostics_section.cc
+// The reach section is reach_report.h's ReachSection.
+
+}  // namespace rockcal::reports::sections
+
+#endif  // ROCKCAL_REPORTS_SRC_REPORT_SECTIONS_SECTIONS_H_

@@ -1,0 +1,49 @@
+// The project and site section of report.html: the site tables and the run.
+#include "sections.h"
+
+namespace rockcal::reports::sections {
+
+std::string SiteSection(const Context& c) {
+  html::PartitionPassage passage;
+  for (const auto& ps : c.stats.partitions) passage.passed.push_back(ps.passed);
+  passage.rocks = Rocks(c);
+  std::string s = html::SiteTables(c.scene, c.in.site_file, c.in.units, &passage);
+
+  // The run.
+  const core::SimulationOptions& opt = c.scene.options;
+  const core::SimulationResult& r = c.result;
+  s += "<h3>Simulation</h3><table class=\"kv\">";
+  s += Kv("Random seed", RefSpan(Ref("summary.json", "/seed"), static_cast<double>(opt.seed),
+                                 std::to_string(opt.seed)));
+  s += Kv("Rocks",
+          RefSpan(Ref("summary.json", "/rocks"), Rocks(c), Int(Rocks(c))) + ": " +
+              RefSpan(Ref("summary.json", "/outcomes/stopped"), c.stopped, Int(c.stopped)) +
+              " stopped, " + RefSpan(Ref("summary.json", "/outcomes/left"), c.left, Int(c.left)) +
+              " left the slope, " +
+              RefSpan(Ref("summary.json", "/outcomes/timeout"), c.timeout, Int(c.timeout)) +
+              " still moving at the time limit");
+  s += Kv("Stopping rule",
+          Escape("speed below " + Label(opt.stop_speed) + " m/s for " + Label(opt.stop_duration) +
+                 " s; time limit " + Label(opt.max_time) + " s per rock"));
+  s += Kv("Contact time step",
+          RefSpan(Ref("summary.json", "/dt_seconds"), r.dt_min, Label(r.dt_min, 3)) +
+              (r.dt_max > r.dt_min ? " to " + Escape(Label(r.dt_max, 3)) : std::string()) +
+              " s (at most t_c/" + Int(opt.steps_per_contact) + ", " + Escape(Label(opt.safety)) +
+              " of the critical step); free flight advanced exactly");
+  s += Kv("Work",
+          RefSpan(Ref("summary.json", "/steps"), static_cast<double>(r.steps), Int(r.steps)) +
+              " contact steps and " + Escape(Int(r.flights)) + " free flights");
+  s += Kv(
+      "Wall time",
+      RefSpan(Ref("summary.json", "/wall_seconds"), r.wall_seconds, Show(r.wall_seconds)) + " s");
+  s += Kv("Energy check",
+          "largest rise of mechanical energy " +
+              RefSpan(Ref("summary.json", "/energy_check/max_relative_gain"),
+                      r.max_relative_energy_gain, Label(r.max_relative_energy_gain, 3)) +
+              " of the rock's largest kinetic energy (see the diagnostics)");
+  s += "</table>";
+  s += html::SiteNotes(c.in.notes);
+  return s;
+}
+
+}  // namespace rockcal::reports::sections
