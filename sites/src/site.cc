@@ -300,31 +300,13 @@ void CheckRun(const JsonNode& root, const core::Scene& scene) {
     throw InputError(root.where() + (root.Has("simulation") ? ".simulation" : ""), error);
 }
 
-}  // namespace
-
-Site LoadSite(const std::string& path) {
-  const nlohmann::json json = ReadJsonFile(path);
-  const JsonNode root(&json, path, "$");
-  root.Keys({"name", "description", "units", "surface", "materials", "partitions", "rocks",
-             "simulation", "report"});
-  Site site;
-  site.path = path;
-  site.units = ReadUnits(root.Get("units"));
-  const Units units = site.units;
-  const double to_file = 1.0 / LengthToSI(1.0, units);
-  const char* unit = LengthUnit(units);
-  core::Scene& scene = site.scene;
-  {
-    const JsonNode name = root.Get("name");
-    scene.name = name.String();
-    if (scene.name.empty()) name.Fail("expected a non-empty name");
-  }
-  if (auto d = root.Find("description")) d->String();
-
-  // Materials (their roughness limit needs the grid spacing: checked below).
+// The "materials" array: each material into site->scene.materials and its
+// class into site->material_classes; the nodes and zones are kept for the
+// checks that need the grid.
+std::vector<PendingMaterial> ReadMaterials(const JsonNode& node, Units units, Site* site) {
   std::vector<PendingMaterial> pending;
   std::vector<std::string> ids;
-  const std::vector<JsonNode> materials = root.Get("materials").Array(1);
+  const std::vector<JsonNode> materials = node.Array(1);
   for (std::size_t k = 0; k < materials.size(); ++k) {
     const JsonNode& m = materials[k];
     m.Keys({"id", "hardness", "roughness", "contact_time", "restitution", "friction",
@@ -337,11 +319,11 @@ Site LoadSite(const std::string& path) {
     ids.push_back(mat.id);
     if (auto c = m.Find("class")) {
       // Same rule as ids: the class goes into CSV and Markdown tables as it is.
-      site.material_classes.push_back(c->String());
-      if (!ValidId(site.material_classes.back()))
+      site->material_classes.push_back(c->String());
+      if (!ValidId(site->material_classes.back()))
         c->Fail("expected a class name of letters, digits, '_' and '-' (not empty)");
     } else {
-      site.material_classes.push_back(mat.id);
+      site->material_classes.push_back(mat.id);
     }
     mat.hardness = m.Get("hardness").Number(0.0, 1.0);
     mat.roughness_m = LengthToSI(m.Get("roughness").NonNegative(), units);
@@ -366,9 +348,152 @@ Site LoadSite(const std::string& path) {
       }
       p.zone = ReadPolygon(*z, units);
     }
-    scene.materials.push_back(mat);
+    site->scene.materials.push_back(mat);
     pending.push_back(std::move(p));
   }
+  return pending;
+}
+
+// Material zones: the last zone holding a node wins.
+void ApplyZones(const std::vector<PendingMaterial>& pending, double to_file,
+                core::HeightGrid* grid_out) {
+  core::HeightGrid& grid = *grid_out;
+  for (std::size_t k = 1; k < pending.size(); ++k) {
+    if (!pending[k].zone) continue;
+    const Polygon& zone = *pending[k].zone;
+    int claimed = 0;
+    for (int j = 0; j < grid.ny; ++j) {
+      for (int i = 0; i < grid.nx; ++i) {
+        if (PointInPolygon(zone, Eigen::Vector2d(grid.x(i), grid.y(j)))) {
+          grid.material[grid.index(i, j)] = static_cast<int>(k);
+          ++claimed;
+        }
+      }
+    }
+    if (claimed == 0) {
+      pending[k].node.Get("zone").Fail(
+          "the zone contains no grid node (the terrain spans x " +
+          FormatNumber(grid.x(0) * to_file) + " to " + FormatNumber(grid.x(grid.nx - 1) * to_file) +
+          ", y " + FormatNumber(grid.y(0) * to_file) + " to " +
+          FormatNumber(grid.y(grid.ny - 1) * to_file) + "); expected a zone over the terrain");
+    }
+  }
+}
+
+// Every material must cover a node; notes on the grid, its holes and the
+// materials; the terrain's elevation range into *zmin_out, *zmax_out.
+void CheckCoverAndNote(const std::vector<PendingMaterial>& pending, Site* site, double* zmin_out,
+                       double* zmax_out) {
+  const core::Scene& scene = site->scene;
+  const core::HeightGrid& grid = scene.grid;
+  const double s = grid.spacing;
+  std::vector<int> count(scene.materials.size(), 0);
+  int holes = 0;
+  double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
+  for (std::size_t n = 0; n < grid.z.size(); ++n) {
+    if (std::isnan(grid.z[n])) {
+      ++holes;
+      continue;
+    }
+    ++count[static_cast<std::size_t>(grid.material[n])];
+    zmin = std::min(zmin, grid.z[n]);
+    zmax = std::max(zmax, grid.z[n]);
+  }
+  // Rounding residue of the plane fits (e.g. -1e-16 for 0) would clutter messages.
+  const double zscale = 1e-12 * std::max({1.0, std::abs(zmin), std::abs(zmax)});
+  if (std::abs(zmin) < zscale) zmin = 0.0;
+  if (std::abs(zmax) < zscale) zmax = 0.0;
+  for (std::size_t k = 0; k < count.size(); ++k) {
+    if (count[k] == 0) {
+      pending[k].node.Fail("material '" + scene.materials[k].id +
+                           "' covers no terrain node (its zone is overridden by later zones, "
+                           "off the data, or no surface file names it); expected every "
+                           "material to cover part of the terrain");
+    }
+  }
+  site->notes.push_back("grid: " + std::to_string(grid.nx) + " x " + std::to_string(grid.ny) +
+                       " nodes at " + FormatNumber(s) + " m spacing, x " + FormatNumber(grid.x(0)) +
+                       " to " + FormatNumber(grid.x(grid.nx - 1)) + " m, y " +
+                       FormatNumber(grid.y(0)) + " to " + FormatNumber(grid.y(grid.ny - 1)) +
+                       " m, elevation " + FormatNumber(zmin) + " to " + FormatNumber(zmax) + " m");
+  site->notes.push_back("holes: " + std::to_string(holes) + " of " + std::to_string(grid.z.size()) +
+                       " nodes");
+  for (std::size_t k = 0; k < count.size(); ++k) {
+    const core::Material& mat = scene.materials[k];
+    site->notes.push_back(
+        "material " + mat.id + ": " + std::to_string(count[k]) + " nodes, class " +
+        site->material_classes[k] + ", hardness " + FormatNumber(mat.hardness) + ", roughness " +
+        FormatNumber(mat.roughness_m) + " m, contact time " + FormatNumber(mat.contact_time_s) +
+        " s" + (mat.restitution ? ", restitution " + FormatNumber(*mat.restitution) : "") +
+        (mat.friction ? ", friction " + FormatNumber(*mat.friction) : ""));
+  }
+  *zmin_out = zmin;
+  *zmax_out = zmax;
+}
+
+// The "partitions" array, each within the terrain (x) or its elevations (z).
+void ReadPartitions(const JsonNode& parts, Units units, double zmin, double zmax, Site* site) {
+  const core::HeightGrid& grid = site->scene.grid;
+  const double to_file = 1.0 / LengthToSI(1.0, units);
+  std::vector<std::string> part_ids;
+  for (const JsonNode& p : parts.Array()) {
+    p.Keys({"id", "x", "z"});
+    core::Partition part;
+    const JsonNode id = p.Get("id");
+    part.id = ReadId(id);
+    if (std::find(part_ids.begin(), part_ids.end(), part.id) != part_ids.end())
+      id.Fail("duplicate partition id; expected each partition id once");
+    part_ids.push_back(part.id);
+    if (p.Has("x") == p.Has("z")) p.Fail("expected exactly one of 'x' or 'z'");
+    if (auto x = p.Find("x")) {
+      part.kind = core::Partition::Kind::kX;
+      part.value = LengthToSI(x->Number(), units);
+      const double lo = grid.x(0), hi = grid.x(grid.nx - 1);
+      if (part.value < lo || part.value > hi) {
+        x->Fail("the X partition lies off the terrain; expected x in [" +
+                FormatNumber(lo * to_file) + ", " + FormatNumber(hi * to_file) + "]");
+      }
+    } else {
+      const JsonNode z = p.Get("z");
+      part.kind = core::Partition::Kind::kZ;
+      part.value = LengthToSI(z.Number(), units);
+      if (part.value < zmin || part.value > zmax) {
+        z.Fail("the Z partition is outside the terrain's elevations; expected z in [" +
+               FormatNumber(zmin * to_file) + ", " + FormatNumber(zmax * to_file) + "]");
+      }
+    }
+    site->notes.push_back("partition " + part.id + ": " +
+                         (part.kind == core::Partition::Kind::kX ? "x" : "z") + " = " +
+                         FormatNumber(part.value) + " m");
+    site->scene.partitions.push_back(part);
+  }
+}
+
+}  // namespace
+
+Site LoadSite(const std::string& path) {
+  const nlohmann::json json = ReadJsonFile(path);
+  const JsonNode root(&json, path, "$");
+  root.Keys({"name", "description", "units", "surface", "materials", "partitions", "rocks",
+             "simulation", "report"});
+  Site site;
+  site.path = path;
+  site.units = ReadUnits(root.Get("units"));
+  const Units units = site.units;
+  const double to_file = 1.0 / LengthToSI(1.0, units);
+  const char* unit = LengthUnit(units);
+  core::Scene& scene = site.scene;
+  {
+    const JsonNode name = root.Get("name");
+    scene.name = name.String();
+    if (scene.name.empty()) name.Fail("expected a non-empty name");
+  }
+  if (auto d = root.Find("description")) d->String();
+
+  // Materials (their roughness limit needs the grid spacing: checked below).
+  std::vector<PendingMaterial> pending = ReadMaterials(root.Get("materials"), units, &site);
+  std::vector<std::string> ids;
+  for (const core::Material& m : scene.materials) ids.push_back(m.id);
 
   // Surface.
   const std::string base_dir = std::filesystem::path(path).parent_path().string();
@@ -396,103 +521,11 @@ Site LoadSite(const std::string& path) {
     if (auto c = m.Find("calibrate")) ReadCalibrateBounds(*c, mat, mat_class, units, s / 2, &site);
   }
 
-  // Material zones: the last zone holding a node wins.
-  for (std::size_t k = 1; k < pending.size(); ++k) {
-    if (!pending[k].zone) continue;
-    const Polygon& zone = *pending[k].zone;
-    int claimed = 0;
-    for (int j = 0; j < grid.ny; ++j) {
-      for (int i = 0; i < grid.nx; ++i) {
-        if (PointInPolygon(zone, Eigen::Vector2d(grid.x(i), grid.y(j)))) {
-          grid.material[grid.index(i, j)] = static_cast<int>(k);
-          ++claimed;
-        }
-      }
-    }
-    if (claimed == 0) {
-      pending[k].node.Get("zone").Fail(
-          "the zone contains no grid node (the terrain spans x " +
-          FormatNumber(grid.x(0) * to_file) + " to " + FormatNumber(grid.x(grid.nx - 1) * to_file) +
-          ", y " + FormatNumber(grid.y(0) * to_file) + " to " +
-          FormatNumber(grid.y(grid.ny - 1) * to_file) + "); expected a zone over the terrain");
-    }
-  }
-  std::vector<int> count(scene.materials.size(), 0);
-  int holes = 0;
-  double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
-  for (std::size_t n = 0; n < grid.z.size(); ++n) {
-    if (std::isnan(grid.z[n])) {
-      ++holes;
-      continue;
-    }
-    ++count[static_cast<std::size_t>(grid.material[n])];
-    zmin = std::min(zmin, grid.z[n]);
-    zmax = std::max(zmax, grid.z[n]);
-  }
-  // Rounding residue of the plane fits (e.g. -1e-16 for 0) would clutter messages.
-  const double zscale = 1e-12 * std::max({1.0, std::abs(zmin), std::abs(zmax)});
-  if (std::abs(zmin) < zscale) zmin = 0.0;
-  if (std::abs(zmax) < zscale) zmax = 0.0;
-  for (std::size_t k = 0; k < count.size(); ++k) {
-    if (count[k] == 0) {
-      pending[k].node.Fail("material '" + scene.materials[k].id +
-                           "' covers no terrain node (its zone is overridden by later zones, "
-                           "off the data, or no surface file names it); expected every "
-                           "material to cover part of the terrain");
-    }
-  }
-  site.notes.push_back("grid: " + std::to_string(grid.nx) + " x " + std::to_string(grid.ny) +
-                       " nodes at " + FormatNumber(s) + " m spacing, x " + FormatNumber(grid.x(0)) +
-                       " to " + FormatNumber(grid.x(grid.nx - 1)) + " m, y " +
-                       FormatNumber(grid.y(0)) + " to " + FormatNumber(grid.y(grid.ny - 1)) +
-                       " m, elevation " + FormatNumber(zmin) + " to " + FormatNumber(zmax) + " m");
-  site.notes.push_back("holes: " + std::to_string(holes) + " of " + std::to_string(grid.z.size()) +
-                       " nodes");
-  for (std::size_t k = 0; k < count.size(); ++k) {
-    const core::Material& mat = scene.materials[k];
-    site.notes.push_back(
-        "material " + mat.id + ": " + std::to_string(count[k]) + " nodes, class " +
-        site.material_classes[k] + ", hardness " + FormatNumber(mat.hardness) + ", roughness " +
-        FormatNumber(mat.roughness_m) + " m, contact time " + FormatNumber(mat.contact_time_s) +
-        " s" + (mat.restitution ? ", restitution " + FormatNumber(*mat.restitution) : "") +
-        (mat.friction ? ", friction " + FormatNumber(*mat.friction) : ""));
-  }
+  ApplyZones(pending, to_file, &grid);
+  double zmin = 0.0, zmax = 0.0;
+  CheckCoverAndNote(pending, &site, &zmin, &zmax);
 
-  // Partitions.
-  if (auto parts = root.Find("partitions")) {
-    std::vector<std::string> part_ids;
-    for (const JsonNode& p : parts->Array()) {
-      p.Keys({"id", "x", "z"});
-      core::Partition part;
-      const JsonNode id = p.Get("id");
-      part.id = ReadId(id);
-      if (std::find(part_ids.begin(), part_ids.end(), part.id) != part_ids.end())
-        id.Fail("duplicate partition id; expected each partition id once");
-      part_ids.push_back(part.id);
-      if (p.Has("x") == p.Has("z")) p.Fail("expected exactly one of 'x' or 'z'");
-      if (auto x = p.Find("x")) {
-        part.kind = core::Partition::Kind::kX;
-        part.value = LengthToSI(x->Number(), units);
-        const double lo = grid.x(0), hi = grid.x(grid.nx - 1);
-        if (part.value < lo || part.value > hi) {
-          x->Fail("the X partition lies off the terrain; expected x in [" +
-                  FormatNumber(lo * to_file) + ", " + FormatNumber(hi * to_file) + "]");
-        }
-      } else {
-        const JsonNode z = p.Get("z");
-        part.kind = core::Partition::Kind::kZ;
-        part.value = LengthToSI(z.Number(), units);
-        if (part.value < zmin || part.value > zmax) {
-          z.Fail("the Z partition is outside the terrain's elevations; expected z in [" +
-                 FormatNumber(zmin * to_file) + ", " + FormatNumber(zmax * to_file) + "]");
-        }
-      }
-      site.notes.push_back("partition " + part.id + ": " +
-                           (part.kind == core::Partition::Kind::kX ? "x" : "z") + " = " +
-                           FormatNumber(part.value) + " m");
-      scene.partitions.push_back(part);
-    }
-  }
+  if (auto parts = root.Find("partitions")) ReadPartitions(*parts, units, zmin, zmax, &site);
 
   // Rock groups.
   const std::vector<JsonNode> rocks = root.Get("rocks").Array(1);
