@@ -62,6 +62,46 @@ TEST(CalibrationRun, SummaryHoldsTheBestMethodAndItsSimulation) {
   EXPECT_THAT(s.BriefReport(), HasSubstr("budget used"));
 }
 
+TEST(CalibrationRun, RefiningStageSearchesOnWithMoreRocksAndNoiseIsMeasured) {
+  const sites::Site site = TwinSite(6);
+  const observations::Observations obs = TwinObservations(TwinSite(20), kTruth, 5);
+  CalibrationOptions options;
+  options.method.max_evals = 12;
+  options.seed = 3;
+  options.refine_factor = 3;
+  options.noise_seeds = 2;
+  const CalibrationSummary s = Calibrate(site, obs, options);
+  // Two thirds of the budget at 6 rocks, a third at 18 from the first's best.
+  ASSERT_EQ(s.methods.size(), 2u);
+  EXPECT_EQ(s.methods[0].evaluations, 8);
+  EXPECT_EQ(s.methods[1].evaluations, 4);
+  EXPECT_EQ(s.methods[1].method, "nlopt:bobyqa, 18 rocks");
+  EXPECT_EQ(s.best, 1);
+  EXPECT_EQ(s.methods[1].trace.front().parameters, s.methods[0].best);
+  EXPECT_EQ(s.rocks, 6);
+  EXPECT_EQ(s.final_rocks, 18);
+  EXPECT_EQ(static_cast<int>(s.simulation.rocks.size()), 18);
+  // The final simulation is the refined values' at the refining stage's
+  // rocks and seed: its misfit is the one the search found there.
+  EXPECT_DOUBLE_EQ(s.misfit_after.value, s.methods[1].best_misfit);
+  // The same values at seeds 4 and 5, and the spread of the three misfits.
+  ASSERT_EQ(s.noise_seeds, (std::vector<std::uint64_t>{4, 5}));
+  ASSERT_EQ(s.noise_misfits.size(), 2u);
+  const double m[3] = {s.misfit_after.value, s.noise_misfits[0], s.noise_misfits[1]};
+  const double mean = (m[0] + m[1] + m[2]) / 3;
+  double ss = 0.0;
+  for (double v : m) ss += (v - mean) * (v - mean);
+  EXPECT_NEAR(s.misfit_noise_sd, std::sqrt(ss / 2), 1e-12);
+  EXPECT_GT(s.misfit_noise_sd, 0.0);
+  // A fixed rock count (refine_factor 1) is one stage.
+  options.refine_factor = 1;
+  options.noise_seeds = 0;
+  const CalibrationSummary one = Calibrate(site, obs, options);
+  EXPECT_EQ(one.methods.size(), 1u);
+  EXPECT_EQ(one.final_rocks, 6);
+  EXPECT_TRUE(one.noise_seeds.empty());
+}
+
 TEST(CalibrationRun, OptionsAreChecked) {
   CalibrationOptions o;
   std::string error;
@@ -80,6 +120,18 @@ TEST(CalibrationRun, OptionsAreChecked) {
   o.resume = true;
   EXPECT_FALSE(o.IsValid(&error));
   EXPECT_THAT(error, HasSubstr("log_path"));
+  o = CalibrationOptions{};
+  o.refine_factor = 0;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("refine_factor = 0"));
+  o = CalibrationOptions{};
+  o.refine_share = 1.0;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("refine_share = 1"));
+  o = CalibrationOptions{};
+  o.noise_seeds = -1;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("noise_seeds = -1"));
   o = CalibrationOptions{};
   o.method.max_evals = 1;
   EXPECT_FALSE(o.IsValid(&error));
