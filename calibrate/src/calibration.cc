@@ -1,12 +1,16 @@
 #include "rockcal/calibrate/calibration.h"
 
+#include <unistd.h>
+
 #include <ceres/ceres.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <memory>
@@ -725,18 +729,38 @@ EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace
       }
     }
   }
-  // Rewrite the log with the good records only (drops a torn last line).
-  std::ofstream out(path_, std::ios::trunc);
-  if (!out) throw InputError(path_, "cannot write the evaluation log");
-  nlohmann::json parts = nlohmann::json::object();
-  for (const auto& [name, value] : fingerprint_.parts) parts[name] = value;
-  out << nlohmann::json{{"fingerprint", parts}}.dump() << '\n';
-  for (const Evaluation& e : records_) {
-    nlohmann::json j = ToJson(e);
-    j["seed"] = seed_;
-    j["rocks"] = rocks_;
-    j["names"] = names_;
-    out << j.dump() << '\n';
+  // Rewrite the log with the good records only (drops a torn last line),
+  // through a temporary file renamed into place: a run killed meanwhile
+  // leaves the old log whole.
+  const std::string temp = path_ + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(temp, std::ios::trunc);
+    if (!out)
+      throw InputError(path_, "cannot write the evaluation log (its temporary " + temp +
+                                  "): " + std::strerror(errno));
+    nlohmann::json parts = nlohmann::json::object();
+    for (const auto& [name, value] : fingerprint_.parts) parts[name] = value;
+    out << nlohmann::json{{"fingerprint", parts}}.dump() << '\n';
+    for (const Evaluation& e : records_) {
+      nlohmann::json j = ToJson(e);
+      j["seed"] = seed_;
+      j["rocks"] = rocks_;
+      j["names"] = names_;
+      out << j.dump() << '\n';
+    }
+    out.flush();
+    if (!out) {
+      const int error = errno;
+      std::remove(temp.c_str());
+      throw InputError(path_, "cannot write the evaluation log (its temporary " + temp +
+                                  "): " + std::strerror(error));
+    }
+  }
+  if (std::rename(temp.c_str(), path_.c_str()) != 0) {
+    const int error = errno;
+    std::remove(temp.c_str());
+    throw InputError(path_, "cannot write the evaluation log (renaming its temporary " + temp +
+                                "): " + std::strerror(error));
   }
 }
 
