@@ -39,7 +39,7 @@ std::vector<std::string> SplitList(const std::string& text) {
 // --force replaces only a folder rockcal wrote that holds none of `inputs`
 // (reports::CheckOutputFolder). Files a killed run left half-written are
 // removed, and so is calibration.json, which marks the folder complete: it is
-// written again, after parameters.json, when the calibration finishes.
+// written again, after every other file, when the calibration finishes.
 // A new folder appears whole, with its marker and an empty evaluation log
 // (built under a temporary name and renamed into place), so that a run killed
 // at any moment leaves no folder or one that --resume continues.
@@ -204,7 +204,6 @@ int Calibrate(const std::vector<std::string>& argv) {
   if (summary.reach)
     reports::WriteFileAtomically(out + "/reach.json",
                                  calibrate::ReachJson(summary.site, *summary.reach).dump(2) + "\n");
-  reports::WriteFileAtomically(out + "/calibration.json", calibration.dump(2) + "\n");
   reports::ReportInput report = SiteReport(site, summary.calibrated, summary.simulation);
   report.calibration = &summary;
   report.observations = &obs;
@@ -213,6 +212,8 @@ int Calibrate(const std::vector<std::string>& argv) {
     reports::WriteFileAtomically(out + "/comparison.csv", reports::ComparisonCsv(summary));
     reports::WriteFileAtomically(out + "/comparison.md", reports::ComparisonMarkdown(summary));
   }
+  // Last: calibration.json marks the folder complete (PrepareFolder).
+  reports::WriteFileAtomically(out + "/calibration.json", calibration.dump(2) + "\n");
   if (!quiet) {
     const core::SimulationResult& sim = summary.simulation;
     std::printf("\nat the calibrated values: %d of %zu rocks stopped, %d left the terrain, %d timed "
