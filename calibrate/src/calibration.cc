@@ -60,6 +60,22 @@ nlohmann::json ToJson(const Evaluation& e) {
           {"seconds", e.seconds},   {"elapsed", e.elapsed}};
 }
 
+// A whole-number field of a log record, from 0 to T's maximum. A fraction, a
+// negative number or one beyond T (1e300) is not a record rockcal wrote, and
+// converting it would be undefined behaviour.
+template <typename T>
+T WholeField(const nlohmann::json& record, const char* key, const std::string& where) {
+  const nlohmann::json& v = record.at(key);
+  if (v.is_number_unsigned()) {
+    const std::uint64_t u = v.get<std::uint64_t>();
+    if (u <= static_cast<std::uint64_t>(std::numeric_limits<T>::max())) return static_cast<T>(u);
+  }
+  throw InputError(where, std::string("not an evaluation record: \"") + key + "\" is " +
+                              (v.is_number() ? v.dump() : std::string("a ") + v.type_name()) +
+                              "; expected a whole number from 0 to " +
+                              std::to_string(std::numeric_limits<T>::max()));
+}
+
 // Everything a method asks of the objective: budget, log replay, trace, best.
 class Evaluator final {
  public:
@@ -707,13 +723,14 @@ EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace
       nlohmann::json j;
       try {
         j = nlohmann::json::parse(line);
-        if (j.at("seed").get<std::uint64_t>() != seed_ || j.at("rocks").get<int>() != rocks_ ||
+        if (WholeField<std::uint64_t>(j, "seed", where) != seed_ ||
+            WholeField<int>(j, "rocks", where) != rocks_ ||
             j.at("names").get<std::vector<std::string>>() != names_)
           throw InputError(where, "record of another calibration (different parameters, --seed or "
                                   "--rocks); start afresh with --force instead of --resume");
         Evaluation e;
         e.method = j.at("method").get<std::string>();
-        e.index = j.at("evaluation").get<int>();
+        e.index = WholeField<int>(j, "evaluation", where);
         e.parameters = j.at("parameters").get<std::vector<double>>();
         e.misfit = j.at("misfit").get<double>();
         e.residuals = j.at("residuals").get<std::vector<double>>();

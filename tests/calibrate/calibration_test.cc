@@ -88,6 +88,36 @@ TEST(Calibration, LogOfAnotherCalibrationIsRefused) {
   EXPECT_EQ(log.size(), 2);
 }
 
+// Logs that made the reader convert a number beyond its type (undefined
+// behaviour; fuzz/evaluation_log_fuzz.cc reads them with the same space and
+// fingerprint): each is refused, naming the line and the field.
+TEST(Calibration, LogWithAWholeNumberOutOfRangeIsRefused) {
+  Parameter hardness, roughness;
+  hardness.material = roughness.material = "slope";
+  roughness.kind = ParameterKind::kRoughness;
+  roughness.lower = 0.01;
+  roughness.upper = 0.5;
+  const ParameterSpace space({hardness, roughness});
+  Fingerprint fingerprint;
+  fingerprint.Add("site file", "0123456789abcdef");
+  fingerprint.Add("seed", "1");
+  const std::string dir = std::string(ROCKCAL_SOURCE_DIR) + "/tests/calibrate/evaluation_logs/";
+  for (const auto& [file, field] : {std::pair<const char*, const char*>{"evaluation_1e300", "evaluation"},
+                                    {"rocks_minus_1e300", "rocks"},
+                                    {"seed_1e30", "seed"}}) {
+    const std::string path = TempPath(std::string(file) + ".jsonl");
+    std::filesystem::copy_file(dir + file + ".jsonl", path,
+                               std::filesystem::copy_options::overwrite_existing);
+    try {
+      EvaluationLog log(path, true, space, 1, 6, fingerprint);
+      ADD_FAILURE() << file << ": expected an InputError, read " << log.size() << " records";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(path + ":2: not an evaluation record: \"" + field + "\""))
+          << file;
+    }
+  }
+}
+
 TEST(Calibration, EveryMethodRunsWithinItsBudget) {
   Small small;
   MethodOptions options;
