@@ -101,6 +101,16 @@ class Evaluator final {
     Evaluation e;
     const Evaluation* logged = log_ ? log_->Find(method_, x) : nullptr;
     if (logged) {
+      // Every evaluation has residual_count() residuals; a record with
+      // another count (a log edited by hand) would overrun the methods'
+      // residual arrays.
+      if (logged->residuals.size() != static_cast<std::size_t>(objective_.residual_count()))
+        throw InputError(log_->path(),
+                         "cannot resume: the logged " + method_ + " evaluation " +
+                             std::to_string(logged->index) + " has " +
+                             std::to_string(logged->residuals.size()) + " residuals where this "
+                             "calibration has " + std::to_string(objective_.residual_count()) +
+                             "; start afresh with --force instead of --resume");
       e = *logged;
       e.replayed = true;
       // New work continues the clock of the run this one resumes.
