@@ -1,5 +1,7 @@
 // rockcal calibrate: search the calibrated parameters of a site until its
 // simulation matches the observations, and write the tables and the trace.
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -37,12 +39,19 @@ std::vector<std::string> SplitList(const std::string& text) {
 // --force replaces only a folder rockcal wrote that holds none of `inputs`
 // (reports::CheckOutputFolder). Files a killed run left half-written are
 // removed, and so is calibration.json, which marks the folder complete: it is
-// written again, after parameters.json, when the calibration finishes.
-void PrepareFolder(const std::string& out, bool resume, bool force, const sites::Site& site,
+// written again, after every other file, when the calibration finishes.
+// A new folder appears whole, with its marker and an empty evaluation log
+// (built under a temporary name and renamed into place), so that a run killed
+// at any moment leaves no folder or one that --resume continues.
+void PrepareFolder(std::string out, bool resume, bool force, const sites::Site& site,
                    const std::string& obs_path) {
   std::vector<std::string> inputs = site.inputs;
   inputs.push_back(obs_path);
   std::error_code ec;
+  while (out.size() > 1 && out.back() == '/') out.pop_back();
+  const std::string name = fs::path(out).filename().string();
+  if (!name.empty() && name != "." && name != "..")
+    reports::RemoveStaleTemporaries(fs::path(out).parent_path().string(), name);
   if (resume) {
     if (out.empty() || !fs::exists(out + "/evaluations.jsonl", ec))
       throw InputError(out, "nothing to resume: no evaluations.jsonl in this folder");
@@ -58,13 +67,29 @@ void PrepareFolder(const std::string& out, bool resume, bool force, const sites:
                      "output folder exists already (give --force to replace it, or "
                      "--resume to continue the calibration it holds)");
   reports::CheckOutputFolder(out, force, inputs);
+  const std::string pid = std::to_string(::getpid());
   if (fs::exists(out, ec)) {
-    fs::remove_all(out, ec);
-    if (ec) throw InputError(out, "cannot remove the old output folder: " + ec.message());
+    // Out of the way in one step, then removed.
+    const std::string old = out + ".old-" + pid;
+    fs::rename(out, old, ec);
+    if (ec) throw InputError(out, "cannot move the old output folder away: " + ec.message());
+    fs::remove_all(old, ec);
+    if (ec) throw InputError(old, "cannot remove the old output folder: " + ec.message());
   }
-  if (!fs::create_directory(out, ec))
-    throw InputError(out, "cannot create the output folder: " + ec.message());
-  reports::WriteOutputMarker(out, "calibrate", std::nullopt);
+  const std::string temp = out + ".tmp-" + pid;
+  fs::remove_all(temp, ec);
+  if (!fs::create_directory(temp, ec))
+    throw InputError(out, "cannot create the output folder (its temporary " + temp +
+                              "): " + ec.message());
+  reports::WriteOutputMarker(temp, "calibrate", std::nullopt);
+  reports::WriteFileAtomically(temp + "/evaluations.jsonl", "");
+  fs::rename(temp, out, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove_all(temp, ignored);
+    throw InputError(out, "cannot create the output folder (renaming its temporary " + temp +
+                              "): " + ec.message());
+  }
 }
 
 // --method or --methods, each checked against calibrate::MethodNames().
@@ -144,7 +169,7 @@ calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
 }
 
 // Every file of a finished calibration in DIR `out`; calibration.json, which
-// marks the folder complete, after parameters.json.
+// marks the folder complete, after every other file.
 void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
                            const observations::Observations& obs,
                            const calibrate::CalibrationSummary& summary,
@@ -165,7 +190,6 @@ void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
   if (summary.reach)
     reports::WriteFileAtomically(out + "/reach.json",
                                  calibrate::ReachJson(summary.site, *summary.reach).dump(2) + "\n");
-  reports::WriteFileAtomically(out + "/calibration.json", calibration.dump(2) + "\n");
   reports::ReportInput report = SiteReport(site, summary.calibrated, summary.simulation);
   report.calibration = &summary;
   report.observations = &obs;
@@ -174,6 +198,8 @@ void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
     reports::WriteFileAtomically(out + "/comparison.csv", reports::ComparisonCsv(summary));
     reports::WriteFileAtomically(out + "/comparison.md", reports::ComparisonMarkdown(summary));
   }
+  // Last: calibration.json marks the folder complete (PrepareFolder).
+  reports::WriteFileAtomically(out + "/calibration.json", calibration.dump(2) + "\n");
 }
 
 // The closing lines: the rocks at the calibrated values, the verdict on the

@@ -18,7 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // A calibration folder that a killed run left incomplete: it has the
-// evaluation log but not calibration.json, written after parameters.json
+// evaluation log but not calibration.json, written after every other file
 // when the calibration finishes (a --resume removes it until then).
 void CheckComplete(const std::string& dir) {
   std::error_code ec;

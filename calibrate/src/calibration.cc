@@ -1,12 +1,16 @@
 #include "rockcal/calibrate/calibration.h"
 
+#include <unistd.h>
+
 #include <ceres/ceres.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <memory>
@@ -56,6 +60,22 @@ nlohmann::json ToJson(const Evaluation& e) {
           {"seconds", e.seconds},   {"elapsed", e.elapsed}};
 }
 
+// A whole-number field of a log record, from 0 to T's maximum. A fraction, a
+// negative number or one beyond T (1e300) is not a record rockcal wrote, and
+// converting it would be undefined behaviour.
+template <typename T>
+T WholeField(const nlohmann::json& record, const char* key, const std::string& where) {
+  const nlohmann::json& v = record.at(key);
+  if (v.is_number_unsigned()) {
+    const std::uint64_t u = v.get<std::uint64_t>();
+    if (u <= static_cast<std::uint64_t>(std::numeric_limits<T>::max())) return static_cast<T>(u);
+  }
+  throw InputError(where, std::string("not an evaluation record: \"") + key + "\" is " +
+                              (v.is_number() ? v.dump() : std::string("a ") + v.type_name()) +
+                              "; expected a whole number from 0 to " +
+                              std::to_string(std::numeric_limits<T>::max()));
+}
+
 // Everything a method asks of the objective: budget, log replay, trace, best.
 class Evaluator final {
  public:
@@ -81,6 +101,16 @@ class Evaluator final {
     Evaluation e;
     const Evaluation* logged = log_ ? log_->Find(method_, x) : nullptr;
     if (logged) {
+      // Every evaluation has residual_count() residuals; a record with
+      // another count (a log edited by hand) would overrun the methods'
+      // residual arrays.
+      if (logged->residuals.size() != static_cast<std::size_t>(objective_.residual_count()))
+        throw InputError(log_->path(),
+                         "cannot resume: the logged " + method_ + " evaluation " +
+                             std::to_string(logged->index) + " has " +
+                             std::to_string(logged->residuals.size()) + " residuals where this "
+                             "calibration has " + std::to_string(objective_.residual_count()) +
+                             "; start afresh with --force instead of --resume");
       e = *logged;
       e.replayed = true;
       // New work continues the clock of the run this one resumes.
@@ -703,13 +733,14 @@ EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace
       nlohmann::json j;
       try {
         j = nlohmann::json::parse(line);
-        if (j.at("seed").get<std::uint64_t>() != seed_ || j.at("rocks").get<int>() != rocks_ ||
+        if (WholeField<std::uint64_t>(j, "seed", where) != seed_ ||
+            WholeField<int>(j, "rocks", where) != rocks_ ||
             j.at("names").get<std::vector<std::string>>() != names_)
           throw InputError(where, "record of another calibration (different parameters, --seed or "
                                   "--rocks); start afresh with --force instead of --resume");
         Evaluation e;
         e.method = j.at("method").get<std::string>();
-        e.index = j.at("evaluation").get<int>();
+        e.index = WholeField<int>(j, "evaluation", where);
         e.parameters = j.at("parameters").get<std::vector<double>>();
         e.misfit = j.at("misfit").get<double>();
         e.residuals = j.at("residuals").get<std::vector<double>>();
@@ -725,18 +756,38 @@ EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace
       }
     }
   }
-  // Rewrite the log with the good records only (drops a torn last line).
-  std::ofstream out(path_, std::ios::trunc);
-  if (!out) throw InputError(path_, "cannot write the evaluation log");
-  nlohmann::json parts = nlohmann::json::object();
-  for (const auto& [name, value] : fingerprint_.parts) parts[name] = value;
-  out << nlohmann::json{{"fingerprint", parts}}.dump() << '\n';
-  for (const Evaluation& e : records_) {
-    nlohmann::json j = ToJson(e);
-    j["seed"] = seed_;
-    j["rocks"] = rocks_;
-    j["names"] = names_;
-    out << j.dump() << '\n';
+  // Rewrite the log with the good records only (drops a torn last line),
+  // through a temporary file renamed into place: a run killed meanwhile
+  // leaves the old log whole.
+  const std::string temp = path_ + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(temp, std::ios::trunc);
+    if (!out)
+      throw InputError(path_, "cannot write the evaluation log (its temporary " + temp +
+                                  "): " + std::strerror(errno));
+    nlohmann::json parts = nlohmann::json::object();
+    for (const auto& [name, value] : fingerprint_.parts) parts[name] = value;
+    out << nlohmann::json{{"fingerprint", parts}}.dump() << '\n';
+    for (const Evaluation& e : records_) {
+      nlohmann::json j = ToJson(e);
+      j["seed"] = seed_;
+      j["rocks"] = rocks_;
+      j["names"] = names_;
+      out << j.dump() << '\n';
+    }
+    out.flush();
+    if (!out) {
+      const int error = errno;
+      std::remove(temp.c_str());
+      throw InputError(path_, "cannot write the evaluation log (its temporary " + temp +
+                                  "): " + std::strerror(error));
+    }
+  }
+  if (std::rename(temp.c_str(), path_.c_str()) != 0) {
+    const int error = errno;
+    std::remove(temp.c_str());
+    throw InputError(path_, "cannot write the evaluation log (renaming its temporary " + temp +
+                                "): " + std::strerror(error));
   }
 }
 

@@ -153,7 +153,6 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
   } else if (out.source == "points_file") {
     const std::string file = DataFile(src, base_dir, &out);
     std::vector<Eigen::Vector3d> points = ReadPointsFile(file);
-    out.files.push_back(file);
     CheckPointCount(src, file, points.size());
     out.notes.push_back("surface: " + std::to_string(points.size()) + " points from " + file);
     GridInto(ToSI(std::move(points), units), where, spacing, to_file, &out);
@@ -174,7 +173,6 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
     if (const std::optional<JsonNode> spin = src.Find("spin_deg"))
       transform.spin_deg = spin->Number(-360.0, 360.0);
     std::vector<Eigen::Vector3d> points = ReadLidarFile(file);
-    out.files.push_back(file);
     CheckPointCount(src.Get("file"), file, points.size());
     const Eigen::Vector3d offset = ApplyLidarTransform(transform, &points);
     out.notes.push_back("surface: " + std::to_string(points.size()) + " LIDAR points from " + file +
@@ -185,7 +183,6 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
   } else if (out.source == "grid_file") {
     const std::string file = DataFile(src, base_dir, &out);
     const EsriGrid esri = ReadEsriGrid(file);
-    out.files.push_back(file);
     const double cell = LengthToSI(esri.cellsize, units);
     if (!resolution) spacing = cell;
     Box box;
@@ -219,7 +216,6 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
       const std::string file = DataFile(f.Get("file"), base_dir, &out);
       TriangleSet set;
       set.triangles = ReadStl(file, axes, LengthToSI(1.0, units));
-      out.files.push_back(file);
       set.material = static_cast<int>(it - material_ids.begin());
       for (const Triangle& t : set.triangles)
         for (const Eigen::Vector3d* p : {&t.a, &t.b, &t.c}) box.Add(p->x(), p->y());

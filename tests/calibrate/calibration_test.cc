@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
 
 #include "twin_fixture.h"
@@ -86,6 +87,70 @@ TEST(Calibration, LogOfAnotherCalibrationIsRefused) {
   std::ofstream(path, std::ios::app) << "{\"method\": \"nlopt:sb";  // a torn last line
   EvaluationLog log(path, true, small.space, 1, 6);
   EXPECT_EQ(log.size(), 2);
+}
+
+// A logged evaluation whose residuals do not fit the objective (a log edited
+// by hand) is refused before a method replays it: Ceres' residual array has
+// the objective's count, and 500 more overran it.
+TEST(Calibration, LoggedResidualsOfAnotherCountAreRefused) {
+  Small small;
+  const std::string path = TempPath("residuals.jsonl");
+  MethodOptions options;
+  options.max_evals = 2;
+  {
+    EvaluationLog log(path, false, small.space, 1, 6);
+    RunMethod("ceres", small.objective, small.space.Current(small.site.scene), options, &log);
+  }
+  std::ifstream in(path);
+  std::string header, first, rest;
+  std::getline(in, header);
+  std::getline(in, first);
+  std::getline(in, rest, '\0');
+  in.close();
+  nlohmann::json record = nlohmann::json::parse(first);
+  for (int k = 0; k < 500; ++k) record["residuals"].push_back(1.0);
+  std::ofstream(path) << header << '\n' << record.dump() << '\n' << rest;
+  EvaluationLog log(path, true, small.space, 1, 6);
+  options.max_evals = 4;
+  try {
+    RunMethod("ceres", small.objective, small.space.Current(small.site.scene), options, &log);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("ceres evaluation 1 has " +
+                                    std::to_string(small.objective.residual_count() + 500) +
+                                    " residuals where this calibration has " +
+                                    std::to_string(small.objective.residual_count())));
+  }
+}
+
+// Logs that made the reader convert a number beyond its type (undefined
+// behaviour; fuzz/evaluation_log_fuzz.cc reads them with the same space and
+// fingerprint): each is refused, naming the line and the field.
+TEST(Calibration, LogWithAWholeNumberOutOfRangeIsRefused) {
+  Parameter hardness, roughness;
+  hardness.material = roughness.material = "slope";
+  roughness.kind = ParameterKind::kRoughness;
+  roughness.lower = 0.01;
+  roughness.upper = 0.5;
+  const ParameterSpace space({hardness, roughness});
+  Fingerprint fingerprint;
+  fingerprint.Add("site file", "0123456789abcdef");
+  fingerprint.Add("seed", "1");
+  const std::string dir = std::string(ROCKCAL_SOURCE_DIR) + "/tests/calibrate/evaluation_logs/";
+  for (const auto& [file, field] : {std::pair<const char*, const char*>{"evaluation_1e300", "evaluation"},
+                                    {"rocks_minus_1e300", "rocks"},
+                                    {"seed_1e30", "seed"}}) {
+    const std::string path = TempPath(std::string(file) + ".jsonl");
+    std::filesystem::copy_file(dir + file + ".jsonl", path,
+                               std::filesystem::copy_options::overwrite_existing);
+    try {
+      EvaluationLog log(path, true, space, 1, 6, fingerprint);
+      ADD_FAILURE() << file << ": expected an InputError, read " << log.size() << " records";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr(path + ":2: not an evaluation record: \"" + field + "\""))
+          << file;
+    }
+  }
 }
 
 TEST(Calibration, EveryMethodRunsWithinItsBudget) {

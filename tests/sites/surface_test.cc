@@ -12,6 +12,8 @@ namespace rockcal::sites {
 namespace {
 
 using testing::ErrorOf;
+using ::testing::ElementsAre;
+using ::testing::EndsWith;
 using ::testing::HasSubstr;
 using testing::TempDir;
 
@@ -76,6 +78,7 @@ TEST(ReadSurface, LidarWithOffsetAndSpinLandsOnTheGrid) {
                             dir);
   EXPECT_EQ(surf.source, "lidar");
   EXPECT_FALSE(surf.materials_from_source);
+  EXPECT_THAT(surf.files, ElementsAre(EndsWith("/scan.txt")));  // once: a resume names it once
   ExpectPlane(surf.grid, "lidar");
 }
 
@@ -100,7 +103,10 @@ TEST(ReadSurface, EsriGridStlAndPointsGiveTheSameTerrain) {
     asc << "\n";
   }
   dir.Write("plane.asc", asc.str());
-  ExpectPlane(Read(R"({"grid_file": "plane.asc"})", dir).grid, "grid_file");  // its own cell size
+  const Surface from_grid = Read(R"({"grid_file": "plane.asc"})", dir);
+  ExpectPlane(from_grid.grid, "grid_file");  // its own cell size
+  // Each data file is listed once (Site::inputs, the resume fingerprint).
+  EXPECT_THAT(from_grid.files, ElementsAre(EndsWith("/plane.asc")));
 
   // STL in a Y-up frame: vertices written as (x, elevation, y).
   std::ostringstream stl;
@@ -122,6 +128,7 @@ TEST(ReadSurface, EsriGridStlAndPointsGiveTheSameTerrain) {
       "files": [{"file": "zones/plane.stl", "material": "b"}]}})",
                                 dir);
   ExpectPlane(from_stl.grid, "stl");
+  EXPECT_THAT(from_stl.files, ElementsAre(EndsWith("/zones/plane.stl")));
   EXPECT_TRUE(from_stl.materials_from_source);
   EXPECT_EQ(from_stl.grid.material[7], 1);
 
@@ -130,7 +137,9 @@ TEST(ReadSurface, EsriGridStlAndPointsGiveTheSameTerrain) {
   pts << "x,y,z\n";
   for (const Eigen::Vector3d& p : Lattice()) pts << p.x() << "," << p.y() << "," << p.z() << "\n";
   dir.Write("plane.csv", pts.str());
-  ExpectPlane(Read(R"({"resolution": 2, "points_file": "plane.csv"})", dir).grid, "points_file");
+  const Surface from_points = Read(R"({"resolution": 2, "points_file": "plane.csv"})", dir);
+  ExpectPlane(from_points.grid, "points_file");
+  EXPECT_THAT(from_points.files, ElementsAre(EndsWith("/plane.csv")));
 
   ExpectPlane(Read(R"({"resolution": 2, "points": [[0, 0, 50], [40, 0, 62], [40, 20, 60],
       [0, 20, 48]]})",
