@@ -106,7 +106,8 @@ core::Scene RefineStage(const sites::Site& site, const observations::Observation
       std::max(2, options.method.max_evals - FirstStageEvaluations(options));
   method_options.initial_step = options.refine_step;
   const MethodResult& first = summary->best_method();
-  const std::string name = first.method + ", " + std::to_string(scene.total_rocks()) + " rocks";
+  // No comma: the name is a field of trace.csv and comparison.csv.
+  const std::string name = first.method + " (" + std::to_string(scene.total_rocks()) + " rocks)";
   if (callbacks.method_started) callbacks.method_started(name);
   MethodResult result = RunMethod(first.method, objective, first.best, method_options,
                                   log ? &*log : nullptr, callbacks.evaluated);

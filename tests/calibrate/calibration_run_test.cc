@@ -6,10 +6,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "rockcal/calibrate/objective.h"
 #include "rockcal/calibrate/recording.h"
 #include "rockcal/core/error.h"
+#include "../sites/test_files.h"
 #include "twin_fixture.h"
 
 namespace rockcal::calibrate {
@@ -75,7 +79,7 @@ TEST(CalibrationRun, RefiningStageSearchesOnWithMoreRocksAndNoiseIsMeasured) {
   ASSERT_EQ(s.methods.size(), 2u);
   EXPECT_EQ(s.methods[0].evaluations, 8);
   EXPECT_EQ(s.methods[1].evaluations, 4);
-  EXPECT_EQ(s.methods[1].method, "nlopt:bobyqa, 18 rocks");
+  EXPECT_EQ(s.methods[1].method, "nlopt:bobyqa (18 rocks)");
   EXPECT_EQ(s.best, 1);
   EXPECT_EQ(s.methods[1].trace.front().parameters, s.methods[0].best);
   EXPECT_EQ(s.rocks, 6);
@@ -100,6 +104,50 @@ TEST(CalibrationRun, RefiningStageSearchesOnWithMoreRocksAndNoiseIsMeasured) {
   EXPECT_EQ(one.methods.size(), 1u);
   EXPECT_EQ(one.final_rocks, 6);
   EXPECT_TRUE(one.noise_seeds.empty());
+}
+
+// A calibration stopped anywhere in its refining stage (its log cut short,
+// or not yet begun) and resumed ends where a straight run ends.
+TEST(CalibrationRun, ResumesAcrossTheRefiningStage) {
+  // The log's fingerprint hashes the site's files: the tutorial example.
+  const std::string tutorial = std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/tutorial/";
+  const sites::Site site = sites::LoadSite(tutorial + "site.json");
+  const observations::Observations obs =
+      observations::LoadObservations(tutorial + "observations.json", site.scene);
+  sites::testing::TempDir dir;
+  CalibrationOptions options;
+  options.rocks = 4;
+  options.method.max_evals = 12;
+  options.seed = 3;
+  options.refine_factor = 2;
+  options.log_path = dir.path() + "/evaluations.jsonl";
+  const CalibrationSummary straight = Calibrate(site, obs, options);
+  const std::string refine_log = dir.path() + "/evaluations-refine.jsonl";
+  ASSERT_TRUE(std::filesystem::exists(refine_log));
+  std::string text;
+  {
+    std::ifstream in(refine_log);
+    std::ostringstream all;
+    all << in.rdbuf();
+    text = all.str();
+  }
+  // Cut after the fingerprint and two evaluations; then with no refining log.
+  std::size_t cut = 0;
+  for (int line = 0; line < 3; ++line) cut = text.find('\n', cut) + 1;
+  for (const std::string& kept : {text.substr(0, cut), std::string()}) {
+    if (kept.empty())
+      std::filesystem::remove(refine_log);
+    else
+      std::ofstream(refine_log, std::ios::binary | std::ios::trunc) << kept;
+    CalibrationOptions again = options;
+    again.resume = true;
+    const CalibrationSummary resumed = Calibrate(site, obs, again);
+    ASSERT_EQ(resumed.methods.size(), 2u);
+    EXPECT_EQ(resumed.methods[0].simulated, 0);  // the first stage all replayed
+    EXPECT_EQ(resumed.methods[1].evaluations, straight.methods[1].evaluations);
+    EXPECT_EQ(resumed.best_method().best, straight.best_method().best);
+    EXPECT_EQ(resumed.misfit_after.value, straight.misfit_after.value);
+  }
 }
 
 TEST(CalibrationRun, OptionsAreChecked) {

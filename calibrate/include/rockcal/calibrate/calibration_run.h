@@ -106,7 +106,7 @@ struct CalibrationSummary {
   Termination termination;    // the best method's
   // With CalibrationOptions::refine_factor > 1: the first stage's rocks per
   // evaluation are `rocks`, the refining stage's (the last of `methods`, named
-  // "<method>, <N> rocks", and the best) `final_rocks`; else both are `rocks`.
+  // "<method> (<N> rocks)", and the best) `final_rocks`; else both are `rocks`.
   int final_rocks = 0;
   // CalibrationOptions::noise_seeds: the misfit at the calibrated values at
   // other seeds, and the standard deviation of those and misfit_after.value.
