@@ -338,6 +338,30 @@ TEST(Simulate, PartitionRecordsCrossing) {
 }
 
 
+// A rock that flies off the data (a hole: no elevation past x = 19 m) crosses
+// a partition over the hole in its last advance. Its height is measured from
+// the ground where its path left the slope (the flat ground, z = 0), never
+// recorded as a silent 0.
+TEST(Simulate, CrossingOverAHoleIsMeasuredFromTheNearestGround) {
+  Scene scene = GridScene(41, 5, 1.0, [](double x, double) { return x < 19.5 ? 0.0 : NAN; },
+                          SmoothMaterial(0.5, 0.005, 0.5));
+  scene.partitions = {{"on-slope", Partition::Kind::kX, 18.5},
+                      {"over-hole", Partition::Kind::kX, 19.2}};
+  scene.groups = {PointGroup(Shape::kSphere, 0.4, 10.3, 2.0, 5.0)};
+  scene.groups[0].release.velocity = Eigen::Vector3d(10.0, 0.0, 0.0);
+  const SimulationResult result = Simulate(scene);
+  const RockRecord& r = result.rocks[0];
+  EXPECT_EQ(r.outcome, Outcome::kLeft);
+  ASSERT_EQ(r.crossings.size(), 2u);
+  ASSERT_TRUE(r.crossings[0].crossed);
+  EXPECT_NEAR(r.crossings[0].height, r.crossings[0].point.z(), 1e-9);
+  ASSERT_TRUE(r.crossings[1].crossed);
+  EXPECT_NEAR(r.crossings[1].point.x(), 19.2, 1e-9);
+  EXPECT_GT(r.crossings[1].point.z(), 0.5) << "still in flight over the hole";
+  EXPECT_NEAR(r.crossings[1].height, r.crossings[1].point.z(), 1e-9)
+      << "height " << r.crossings[1].height << " at centre z " << r.crossings[1].point.z();
+}
+
 // ---- The fast paths against the reference path ------------------------------
 // The production path leaves out what a rock does not need (exact flight, the
 // long step of gentle contact, the neighbour list, spheres without
