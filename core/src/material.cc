@@ -59,6 +59,8 @@ double VirtualSphereRadius(double roughness, double spacing) {
   return (roughness * roughness + half * half) / (2.0 * roughness);
 }
 
+double MinRoughness(double spacing) { return spacing / 80.0; }
+
 ContactLaw DeriveContactLaw(const Material& material, const HardnessModel& model) {
   ContactLaw law;
   const double h = std::clamp(material.hardness, 0.0, 1.0);

@@ -1,7 +1,9 @@
 #include "recording.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
+#include <limits>
 
 namespace rockcal::core {
 
@@ -43,7 +45,7 @@ void Recorder::Advance(const RockState& s0, const RockState& s, bool flew) {
         f0 = z0 - part.value;
         f1 = z1 - part.value;
       }
-      if ((f0 < 0) != (f1 < 0)) cr = Record(Between(s0, s, f0 / (f0 - f1), flew));
+      if ((f0 < 0) != (f1 < 0)) cr = Record(s0, Between(s0, s, f0 / (f0 - f1), flew));
     }
   }
   const auto& trees = opt_.trees;
@@ -60,7 +62,7 @@ void Recorder::Advance(const RockState& s0, const RockState& s, bool flew) {
     const double disc = bb * bb - 4.0 * aa * cc;
     if (aa <= 0.0 || disc < 0.0) continue;
     const double f = (-bb - std::sqrt(disc)) / (2.0 * aa);
-    if (f >= 0.0 && f <= 1.0) cr = Record(Between(s0, s, f, flew));
+    if (f >= 0.0 && f <= 1.0) cr = Record(s0, Between(s0, s, f, flew));
   }
   if (trajectory_) {
     while (next_sample_ <= s.t) {
@@ -99,12 +101,28 @@ RockState Recorder::Between(const RockState& s0, const RockState& s1, double f, 
   return s;
 }
 
-Crossing Recorder::Record(const RockState& s) const {
+double Recorder::GroundBelow(const RockState& s0, double x, double y) const {
+  double ground = std::numeric_limits<double>::quiet_NaN();  // if s0 were off the slope
+  if (terrain_.GroundHeight(x, y, &ground)) return ground;
+  // Over a hole: bisect the plan path for where it left the slope (an
+  // advance spans at most a cell, so 30 halvings place it within a micron).
+  double on = 0.0, off = 1.0;
+  for (int k = 0; k < 30; ++k) {
+    const double mid = 0.5 * (on + off);
+    const double xm = s0.x.x() + mid * (x - s0.x.x()), ym = s0.x.y() + mid * (y - s0.x.y());
+    (terrain_.OnSlope(xm, ym) ? on : off) = mid;
+  }
+  const bool found = terrain_.GroundHeight(s0.x.x() + on * (x - s0.x.x()),
+                                           s0.x.y() + on * (y - s0.x.y()), &ground);
+  assert(found && "every advance starts on the slope");
+  (void)found;
+  return ground;
+}
+
+Crossing Recorder::Record(const RockState& s0, const RockState& s) const {
   Crossing c;
   c.crossed = true;
-  double ground = s.x.z();
-  terrain_.GroundHeight(s.x.x(), s.x.y(), &ground);
-  c.height = s.x.z() - ground;
+  c.height = s.x.z() - GroundBelow(s0, s.x.x(), s.x.y());
   c.speed = s.v.norm();
   c.energy = cluster_ ? KineticEnergy<true>(body_, s) : KineticEnergy<false>(body_, s);
   c.point = s.x;

@@ -31,7 +31,12 @@ class Recorder final {
   // State at fraction f of the advance from s0 to s: exact parabola after a
   // flight, linear within a small step.
   RockState Between(const RockState& s0, const RockState& s, double f, bool flew) const;
-  Crossing Record(const RockState& s) const;
+  // The crossing in state s, reached within an advance that began at s0 (on
+  // the slope, as every advance does).
+  Crossing Record(const RockState& s0, const RockState& s) const;
+  // Height of the ground below (x, y); over a hole (no terrain data) the
+  // ground where the plan path from s0 to (x, y) left the slope.
+  double GroundBelow(const RockState& s0, double x, double y) const;
   void Sample(const RockState& s, bool force = false);
 
   const Scene& scene_;

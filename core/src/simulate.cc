@@ -705,10 +705,11 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
     const double u_size = rng.Uniform();
     double u_pos[2] = {rng.Uniform(), rng.Uniform()};
     const double u1 = rng.Uniform(), u2 = rng.Uniform(), u3 = rng.Uniform();
-    const Eigen::Quaterniond q(std::sqrt(1 - u1) * std::sin(2 * kPi * u2),
+    const Eigen::Quaterniond drawn(std::sqrt(1 - u1) * std::sin(2 * kPi * u2),
                                std::sqrt(1 - u1) * std::cos(2 * kPi * u2),
                                std::sqrt(u1) * std::sin(2 * kPi * u3),
                                std::sqrt(u1) * std::cos(2 * kPi * u3));
+    const Eigen::Quaterniond q = group.release.orientation.value_or(drawn);
     const RockBody body = GroupRockBody(group, job.in_group, u_size, scene.gravity);
     bool any_shrunk = false;
     const StepSizes steps = RockSteps(body, ctx.laws, scene, &any_shrunk);

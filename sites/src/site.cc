@@ -94,10 +94,12 @@ ParameterBound ReadBound(const JsonNode& node, const std::string& material,
 // A material's "calibrate" object: bounds for any field of
 // core::MaterialFields(), in the file's units, each around the material's own
 // value (for friction and rolling resistance: explicit, or the hardness
-// model's). Roughness may not exceed half the grid spacing `max_roughness_m`.
+// model's). Roughness bounds lie within [min_roughness_m, max_roughness_m]
+// (core::MinRoughness, half the grid spacing): a search over them never
+// meets the unbounded spheres of a roughness near 0.
 void ReadCalibrateBounds(const JsonNode& node, const core::Material& mat,
-                         const std::string& mat_class, Units units, double max_roughness_m,
-                         Site* site) {
+                         const std::string& mat_class, Units units, double min_roughness_m,
+                         double max_roughness_m, Site* site) {
   std::vector<const char*> names;
   for (const core::MaterialFieldInfo& f : core::MaterialFields()) names.push_back(f.name);
   node.Keys(names);
@@ -112,7 +114,8 @@ void ReadCalibrateBounds(const JsonNode& node, const core::Material& mat,
     }
     const double value = core::FieldValue(mat, f.field, site->scene.hardness_model);
     if (f.unit == core::FieldUnit::kLength) {
-      site->calibrate.push_back(ReadBound(*b, mat.id, mat_class, f.name, f.min / to_si,
+      site->calibrate.push_back(ReadBound(*b, mat.id, mat_class, f.name,
+                                          std::max(f.min, min_roughness_m) / to_si * (1 - 1e-12),
                                           max_roughness_m / to_si, false, value / to_si, to_si,
                                           std::string(" ") + LengthUnit(units)));
     } else {
@@ -518,7 +521,18 @@ Site LoadSite(const std::string& path) {
                 "roughness in [0, " +
                 FormatNumber(max_rough) + "]");
     }
-    if (auto c = m.Find("calibrate")) ReadCalibrateBounds(*c, mat, mat_class, units, s / 2, &site);
+    const double min_rough = core::MinRoughness(s);
+    if (mat.roughness_m > 0.0 && mat.roughness_m < min_rough * (1 - 1e-12)) {
+      m.Get("roughness")
+          .Fail("roughness " + FormatNumber(mat.roughness_m * to_file) + " " + unit +
+                " gives virtual spheres of radius " +
+                FormatNumber(core::VirtualSphereRadius(mat.roughness_m, s) * to_file, "%.4g") +
+                " " + unit + ", more than 10 grid spacings (" + FormatNumber(10 * s * to_file) +
+                " " + unit + "); expected 0 (smooth) or a roughness in [" +
+                FormatNumber(min_rough * to_file) + ", " + FormatNumber(max_rough) + "] " + unit);
+    }
+    if (auto c = m.Find("calibrate"))
+      ReadCalibrateBounds(*c, mat, mat_class, units, min_rough, s / 2, &site);
   }
 
   ApplyZones(pending, to_file, &grid);
@@ -605,10 +619,13 @@ MaterialValueFault SetMaterialValue(const std::string& id, const std::string& fi
   const double value = value_si;
   if (f->unit == core::FieldUnit::kLength) {
     const double max_rough = scene->grid.spacing / 2;
-    if (!(value >= f->min && value <= max_rough * (1 + 1e-12))) {
-      *message = std::string("expected a ") + f->label + " in [0, " +
-                 FormatNumber(max_rough / LengthToSI(1.0, units)) + "] " + LengthUnit(units) +
-                 " (half the grid spacing)";
+    const double min_rough = core::MinRoughness(scene->grid.spacing);
+    if (!(value == 0.0 || (value >= min_rough * (1 - 1e-12) && value <= max_rough * (1 + 1e-12)))) {
+      const double to_file = 1.0 / LengthToSI(1.0, units);
+      *message = std::string("expected 0 (smooth) or a ") + f->label + " in [" +
+                 FormatNumber(min_rough * to_file) + ", " + FormatNumber(max_rough * to_file) +
+                 "] " + LengthUnit(units) +
+                 " (virtual spheres of at most 10 grid spacings, sag at most half a spacing)";
       return MaterialValueFault::kValue;
     }
   } else if (!(value >= f->min && value <= f->max)) {

@@ -17,6 +17,13 @@ TEST(Material, RoughnessToVirtualSphereRadius) {
   EXPECT_TRUE(std::isinf(VirtualSphereRadius(0.0, s)));
 }
 
+TEST(Material, SmallestRoughnessKeepsSpheresWithinTenGridSpacings) {
+  const double s = 12 * kFoot;
+  EXPECT_NEAR(MinRoughness(s) / kFoot, 0.15, 1e-12);
+  const double r = VirtualSphereRadius(MinRoughness(s), s);
+  EXPECT_NEAR(r / s, 10.00625, 1e-12) << "r = " << r / kFoot << " ft";
+}
+
 TEST(Material, ClampedRestitutionMatchesKnownValuesOfEq13) {
   // With the manual's eq. 13 damping and a force that never pulls, the
   // restitution comes out higher than asked (Schwager & Poeschel 2007).

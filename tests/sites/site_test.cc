@@ -277,6 +277,43 @@ TEST(LoadSite, MaterialErrors) {
               HasSubstr("$.materials: expected an array of at least 1 entries"));
 }
 
+// Issue 13, finding 9: the virtual sphere radius r = (R^2 + (s/2)^2) / (2R)
+// grows without bound as R -> 0. A roughness whose spheres would exceed ten
+// grid spacings (R < 0.0125 s: 0.125 ft on this 10 ft grid) is refused;
+// R = 0 (smooth facets) stays allowed.
+TEST(LoadSite, RoughnessNearZeroIsRefused) {
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][0]["roughness"] = 0.01; }),
+              HasSubstr("$.materials[0].roughness: roughness 0.01 ft gives virtual spheres of "
+                        "radius 1250 ft, more than 10 grid spacings (100 ft); expected 0 "
+                        "(smooth) or a roughness in [0.125, 5] ft"));
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][0]["roughness"] = 0.12; }),
+              HasSubstr("expected 0 (smooth) or a roughness in [0.125, 5] ft"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["materials"][1]["calibrate"]["roughness"] = {0.05, 5};
+              }),
+              HasSubstr("$.materials[1].calibrate.roughness: expected bounds within [0.125, 5] ft"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["materials"][1]["calibrate"]["roughness"] = {0, 5};
+              }),
+              HasSubstr("$.materials[1].calibrate.roughness: expected bounds within [0.125, 5] ft"));
+  for (double ok : {0.0, 0.13}) {
+    TempDir dir;
+    Json json = BaseSite();
+    json["materials"][0]["roughness"] = ok;
+    const Site site = LoadSite(WriteSite(dir, json));
+    EXPECT_DOUBLE_EQ(site.scene.materials[0].roughness_m, ok * 0.3048);
+  }
+  TempDir dir;
+  Site site = LoadSite(WriteSite(dir, BaseSite()));
+  EXPECT_THAT(ErrorOf([&] { ApplySetting("material.rock.roughness=0.01", &site); }),
+              HasSubstr("--set material.rock.roughness=0.01: expected 0 (smooth) or a roughness "
+                        "in [0.125, 5] ft"));
+  ApplySetting("material.rock.roughness=0", &site);
+  EXPECT_EQ(site.scene.materials[0].roughness_m, 0.0);
+  ApplySetting("material.rock.roughness=0.13", &site);
+  EXPECT_DOUBLE_EQ(site.scene.materials[0].roughness_m, 0.13 * 0.3048);
+}
+
 TEST(LoadSite, MaterialClassDefaultsToTheId) {
   TempDir dir;
   Json json = BaseSite();
@@ -351,7 +388,7 @@ TEST(LoadSite, CalibrateErrors) {
   EXPECT_THAT(LoadError([](Json& s) {
                 s["materials"][1]["calibrate"]["roughness"] = {0.5, 8};
               }),
-              HasSubstr("$.materials[1].calibrate.roughness: expected bounds within [0, 5] ft"));
+              HasSubstr("$.materials[1].calibrate.roughness: expected bounds within [0.125, 5] ft"));
   EXPECT_THAT(LoadError([](Json& s) {
                 s["materials"][1]["calibrate"]["contact_time"] = {0, 0.01};
               }),
@@ -533,7 +570,7 @@ TEST(ApplySetting, Errors) {
   EXPECT_THAT(error("material.rock.hardness=high"), HasSubstr("'high' is not a number"));
   EXPECT_THAT(error("material.rock.hardness="), HasSubstr("'' is not a number"));
   EXPECT_THAT(error("material.rock.hardness=1.5"), HasSubstr("expected a hardness in [0, 1]"));
-  EXPECT_THAT(error("material.rock.roughness=6"), HasSubstr("expected a roughness in [0, 5] ft"));
+  EXPECT_THAT(error("material.rock.roughness=6"), HasSubstr("expected 0 (smooth) or a roughness in [0.125, 5] ft"));
   EXPECT_THAT(error("material.rock.contact_time=0"), HasSubstr("expected a contact time"));
   EXPECT_THAT(error("rock.hardness=0.3"), HasSubstr("expected material.<id>.<field>=VALUE"));
   EXPECT_THAT(error("material.rock.hardness"), HasSubstr("expected material.<id>.<field>=VALUE"));

@@ -60,6 +60,12 @@ double DampingRatioForRestitution(double e);
 // Returns +infinity for R == 0 (smooth).
 double VirtualSphereRadius(double roughness, double spacing);
 
+// Smallest roughness above 0 a site may give on a grid of spacing s: s / 80,
+// whose virtual spheres have radius 10.006 s (twice the manual's largest, 60 ft
+// on a 12 ft grid). Below it r grows as s^2 / (8R) without bound, while the
+// surface differs from the smooth facets (R = 0) by less than s / 80.
+double MinRoughness(double spacing);
+
 }  // namespace rockcal::core
 
 #endif  // ROCKCAL_CORE_MATERIAL_H_

@@ -3,6 +3,7 @@
 #define ROCKCAL_CORE_SCENE_H_
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -36,6 +37,9 @@ struct Release {
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // m/s, mean
   // m/s, one-sigma spread of each velocity component (normal draws); 0: none.
   Eigen::Vector3d velocity_spread = Eigen::Vector3d::Zero();
+  // Orientation of a cluster at release (body axes to world); unset: uniformly
+  // random. Its draws are made either way, so setting it moves no other draw.
+  std::optional<Eigen::Quaterniond> orientation;
 };
 
 // One block of a field inventory: its shape (a box of its measured sides, or
