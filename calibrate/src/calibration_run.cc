@@ -259,6 +259,9 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
   if (refine) {
     final_scene = RefineStage(site, obs, options, space, callbacks, &summary);
     summary.final_rocks = final_scene.total_rocks();
+    // Before and after at the same rocks, so that they compare.
+    summary.misfit_before =
+        Objective(final_scene, space, obs, options.misfit).Evaluate(summary.start);
   }
   const MethodResult& best = summary.best_method();
   summary.termination = best.termination;

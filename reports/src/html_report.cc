@@ -12,6 +12,29 @@
 namespace rockcal::reports {
 namespace {
 
+// The misfit's Monte Carlo noise (CalibrationSummary::noise_seeds): the
+// calibrated values' misfit at the other seeds, and a plain warning when the
+// calibration's own seed scores below all of them by more than the spread.
+std::string NoiseSentence(const calibrate::CalibrationSummary& rec) {
+  if (rec.noise_seeds.empty()) return "";
+  std::string s = "; at seed";
+  s += rec.noise_seeds.size() > 1 ? "s " : " ";
+  double lowest = rec.noise_misfits[0];
+  for (std::size_t k = 0; k < rec.noise_seeds.size(); ++k) {
+    s += (k == 0 ? "" : k + 1 == rec.noise_seeds.size() ? " and " : ", ") +
+         std::to_string(rec.noise_seeds[k]);
+    lowest = std::min(lowest, rec.noise_misfits[k]);
+  }
+  s += " the same values score ";
+  for (std::size_t k = 0; k < rec.noise_misfits.size(); ++k)
+    s += (k == 0 ? "" : k + 1 == rec.noise_misfits.size() ? " and " : ", ") +
+         sections::Label(rec.noise_misfits[k], 3);
+  s += " (Monte Carlo noise: standard deviation " + sections::Label(rec.misfit_noise_sd, 2) + ")";
+  if (rec.misfit_after.value < lowest - rec.misfit_noise_sd)
+    s += "; the search found a dip of its own seed's noise: judge the fit at the other seeds";
+  return sections::Escape(s);
+}
+
 using sections::Context;
 using sections::Escape;
 using sections::Int;
@@ -90,12 +113,7 @@ std::string Lead(const Context& c) {
         Escape(rec.methods[static_cast<std::size_t>(rec.best)].method) + ": misfit " +
         Escape(Label(rec.misfit_before.value, 3)) + " at the start, " +
         Escape(Label(rec.misfit_after.value, 3)) + " at the calibrated values" +
-        (rec.noise_seeds.empty()
-             ? std::string()
-             : " (" + Int(rec.final_rocks) + " rocks; its Monte Carlo noise, from " +
-                   Int(static_cast<long>(rec.noise_seeds.size()) + 1) + " seeds, " +
-                   Escape(Label(rec.misfit_noise_sd, 2)) + ")") +
-        ". <b>Fit " +
+        " (" + Int(rec.final_rocks) + " rocks)" + NoiseSentence(rec) + ". <b>Fit " +
         Escape(verdict.Sentence()) + ".</b>" +
         (verdict.poor ? " The calibrated values do not reproduce the observations: do not use "
                         "them as if they did (widen the box, change the model, or check the "

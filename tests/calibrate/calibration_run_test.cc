@@ -88,6 +88,9 @@ TEST(CalibrationRun, RefiningStageSearchesOnWithMoreRocksAndNoiseIsMeasured) {
   // The final simulation is the refined values' at the refining stage's
   // rocks and seed: its misfit is the one the search found there.
   EXPECT_DOUBLE_EQ(s.misfit_after.value, s.methods[1].best_misfit);
+  // The misfit before is the start's at those rocks too: the refining
+  // stage's first evaluation is the first stage's best, not the start.
+  EXPECT_EQ(s.misfit_before.residuals.size(), s.misfit_after.residuals.size());
   // The same values at seeds 4 and 5, and the spread of the three misfits.
   ASSERT_EQ(s.noise_seeds, (std::vector<std::uint64_t>{4, 5}));
   ASSERT_EQ(s.noise_misfits.size(), 2u);

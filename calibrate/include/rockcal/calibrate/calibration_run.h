@@ -96,7 +96,9 @@ struct CalibrationSummary {
   // The reach check, when run; the search then started from `search_start`.
   std::optional<ReachResult> reach;
   std::vector<double> search_start;    // where the methods started
-  observations::Misfit misfit_before;  // at start
+  // At start; with a refining stage, at its rocks (as misfit_after), once
+  // it has run (the `started` callback sees the first stage's).
+  observations::Misfit misfit_before;
   observations::Misfit misfit_after;   // at the calibrated values, of `simulation`
   std::vector<MethodResult> methods;   // in the order run
   int best = 0;                        // index into methods
