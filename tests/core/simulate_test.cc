@@ -48,6 +48,17 @@ void ExpectParabola(bool exact_flight) {
 TEST(Simulate, FreeFallExactFlight) { ExpectParabola(true); }
 TEST(Simulate, FreeFallSmallSteps) { ExpectParabola(false); }
 
+// The centre's first apex after the first bounce of a sampled trajectory: the
+// highest point after the velocity first turns upward.
+template <typename Trajectory>
+double FirstApex(const Trajectory& tr) {
+  std::size_t k = 0;
+  while (k < tr.size() && tr[k].v.z() <= 0.0) ++k;
+  double apex = -1e9;
+  for (; k < tr.size() && tr[k].v.z() >= -1e-9; ++k) apex = std::max(apex, tr[k].x.z());
+  return apex;
+}
+
 // Drops a sphere on flat ground; returns apex heights (of the sphere's
 // bottom above the ground) of the release and of the first rebound.
 std::pair<double, double> BounceApexes(const Material& m, bool rough, bool exact_flight) {
@@ -65,12 +76,7 @@ std::pair<double, double> BounceApexes(const Material& m, bool rough, bool exact
   scene.options.record.sample_seconds = 1e-4;
   const SimulationResult result = Simulate(scene);
   const auto& tr = result.rocks[0].trajectory;
-  // First apex after the first bounce: the highest point after the velocity
-  // first turns upward.
-  std::size_t k = 0;
-  while (k < tr.size() && tr[k].v.z() <= 0.0) ++k;
-  double apex = -1e9;
-  for (; k < tr.size() && tr[k].v.z() >= -1e-9; ++k) apex = std::max(apex, tr[k].x.z());
+  const double apex = FirstApex(tr);
   return {tr[0].x.z() - radius, apex - radius};
 }
 
@@ -111,10 +117,7 @@ double FlatCubeApexRatio(double e) {
   scene.options.record.sample_seconds = 1e-4;
   const SimulationResult result = Simulate(scene);
   const auto& tr = result.rocks[0].trajectory;
-  std::size_t k = 0;
-  while (k < tr.size() && tr[k].v.z() <= 0.0) ++k;
-  double apex = -1e9;
-  for (; k < tr.size() && tr[k].v.z() >= -1e-9; ++k) apex = std::max(apex, tr[k].x.z());
+  const double apex = FirstApex(tr);
   // Identity orientation: faces along the axes, the bottom face side / 2 below the centre.
   EXPECT_NEAR(tr[0].x.z() - 0.5 * side, drop, 1e-9);
   return (apex - 0.5 * side) / (tr[0].x.z() - 0.5 * side);
