@@ -474,6 +474,7 @@ MethodResult Conclude(Evaluator* ev, Termination termination, bool smoothed,
     first_holds = Holds(first, first_lowest);
     if (!first_holds) centre = space.ToUnit(ev->best());
   }
+  const std::vector<double> first_centre = centre;
   for (int k = 0; k < n; ++k)
     for (const double sign : {1.0, -1.0}) {
       std::vector<double> u = centre;
@@ -502,10 +503,18 @@ MethodResult Conclude(Evaluator* ev, Termination termination, bool smoothed,
     info.used = Holds(info, lowest);
     msg << info.message << " (" << Agreement(info, lowest) << ")";
     if (!info.used)
-      msg << "; its minimiser did not hold, so the calibrated values are the lowest evaluation";
+      msg << "; its minimiser did not hold, so the calibrated values are "
+          << (first_holds ? "the first estimate's" : "the lowest evaluation");
   } else {
-    msg << "model that could not be fitted: " << info.message
-        << "; the calibrated values are the lowest evaluation";
+    msg << "model that could not be fitted: " << info.message << "; the calibrated values are "
+        << (first_holds ? "the first estimate's" : "the lowest evaluation");
+  }
+  // A second stage that did not hold leaves the first, which did, standing.
+  if (!info.used && first_holds) {
+    info = first;
+    info.used = true;
+    estimate = space.ToPhysical(first_centre);
+    misfit = first.evaluated_misfit;
   }
   info.message = msg.str();
   MethodResult result = ev->Finish(std::move(termination));
