@@ -10,6 +10,7 @@
 #include "rockcal/calibrate/objective.h"
 #include "rockcal/calibrate/score.h"
 #include "rockcal/core/error.h"
+#include "rockcal/core/statistics.h"
 
 namespace rockcal::calibrate {
 
@@ -69,6 +70,19 @@ std::string Numbers(const std::vector<double>& values) {
   return s.str();
 }
 
+// The evaluation log at options.log_path (none when it is empty), resumed
+// when options.resume, fingerprinted with what determines `scene`'s
+// evaluations.
+std::optional<EvaluationLog> OpenLog(const sites::Site& site, const observations::Observations& obs,
+                                     const CalibrationOptions& options,
+                                     const ParameterSpace& space, const core::Scene& scene) {
+  std::optional<EvaluationLog> log;
+  if (!options.log_path.empty())
+    log.emplace(options.log_path, options.resume, space, scene.options.seed, scene.total_rocks(),
+                CalibrationFingerprint(site, obs, options));
+  return log;
+}
+
 // The first stage's share of the evaluations when a refining stage follows.
 int FirstStageEvaluations(const CalibrationOptions& options) {
   const int total = options.method.max_evals;
@@ -96,10 +110,7 @@ core::Scene RefineStage(const sites::Site& site, const observations::Observation
   o.resume = options.resume && !o.log_path.empty() && std::filesystem::exists(o.log_path);
   const core::Scene scene = RunScene(site, o.rocks, options.seed, options.threads);
   const Objective objective(scene, space, obs, options.misfit);
-  std::optional<EvaluationLog> log;
-  if (!o.log_path.empty())
-    log.emplace(o.log_path, o.resume, space, scene.options.seed, scene.total_rocks(),
-                CalibrationFingerprint(site, obs, o));
+  std::optional<EvaluationLog> log = OpenLog(site, obs, o, space, scene);
   MethodOptions method_options = options.method;
   method_options.seed = scene.options.seed;
   method_options.max_evals =
@@ -134,11 +145,7 @@ void MeasureMisfitNoise(const sites::Site& site, const observations::Observation
     summary->noise_misfits.push_back(misfit);
     all.push_back(misfit);
   }
-  double mean = 0.0;
-  for (double v : all) mean += v / static_cast<double>(all.size());
-  double ss = 0.0;
-  for (double v : all) ss += (v - mean) * (v - mean);
-  summary->misfit_noise_sd = std::sqrt(ss / static_cast<double>(all.size() - 1));
+  summary->misfit_noise_sd = core::SampleStandardDeviation(all);
 }
 
 }  // namespace
@@ -214,10 +221,7 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
   if (refine) method_options.max_evals = FirstStageEvaluations(options);
 
   const Objective objective(scene, space, obs, options.misfit);
-  std::optional<EvaluationLog> log;
-  if (!options.log_path.empty())
-    log.emplace(options.log_path, options.resume, space, scene.options.seed, scene.total_rocks(),
-                CalibrationFingerprint(site, obs, options));
+  std::optional<EvaluationLog> log = OpenLog(site, obs, options, space, scene);
 
   CalibrationSummary summary;
   summary.site = scene.name;

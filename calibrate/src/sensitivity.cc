@@ -172,9 +172,7 @@ MorrisResult RunMorris(int k, int m, const SensitivityModel& model, const Morris
       if (e.size() < 2) {
         idx.sigma = kNaN;
       } else {
-        double ss = 0.0;
-        for (double v : e) ss += (v - idx.mu) * (v - idx.mu);
-        idx.sigma = std::sqrt(ss / (n - 1.0));
+        idx.sigma = core::SampleStandardDeviation(e);
       }
     }
   }
@@ -469,12 +467,7 @@ std::vector<double> OutputNoise(const std::vector<SiteOutput>& outputs, const co
     for (double x : reps[o])
       if (std::isfinite(x)) v.push_back(x);
     if (v.size() < 2 || 2 * v.size() < reps[o].size()) continue;
-    double mean = 0.0;
-    for (double x : v) mean += x;
-    mean /= static_cast<double>(v.size());
-    double ss = 0.0;
-    for (double x : v) ss += (x - mean) * (x - mean);
-    out[o] = std::sqrt(ss / (static_cast<double>(v.size()) - 1.0));
+    out[o] = core::SampleStandardDeviation(v);
   }
   return out;
 }

@@ -6,6 +6,17 @@
 
 namespace rockcal::core {
 
+double SampleStandardDeviation(const std::vector<double>& values) {
+  assert(values.size() >= 2);
+  double sum = 0.0;
+  for (double v : values) sum += v;
+  const double n = static_cast<double>(values.size());
+  const double mean = sum / n;
+  double ss = 0.0;
+  for (double v : values) ss += (v - mean) * (v - mean);
+  return std::sqrt(ss / (n - 1.0));
+}
+
 double Quantile(const std::vector<double>& sorted, double q) {
   assert(!sorted.empty());
   const double pos = std::clamp(q, 0.0, 1.0) * static_cast<double>(sorted.size() - 1);

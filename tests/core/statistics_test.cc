@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "rockcal/core/random.h"
 
 namespace rockcal::core {
@@ -33,6 +35,12 @@ TEST(Random, StreamsAreReproducibleAndDistinct) {
   RandomStream e(1, 0);
   for (int i = 0; i < 20000; ++i) sum += e.Uniform();
   EXPECT_NEAR(sum / 20000, 0.5, 0.01);
+}
+
+TEST(Statistics, SampleStandardDeviation) {
+  // 2, 4, 4, 4, 5, 5, 7, 9: mean 5, squared deviations sum 32, divisor 7.
+  EXPECT_DOUBLE_EQ(SampleStandardDeviation({2, 4, 4, 4, 5, 5, 7, 9}), std::sqrt(32.0 / 7.0));
+  EXPECT_DOUBLE_EQ(SampleStandardDeviation({1, 3}), std::sqrt(2.0));
 }
 
 }  // namespace
