@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "flight.h"
@@ -79,6 +80,7 @@ class RockRun {
     inertia_min_ = body.inertia.minCoeff();
     g_ = ctx.gravity.norm();
     found_.reserve(16);
+    touching_.reserve(16);
     contacts_.reserve(16);
     next_.reserve(16);
   }
@@ -377,10 +379,15 @@ class RockRun {
     next_.clear();
     spring_energy_ = 0.0;
     const bool floor = UpdateNeighbours() >= floor_clear_;
+    const bool masked = MaskTouchingElements(rot);
     for (std::size_t e = 0; e < body_.elements.size(); ++e) {
       Eigen::Vector3d centre = s_.x;
       if constexpr (kCluster) centre += rot * body_.elements[e];
-      FindElementContacts(centre, floor);
+      if (masked) {
+        MaskedElementContacts(centre, mask_[e], floor);
+      } else {
+        FindElementContacts(centre, floor);
+      }
       for (const TerrainContact& c : found_)
         AddContactForce(c, static_cast<int>(e), v_half, w_half, dt, &load);
     }
@@ -400,13 +407,77 @@ class RockRun {
     Eigen::Vector3d rolling = Eigen::Vector3d::Zero();  // rolling resistance, before its limit
   };
 
+  // touching_: the spheres of the neighbourhood that the bounding sphere
+  // overlaps now, in the neighbourhood's order. Every element lies inside
+  // the bounding sphere, so no element touches any other one this step: the
+  // cull is exact (the same contacts in the same order), and a cluster's
+  // elements test only these. A sphere rock is its bounding sphere, so it
+  // tests the neighbourhood directly.
+  void CullNeighbours() {
+    touching_.clear();
+    if (!kCluster || !neighbours_) return;
+    const double rb = body_.bounding_radius;
+    for (int n : near_) {
+      const double reach = ctx_.terrain.sphere_radius(n) + rb;
+      if ((s_.x - ctx_.terrain.sphere_centre(n)).squaredNorm() < reach * reach)
+        touching_.push_back(n);
+    }
+  }
+
+  // A cluster's contact search in two passes: mask_[e] gets bit k when
+  // element e may touch sphere touching_[k] (a distance test over the
+  // elements laid out by coordinate, a little generous so that rounding
+  // never drops a contact), then MaskedElementContacts makes the contacts
+  // of the flagged pairs exactly as SphereContacts does, in the same order.
+  // False (no masks) for spheres, on the reference path, or with more
+  // touching spheres than a mask holds.
+  bool MaskTouchingElements(const Eigen::Matrix3d& rot) {
+    CullNeighbours();
+    if (!kCluster || !neighbours_ || touching_.size() > 64) return false;
+    const std::size_t ne = body_.elements.size();
+    ex_.resize(ne);
+    ey_.resize(ne);
+    ez_.resize(ne);
+    mask_.assign(ne, 0);
+    for (std::size_t e = 0; e < ne; ++e) {
+      const Eigen::Vector3d p = s_.x + rot * body_.elements[e];
+      ex_[e] = p.x();
+      ey_[e] = p.y();
+      ez_[e] = p.z();
+    }
+    const double a = body_.element_radius;
+    for (std::size_t k = 0; k < touching_.size(); ++k) {
+      const Eigen::Vector3d& c = ctx_.terrain.sphere_centre(touching_[k]);
+      const double limit = ctx_.terrain.sphere_radius(touching_[k]) + a;
+      const double reach2 = limit * limit * (1.0 + 1e-9);
+      for (std::size_t e = 0; e < ne; ++e) {
+        const double dx = ex_[e] - c.x(), dy = ey_[e] - c.y(), dz = ez_[e] - c.z();
+        mask_[e] |= static_cast<std::uint64_t>(dx * dx + dy * dy + dz * dz < reach2) << k;
+      }
+    }
+    return true;
+  }
+  void MaskedElementContacts(const Eigen::Vector3d& centre, std::uint64_t mask, bool floor) {
+    found_.clear();
+    const double a = body_.element_radius;
+    TerrainContact contact;
+    for (; mask != 0; mask &= mask - 1) {
+      const int k = __builtin_ctzll(mask);
+      if (ctx_.terrain.SphereContact(centre, a, touching_[static_cast<std::size_t>(k)], &contact))
+        found_.push_back(contact);
+    }
+    if (floor) ctx_.terrain.FloorContacts(centre, a, &found_);
+  }
+
   // found_: the contacts of an element centred at `centre`; the floor
   // (facets and catch surface) only where the rock may reach it.
   void FindElementContacts(const Eigen::Vector3d& centre, bool floor) {
     found_.clear();
     const double a = body_.element_radius;
     if (neighbours_) {
-      ctx_.terrain.SphereContacts(centre, a, near_.data(), near_.data() + near_.size(), &found_);
+      const std::vector<int>& spheres = kCluster ? touching_ : near_;
+      ctx_.terrain.SphereContacts(centre, a, spheres.data(), spheres.data() + spheres.size(),
+                                  &found_);
       if (floor) ctx_.terrain.FloorContacts(centre, a, &found_);
     } else {
       ctx_.terrain.FindContacts(centre, a, &found_);
@@ -495,6 +566,9 @@ class RockRun {
   Eigen::Vector3d near_ref_ = Eigen::Vector3d::Zero();
   double skin_ = 0.0, floor_clear_ = 0.0;
   std::vector<int> near_;
+  std::vector<int> touching_;  // of near_, those the bounding sphere overlaps (CullNeighbours)
+  std::vector<double> ex_, ey_, ez_;  // element centres this step (MaskTouchingElements)
+  std::vector<std::uint64_t> mask_;   // per element, the touching_ spheres it may touch
   std::vector<TerrainContact> found_;
   std::vector<ContactState> contacts_, next_;
 };

@@ -400,22 +400,9 @@ void Terrain::FindContacts(const Eigen::Vector3d& c, double a,
 
 void Terrain::SphereContacts(const Eigen::Vector3d& c, double a, const int* begin, const int* end,
                              std::vector<TerrainContact>* out) const {
-  for (const int* it = begin; it != end; ++it) {
-    const int n = *it;
-    const double r = radius_[static_cast<std::size_t>(n)];
-    const Eigen::Vector3d d = c - centre_[static_cast<std::size_t>(n)];
-    const double limit = a + r;
-    const double d2 = d.squaredNorm();
-    if (d2 >= limit * limit) continue;
-    const double dist = std::sqrt(d2);
-    TerrainContact contact;
-    contact.normal = d / dist;
-    contact.overlap = limit - dist;
-    contact.point = c - contact.normal * (a - 0.5 * contact.overlap);
-    contact.material = grid_.material[static_cast<std::size_t>(n)];
-    contact.key = n;
-    out->push_back(contact);
-  }
+  TerrainContact contact;
+  for (const int* it = begin; it != end; ++it)
+    if (SphereContact(c, a, *it, &contact)) out->push_back(contact);
 }
 
 void Terrain::FloorContacts(const Eigen::Vector3d& c, double a,

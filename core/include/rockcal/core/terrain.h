@@ -109,6 +109,22 @@ class Terrain final {
   void SphereContacts(const Eigen::Vector3d& c, double a, const int* begin, const int* end,
                       std::vector<TerrainContact>* out) const;
   void FloorContacts(const Eigen::Vector3d& c, double a, std::vector<TerrainContact>* out) const;
+  // The contact of the element sphere (c, a) with virtual sphere n; false
+  // when they do not overlap. SphereContacts is this over a list.
+  bool SphereContact(const Eigen::Vector3d& c, double a, int n, TerrainContact* out) const {
+    const double r = radius_[static_cast<std::size_t>(n)];
+    const Eigen::Vector3d d = c - centre_[static_cast<std::size_t>(n)];
+    const double limit = a + r;
+    const double d2 = d.squaredNorm();
+    if (d2 >= limit * limit) return false;
+    const double dist = std::sqrt(d2);
+    out->normal = d / dist;
+    out->overlap = limit - dist;
+    out->point = c - out->normal * (a - 0.5 * out->overlap);
+    out->material = grid_.material[static_cast<std::size_t>(n)];
+    out->key = n;
+    return true;
+  }
 
   // Deepest sag of the virtual-sphere surface below the nodes: at a cell
   // centre, r - sqrt(r^2 - s^2/2) for the largest sphere radius r in use (r
