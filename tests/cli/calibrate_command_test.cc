@@ -25,7 +25,7 @@ using testing::RunResult;
 std::string Calibrate(const std::string& out, const std::string& extra) {
   const std::string obs =
       std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/tutorial/observations.json";
-  return "calibrate " + Example("tutorial") + " --observations " + obs + " --rocks 4 --quiet " +
+  return "calibrate " + Example("tutorial") + " --observations " + obs + " --rocks 4 --reach 0 --quiet " +
          extra + " --out " + out;
 }
 

@@ -38,7 +38,7 @@ std::string CopyTutorial(const std::string& dir) {
 std::string Calibrate(const std::string& site_dir, const std::string& out, int evals,
                       const std::string& extra = "") {
   return site_dir + "/site.json --observations " + site_dir +
-         "/observations.json --rocks 4 --seed 2 --max-evals " + std::to_string(evals) +
+         "/observations.json --rocks 4 --reach 0 --seed 2 --max-evals " + std::to_string(evals) +
          " --quiet --out " + out + " " + extra;
 }
 
@@ -77,7 +77,7 @@ TEST(CalibrateResume, ContinuesLikeAStraightRunAndRefusesChangedInputs) {
 
   // Another seed: named too.
   r = Rockcal("calibrate " + site + "/site.json --observations " + site +
-              "/observations.json --rocks 4 --seed 3 --max-evals 6 --quiet --resume --out " +
+              "/observations.json --rocks 4 --reach 0 --seed 3 --max-evals 6 --quiet --resume --out " +
               stopped);
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_THAT(r.err, HasSubstr("seed"));
