@@ -207,6 +207,14 @@ void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
 void PrintCalibration(const std::string& out, const calibrate::CalibrationSummary& summary,
                       bool holdout, double wall_seconds) {
   const core::SimulationResult& sim = summary.simulation;
+  if (summary.race_winner >= 0) {
+    std::printf("\nrace of the refining stage's start at %d rocks (misfit):", summary.final_rocks);
+    for (const auto& entry : summary.race)
+      std::printf("%s %s %.4g", &entry == &summary.race.front() ? "" : ",", entry.from.c_str(),
+                  entry.misfit);
+    std::printf("\nrefining from %s\n",
+                summary.race[static_cast<std::size_t>(summary.race_winner)].from.c_str());
+  }
   std::printf("\nat the calibrated values: %d of %zu rocks stopped, %d left the terrain, %d timed "
               "out\nfit %s\n",
               sim.count(core::Outcome::kStopped), sim.rocks.size(),
@@ -228,7 +236,8 @@ int Calibrate(const std::vector<std::string>& argv) {
   const auto start_time = std::chrono::steady_clock::now();
   const Args args(argv, {"force", "quiet", "resume"},
                   {"observations", "method", "methods", "max-evals", "max-seconds", "rocks",
-                   "refine", "seed", "threads", "loss", "estimate", "holdout", "reach", "out"});
+                   "refine", "race", "seed", "threads", "loss", "estimate", "holdout", "reach",
+                   "out"});
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   const std::string obs_path = args.Get("observations");
@@ -246,6 +255,10 @@ int Calibrate(const std::vector<std::string>& argv) {
       args.Integer("reach", 4 * (parameters + 1), 0, 100000));
   if (options.reach_points == 1)
     throw InputError("argument --reach", "1: expected 0 (no reach check) or at least 2 points");
+  // With a refining stage, a race of its possible starts: the first stage's
+  // best, the site's start and the best twelfth of the design (at least 2).
+  options.race_points = static_cast<int>(args.Integer(
+      "race", options.refine_factor > 1 ? std::max(2, options.reach_points / 12) : 0, 0, 100000));
   std::string error;
   if (!options.method.IsValid(&error)) throw InputError("arguments", error);
   calibrate::CheckCalibration(site, options);

@@ -30,6 +30,8 @@ bool CalibrationOptions::IsValid(std::string* error) const {
     s << "refine_share = " << refine_share << ": must be in (0, 1)";
   } else if (!(refine_step > 0.0 && refine_step <= 1.0)) {
     s << "refine_step = " << refine_step << ": must be in (0, 1]";
+  } else if (race_points < 0) {
+    s << "race_points = " << race_points << ": must be >= 0 (0: no race)";
   } else if (noise_seeds < 0) {
     s << "noise_seeds = " << noise_seeds << ": must be >= 0";
   } else if (resume && log_path.empty()) {
@@ -97,9 +99,48 @@ std::string RefineLogPath(const std::string& log_path) {
   return (p.parent_path() / (p.stem().string() + "-refine" + p.extension().string())).string();
 }
 
-// The refining stage of Calibrate: the best method again, from its values,
-// with refine_factor times the rocks. Appends its result to summary->methods
-// (and makes it the best); returns the scene it searched.
+// CalibrationOptions::race_points: the candidates for the refining
+// search's start simulated on `objective` (the refining stage's rocks);
+// returns the values of the lowest misfit (the first stage's best without a
+// race).
+std::vector<double> RaceCandidates(const CalibrationOptions& options, const Objective& objective,
+                                   CalibrationSummary* summary) {
+  const std::vector<double>& first_best = summary->best_method().best;
+  if (options.race_points <= 0) return first_best;
+  using Entry = CalibrationSummary::RaceEntry;
+  std::vector<Entry>& race = summary->race;
+  race.push_back({"first stage", first_best, summary->best_method().best_misfit, 0.0, false});
+  race.push_back({"start", summary->start, summary->misfit_before.value, 0.0, false});
+  if (summary->reach) {
+    const std::vector<ReachPoint>& points = summary->reach->points;
+    std::vector<std::size_t> order;
+    for (std::size_t k = 0; k < points.size(); ++k)
+      if (!points[k].penalised) order.push_back(k);
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return points[a].misfit < points[b].misfit;
+    });
+    const std::size_t n = std::min(order.size(), static_cast<std::size_t>(options.race_points));
+    for (std::size_t k = 0; k < n; ++k)
+      race.push_back({"design point " + std::to_string(order[k] + 1), points[order[k]].physical,
+                      points[order[k]].misfit, 0.0, false});
+  }
+  double lowest = 0.0;
+  for (std::size_t k = 0; k < race.size(); ++k) {
+    const observations::Misfit m = objective.Evaluate(race[k].physical);
+    race[k].misfit = m.value;
+    race[k].penalised = m.penalised;
+    if (summary->race_winner < 0 || m.value < lowest) {
+      summary->race_winner = static_cast<int>(k);
+      lowest = m.value;
+    }
+  }
+  return race[static_cast<std::size_t>(summary->race_winner)].physical;
+}
+
+// The refining stage of Calibrate: the best method again, with
+// refine_factor times the rocks, from the winner of the race
+// (RaceCandidates). Appends its result to summary->methods (and makes it
+// the best); returns the scene it searched.
 core::Scene RefineStage(const sites::Site& site, const observations::Observations& obs,
                         const CalibrationOptions& options, const ParameterSpace& space,
                         const CalibrationCallbacks& callbacks, CalibrationSummary* summary) {
@@ -110,6 +151,7 @@ core::Scene RefineStage(const sites::Site& site, const observations::Observation
   o.resume = options.resume && !o.log_path.empty() && std::filesystem::exists(o.log_path);
   const core::Scene scene = RunScene(site, o.rocks, options.seed, options.threads);
   const Objective objective(scene, space, obs, options.misfit);
+  const std::vector<double> refine_start = RaceCandidates(options, objective, summary);
   std::optional<EvaluationLog> log = OpenLog(site, obs, o, space, scene);
   MethodOptions method_options = options.method;
   method_options.seed = scene.options.seed;
@@ -120,7 +162,7 @@ core::Scene RefineStage(const sites::Site& site, const observations::Observation
   // No comma: the name is a field of trace.csv and comparison.csv.
   const std::string name = first.method + " (" + std::to_string(scene.total_rocks()) + " rocks)";
   if (callbacks.method_started) callbacks.method_started(name);
-  MethodResult result = RunMethod(first.method, objective, first.best, method_options,
+  MethodResult result = RunMethod(first.method, objective, refine_start, method_options,
                                   log ? &*log : nullptr, callbacks.evaluated);
   result.method = name;
   if (callbacks.method_finished) callbacks.method_finished(result);
@@ -199,6 +241,9 @@ Fingerprint CalibrationFingerprint(const sites::Site& site, const observations::
     parameters << p.label() << " [" << p.lower << ", " << p.upper << "] ";
   parameters << "start " << Numbers(space.Current(scene));
   f.Add("parameters", parameters.str());
+  // Where the refining search starts (RaceCandidates); left out without a
+  // race, so that logs written before races existed resume.
+  if (options.race_points > 0) f.Add("race", std::to_string(options.race_points));
   return f;
 }
 

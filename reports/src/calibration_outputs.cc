@@ -200,6 +200,13 @@ nlohmann::json CalibrationJson(const CalibrationSummary& record) {
   }
   nlohmann::json names = nlohmann::json::array();
   for (const auto& p : record.space.parameters()) names.push_back(p.label());
+  nlohmann::json race = nlohmann::json::array();
+  for (const auto& entry : record.race)
+    race.push_back({{"from", entry.from},
+                    {"values", entry.physical},
+                    {"misfit_before", entry.misfit_before},
+                    {"misfit", entry.misfit},
+                    {"penalised", entry.penalised}});
   return {{"site", record.site},
           {"method", best.method},
           {"termination", best.termination.message},
@@ -217,6 +224,10 @@ nlohmann::json CalibrationJson(const CalibrationSummary& record) {
           {"start", record.start},
           {"search_start", record.search_start},
           {"reach_points", record.reach ? static_cast<int>(record.reach->points.size()) : 0},
+          {"race", {{"rocks", record.race.empty() ? 0 : record.final_rocks},
+                    {"candidates", race},
+                    {"winner", record.race_winner >= 0 ? nlohmann::json(record.race_winner)
+                                                       : nlohmann::json(nullptr)}}},
           {"calibrated", best.best},
           {"misfit_before", record.misfit_before.value},
           {"misfit_after", record.misfit_after.value},

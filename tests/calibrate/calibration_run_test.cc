@@ -109,6 +109,54 @@ TEST(CalibrationRun, RefiningStageSearchesOnWithMoreRocksAndNoiseIsMeasured) {
   EXPECT_TRUE(one.noise_seeds.empty());
 }
 
+// The race before the refining stage: the first stage's best, the start
+// and the design's lowest points simulated at the refining rocks; the
+// refining search starts from the lowest of them.
+TEST(CalibrationRun, RefiningStartsFromTheRaceWinner) {
+  const sites::Site site = TwinSite(6);
+  const observations::Observations obs = TwinObservations(TwinSite(20), kTruth, 5);
+  CalibrationOptions options;
+  options.method.max_evals = 9;
+  options.seed = 3;
+  options.refine_factor = 2;
+  options.reach_points = 6;
+  options.race_points = 2;
+  const CalibrationSummary s = Calibrate(site, obs, options);
+  ASSERT_TRUE(s.reach.has_value());
+  ASSERT_EQ(s.race.size(), 4u);
+  EXPECT_EQ(s.race[0].from, "first stage");
+  EXPECT_EQ(s.race[0].physical, s.methods[0].best);
+  EXPECT_DOUBLE_EQ(s.race[0].misfit_before, s.methods[0].best_misfit);
+  EXPECT_EQ(s.race[1].from, "start");
+  EXPECT_EQ(s.race[1].physical, s.start);
+  // The start at the refining rocks and seed is the misfit before.
+  EXPECT_DOUBLE_EQ(s.race[1].misfit, s.misfit_before.value);
+  // The design points in the order of their design misfit, none lower left out.
+  const std::vector<ReachPoint>& points = s.reach->points;
+  for (int k : {2, 3}) {
+    ASSERT_EQ(s.race[k].from.rfind("design point ", 0), 0u) << s.race[k].from;
+    const std::size_t index = std::stoul(s.race[k].from.substr(13)) - 1;
+    EXPECT_EQ(s.race[k].physical, points[index].physical);
+    EXPECT_DOUBLE_EQ(s.race[k].misfit_before, points[index].misfit);
+  }
+  EXPECT_LE(s.race[2].misfit_before, s.race[3].misfit_before);
+  int below = 0;
+  for (const ReachPoint& p : points) below += !p.penalised && p.misfit < s.race[3].misfit_before;
+  EXPECT_LE(below, 1);
+  // The winner is the lowest at the refining rocks, and the refining
+  // search's first evaluation.
+  ASSERT_GE(s.race_winner, 0);
+  for (const auto& entry : s.race) EXPECT_LE(s.race[s.race_winner].misfit, entry.misfit);
+  EXPECT_EQ(s.methods[1].trace.front().parameters, s.race[s.race_winner].physical);
+  EXPECT_DOUBLE_EQ(s.methods[1].trace.front().misfit, s.race[s.race_winner].misfit);
+  // No race: the first stage's best starts it, and nothing is raced.
+  options.race_points = 0;
+  const CalibrationSummary plain = Calibrate(site, obs, options);
+  EXPECT_TRUE(plain.race.empty());
+  EXPECT_EQ(plain.race_winner, -1);
+  EXPECT_EQ(plain.methods[1].trace.front().parameters, plain.methods[0].best);
+}
+
 // A calibration stopped anywhere in its refining stage (its log cut short,
 // or not yet begun) and resumed ends where a straight run ends.
 TEST(CalibrationRun, ResumesAcrossTheRefiningStage) {
@@ -123,6 +171,7 @@ TEST(CalibrationRun, ResumesAcrossTheRefiningStage) {
   options.method.max_evals = 12;
   options.seed = 3;
   options.refine_factor = 2;
+  options.noise_seeds = 0;  // the noise runs are not logged: nothing to resume
   options.log_path = dir.path() + "/evaluations.jsonl";
   const CalibrationSummary straight = Calibrate(site, obs, options);
   const std::string refine_log = dir.path() + "/evaluations-refine.jsonl";
@@ -171,6 +220,10 @@ TEST(CalibrationRun, OptionsAreChecked) {
   o.resume = true;
   EXPECT_FALSE(o.IsValid(&error));
   EXPECT_THAT(error, HasSubstr("log_path"));
+  o = CalibrationOptions{};
+  o.race_points = -1;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("race_points = -1"));
   o = CalibrationOptions{};
   o.refine_factor = 0;
   EXPECT_FALSE(o.IsValid(&error));

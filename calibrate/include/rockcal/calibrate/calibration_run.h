@@ -62,6 +62,16 @@ struct CalibrationOptions {
   int refine_factor = 1;
   double refine_share = 1.0 / 3.0;  // (0, 1)
   double refine_step = 0.05;        // (0, 1]
+  // A race before the refining stage (with refine_factor > 1): the first
+  // stage's best values, the site's starting values and the race_points
+  // design points of lowest misfit (with reach_points) are simulated at the
+  // refining stage's rocks, and the refining search starts from the lowest.
+  // At a few dozen rocks the misfit's Monte Carlo noise is as large as the
+  // differences the first stage ranks by, so its best is mostly the luckiest
+  // draw; the race ranks the candidates again at the noise level the search
+  // ends at. 0: none, the refining search starts from the first stage's best
+  // [0], >= 0.
+  int race_points = 0;
   // The misfit's Monte Carlo noise where the search ended: the calibrated
   // values simulated again at this many other seeds (seed + 1, seed + 2, ...)
   // with the final rock count; 0: none [0], >= 0.
@@ -110,6 +120,20 @@ struct CalibrationSummary {
   // evaluation are `rocks`, the refining stage's (the last of `methods`, named
   // "<method> (<N> rocks)", and the best) `final_rocks`; else both are `rocks`.
   int final_rocks = 0;
+  // CalibrationOptions::race_points: the candidates raced at final_rocks
+  // before the refining stage, in the order raced (the first stage's best,
+  // the site's start, then the design points by their design misfit), with
+  // where each came from and its misfit there; `race_winner` indexes the one
+  // the refining search started from (-1: no race).
+  struct RaceEntry {
+    std::string from;  // "first stage", "start" or "design point N" (1-based)
+    std::vector<double> physical;
+    double misfit_before = 0.0;  // at `rocks` (the stage or design it came from)
+    double misfit = 0.0;         // at final_rocks
+    bool penalised = false;
+  };
+  std::vector<RaceEntry> race;
+  int race_winner = -1;
   // CalibrationOptions::noise_seeds: the misfit at the calibrated values at
   // other seeds, and the standard deviation of those and misfit_after.value.
   std::vector<std::uint64_t> noise_seeds;
