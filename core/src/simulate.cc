@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
@@ -80,6 +81,7 @@ class RockRun {
     inertia_min_ = body.inertia.minCoeff();
     g_ = ctx.gravity.norm();
     found_.reserve(16);
+    hits_.reserve(16);
     touching_.reserve(16);
     contacts_.reserve(16);
     next_.reserve(16);
@@ -262,9 +264,54 @@ class RockRun {
     if constexpr (kCluster) speed += s_.w.norm() * rb;
     const double horizon = kGapHorizonSteps * dt_;
     const double reach = speed * horizon + 0.5 * g_ * horizon * horizon;
-    const double gap = std::min(NearGap(reach), reach);
+    double gap = std::min(NearGap(reach), reach);
+    // A cluster's elements lie inside its bounding sphere, and their own gap
+    // is wider: fly on to it, so that a landing block is primed (its first
+    // contact step begins at its first touch, as a sphere's does) instead of
+    // closing the last of the bounding sphere's gap in contact steps.
+    if (!single_element_ && gap < reach) gap = ElementGap(reach, std::max(gap, 0.0));
     if (!(gap > 0.0)) return tau;
     return std::max(tau, GapFlightTime(kFlightReach * gap, speed, g_));
+  }
+
+  // The smallest gap between any element and anything it may touch while
+  // the rock's centre moves by at most `reach` (and its elements by at most
+  // that, the speed bound of FlightTime covering the rotation), at least
+  // `floor` (the bounding sphere's gap, which it bounds from below). From
+  // the neighbourhood while it holds (NearGap has just brought it up to
+  // date): a sphere whose gap to the bounding sphere is already wider than
+  // the narrowest found is skipped for every element, and the floor only
+  // where the bounding sphere may reach it.
+  double ElementGap(double reach, double floor) {
+    const Eigen::Matrix3d rot = Rotation();
+    const double a = body_.element_radius;
+    const double moved = neighbours_ ? (s_.x - near_ref_).norm() : kInf;
+    double gap = reach;
+    if (!(moved + reach < skin_)) {
+      for (const Eigen::Vector3d& e : body_.elements) {
+        gap = std::min(gap, ctx_.terrain.Gap(s_.x + rot * e, a, reach));
+        if (!(gap > floor)) return floor;
+      }
+      return gap;
+    }
+    centres_.resize(body_.elements.size());
+    for (std::size_t e = 0; e < body_.elements.size(); ++e)
+      centres_[e] = s_.x + rot * body_.elements[e];
+    const double rb = body_.bounding_radius;
+    for (int n : near_) {
+      const double bound = (s_.x - ctx_.terrain.sphere_centre(n)).norm() -
+                           ctx_.terrain.sphere_radius(n) - rb;
+      if (!(bound < gap)) continue;
+      for (const Eigen::Vector3d& c : centres_) gap = ctx_.terrain.SphereGap(c, a, n, gap);
+      if (!(gap > floor)) return floor;
+    }
+    if (!(floor_clear_ > moved + reach)) {
+      for (const Eigen::Vector3d& c : centres_) {
+        gap = std::min(gap, ctx_.terrain.FloorGap(c, a, reach, gap));
+        if (!(gap > floor)) return floor;
+      }
+    }
+    return gap;
   }
 
   // Exact ballistic advance by tau (free rotation for clusters).
@@ -285,22 +332,30 @@ class RockRun {
     const Eigen::Matrix3d rot = Rotation();
     Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
     const double m = body_.mass;
+    hits_.clear();
     for (std::size_t e = 0; e < body_.elements.size(); ++e) {
       Eigen::Vector3d centre = s_.x;
       if constexpr (kCluster) centre += rot * body_.elements[e];
       found_.clear();
       ctx_.terrain.FindContacts(centre, body_.element_radius + tol, &found_);
-      for (const TerrainContact& c : found_) {
-        const ContactLaw& law = ctx_.laws[static_cast<std::size_t>(c.material)];
-        const Eigen::Vector3d arm = c.point - s_.x;
-        const double vn = (s_.v + s_.w.cross(arm)).dot(c.normal);
-        const double overlap = std::max(c.overlap - tol, 0.0);
-        // Per unit mass, as the law keeps it, then times the mass.
-        const double fn =
-            m * NormalForce({law.stiffness_per_mass, law.damping_per_mass}, overlap, vn);
-        force += fn * c.normal;
-        torque += arm.cross(fn * c.normal);
+      for (TerrainContact c : found_) {
+        c.overlap = std::max(c.overlap - tol, 0.0);
+        hits_.push_back({c, static_cast<int>(e)});
       }
+    }
+    const double norm = OverlapNorm();
+    for (const Hit& h : hits_) {
+      const TerrainContact& c = h.contact;
+      const ContactLaw& law = ctx_.laws[static_cast<std::size_t>(c.material)];
+      const Eigen::Vector3d arm = c.point - s_.x;
+      const double vn = (s_.v + s_.w.cross(arm)).dot(c.normal);
+      // Per unit mass, as the law keeps it, then times the mass.
+      const double fn =
+          m * NormalForce({law.stiffness_per_mass,
+                           law.damping_per_mass * DampingShare(c.overlap, norm)},
+                          c.overlap, vn);
+      force += fn * c.normal;
+      torque += arm.cross(fn * c.normal);
     }
     a_ = ctx_.gravity + force / m;
     alpha_ = AngularAcceleration(torque, s_.w, rot);
@@ -380,6 +435,7 @@ class RockRun {
     spring_energy_ = 0.0;
     const bool floor = UpdateNeighbours() >= floor_clear_;
     const bool masked = MaskTouchingElements(rot);
+    hits_.clear();
     for (std::size_t e = 0; e < body_.elements.size(); ++e) {
       Eigen::Vector3d centre = s_.x;
       if constexpr (kCluster) centre += rot * body_.elements[e];
@@ -388,9 +444,14 @@ class RockRun {
       } else {
         FindElementContacts(centre, floor);
       }
-      for (const TerrainContact& c : found_)
-        AddContactForce(c, static_cast<int>(e), v_half, w_half, dt, &load);
+      for (const TerrainContact& c : found_) hits_.push_back({c, static_cast<int>(e)});
     }
+    const double norm = OverlapNorm();
+    const bool joint = !single_element_ && hits_.size() > 1;
+    const Eigen::Vector3d v_end = joint ? JointEndVelocity(v_half, dt, norm) : v_half;
+    for (const Hit& h : hits_)
+      AddContactForce(h.contact, h.element, DampingShare(h.contact.overlap, norm), v_half,
+                      w_half, dt, joint ? &v_end : nullptr, &load);
     const Eigen::Vector3d torque =
         load.torque + LimitRollingTorque(load.rolling, inertia_min_, w_half.norm(), dt);
     if (next_.empty()) needed_dt_ = dt_;
@@ -484,24 +545,73 @@ class RockRun {
     }
   }
 
-  // The contact law (core/contact.h) on contact c of element e over a step
-  // of dt from the half-step velocities: adds its force and torques to
-  // *load, keeps its spring in next_ and its energy in spring_energy_, and
-  // lowers needed_dt_ to the step it asks for.
-  void AddContactForce(const TerrainContact& c, int e, const Eigen::Vector3d& v_half,
-                       const Eigen::Vector3d& w_half, double dt, Load* load) {
+  // A rock's restitution is the rock's, not each element's. With n of a
+  // cluster's elements touching at once, each takes the whole spring (the
+  // springs stay conservative: energy never rises), so the rock meets n k
+  // and its contact is sqrt(n) times shorter; for its damping ratio, and so
+  // its restitution, to stay the material's, the dashpots share sqrt(n) c
+  // between them. Contact i takes c d_i / |d| (d: the contacts' overlaps;
+  // |d| their Euclidean norm): n equal contacts each c / sqrt(n), one
+  // contact all of c, and a contact's share grows from 0 with its overlap,
+  // so nothing jumps as contacts come and go. A shared dashpot only ever
+  // dissipates. A sphere, and a cluster with one contact, takes the whole
+  // law. (Sharing the springs as well would keep the contact time but is
+  // not conservative: a hardness-1 block gained 4 % of its energy.)
+  double OverlapNorm() const {
+    double sum = 0.0;
+    for (const Hit& h : hits_) sum += h.contact.overlap * h.contact.overlap;
+    return std::sqrt(sum);
+  }
+  // Contacts that all touch without overlap (a landing's first instant,
+  // PrimeLanding) share equally.
+  double DampingShare(double overlap, double norm) const {
+    if (single_element_ || hits_.size() < 2) return 1.0;
+    return norm > 0.0 ? overlap / norm : 1.0 / std::sqrt(static_cast<double>(hits_.size()));
+  }
+
+  // The centre's velocity at the end of a step of dt with several contacts:
+  // every contact's spring and its share of the damping act on the rock
+  // together, the dashpots implicit (trapezoidal), the rock taken as a mass
+  // (I + dt/2 sum c_i n_i n_i^T / m) v = v_half + dt/2 (g + sum k d_i n_i / m).
+  // Each contact solving its dashpot as if it alone stopped the rock let n
+  // contacts overshoot, as an explicit dashpot does (the coupled scheme's
+  // stable step falls with the damping: bench/README.md).
+  Eigen::Vector3d JointEndVelocity(const Eigen::Vector3d& v_half, double dt, double norm) const {
+    Eigen::Matrix3d a = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d b = v_half + 0.5 * dt * ctx_.gravity;
+    for (const Hit& h : hits_) {
+      const TerrainContact& c = h.contact;
+      const ContactLaw& law = ctx_.laws[static_cast<std::size_t>(c.material)];
+      const double damping = law.damping_per_mass * DampingShare(c.overlap, norm);
+      a += (0.5 * dt * damping) * c.normal * c.normal.transpose();
+      b += (0.5 * dt * law.stiffness_per_mass * c.overlap) * c.normal;
+    }
+    return a.ldlt().solve(b);
+  }
+
+  // The contact law (core/contact.h) on contact c of element e, with its
+  // share of the rock's damping (DampingShare), over a step of dt from the
+  // half-step velocities: adds its force and torques to *load, keeps its
+  // spring in next_ and its energy in spring_energy_, and lowers needed_dt_
+  // to the step it asks for. v_end: the centre's velocity at the step's end
+  // from JointEndVelocity, or null to solve this contact's dashpot alone.
+  void AddContactForce(const TerrainContact& c, int e, double damping_share,
+                       const Eigen::Vector3d& v_half, const Eigen::Vector3d& w_half, double dt,
+                       const Eigen::Vector3d* v_end, Load* load) {
     const ContactLaw& law = ctx_.laws[static_cast<std::size_t>(c.material)];
     const double m = body_.mass;
     const Eigen::Vector3d arm = c.point - s_.x;
     const Eigen::Vector3d vc_half = v_half + w_half.cross(arm);
     const double kn = m * law.stiffness_per_mass;
+    const double damping_per_mass = law.damping_per_mass * damping_share;
     // Normal velocity at the end of the step, with the dashpot taken
     // implicitly (trapezoidal): v_n = v_n,half + dt/2 (k d / m - c v_n + g_n).
     const double vn =
-        (vc_half.dot(c.normal) +
-         0.5 * dt * (law.stiffness_per_mass * c.overlap + ctx_.gravity.dot(c.normal))) /
-        (1.0 + 0.5 * dt * law.damping_per_mass);
-    const double fn = NormalForce({kn, m * law.damping_per_mass}, c.overlap, vn);
+        v_end ? (*v_end + w_half.cross(arm)).dot(c.normal)
+              : (vc_half.dot(c.normal) +
+                 0.5 * dt * (law.stiffness_per_mass * c.overlap + ctx_.gravity.dot(c.normal))) /
+                    (1.0 + 0.5 * dt * damping_per_mass);
+    const double fn = NormalForce({kn, m * damping_per_mass}, c.overlap, vn);
     const MaterialSteps& ms = steps_.material[static_cast<std::size_t>(c.material)];
     needed_dt_ = std::min(needed_dt_, std::abs(vn) < ms.gentle_speed ? ms.gentle : ms.contact);
     // Tangential spring: carry the displacement over, rotated into the
@@ -568,8 +678,14 @@ class RockRun {
   std::vector<int> near_;
   std::vector<int> touching_;  // of near_, those the bounding sphere overlaps (CullNeighbours)
   std::vector<double> ex_, ey_, ez_;  // element centres this step (MaskTouchingElements)
+  std::vector<Eigen::Vector3d> centres_;  // element centres (ElementGap)
   std::vector<std::uint64_t> mask_;   // per element, the touching_ spheres it may touch
   std::vector<TerrainContact> found_;
+  struct Hit {
+    TerrainContact contact;
+    int element;
+  };
+  std::vector<Hit> hits_;  // a step's contacts, every element's (Step)
   std::vector<ContactState> contacts_, next_;
 };
 
