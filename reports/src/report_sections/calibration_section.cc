@@ -79,6 +79,20 @@ std::string RunTable(const CalibrationSummary& rec) {
                          : " (smoothed estimate " + Escape(best.smoothed.message) + ")"));
   s += Kv("Each evaluation", Escape(Int(rec.rocks) + " rocks, seed " + std::to_string(rec.seed) +
                                     " (the same random numbers at every evaluation)"));
+  if (rec.race_winner >= 0) {
+    // The race for the refining stage's start (CalibrationOptions::race_points).
+    std::string race;
+    for (std::size_t k = 0; k < rec.race.size(); ++k) {
+      const auto& entry = rec.race[k];
+      race += (k ? ", " : "") + Escape(entry.from) + " " +
+              RefSpan(Ref(cj, "/race/candidates/" + Int(static_cast<long>(k)) + "/misfit"),
+                      entry.misfit, Label(entry.misfit, 4)) +
+              (static_cast<int>(k) == rec.race_winner ? " (won)" : "");
+    }
+    s += Kv("Refining start",
+            "the lowest misfit at " + Int(rec.final_rocks) + " rocks of: " + race +
+                " (the first stage's misfits, at fewer rocks, rank mostly their noise)");
+  }
   s += Kv(
       "Whole calibration",
       RefSpan(Ref(cj, "/wall_seconds"), rec.wall_seconds, Show(rec.wall_seconds)) + " s wall time");
