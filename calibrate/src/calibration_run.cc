@@ -344,9 +344,9 @@ HoldoutSummary CrossValidate(const sites::Site& site, const observations::Observ
     for (const auto& s : fold.scars) r.held_out_values += static_cast<int>(s.size());
     r.held_out_values += static_cast<int>(fold.runout.size());
     CalibrationOptions o = options;
-    // The folds search without a reach check of their own: its design costs
-    // as much as a calibration's first evaluations, K times over.
-    o.reach_points = 0;
+    // Each fold searches as the full calibration does, reach check and race
+    // included, on its own part of the observations: a fold that started
+    // from the full run's values would have seen its held-out blocks.
     o.observations_subset = "fold " + std::to_string(r.fold) + " of " + std::to_string(folds) +
                             ", seed " + std::to_string(out.seed);
     if (!options.log_path.empty())
