@@ -103,14 +103,17 @@ std::string RefineLogPath(const std::string& log_path) {
 // search's start simulated on `objective` (the refining stage's rocks);
 // returns the values of the lowest misfit (the first stage's best without a
 // race).
+// start_misfit_before: the start's misfit at the first stage's rocks
+// (summary->misfit_before is already the refining stage's, and the start
+// is not simulated again).
 std::vector<double> RaceCandidates(const CalibrationOptions& options, const Objective& objective,
-                                   CalibrationSummary* summary) {
+                                   double start_misfit_before, CalibrationSummary* summary) {
   const std::vector<double>& first_best = summary->best_method().best;
   if (options.race_points <= 0) return first_best;
   using Entry = CalibrationSummary::RaceEntry;
   std::vector<Entry>& race = summary->race;
   race.push_back({"first stage", first_best, summary->best_method().best_misfit, 0.0, false});
-  race.push_back({"start", summary->start, summary->misfit_before.value, 0.0, false});
+  race.push_back({"start", summary->start, start_misfit_before, 0.0, false});
   if (summary->reach) {
     const std::vector<ReachPoint>& points = summary->reach->points;
     std::vector<std::size_t> order;
@@ -126,7 +129,9 @@ std::vector<double> RaceCandidates(const CalibrationOptions& options, const Obje
   }
   double lowest = 0.0;
   for (std::size_t k = 0; k < race.size(); ++k) {
-    const observations::Misfit m = objective.Evaluate(race[k].physical);
+    const observations::Misfit m =
+        race[k].physical == summary->start ? summary->misfit_before
+                                           : objective.Evaluate(race[k].physical);
     race[k].misfit = m.value;
     race[k].penalised = m.penalised;
     if (summary->race_winner < 0 || m.value < lowest) {
@@ -151,7 +156,11 @@ core::Scene RefineStage(const sites::Site& site, const observations::Observation
   o.resume = options.resume && !o.log_path.empty() && std::filesystem::exists(o.log_path);
   const core::Scene scene = RunScene(site, o.rocks, options.seed, options.threads);
   const Objective objective(scene, space, obs, options.misfit);
-  const std::vector<double> refine_start = RaceCandidates(options, objective, summary);
+  // Before and after at the same rocks, so that they compare.
+  const double start_misfit_before = summary->misfit_before.value;
+  summary->misfit_before = objective.Evaluate(summary->start);
+  const std::vector<double> refine_start =
+      RaceCandidates(options, objective, start_misfit_before, summary);
   std::optional<EvaluationLog> log = OpenLog(site, obs, o, space, scene);
   MethodOptions method_options = options.method;
   method_options.seed = scene.options.seed;
@@ -308,9 +317,6 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
   if (refine) {
     final_scene = RefineStage(site, obs, options, space, callbacks, &summary);
     summary.final_rocks = final_scene.total_rocks();
-    // Before and after at the same rocks, so that they compare.
-    summary.misfit_before =
-        Objective(final_scene, space, obs, options.misfit).Evaluate(summary.start);
   }
   const MethodResult& best = summary.best_method();
   summary.termination = best.termination;

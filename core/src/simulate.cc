@@ -274,6 +274,13 @@ class RockRun {
     return std::max(tau, GapFlightTime(kFlightReach * gap, speed, g_));
   }
 
+  // centres_: the world centres of the elements at the current state.
+  void ElementCentres(const Eigen::Matrix3d& rot) {
+    centres_.resize(body_.elements.size());
+    for (std::size_t e = 0; e < body_.elements.size(); ++e)
+      centres_[e] = s_.x + rot * body_.elements[e];
+  }
+
   // The smallest gap between any element and anything it may touch while
   // the rock's centre moves by at most `reach` (and its elements by at most
   // that, the speed bound of FlightTime covering the rotation), at least
@@ -294,9 +301,7 @@ class RockRun {
       }
       return gap;
     }
-    centres_.resize(body_.elements.size());
-    for (std::size_t e = 0; e < body_.elements.size(); ++e)
-      centres_[e] = s_.x + rot * body_.elements[e];
+    ElementCentres(rot);
     const double rb = body_.bounding_radius;
     for (int n : near_) {
       const double bound = (s_.x - ctx_.terrain.sphere_centre(n)).norm() -
@@ -434,11 +439,11 @@ class RockRun {
     next_.clear();
     spring_energy_ = 0.0;
     const bool floor = UpdateNeighbours() >= floor_clear_;
-    const bool masked = MaskTouchingElements(rot);
+    if constexpr (kCluster) ElementCentres(rot);
+    const bool masked = MaskTouchingElements();
     hits_.clear();
     for (std::size_t e = 0; e < body_.elements.size(); ++e) {
-      Eigen::Vector3d centre = s_.x;
-      if constexpr (kCluster) centre += rot * body_.elements[e];
+      const Eigen::Vector3d& centre = kCluster ? centres_[e] : s_.x;
       if (masked) {
         MaskedElementContacts(centre, mask_[e], floor);
       } else {
@@ -487,32 +492,24 @@ class RockRun {
 
   // A cluster's contact search in two passes: mask_[e] gets bit k when
   // element e may touch sphere touching_[k] (a distance test over the
-  // elements laid out by coordinate, a little generous so that rounding
+  // element centres of ElementCentres, a little generous so that rounding
   // never drops a contact), then MaskedElementContacts makes the contacts
   // of the flagged pairs exactly as SphereContacts does, in the same order.
   // False (no masks) for spheres, on the reference path, or with more
   // touching spheres than a mask holds.
-  bool MaskTouchingElements(const Eigen::Matrix3d& rot) {
+  bool MaskTouchingElements() {
     CullNeighbours();
     if (!kCluster || !neighbours_ || touching_.size() > 64) return false;
     const std::size_t ne = body_.elements.size();
-    ex_.resize(ne);
-    ey_.resize(ne);
-    ez_.resize(ne);
     mask_.assign(ne, 0);
-    for (std::size_t e = 0; e < ne; ++e) {
-      const Eigen::Vector3d p = s_.x + rot * body_.elements[e];
-      ex_[e] = p.x();
-      ey_[e] = p.y();
-      ez_[e] = p.z();
-    }
     const double a = body_.element_radius;
     for (std::size_t k = 0; k < touching_.size(); ++k) {
       const Eigen::Vector3d& c = ctx_.terrain.sphere_centre(touching_[k]);
       const double limit = ctx_.terrain.sphere_radius(touching_[k]) + a;
       const double reach2 = limit * limit * (1.0 + 1e-9);
       for (std::size_t e = 0; e < ne; ++e) {
-        const double dx = ex_[e] - c.x(), dy = ey_[e] - c.y(), dz = ez_[e] - c.z();
+        const Eigen::Vector3d& p = centres_[e];
+        const double dx = p.x() - c.x(), dy = p.y() - c.y(), dz = p.z() - c.z();
         mask_[e] |= static_cast<std::uint64_t>(dx * dx + dy * dy + dz * dz < reach2) << k;
       }
     }
@@ -677,8 +674,7 @@ class RockRun {
   double skin_ = 0.0, floor_clear_ = 0.0;
   std::vector<int> near_;
   std::vector<int> touching_;  // of near_, those the bounding sphere overlaps (CullNeighbours)
-  std::vector<double> ex_, ey_, ez_;  // element centres this step (MaskTouchingElements)
-  std::vector<Eigen::Vector3d> centres_;  // element centres (ElementGap)
+  std::vector<Eigen::Vector3d> centres_;  // element centres (ElementCentres)
   std::vector<std::uint64_t> mask_;   // per element, the touching_ spheres it may touch
   std::vector<TerrainContact> found_;
   struct Hit {
