@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")"
 
 PACKAGES=(build-essential cmake libeigen3-dev libnlopt-cxx-dev libceres-dev
-          nlohmann-json3-dev libgtest-dev libgmock-dev)
+          nlohmann-json3-dev libgtest-dev libgmock-dev libgdal-dev)
 JOBS=$(nproc 2>/dev/null || echo 2)
 
 install_missing() {

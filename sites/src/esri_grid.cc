@@ -1,9 +1,7 @@
 #include "rockcal/sites/esri_grid.h"
 
-#include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <limits>
 
 #include "rockcal/sites/json_reader.h"
 #include "rockcal/sites/text_reader.h"
@@ -11,7 +9,6 @@
 namespace rockcal::sites {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr long kMaxCells = 100'000'000;
 
 std::string Lower(std::string s) {
@@ -29,12 +26,7 @@ bool StartsWithLetter(const std::string& line) {
 
 }  // namespace
 
-double EsriGrid::at(int i, int j) const {
-  const double v = values[static_cast<std::size_t>(nrows - 1 - j) * ncols + i];
-  return nodata && v == *nodata ? kNaN : v;
-}
-
-EsriGrid ReadEsriGrid(const std::string& path) {
+RasterGrid ReadEsriGrid(const std::string& path) {
   LineReader reader(path);
   std::optional<double> ncols, nrows, cellsize, nodata;
   std::optional<double> xll, yll;
@@ -91,7 +83,7 @@ EsriGrid ReadEsriGrid(const std::string& path) {
     }
     return static_cast<int>(v);
   };
-  EsriGrid g;
+  RasterGrid g;
   g.ncols = count(*ncols, "ncols");
   g.nrows = count(*nrows, "nrows");
   if (static_cast<long>(g.ncols) * g.nrows > kMaxCells)
@@ -125,46 +117,6 @@ EsriGrid ReadEsriGrid(const std::string& path) {
                                          " rows, expected nrows = " + std::to_string(g.nrows));
   }
   return g;
-}
-
-core::HeightGrid EsriToHeightGrid(const EsriGrid& grid, double length_scale, double spacing) {
-  core::HeightGrid out;
-  const double cs = grid.cellsize * length_scale;
-  out.x0 = grid.x_center * length_scale;
-  out.y0 = grid.y_center * length_scale;
-  out.spacing = spacing;
-  auto z_at = [&](int i, int j) { return grid.at(i, j) * length_scale; };
-  if (std::abs(spacing - cs) <= 1e-9 * cs) {
-    out.spacing = cs;
-    out.nx = grid.ncols;
-    out.ny = grid.nrows;
-    out.z.resize(static_cast<std::size_t>(out.nx) * out.ny);
-    for (int j = 0; j < out.ny; ++j)
-      for (int i = 0; i < out.nx; ++i) out.z[out.index(i, j)] = z_at(i, j);
-  } else {
-    out.nx = static_cast<int>(std::floor((grid.ncols - 1) * cs / spacing + 1e-6)) + 1;
-    out.ny = static_cast<int>(std::floor((grid.nrows - 1) * cs / spacing + 1e-6)) + 1;
-    out.z.resize(static_cast<std::size_t>(out.nx) * out.ny);
-    for (int j = 0; j < out.ny; ++j) {
-      const double fy = j * spacing / cs;
-      const int jy = std::min(static_cast<int>(fy), grid.nrows - 2);
-      const double ty = fy - jy;
-      for (int i = 0; i < out.nx; ++i) {
-        const double fx = i * spacing / cs;
-        const int ix = std::min(static_cast<int>(fx), grid.ncols - 2);
-        const double tx = fx - ix;
-        // A corner with zero weight is not used; a NODATA corner with a
-        // positive weight makes the node a hole (NaN propagates).
-        const double w[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty};
-        double z = 0.0;
-        for (int k = 0; k < 4; ++k)
-          if (w[k] > 0) z += w[k] * z_at(ix + (k & 1), jy + (k >> 1));
-        out.z[out.index(i, j)] = z;
-      }
-    }
-  }
-  out.material.assign(out.z.size(), 0);
-  return out;
 }
 
 }  // namespace rockcal::sites

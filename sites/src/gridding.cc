@@ -1,126 +1,58 @@
 #include "rockcal/sites/gridding.h"
 
-#include <Eigen/Eigenvalues>
+#include <gdal_alg.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
+
+#include "gdal_util.h"
+#include "rockcal/core/format.h"
 
 namespace rockcal::sites {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Points bucketed on a regular plan lattice (compressed rows).
-class Buckets final {
- public:
-  Buckets(const std::vector<Eigen::Vector3d>& points, double x0, double y0, double size, int nx,
-          int ny, bool nearest)
-      : x0_(x0), y0_(y0), size_(size), nx_(nx), ny_(ny), nearest_(nearest) {
-    start_.assign(static_cast<std::size_t>(nx) * ny + 1, 0);
-    std::vector<int> key(points.size());
-    for (std::size_t k = 0; k < points.size(); ++k) {
-      key[k] = Key(points[k].x(), points[k].y());
-      ++start_[static_cast<std::size_t>(key[k]) + 1];
-    }
-    for (std::size_t b = 1; b < start_.size(); ++b) start_[b] += start_[b - 1];
-    items_.resize(points.size());
-    std::vector<int> fill(start_.begin(), start_.end() - 1);
-    for (std::size_t k = 0; k < points.size(); ++k) items_[fill[key[k]]++] = static_cast<int>(k);
-  }
-  // The points of bucket (i, j).
-  const int* begin(int i, int j) const { return items_.data() + start_[j * nx_ + i]; }
-  const int* end(int i, int j) const { return items_.data() + start_[j * nx_ + i + 1]; }
-  int nx() const { return nx_; }
-  int ny() const { return ny_; }
-  int Index(double v, double origin, int n) const {
-    const double f = (v - origin) / size_;
-    const long k = static_cast<long>(nearest_ ? std::floor(f + 0.5) : std::floor(f));
-    return static_cast<int>(std::clamp(k, 0L, static_cast<long>(n - 1)));
-  }
-
- private:
-  int Key(double x, double y) const { return Index(y, y0_, ny_) * nx_ + Index(x, x0_, nx_); }
-
-  double x0_, y0_, size_;
-  int nx_, ny_;
-  bool nearest_;
-  std::vector<int> start_;
-  std::vector<int> items_;
+struct TriangulationFree {
+  void operator()(GDALTriangulation* t) const { GDALTriangulationFree(t); }
 };
+using Triangulation = std::unique_ptr<GDALTriangulation, TriangulationFree>;
 
-struct Sample {
-  double dx, dy, z, w;
-};
-
-// True when the samples are not all inside one open half-plane bounded by a
-// line through the node (the node is inside or on their convex hull).
-// `outside` are extra directions counted as covered (the outward normals of
-// the grid edges the node lies on).
-bool Surrounds(const std::vector<Sample>& samples, double tiny,
-               const std::vector<double>& outside = {}) {
-  std::vector<double> angle = outside;
-  angle.reserve(samples.size() + outside.size());
-  for (const Sample& s : samples) {
-    if (std::abs(s.dx) <= tiny && std::abs(s.dy) <= tiny) return true;
-    angle.push_back(std::atan2(s.dy, s.dx));
+// The points with every run of equal plan positions replaced by one point at
+// their mean elevation, sorted by x then y.
+std::vector<Eigen::Vector3d> MergeSamePlanPositions(std::vector<Eigen::Vector3d> p) {
+  std::sort(p.begin(), p.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(p.size());
+  for (std::size_t k = 0; k < p.size();) {
+    std::size_t e = k + 1;
+    double sum = p[k].z();
+    while (e < p.size() && p[e].x() == p[k].x() && p[e].y() == p[k].y()) sum += p[e++].z();
+    out.emplace_back(p[k].x(), p[k].y(), sum / static_cast<double>(e - k));
+    k = e;
   }
-  if (angle.size() < 2) return false;
-  std::sort(angle.begin(), angle.end());
-  double gap = angle.front() + 2 * kPi - angle.back();
-  for (std::size_t k = 1; k < angle.size(); ++k) gap = std::max(gap, angle[k] - angle[k - 1]);
-  return gap <= kPi + 1e-9;
+  return out;
 }
 
-// True when the (unit-weight) samples spread over the cell: their plan
-// covariance has a standard deviation of at least `min_sd` in every direction.
-bool Spread(const std::vector<Sample>& samples, double min_sd) {
-  if (samples.size() < 3) return false;
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (const Sample& s : samples) mean += Eigen::Vector2d(s.dx, s.dy);
-  mean /= static_cast<double>(samples.size());
-  Eigen::Matrix2d c = Eigen::Matrix2d::Zero();
-  for (const Sample& s : samples) {
-    const Eigen::Vector2d d = Eigen::Vector2d(s.dx, s.dy) - mean;
-    c += d * d.transpose();
+// True when the points (at least 2) lie on one line in plan, to 1e-9 of
+// their extent.
+bool Collinear(const std::vector<Eigen::Vector3d>& p) {
+  const Eigen::Vector2d a = p[0].head<2>();
+  Eigen::Vector2d b = a;
+  for (const Eigen::Vector3d& q : p)
+    if ((q.head<2>() - a).squaredNorm() > (b - a).squaredNorm()) b = q.head<2>();
+  const Eigen::Vector2d d = b - a;
+  const double length = d.norm();
+  double off = 0.0;
+  for (const Eigen::Vector3d& q : p) {
+    const Eigen::Vector2d r = q.head<2>() - a;
+    off = std::max(off, std::abs(d.x() * r.y() - d.y() * r.x()) / length);
   }
-  c /= static_cast<double>(samples.size());
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(c, Eigen::EigenvaluesOnly);
-  return eig.eigenvalues().minCoeff() >= min_sd * min_sd;
-}
-
-// Weighted least-squares plane through the samples, evaluated at the node
-// (dx = dy = 0). A direction in which the samples do not spread (collinear
-// points) gets no slope.
-double PlaneAtNode(const std::vector<Sample>& samples) {
-  double sw = 0, mx = 0, my = 0, mz = 0;
-  for (const Sample& s : samples) {
-    sw += s.w;
-    mx += s.w * s.dx;
-    my += s.w * s.dy;
-    mz += s.w * s.z;
-  }
-  mx /= sw;
-  my /= sw;
-  mz /= sw;
-  Eigen::Matrix2d c = Eigen::Matrix2d::Zero();
-  Eigen::Vector2d r = Eigen::Vector2d::Zero();
-  for (const Sample& s : samples) {
-    const Eigen::Vector2d d(s.dx - mx, s.dy - my);
-    c += s.w * d * d.transpose();
-    r += s.w * d * (s.z - mz);
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(c);
-  const Eigen::Vector2d lambda = eig.eigenvalues();
-  const double threshold = 1e-10 * std::max(lambda.cwiseAbs().maxCoeff(), 0.0);
-  Eigen::Vector2d gradient = Eigen::Vector2d::Zero();
-  for (int k = 0; k < 2; ++k) {
-    if (lambda[k] > threshold && lambda[k] > 0) {
-      const Eigen::Vector2d u = eig.eigenvectors().col(k);
-      gradient += u * (u.dot(r) / lambda[k]);
-    }
-  }
-  return mz - gradient.dot(Eigen::Vector2d(mx, my));
+  return !(off > 1e-9 * length);
 }
 
 }  // namespace
@@ -129,94 +61,146 @@ long NodeCount(double extent, double spacing) {
   return static_cast<long>(std::floor(extent / spacing + 1e-6)) + 1;
 }
 
-core::HeightGrid GridPoints(const std::vector<Eigen::Vector3d>& points, double spacing,
-                            GriddingReport* report) {
+bool GriddingOptions::IsValid(std::string* error) const {
+  if (!(spacing > 0.0 && std::isfinite(spacing))) {
+    *error = "GriddingOptions::spacing = " + core::FormatNumber(spacing) +
+             "; expected a finite spacing > 0";
+    return false;
+  }
+  if (!(max_edge > 0.0)) {
+    *error = "GriddingOptions::max_edge = " + core::FormatNumber(max_edge) +
+             "; expected > 0 (or infinity)";
+    return false;
+  }
+  return true;
+}
+
+bool GridPoints(const std::vector<Eigen::Vector3d>& points, const GriddingOptions& options,
+                core::HeightGrid* grid, GriddingReport* report, std::string* error) {
+  if (!options.IsValid(error)) return false;
   GriddingReport rep;
-  core::HeightGrid g;
-  g.spacing = spacing;
-  if (points.empty()) {
-    if (report) *report = rep;
-    return g;
+  rep.points = static_cast<int>(points.size());
+  const std::vector<Eigen::Vector3d> p = MergeSamePlanPositions(points);
+  rep.merged = rep.points - static_cast<int>(p.size());
+  if (p.size() < 3) {
+    *error = std::to_string(p.size()) +
+             " distinct plan position(s) among the surface points; expected at least 3 points "
+             "not on one line";
+    return false;
   }
-  double xmin = points[0].x(), xmax = xmin, ymin = points[0].y(), ymax = ymin;
-  for (const Eigen::Vector3d& p : points) {
-    xmin = std::min(xmin, p.x());
-    xmax = std::max(xmax, p.x());
-    ymin = std::min(ymin, p.y());
-    ymax = std::max(ymax, p.y());
+  if (Collinear(p)) {
+    *error = "the " + std::to_string(p.size()) +
+             " distinct surface points lie on one line in plan, so they span no area; expected "
+             "points spanning an area (at least 3 not on one line)";
+    return false;
   }
+  double xmin = p[0].x(), xmax = xmin, ymin = p[0].y(), ymax = ymin;
+  for (const Eigen::Vector3d& q : p) {
+    xmin = std::min(xmin, q.x());
+    xmax = std::max(xmax, q.x());
+    ymin = std::min(ymin, q.y());
+    ymax = std::max(ymax, q.y());
+  }
+  // Triangulated in coordinates relative to (xmin, ymin) in units of the
+  // data spacing d, so that GDAL's fixed threshold for a degenerate triangle
+  // (twice the area below 1e-5) means a sliver whatever the units and the
+  // distance from the origin.
+  const double d = std::sqrt((xmax - xmin) * (ymax - ymin) / static_cast<double>(p.size()));
+  std::vector<double> u(p.size()), v(p.size());
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    u[k] = (p[k].x() - xmin) / d;
+    v[k] = (p[k].y() - ymin) / d;
+  }
+  gdal::ErrorCapture errors;
+  Triangulation dt(GDALTriangulationCreateDelaunay(static_cast<int>(p.size()), u.data(), v.data()));
+  if (!dt || !GDALTriangulationComputeBarycentricCoefficients(dt.get(), u.data(), v.data()) ||
+      dt->nFacets < 1) {
+    *error = "the Delaunay triangulation of the " + std::to_string(p.size()) +
+             " surface points failed (GDAL: " + errors.message() +
+             "); expected points spanning an area";
+    return false;
+  }
+  rep.triangles = dt->nFacets;
+
+  // A triangle is usable unless it is degenerate (GDAL gives it no
+  // coefficients) or has an edge longer than max_edge.
+  std::vector<char> usable(static_cast<std::size_t>(dt->nFacets));
+  for (int f = 0; f < dt->nFacets; ++f) {
+    const int* vi = dt->pasFacets[f].anVertexIdx;
+    const GDALTriBarycentricCoefficients& c = dt->pasFacetCoefficients[f];
+    const bool degenerate =
+        c.dfMul1X == 0.0 && c.dfMul1Y == 0.0 && c.dfMul2X == 0.0 && c.dfMul2Y == 0.0;
+    double longest = 0.0;
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest, (p[vi[k]].head<2>() - p[vi[(k + 1) % 3]].head<2>()).norm());
+    usable[f] = !degenerate && longest <= options.max_edge;
+  }
+
+  core::HeightGrid& g = *grid;
+  const double s = options.spacing;
+  g = core::HeightGrid();
+  g.spacing = s;
   g.x0 = xmin;
   g.y0 = ymin;
-  g.nx = static_cast<int>(NodeCount(xmax - xmin, spacing));
-  g.ny = static_cast<int>(NodeCount(ymax - ymin, spacing));
+  g.nx = static_cast<int>(NodeCount(xmax - xmin, s));
+  g.ny = static_cast<int>(NodeCount(ymax - ymin, s));
   g.z.assign(static_cast<std::size_t>(g.nx) * g.ny, kNaN);
   g.material.assign(g.z.size(), 0);
 
-  const double s = spacing;
-  rep.data_spacing = std::sqrt((xmax - xmin) * (ymax - ymin) / static_cast<double>(points.size()));
-  rep.hole_radius = 2.0 * std::max(s, rep.data_spacing);
-  const double hole_radius = rep.hole_radius, fit_radius = 2.0 * hole_radius;
-  const double tiny = 1e-9 * s;
+  // How far outside triangle f the plan point with barycentric coordinates
+  // l lies [m] (0 inside).
+  auto distance_outside = [&](int f, const double* l) {
+    const int* vi = dt->pasFacets[f].anVertexIdx;
+    const Eigen::Vector2d a = p[vi[0]].head<2>(), b = p[vi[1]].head<2>(), c = p[vi[2]].head<2>();
+    const double area2 = std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+    const double opposite[3] = {(c - b).norm(), (a - c).norm(), (b - a).norm()};
+    double out = 0.0;
+    for (int k = 0; k < 3; ++k)
+      if (l[k] < 0.0) out = std::max(out, -l[k] * area2 / opposite[k]);
+    return out;
+  };
+  auto barycentric = [&](int f, double x, double y, double* l) {
+    GDALTriangulationComputeBarycentricCoordinates(dt.get(), f, x, y, &l[0], &l[1], &l[2]);
+  };
 
-  // Own cells: nearest node. Neighbourhoods: buckets of size max(s, d).
-  const Buckets cells(points, g.x0, g.y0, s, g.nx, g.ny, /*nearest=*/true);
-  const double bsize = std::max(s, rep.data_spacing);
-  const int bnx = static_cast<int>(std::floor((xmax - xmin) / bsize)) + 1;
-  const int bny = static_cast<int>(std::floor((ymax - ymin) / bsize)) + 1;
-  const Buckets buckets(points, g.x0, g.y0, bsize, bnx, bny, /*nearest=*/false);
-  const int reach = static_cast<int>(std::ceil(fit_radius / bsize)) + 1;
-
-  std::vector<Sample> own, near;
-  std::vector<double> outside;
+  int start = 0;
   for (int j = 0; j < g.ny; ++j) {
     for (int i = 0; i < g.nx; ++i) {
-      const double x = g.x(i), y = g.y(j);
-      double& z = g.z[g.index(i, j)];
-      own.clear();
-      for (const int* k = cells.begin(i, j); k != cells.end(i, j); ++k) {
-        const Eigen::Vector3d& p = points[*k];
-        own.push_back({p.x() - x, p.y() - y, p.z(), 1.0});
-      }
-      outside.clear();
-      if (i == 0) outside.push_back(kPi);
-      if (i == g.nx - 1) outside.push_back(0.0);
-      if (j == 0) outside.push_back(-0.5 * kPi);
-      if (j == g.ny - 1) outside.push_back(0.5 * kPi);
-      if (!own.empty() && (Spread(own, 0.1 * s) || Surrounds(own, tiny, outside))) {
-        z = PlaneAtNode(own);
-        ++rep.from_cell;
+      const double x = i * s / d, y = j * s / d;
+      int f = -1;
+      double l[3];
+      const bool inside = GDALTriangulationFindFacetDirected(dt.get(), start, x, y, &f);
+      if (f < 0) {
+        ++rep.outside_hull;
         continue;
       }
-      near.clear();
-      double nearest = std::numeric_limits<double>::infinity();
-      const int bi = buckets.Index(x, g.x0, bnx), bj = buckets.Index(y, g.y0, bny);
-      for (int jj = std::max(0, bj - reach); jj <= std::min(bny - 1, bj + reach); ++jj) {
-        for (int ii = std::max(0, bi - reach); ii <= std::min(bnx - 1, bi + reach); ++ii) {
-          for (const int* k = buckets.begin(ii, jj); k != buckets.end(ii, jj); ++k) {
-            const Eigen::Vector3d& p = points[*k];
-            const double dx = p.x() - x, dy = p.y() - y, r2 = dx * dx + dy * dy;
-            if (r2 > fit_radius * fit_radius) continue;
-            nearest = std::min(nearest, r2);
-            const double q = r2 + 0.25 * s * s;
-            near.push_back({dx, dy, p.z(), 1.0 / (q * q)});
-          }
+      start = f;
+      barycentric(f, x, y, l);
+      if (!inside && distance_outside(f, l) > 1e-6 * s) {
+        ++rep.outside_hull;
+        continue;
+      }
+      if (!usable[f]) {
+        // On an edge (or a corner) shared with a usable triangle: take that one.
+        int other = -1;
+        for (int k = 0; k < 3 && other < 0; ++k) {
+          const int n = dt->pasFacets[f].anNeighborIdx[k];
+          if (std::abs(l[k]) <= 1e-9 && n >= 0 && usable[n]) other = n;
         }
+        if (other < 0) {
+          ++rep.long_edge;
+          continue;
+        }
+        f = other;
+        barycentric(f, x, y, l);
       }
-      if (nearest <= hole_radius * hole_radius && Surrounds(near, tiny)) {
-        z = PlaneAtNode(near);
-        ++rep.from_neighbours;
-      } else if (!own.empty()) {
-        double sum = 0;
-        for (const Sample& o : own) sum += o.z;
-        z = sum / static_cast<double>(own.size());
-        ++rep.cell_mean;
-      } else {
-        ++rep.holes;
-      }
+      const int* vi = dt->pasFacets[f].anVertexIdx;
+      g.z[g.index(i, j)] = l[0] * p[vi[0]].z() + l[1] * p[vi[1]].z() + l[2] * p[vi[2]].z();
+      ++rep.nodes;
     }
   }
   if (report) *report = rep;
-  return g;
+  return true;
 }
 
 }  // namespace rockcal::sites

@@ -14,6 +14,7 @@
 #include "rockcal/sites/inventory.h"
 #include "rockcal/sites/surface.h"
 #include "rockcal/sites/text_reader.h"
+#include "rockcal/sites/zone_files.h"
 
 namespace rockcal::sites {
 namespace {
@@ -410,7 +411,7 @@ void CheckCoverAndNote(const std::vector<PendingMaterial>& pending, Site* site, 
     if (count[k] == 0) {
       pending[k].node.Fail("material '" + scene.materials[k].id +
                            "' covers no terrain node (its zone is overridden by later zones, "
-                           "off the data, or no surface file names it); expected every "
+                           "off the data, or no surface or zone file names it); expected every "
                            "material to cover part of the terrain");
     }
   }
@@ -477,8 +478,8 @@ void ReadPartitions(const JsonNode& parts, Units units, double zmin, double zmax
 Site LoadSite(const std::string& path) {
   const nlohmann::json json = ReadJsonFile(path);
   const JsonNode root(&json, path, "$");
-  root.Keys({"name", "description", "units", "surface", "materials", "partitions", "rocks",
-             "simulation", "report"});
+  root.Keys({"name", "description", "units", "surface", "zones", "materials", "partitions",
+             "rocks", "simulation", "report"});
   Site site;
   site.path = path;
   site.units = ReadUnits(root.Get("units"));
@@ -507,6 +508,8 @@ Site LoadSite(const std::string& path) {
   site.notes = surface.notes;
   site.inputs.push_back(path);
   site.inputs.insert(site.inputs.end(), surface.files.begin(), surface.files.end());
+  site.crs_wkt = surface.crs_wkt;
+  site.gis = surface.gis;
 
   // Roughness and calibration bounds.
   for (std::size_t k = 0; k < pending.size(); ++k) {
@@ -535,6 +538,8 @@ Site LoadSite(const std::string& path) {
       ReadCalibrateBounds(*c, mat, mat_class, units, min_rough, s / 2, &site);
   }
 
+  // Zones: the zone file's first, then the materials' own on top.
+  if (auto zones = root.Find("zones")) ApplyZoneFile(*zones, base_dir, &site);
   ApplyZones(pending, to_file, &grid);
   double zmin = 0.0, zmax = 0.0;
   CheckCoverAndNote(pending, &site, &zmin, &zmax);

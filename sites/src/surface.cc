@@ -11,15 +11,17 @@
 #include <system_error>
 
 #include "rockcal/core/limits.h"
+#include "rockcal/sites/crs.h"
 #include "rockcal/sites/esri_grid.h"
 #include "rockcal/sites/gridding.h"
 #include "rockcal/sites/point_files.h"
+#include "rockcal/sites/raster.h"
 #include "rockcal/sites/stl.h"
 
 namespace rockcal::sites {
 namespace {
 
-constexpr const char* kSources[] = {"points", "points_file", "lidar", "grid_file", "stl"};
+constexpr const char* kSources[] = {"points", "points_file", "lidar", "grid_file", "raster", "stl"};
 
 std::string SourceList() {
   std::string s;
@@ -56,9 +58,9 @@ void CheckGridSize(const JsonNode& where, const Box& box, double spacing, double
   }
 }
 
-// Turns points (SI) into the grid, with notes.
-void GridInto(const std::vector<Eigen::Vector3d>& points, const JsonNode& where, double spacing,
-              double to_file, Surface* out) {
+// Turns points (SI) into the grid by triangulation, with notes; errors at `src`.
+void GridInto(const std::vector<Eigen::Vector3d>& points, const JsonNode& where,
+              const JsonNode& src, const GriddingOptions& options, double to_file, Surface* out) {
   Box box;
   for (std::size_t k = 0; k < points.size(); ++k) {
     const Eigen::Vector3d& p = points[k];
@@ -70,15 +72,24 @@ void GridInto(const std::vector<Eigen::Vector3d>& points, const JsonNode& where,
     }
     box.Add(p.x(), p.y());
   }
-  CheckGridSize(where, box, spacing, to_file);
+  CheckGridSize(where, box, options.spacing, to_file);
   GriddingReport rep;
-  out->grid = GridPoints(points, spacing, &rep);
-  out->notes.push_back(
-      "gridding: " + std::to_string(rep.from_cell) + " nodes from the points of their own cell, " +
-      std::to_string(rep.from_neighbours) + " filled from points around them, " +
-      std::to_string(rep.cell_mean) + " as the mean of their own points, " +
-      std::to_string(rep.holes) + " holes (data spacing " + FormatNumber(rep.data_spacing) +
-      " m, hole radius " + FormatNumber(rep.hole_radius) + " m)");
+  std::string error;
+  if (!GridPoints(points, options, &out->grid, &rep, &error)) src.Fail(error);
+  std::string merged;
+  if (rep.merged > 0) {
+    merged = ", " + std::to_string(rep.merged) +
+             " point(s) at a plan position already taken merged (elevations averaged)";
+  }
+  out->notes.push_back("triangulation: " + std::to_string(rep.points) + " points" + merged + ", " +
+                       std::to_string(rep.triangles) + " Delaunay triangles; " +
+                       std::to_string(rep.nodes) + " nodes interpolated, " +
+                       std::to_string(rep.outside_hull) + " holes outside the convex hull" +
+                       (std::isfinite(options.max_edge)
+                            ? ", " + std::to_string(rep.long_edge) +
+                                  " holes in triangles with an edge longer than " +
+                                  FormatNumber(options.max_edge * to_file) + " (max_edge)"
+                            : std::string()));
 }
 
 std::vector<Eigen::Vector3d> ToSI(std::vector<Eigen::Vector3d> points, Units units) {
@@ -102,12 +113,7 @@ std::string ResolvePath(const std::string& base_dir, const std::string& file) {
   return (std::filesystem::path(base_dir) / p).string();
 }
 
-namespace {
-
-// The data file named by `node` (a string), resolved against `base_dir` and
-// recorded in out->files. Fails at `node` on an empty name, a folder, or a
-// file that cannot be opened, naming the file and the cause.
-std::string DataFile(const JsonNode& node, const std::string& base_dir, Surface* out) {
+std::string ResolveDataFile(const JsonNode& node, const std::string& base_dir) {
   const std::string name = node.String();
   if (name.empty()) node.Fail("expected a file name, relative to the site file's folder");
   const std::string file = ResolvePath(base_dir, name);
@@ -116,15 +122,41 @@ std::string DataFile(const JsonNode& node, const std::string& base_dir, Surface*
     node.Fail("'" + file + "' is a folder; expected a data file");
   if (::access(file.c_str(), R_OK) != 0)
     node.Fail("cannot open file '" + file + "': " + std::strerror(errno));
+  return file;
+}
+
+namespace {
+
+// The data file named by `node`, recorded in out->files.
+std::string DataFile(const JsonNode& node, const std::string& base_dir, Surface* out) {
+  std::string file = ResolveDataFile(node, base_dir);
   out->files.push_back(file);
   return file;
+}
+
+// The raster (SI) onto the grid: its own cells, or resampled to `spacing`.
+void RasterInto(const RasterGrid& raster, const JsonNode& where, bool has_resolution,
+                double spacing, Units units, const std::string& what, Surface* out) {
+  const double cell = LengthToSI(raster.cellsize, units);
+  if (!has_resolution) spacing = cell;
+  Box box;
+  box.Add(0, 0);
+  box.Add((raster.ncols - 1) * cell, (raster.nrows - 1) * cell);
+  CheckGridSize(where, box, spacing, 1.0 / LengthToSI(1.0, units));
+  out->grid = RasterToHeightGrid(raster, LengthToSI(1.0, units), spacing);
+  out->notes.push_back("surface: " + what + ", " + std::to_string(raster.ncols) + " x " +
+                       std::to_string(raster.nrows) + " cells of " + FormatNumber(raster.cellsize) +
+                       (std::abs(out->grid.spacing - cell) <= 1e-9 * cell
+                            ? " (cell centres are the grid nodes)"
+                            : " resampled bilinearly to the resolution"));
 }
 
 }  // namespace
 
 Surface ReadSurface(const JsonNode& surface, Units units, const std::string& base_dir,
                     const std::vector<std::string>& material_ids) {
-  surface.Keys({"resolution", "points", "points_file", "lidar", "grid_file", "stl"});
+  surface.Keys({"resolution", "crs", "max_edge", "points", "points_file", "lidar", "grid_file",
+                "raster", "stl"});
   std::vector<const char*> present;
   for (const char* k : kSources)
     if (surface.Has(k)) present.push_back(k);
@@ -141,6 +173,30 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
   double spacing = resolution ? LengthToSI(resolution->Positive(), units) : kDefaultResolutionM;
   const JsonNode where = resolution ? *resolution : surface;
   const JsonNode src = surface.Get(present[0]);
+  const bool from_points =
+      out.source == "points" || out.source == "points_file" || out.source == "lidar";
+  GriddingOptions gridding;
+  gridding.spacing = spacing;
+  if (const std::optional<JsonNode> max_edge = surface.Find("max_edge")) {
+    if (!from_points) {
+      max_edge->Fail(
+          "'max_edge' applies to triangulated points (points, points_file, lidar) "
+          "only; expected no max_edge with " +
+          out.source);
+    }
+    gridding.max_edge = LengthToSI(max_edge->Positive(), units);
+  }
+  // The CRS the site file names (checked against the data's own below).
+  const std::optional<JsonNode> crs = surface.Find("crs");
+  std::string named_crs;
+  if (crs) {
+    std::string error;
+    if (!CrsFromUserInput(crs->String(), &named_crs, &error)) {
+      crs->Fail("not a coordinate reference system GDAL recognises (" + error +
+                "); expected e.g. \"EPSG:2154\" or a WKT string");
+    }
+  }
+  out.crs_wkt = named_crs;
 
   if (out.source == "points") {
     std::vector<Eigen::Vector3d> points;
@@ -149,13 +205,13 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
       points.emplace_back(v[0], v[1], v[2]);
     }
     out.notes.push_back("surface: " + std::to_string(points.size()) + " inline points");
-    GridInto(ToSI(std::move(points), units), where, spacing, to_file, &out);
+    GridInto(ToSI(std::move(points), units), where, src, gridding, to_file, &out);
   } else if (out.source == "points_file") {
     const std::string file = DataFile(src, base_dir, &out);
     std::vector<Eigen::Vector3d> points = ReadPointsFile(file);
     CheckPointCount(src, file, points.size());
     out.notes.push_back("surface: " + std::to_string(points.size()) + " points from " + file);
-    GridInto(ToSI(std::move(points), units), where, spacing, to_file, &out);
+    GridInto(ToSI(std::move(points), units), where, src, gridding, to_file, &out);
   } else if (out.source == "lidar") {
     src.Keys({"file", "offset", "spin_deg"});
     const std::string file = DataFile(src.Get("file"), base_dir, &out);
@@ -172,6 +228,12 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
     }
     if (const std::optional<JsonNode> spin = src.Find("spin_deg"))
       transform.spin_deg = spin->Number(-360.0, 360.0);
+    if (crs && (transform.auto_offset || transform.offset.x() != 0.0 ||
+                transform.offset.y() != 0.0 || transform.spin_deg != 0.0)) {
+      crs->Fail(
+          "a LIDAR offset in plan or a spin moves the points out of any map frame; "
+          "expected no 'crs' with them (or no offset in x, y and no spin)");
+    }
     std::vector<Eigen::Vector3d> points = ReadLidarFile(file);
     CheckPointCount(src.Get("file"), file, points.size());
     const Eigen::Vector3d offset = ApplyLidarTransform(transform, &points);
@@ -179,22 +241,41 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
                         ", offset (" + FormatNumber(offset.x()) + ", " + FormatNumber(offset.y()) +
                         ", " + FormatNumber(offset.z()) + ") subtracted, then spun " +
                         FormatNumber(transform.spin_deg) + " deg about Z");
-    GridInto(ToSI(std::move(points), units), where, spacing, to_file, &out);
+    GridInto(ToSI(std::move(points), units), where, src, gridding, to_file, &out);
   } else if (out.source == "grid_file") {
     const std::string file = DataFile(src, base_dir, &out);
-    const EsriGrid esri = ReadEsriGrid(file);
-    const double cell = LengthToSI(esri.cellsize, units);
-    if (!resolution) spacing = cell;
-    Box box;
-    box.Add(0, 0);
-    box.Add((esri.ncols - 1) * cell, (esri.nrows - 1) * cell);
-    CheckGridSize(where, box, spacing, to_file);
-    out.grid = EsriToHeightGrid(esri, LengthToSI(1.0, units), spacing);
-    out.notes.push_back("surface: ESRI grid " + file + ", " + std::to_string(esri.ncols) + " x " +
-                        std::to_string(esri.nrows) + " cells of " + FormatNumber(esri.cellsize) +
-                        (std::abs(out.grid.spacing - cell) <= 1e-9 * cell
-                             ? " (cell centres are the grid nodes)"
-                             : " resampled bilinearly to the resolution"));
+    RasterInto(ReadEsriGrid(file), where, resolution.has_value(), spacing, units,
+               "ESRI grid " + file, &out);
+  } else if (out.source == "raster") {
+    // "dem.tif" or {"file": "dem.tif", "band": 2}.
+    int band = 1;
+    JsonNode file_node = src;
+    if (src.is_object()) {
+      src.Keys({"file", "band"});
+      file_node = src.Get("file");
+      if (const std::optional<JsonNode> b = src.Find("band"))
+        band = static_cast<int>(b->Integer(1, 1'000'000));
+    } else if (!src.is_string()) {
+      src.Fail("expected a file name, or {\"file\": NAME, \"band\": N}");
+    }
+    const std::string file = DataFile(file_node, base_dir, &out);
+    RasterFile raster = ReadRaster(file, band);
+    for (const std::string& f : raster.files)
+      if (f != file) out.files.push_back(f);
+    if (!raster.crs_wkt.empty()) {
+      if (crs && !SameCrs(raster.crs_wkt, named_crs)) {
+        crs->Fail("the raster '" + file + "' has the CRS " + CrsLabel(raster.crs_wkt) +
+                  ", not the one named here (" + CrsLabel(named_crs) +
+                  "); expected the same CRS, or no 'crs'");
+      }
+      if (const std::string problem = CrsUnitMismatch(raster.crs_wkt, units); !problem.empty())
+        throw InputError(file, problem);
+      out.crs_wkt = raster.crs_wkt;
+    }
+    out.gis = true;
+    RasterInto(raster.grid, where, resolution.has_value(), spacing, units,
+               "raster " + file + " (" + raster.driver + ", band " + std::to_string(band) + ")",
+               &out);
   } else {  // stl
     src.Keys({"files", "axes"});
     StlAxes axes = StlAxes::kXYZ;
@@ -227,6 +308,12 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
     out.grid = SampleTriangles(sets, spacing);
     out.materials_from_source = true;
   }
+
+  if (crs) {
+    if (const std::string problem = CrsUnitMismatch(out.crs_wkt, units); !problem.empty())
+      crs->Fail(problem);
+  }
+  if (!out.crs_wkt.empty()) out.notes.push_back("crs: " + CrsLabel(out.crs_wkt));
 
   // Something to stand on: at least one cell without a hole corner.
   const core::HeightGrid& g = out.grid;

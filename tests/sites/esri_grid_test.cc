@@ -38,7 +38,7 @@ TEST(ReadEsriGrid, HeaderRowsAndNodata) {
                                      "NODATA_value -9999\n"
                                      "1 2 3\n"
                                      "4 -9999 6\n");
-  const EsriGrid g = ReadEsriGrid(path);
+  const RasterGrid g = ReadEsriGrid(path);
   EXPECT_EQ(g.ncols, 3);
   EXPECT_EQ(g.nrows, 2);
   EXPECT_EQ(g.x_center, 10);
@@ -48,7 +48,7 @@ TEST(ReadEsriGrid, HeaderRowsAndNodata) {
   EXPECT_EQ(g.at(2, 1), 3);
   EXPECT_EQ(g.at(0, 0), 4);
   EXPECT_TRUE(std::isnan(g.at(1, 0)));
-  const core::HeightGrid h = EsriToHeightGrid(g, 1.0, 5.0);
+  const core::HeightGrid h = RasterToHeightGrid(g, 1.0, 5.0);
   EXPECT_EQ(h.nx, 3);
   EXPECT_EQ(h.x0, 10);
   EXPECT_EQ(h.y0, 20);
@@ -60,7 +60,7 @@ TEST(ReadEsriGrid, CornerIsHalfACellFromTheCentre) {
   TempDir dir;
   const std::string path =
       dir.Write("g.asc", "ncols 2\nnrows 2\nxllcorner 0\nyllcorner 100\ncellsize 2\n1 2\n3 4\n");
-  const EsriGrid g = ReadEsriGrid(path);
+  const RasterGrid g = ReadEsriGrid(path);
   EXPECT_EQ(g.x_center, 1);
   EXPECT_EQ(g.y_center, 101);
   EXPECT_FALSE(g.nodata.has_value());
@@ -95,17 +95,17 @@ TEST(ReadEsriGrid, ErrorsNameFileAndLine) {
   }
 }
 
-TEST(EsriToHeightGrid, ConvertsUnitsAndResamplesBilinearly) {
+TEST(RasterToHeightGrid, ConvertsUnitsAndResamplesBilinearly) {
   TempDir dir;
   const std::string path = dir.Write("g.asc", PlaneGrid(11, 6, 0.0, 0.0, 4.0));
-  const EsriGrid esri = ReadEsriGrid(path);
+  const RasterGrid esri = ReadEsriGrid(path);
   // Same spacing, feet to metres: nodes are the cell centres, every value scaled.
-  const core::HeightGrid ft = EsriToHeightGrid(esri, 0.3048, 4.0 * 0.3048);
+  const core::HeightGrid ft = RasterToHeightGrid(esri, 0.3048, 4.0 * 0.3048);
   EXPECT_EQ(ft.nx, 11);
   EXPECT_EQ(ft.ny, 6);
   EXPECT_DOUBLE_EQ(ft.z[ft.index(3, 2)], 0.3048 * Plane(12, 8));
   // Half the spacing: twice the nodes, bilinear interpolation of a plane is exact.
-  const core::HeightGrid fine = EsriToHeightGrid(esri, 1.0, 2.0);
+  const core::HeightGrid fine = RasterToHeightGrid(esri, 1.0, 2.0);
   EXPECT_EQ(fine.nx, 21);
   EXPECT_EQ(fine.ny, 11);
   for (int j = 0; j < fine.ny; ++j)
@@ -113,13 +113,13 @@ TEST(EsriToHeightGrid, ConvertsUnitsAndResamplesBilinearly) {
       EXPECT_NEAR(fine.z[fine.index(i, j)], Plane(fine.x(i), fine.y(j)), 1e-9);
 }
 
-TEST(EsriToHeightGrid, ResampledNodeNextToNodataIsAHoleOnlyIfItUsesIt) {
+TEST(RasterToHeightGrid, ResampledNodeNextToNodataIsAHoleOnlyIfItUsesIt) {
   TempDir dir;
   const std::string path =
       dir.Write("g.asc",
                 "ncols 3\nnrows 2\nxllcenter 0\nyllcenter 0\ncellsize 2\nnodata_value -1\n"
                 "1 1 1\n1 1 -1\n");
-  const core::HeightGrid g = EsriToHeightGrid(ReadEsriGrid(path), 1.0, 1.0);
+  const core::HeightGrid g = RasterToHeightGrid(ReadEsriGrid(path), 1.0, 1.0);
   ASSERT_EQ(g.nx, 5);
   EXPECT_EQ(g.z[g.index(2, 0)], 1.0);           // on the centre (1, 0), weight 0 for (2, 0)
   EXPECT_TRUE(std::isnan(g.z[g.index(3, 0)]));  // between (1, 0) and the NODATA (2, 0)

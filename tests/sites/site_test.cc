@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 
+#include "rockcal/core/simulate.h"
 #include "test_files.h"
 
 namespace rockcal::sites {
@@ -231,6 +232,73 @@ TEST(LoadSite, TheExampleOfDesignMdLoads) {
   }
   EXPECT_EQ(site.calibrate.size(), 2u);
   EXPECT_EQ(site.scene.total_rocks(), 100);
+}
+
+// Issue 16: the four corners of a 30-degree plane, 300 m x 40 m, SI, as the
+// site file gives them.
+Json FourCornerPlane(double friction) {
+  Json site = Json::parse(R"({
+    "name": "four corners", "units": "si",
+    "surface": {"resolution": 1,
+                "points": [[0, 0, 200], [300, 0, 26.8], [0, 40, 200], [300, 40, 26.8]]},
+    "materials": [{"id": "smooth", "hardness": 0.3, "roughness": 0, "restitution": 0.3,
+                   "contact_time": 0.005, "rolling_resistance": 0}],
+    "rocks": [{"count": 1, "shape": "sphere", "size": 0.4, "unit_weight": 26,
+               "release": {"point": [5, 20], "height": 0}}],
+    "simulation": {"max_time": 3}
+  })");
+  site["materials"][0]["friction"] = friction;
+  return site;
+}
+
+double FourCornerZ(double x) { return 200.0 - (200.0 - 26.8) * x / 300.0; }
+
+TEST(LoadSite, FourCornerPlaneHasNoHolesInsideTheHullAndExactElevations) {
+  TempDir dir;
+  const Site site = LoadSite(WriteSite(dir, FourCornerPlane(1.0)));
+  const core::HeightGrid& g = site.scene.grid;
+  ASSERT_EQ(g.nx, 301);
+  ASSERT_EQ(g.ny, 41);
+  for (int j = 0; j < g.ny; ++j) {
+    for (int i = 0; i < g.nx; ++i) {
+      const double z = g.z[g.index(i, j)];
+      ASSERT_FALSE(std::isnan(z)) << "hole at node " << i << "," << j;
+      EXPECT_NEAR(z, FourCornerZ(g.x(i)), 1e-9) << "node " << i << "," << j;
+    }
+  }
+  EXPECT_THAT(site.notes[1],
+              HasSubstr("12341 nodes interpolated, 0 holes outside the convex hull"));
+}
+
+// The downslope acceleration of the sphere released at rest on the four-corner
+// plane, from its speed at 1 s and 2.5 s (a smooth incline's exact motion is
+// uniformly accelerated once the first contact has settled).
+double FourCornerAcceleration(double friction) {
+  TempDir dir;
+  Site site = LoadSite(WriteSite(dir, FourCornerPlane(friction)));
+  site.scene.options.record.trajectories = 1;
+  site.scene.options.record.sample_seconds = 0.5;
+  const core::SimulationResult result = core::Simulate(site.scene);
+  const auto& tr = result.rocks[0].trajectory;
+  auto speed_at = [&](double t) {
+    for (const auto& sample : tr)
+      if (std::abs(sample.t - t) < 1e-9) return sample.v.norm();
+    ADD_FAILURE() << "no trajectory sample at t = " << t;
+    return 0.0;
+  };
+  return (speed_at(2.5) - speed_at(1.0)) / 1.5;
+}
+
+TEST(LoadSite, FourCornerPlaneRollsAndSlidesAsTheory) {
+  const double theta = std::atan((200.0 - 26.8) / 300.0);  // 30 degrees to 5e-6
+  const double g = core::kStandardGravity;
+  const double rolling = 5.0 / 7.0 * g * std::sin(theta);
+  double a = FourCornerAcceleration(1.0);
+  EXPECT_NEAR(a / rolling, 1.0, 0.01) << "rolling: a = " << a << " m/s^2, exact " << rolling;
+  const double mu = 0.1;
+  const double sliding = g * (std::sin(theta) - mu * std::cos(theta));
+  a = FourCornerAcceleration(mu);
+  EXPECT_NEAR(a / sliding, 1.0, 0.01) << "sliding: a = " << a << " m/s^2, exact " << sliding;
 }
 
 TEST(LoadSite, ReportBarrier) {

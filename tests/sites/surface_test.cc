@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "gis_files.h"
 #include "test_files.h"
 
 namespace rockcal::sites {
@@ -148,6 +149,126 @@ TEST(ReadSurface, EsriGridStlAndPointsGiveTheSameTerrain) {
               "points");
 }
 
+// The plane over [0, 40] x [0, 20] as a GeoTIFF of 21 x 11 cells of 2 m
+// centred on the nodes of ExpectPlane (and the same values as an ESRI grid).
+void WritePlaneRasters(const TempDir& dir, const std::string& crs = "") {
+  testing::RasterSpec spec;
+  spec.nx = 21;
+  spec.ny = 11;
+  spec.geotransform = {-1, 2, 0, 21, 0, -2};
+  spec.type = GDT_Float64;
+  spec.crs = crs;
+  std::ostringstream asc;
+  asc.precision(17);
+  asc << "ncols 21\nnrows 11\nxllcorner -1\nyllcorner -1\ncellsize 2\n";
+  for (int j = 10; j >= 0; --j) {
+    for (int i = 0; i <= 20; ++i) {
+      spec.values.push_back(Plane(2.0 * i, 2.0 * j));
+      asc << (i ? " " : "") << Plane(2.0 * i, 2.0 * j);
+    }
+    asc << "\n";
+  }
+  testing::WriteRaster(dir.path() + "/plane.tif", spec);
+  dir.Write("plane.asc", asc.str());
+}
+
+TEST(ReadSurface, RasterTakesTheEsriGridsWayOntoTheGrid) {
+  TempDir dir;
+  WritePlaneRasters(dir);
+  const Surface tif = Read(R"({"raster": "plane.tif"})", dir);
+  EXPECT_EQ(tif.source, "raster");
+  EXPECT_TRUE(tif.gis);
+  EXPECT_TRUE(tif.crs_wkt.empty());
+  EXPECT_THAT(tif.files, ElementsAre(EndsWith("/plane.tif")));
+  ExpectPlane(tif.grid, "raster");  // its own cell size: the cell centres are the nodes
+  EXPECT_THAT(tif.notes[0], HasSubstr("(GTiff, band 1), 21 x 11 cells of 2 (cell centres are "
+                                      "the grid nodes)"));
+  // Resampled: the same bilinear rule as the ESRI grid, to the last bit.
+  const Surface a = Read(R"({"resolution": 3, "raster": {"file": "plane.tif", "band": 1}})", dir);
+  const Surface b = Read(R"({"resolution": 3, "grid_file": "plane.asc"})", dir);
+  EXPECT_FALSE(b.gis);
+  ASSERT_EQ(a.grid.nx, 14);
+  ASSERT_EQ(a.grid.nx, b.grid.nx);
+  ASSERT_EQ(a.grid.ny, b.grid.ny);
+  EXPECT_EQ(a.grid.x0, b.grid.x0);
+  EXPECT_EQ(a.grid.z, b.grid.z);
+  EXPECT_NEAR(a.grid.z[a.grid.index(5, 3)], Plane(15, 9), 1e-9);
+  EXPECT_THAT(a.notes[0], HasSubstr("resampled bilinearly to the resolution"));
+}
+
+TEST(ReadSurface, RasterNodataIsAHole) {
+  TempDir dir;
+  testing::RasterSpec spec;
+  spec.nx = 4;
+  spec.ny = 3;
+  spec.geotransform = {0, 1, 0, 3, 0, -1};
+  spec.values = {1, 2, 3, -1, 5, 6, 7, 8, 9, 10, 11, 12};
+  spec.nodata = -1;
+  testing::WriteRaster(dir.path() + "/dem.tif", spec);
+  const Surface s = Read(R"({"raster": "dem.tif"})", dir);
+  EXPECT_TRUE(std::isnan(s.grid.z[s.grid.index(3, 2)]));
+  EXPECT_DOUBLE_EQ(s.grid.z[s.grid.index(0, 0)], 9.0);
+}
+
+TEST(ReadSurface, CrsFromTheRasterOrTheCrsKey) {
+  TempDir dir;
+  WritePlaneRasters(dir, "EPSG:2154");
+  const std::string site = dir.path() + "/site.json: ";
+  Surface s = Read(R"({"raster": "plane.tif"})", dir);
+  EXPECT_THAT(s.crs_wkt, HasSubstr("Lambert-93"));
+  EXPECT_THAT(s.notes.back(), HasSubstr("crs: RGF93 v1 / Lambert-93 (EPSG:2154)"));
+  s = Read(R"({"crs": "EPSG:2154", "raster": "plane.tif"})", dir);
+  EXPECT_THAT(s.crs_wkt, HasSubstr("Lambert-93"));
+  EXPECT_THAT(ReadError(R"({"crs": "EPSG:32631", "raster": "plane.tif"})", dir),
+              HasSubstr(site + "$.surface.crs: the raster '" + dir.path() +
+                        "/plane.tif' has the CRS RGF93 v1 / Lambert-93 (EPSG:2154), not the one "
+                        "named here (WGS 84 / UTM zone 31N (EPSG:32631)); expected the same CRS"));
+  // Any source may name its CRS.
+  s = Read(R"({"crs": "EPSG:32631", "resolution": 2, "points": [[0, 0, 50], [40, 0, 62],
+      [40, 20, 60], [0, 20, 48]]})",
+           dir);
+  EXPECT_THAT(s.crs_wkt, HasSubstr("UTM zone 31N"));
+  EXPECT_FALSE(s.gis);
+  EXPECT_THAT(ReadError(R"({"crs": "EPSG:99999999", "points": [[0,0,0],[9,0,0],[0,9,0]]})", dir),
+              HasSubstr(site + "$.surface.crs: not a coordinate reference system GDAL "
+                               "recognises"));
+  EXPECT_THAT(ReadError(R"({"crs": "EPSG:4326", "points": [[0,0,0],[9,0,0],[0,9,0]]})", dir),
+              HasSubstr(site + "$.surface.crs: the CRS WGS 84 (EPSG:4326) is geographic"));
+  // Coordinates are never converted: a CRS in metres needs a site in metres.
+  const nlohmann::json j = nlohmann::json::parse(R"({"raster": "plane.tif"})");
+  EXPECT_THAT(ErrorOf([&] {
+                ReadSurface(JsonNode(&j, "s.json", "$.surface"), Units::kUS, dir.path(), {"a"});
+              }),
+              HasSubstr(dir.path() + "/plane.tif: the CRS RGF93 v1 / Lambert-93 (EPSG:2154) "
+                                     "measures coordinates in metre (1 m), not in the site's "
+                                     "unit (ft)"));
+  dir.Write("scan.txt", "X Y Z\n0 0 1\n10 0 1\n0 10 1\n");
+  EXPECT_THAT(
+      ReadError(R"({"crs": "EPSG:2154", "lidar": {"file": "scan.txt", "offset": "auto"}})", dir),
+      HasSubstr(site + "$.surface.crs: a LIDAR offset in plan or a spin moves the points "
+                       "out of any map frame"));
+}
+
+TEST(ReadSurface, MaxEdgeAndTriangulationNotes) {
+  TempDir dir;
+  const Surface s = Read(R"({"resolution": 1, "max_edge": 6.5, "points": [[0, 0, 0], [4, 0, 0],
+      [0, 4, 0], [4, 4, 0], [10, 0, 0], [10, 4, 0], [4, 4, 0]]})",
+                         dir);
+  // x 0-4: edges of 4 m and diagonals of 5.7 m; x 4-10: diagonals of 7.2 m, holes.
+  EXPECT_FALSE(std::isnan(s.grid.z[s.grid.index(2, 2)]));
+  EXPECT_TRUE(std::isnan(s.grid.z[s.grid.index(7, 2)]));
+  EXPECT_THAT(s.notes[1], HasSubstr("triangulation: 7 points, 1 point(s) at a plan position "
+                                    "already taken merged (elevations averaged), 4 Delaunay "
+                                    "triangles; "));
+  EXPECT_THAT(s.notes[1], HasSubstr("0 holes outside the convex hull, "));
+  EXPECT_THAT(s.notes[1], HasSubstr("holes in triangles with an edge longer than 6.5 (max_edge)"));
+  WritePlaneRasters(dir);
+  EXPECT_THAT(ReadError(R"({"max_edge": 5, "raster": "plane.tif"})", dir),
+              HasSubstr("$.surface.max_edge: 'max_edge' applies to triangulated points"));
+  EXPECT_THAT(ReadError(R"({"points": [[0, 0, 0], [10, 10, 0], [20, 20, 0]]})", dir),
+              HasSubstr("$.surface.points: the 3 distinct surface points lie on one line in plan"));
+}
+
 TEST(ReadSurface, UsUnitsConvertCoordinatesAndResolution) {
   TempDir dir;
   const nlohmann::json j = nlohmann::json::parse(
@@ -171,7 +292,8 @@ TEST(ReadSurface, ErrorsNameFileAndJsonPath) {
   const std::string site = dir.path() + "/site.json: ";
   EXPECT_THAT(ReadError(R"({"points": [[0,0,0],[1,0,0],[0,1,0]], "grid_file": "g.asc"})", dir),
               HasSubstr(site + "$.surface: expected exactly one surface source (one of points, "
-                               "points_file, lidar, grid_file, stl), found points, grid_file"));
+                               "points_file, lidar, grid_file, raster, stl), found points, "
+                               "grid_file"));
   EXPECT_THAT(ReadError(R"({"resolution": 2})", dir), HasSubstr("found none"));
   EXPECT_THAT(ReadError(R"({"pointz": []})", dir),
               HasSubstr(site + "$.surface.pointz: unknown key 'pointz'"));

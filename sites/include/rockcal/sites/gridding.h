@@ -1,9 +1,13 @@
 // Scattered points -> height grid: the one gridding rule every point source
-// (inline points, points files, LIDAR) goes through.
+// (inline points, points files, LIDAR) goes through. The points are
+// triangulated (Delaunay, GDAL's) and each grid node takes the linear
+// interpolation of the triangle it lies in.
 #ifndef ROCKCAL_SITES_GRIDDING_H_
 #define ROCKCAL_SITES_GRIDDING_H_
 
 #include <Eigen/Core>
+#include <limits>
+#include <string>
 #include <vector>
 
 #include "rockcal/core/terrain.h"
@@ -15,37 +19,45 @@ namespace rockcal::sites {
 // end; the 1e-6 absorbs rounding so an extent of k spacings gives k + 1).
 long NodeCount(double extent, double spacing);
 
+struct GriddingOptions {
+  double spacing = 1.0;  // grid spacing [m], > 0
+  // A node in a triangle with an edge longer than this [m] is a hole: gaps
+  // in the data wider than max_edge are not bridged. Default: no limit.
+  double max_edge = std::numeric_limits<double>::infinity();
+
+  // False, with *error naming the field, its value and the rule, unless
+  // spacing > 0 and max_edge > 0 (both finite but max_edge, which may be inf).
+  bool IsValid(std::string* error) const;
+};
+
 // What GridPoints did, for the site notes.
 struct GriddingReport {
-  int from_cell = 0;          // nodes fitted from the points of their own cell
-  int from_neighbours = 0;    // nodes fitted from points around them (filled)
-  int cell_mean = 0;          // nodes given the plain mean of their own points
-  int holes = 0;              // nodes with no data near enough (NaN)
-  double data_spacing = 0.0;  // d = sqrt(bounding-box area / point count) [m]
-  double hole_radius = 0.0;   // R = 2 max(spacing, d) [m]
+  int points = 0;        // points given
+  int merged = 0;        // points dropped by averaging those at the same plan position
+  int triangles = 0;     // triangles of the Delaunay triangulation
+  int nodes = 0;         // nodes interpolated
+  int outside_hull = 0;  // holes: nodes outside the convex hull of the points
+  int long_edge = 0;     // holes: nodes in a triangle with an edge > max_edge
 };
 
 // Grids scattered points (SI). The grid spans the plan bounding box of the
-// points: origin (min x, min y), NodeCount() nodes per axis. Each point
-// belongs to its nearest node (its "cell"). A node's elevation is, in order:
-//  1. its own points spread over the cell (at least 3 points whose plan
-//     standard deviation is >= spacing/10 in every direction) or surround
-//     the node (they do not all lie in one open half-plane through the node,
-//     or one is at the node; for a node on the edge of the grid the outside
-//     of the grid counts as covered): the least-squares plane through them
-//     evaluated at the node, i.e. their mean corrected to the node by their
-//     slope;
-//  2. else, if a point lies within R = 2 max(spacing, d) of the node and the
-//     points within 2R surround it: the plane through those points, weighted
-//     by 1 / (r^2 + (spacing/2)^2)^2 (r = distance to the node), evaluated at
-//     the node -- interpolation only, never extrapolation past the data;
-//  3. else, if it has own points: their mean elevation;
-//  4. else a hole (NaN).
-// A plane fit whose points are collinear keeps only the slope along the line.
-// Planar data are reproduced exactly at every node that is not a hole.
-// Material indices are all 0.
-core::HeightGrid GridPoints(const std::vector<Eigen::Vector3d>& points, double spacing,
-                            GriddingReport* report = nullptr);
+// points: origin (min x, min y), NodeCount() nodes per axis. Points at the
+// same plan position (x and y equal) become one point at their mean
+// elevation. The rest are triangulated (Delaunay in plan, GDAL's
+// GDALTriangulationCreateDelaunay) and every node inside the convex hull
+// takes the linear interpolation of the three corners of its triangle
+// (nodes on an edge or a corner belong to either triangle: the values
+// agree). Nodes outside the hull are holes (NaN), except that a node within
+// 1e-6 spacings of it (the rounding slack of NodeCount) takes the
+// triangle's plane; a node whose triangle has an edge longer than
+// options.max_edge is a hole too (a node on an edge shared with a triangle
+// without a long edge takes that one). Planar data are reproduced exactly
+// (to rounding) at every node that is not a hole. Material indices are all 0.
+// Returns false with *error saying what was expected when the options are
+// not valid, or fewer than 3 distinct plan positions remain or all of them
+// lie on one line.
+bool GridPoints(const std::vector<Eigen::Vector3d>& points, const GriddingOptions& options,
+                core::HeightGrid* grid, GriddingReport* report, std::string* error);
 
 }  // namespace rockcal::sites
 

@@ -37,6 +37,14 @@ struct Site {
   // fence height [m] and energy capacity [J]; default a 10 ft, 500 kJ fence.
   double barrier_height_m = 3.048;
   double barrier_energy_j = 500e3;
+  // The terrain's coordinate reference system as WKT (empty when unknown):
+  // from a raster surface, a zone file, or the surface's "crs". Every raster
+  // output carries it.
+  std::string crs_wkt;
+  // True when the terrain or the zones came from GIS files (a raster surface,
+  // a vector or raster zone file): `simulate` and `calibrate` then write
+  // rasters without being asked (--rasters).
+  bool gis = false;
 };
 
 // Reads, validates and builds the site at `path`. Throws InputError naming the

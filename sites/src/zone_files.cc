@@ -1,0 +1,344 @@
+#include "rockcal/sites/zone_files.h"
+
+#include <gdal_alg.h>
+#include <gdal_utils.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "gdal_util.h"
+#include "rockcal/sites/crs.h"
+#include "rockcal/sites/surface.h"
+#include "rockcal/sites/text_reader.h"
+
+namespace rockcal::sites {
+namespace {
+
+std::string Join(const std::vector<std::string>& items) {
+  std::string s;
+  for (const std::string& i : items) s += (s.empty() ? "" : ", ") + i;
+  return s;
+}
+
+std::vector<std::string> MaterialIds(const Site& site) {
+  std::vector<std::string> ids;
+  for (const core::Material& m : site.scene.materials) ids.push_back(m.id);
+  return ids;
+}
+
+struct GeometryDestroyer {
+  void operator()(void* g) const { OGR_G_DestroyGeometry(static_cast<OGRGeometryH>(g)); }
+};
+using Geometry = std::unique_ptr<void, GeometryDestroyer>;
+
+// What the zone file claimed, for the checks and notes.
+struct Claims {
+  std::vector<int> material;  // per node: the material index claimed, or -1
+  int claimed = 0;
+};
+
+// The layer's CRS as WKT, "" for none. GeoPackage's reserved "Undefined
+// geographic SRS" and "Undefined Cartesian SRS" (srs_id 0 and -1, with no
+// authority) are a layer without a CRS too.
+std::string LayerCrs(OGRLayerH layer) {
+  OGRSpatialReferenceH srs = OGR_L_GetSpatialRef(layer);
+  if (!srs) return "";
+  const char* name = OSRGetName(srs);
+  const std::string n = name ? name : "";
+  if ((n == "Undefined geographic SRS" || n == "Undefined Cartesian SRS") &&
+      !OSRGetAuthorityName(srs, nullptr))
+    return "";
+  return gdal::WktOf(srs);
+}
+
+// The zone file's CRS against the terrain's: the same, or adopted when the
+// terrain has none. Fails at `file_node`.
+void MatchCrs(const JsonNode& file_node, const std::string& file, const std::string& wkt,
+              GDALDatasetH ds, Site* site) {
+  if (wkt.empty()) return;
+  // GeoJSON without a "crs" member is WGS 84 (RFC 7946): say so.
+  const std::string driver = GDALGetDriverShortName(GDALGetDatasetDriver(ds));
+  const std::string hint =
+      driver == "GeoJSON"
+          ? " (a GeoJSON file without a \"crs\" member is WGS 84 longitude and latitude, by "
+            "RFC 7946)"
+          : "";
+  if (site->crs_wkt.empty()) {
+    if (const std::string problem = CrsUnitMismatch(wkt, site->units); !problem.empty())
+      file_node.Fail("zone file '" + file + "': " + problem + hint);
+    site->crs_wkt = wkt;
+    site->notes.push_back("crs: " + CrsLabel(wkt) + ", adopted from the zone file " + file);
+  } else if (!SameCrs(site->crs_wkt, wkt)) {
+    file_node.Fail("the zone file '" + file + "' has the CRS " + CrsLabel(wkt) + ", the terrain " +
+                   CrsLabel(site->crs_wkt) +
+                   "; expected the same CRS (reproject the zones first, e.g. ogr2ogr -t_srs)" +
+                   hint);
+  }
+}
+
+// The polygons of a vector file, burnt in order onto the nodes.
+Claims FromVector(const JsonNode& zones, const std::string& file, GDALDatasetH ds, Site* site) {
+  const JsonNode file_node = zones.Get("file");
+  OGRLayerH layer = nullptr;
+  std::vector<std::string> layer_names;
+  for (int k = 0; k < GDALDatasetGetLayerCount(ds); ++k)
+    layer_names.emplace_back(OGR_L_GetName(GDALDatasetGetLayer(ds, k)));
+  if (const std::optional<JsonNode> name = zones.Find("layer")) {
+    layer = GDALDatasetGetLayerByName(ds, name->String().c_str());
+    if (!layer) {
+      name->Fail("the zone file '" + file + "' has no such layer (layers: " + Join(layer_names) +
+                 ")");
+    }
+  } else if (layer_names.size() == 1) {
+    layer = GDALDatasetGetLayer(ds, 0);
+  } else {
+    zones.Fail("the zone file '" + file + "' has " + std::to_string(layer_names.size()) +
+               " layers" + (layer_names.empty() ? "" : " (" + Join(layer_names) + ")") +
+               "; expected \"layer\" naming the one with the zones");
+  }
+  const std::string layer_name = OGR_L_GetName(layer);
+  const JsonNode field_node = zones.Get("field");
+  const std::string field = field_node.String();
+  OGRFeatureDefnH defn = OGR_L_GetLayerDefn(layer);
+  const int field_index = OGR_FD_GetFieldIndex(defn, field.c_str());
+  if (field_index < 0) {
+    std::vector<std::string> fields;
+    for (int k = 0; k < OGR_FD_GetFieldCount(defn); ++k)
+      fields.emplace_back(OGR_Fld_GetNameRef(OGR_FD_GetFieldDefn(defn, k)));
+    field_node.Fail("layer '" + layer_name + "' of the zone file '" + file +
+                    "' has no such field (fields: " + Join(fields) + ")");
+  }
+  MatchCrs(file_node, file, LayerCrs(layer), ds, site);
+
+  // Each feature: a (multi)polygon and a material id.
+  const std::vector<std::string> ids = MaterialIds(*site);
+  std::vector<Geometry> geometries;
+  std::vector<int> material;  // per feature
+  std::vector<GIntBig> fids;
+  OGR_L_ResetReading(layer);
+  while (gdal::Feature f{OGR_L_GetNextFeature(layer)}) {
+    const auto feature = static_cast<OGRFeatureH>(f.get());
+    const GIntBig fid = OGR_F_GetFID(feature);
+    const std::string where = "layer '" + layer_name + "', feature " + std::to_string(fid);
+    OGRGeometryH geometry = OGR_F_GetGeometryRef(feature);
+    const OGRwkbGeometryType type =
+        geometry ? OGR_GT_Flatten(OGR_G_GetGeometryType(geometry)) : wkbNone;
+    if (type != wkbPolygon && type != wkbMultiPolygon) {
+      throw InputError(file, where + ": " +
+                                 (geometry ? std::string("a ") + OGRGeometryTypeToName(type)
+                                           : std::string("no geometry")) +
+                                 "; expected a Polygon or a MultiPolygon");
+    }
+    if (!OGR_F_IsFieldSetAndNotNull(feature, field_index)) {
+      throw InputError(file, where + ": field '" + field +
+                                 "' is empty; expected a material id (materials: " + Join(ids) +
+                                 ")");
+    }
+    const std::string id = OGR_F_GetFieldAsString(feature, field_index);
+    const auto it = std::find(ids.begin(), ids.end(), id);
+    if (it == ids.end()) {
+      throw InputError(file, where + ": field '" + field + "' holds " + Excerpt(id) +
+                                 ", not a material of the site (materials: " + Join(ids) + ")");
+    }
+    if (OGR_G_IsEmpty(geometry)) continue;
+    geometries.emplace_back(OGR_G_Clone(geometry));
+    material.push_back(static_cast<int>(it - ids.begin()));
+    fids.push_back(fid);
+  }
+
+  // Burn feature k + 1 (0: none) so that each node knows its last feature.
+  const core::HeightGrid& grid = site->scene.grid;
+  const double to_file = 1.0 / LengthToSI(1.0, site->units);
+  gdal::Dataset raster = gdal::NodeRaster(grid.nx, grid.ny, grid.x0 * to_file, grid.y0 * to_file,
+                                          grid.spacing * to_file, GDT_Int32, 0.0, "");
+  std::vector<OGRGeometryH> handles;
+  std::vector<double> burn;
+  for (std::size_t k = 0; k < geometries.size(); ++k) {
+    handles.push_back(static_cast<OGRGeometryH>(geometries[k].get()));
+    burn.push_back(static_cast<double>(k + 1));
+  }
+  int band = 1;
+  gdal::ErrorCapture errors;
+  if (!handles.empty() &&
+      GDALRasterizeGeometries(raster.get(), 1, &band, static_cast<int>(handles.size()),
+                              handles.data(), nullptr, nullptr, burn.data(), nullptr, nullptr,
+                              nullptr) != CE_None) {
+    throw InputError(file, "GDAL cannot rasterize the zones (" + errors.message() + ")");
+  }
+  std::vector<std::int32_t> cells(static_cast<std::size_t>(grid.nx) * grid.ny);
+  gdal::ReadNodeRaster(raster.get(), GDT_Int32, cells.data());
+
+  Claims claims;
+  claims.material.assign(cells.size(), -1);
+  std::vector<int> nodes_of_feature(geometries.size(), 0);
+  for (int j = 0; j < grid.ny; ++j) {
+    for (int i = 0; i < grid.nx; ++i) {
+      const std::int32_t k = cells[static_cast<std::size_t>(grid.ny - 1 - j) * grid.nx + i];
+      if (k <= 0) continue;
+      ++nodes_of_feature[static_cast<std::size_t>(k - 1)];
+      claims.material[static_cast<std::size_t>(grid.index(i, j))] = material[k - 1];
+      ++claims.claimed;
+    }
+  }
+  std::vector<std::string> idle;
+  for (std::size_t k = 0; k < fids.size(); ++k)
+    if (nodes_of_feature[k] == 0) idle.push_back(std::to_string(fids[k]));
+  std::string note = "zones: " + std::to_string(fids.size()) + " polygon features of " + file +
+                     " (layer " + layer_name + ", field " + field + ") claim " +
+                     std::to_string(claims.claimed) + " nodes";
+  if (!idle.empty()) {
+    if (idle.size() > 10) {
+      idle.resize(10);
+      idle.push_back("...");
+    }
+    note +=
+        "; features holding no grid node (off the terrain, smaller than a cell, or under "
+        "later features): FID " +
+        Join(idle);
+  }
+  site->notes.push_back(note);
+  return claims;
+}
+
+// A raster of classes, sampled at the nodes (nearest neighbour).
+Claims FromClasses(const JsonNode& zones, const std::string& file, GDALDatasetH ds, Site* site) {
+  const JsonNode file_node = zones.Get("file");
+  const JsonNode classes_node = zones.Get("classes");
+  if (!classes_node.is_object() || classes_node.raw().empty())
+    classes_node.Fail("expected an object {\"CLASS VALUE\": \"material id\", ...}");
+  const std::vector<std::string> ids = MaterialIds(*site);
+  std::map<double, int> classes;
+  std::vector<std::string> class_names;
+  for (const auto& item : classes_node.raw().items()) {
+    const JsonNode value = classes_node.Get(item.key().c_str());
+    double key = 0.0;
+    if (!ParseNumber(item.key(), &key)) {
+      value.Fail("the key " + Excerpt(item.key()) +
+                 " is not a number; expected class values of the raster as keys");
+    }
+    const std::string id = value.String();
+    const auto it = std::find(ids.begin(), ids.end(), id);
+    if (it == ids.end()) value.Fail("unknown material '" + id + "' (materials: " + Join(ids) + ")");
+    classes[key] = static_cast<int>(it - ids.begin());
+    class_names.push_back(item.key());
+  }
+  if (GDALGetRasterCount(ds) < 1) {
+    file_node.Fail("the zone file '" + file +
+                   "' holds no raster band; expected a raster of "
+                   "classes");
+  }
+  double gt[6];
+  if (GDALGetGeoTransform(ds, gt) != CE_None) {
+    throw InputError(file,
+                     "has no georeferencing (no geotransform); expected a georeferenced "
+                     "raster of classes");
+  }
+  const std::string wkt = gdal::WktOf(GDALGetSpatialRef(ds));
+  MatchCrs(file_node, file, wkt, ds, site);
+
+  const core::HeightGrid& grid = site->scene.grid;
+  const double to_file = 1.0 / LengthToSI(1.0, site->units);
+  const double kUnset = std::numeric_limits<double>::quiet_NaN();
+  gdal::Dataset target = gdal::NodeRaster(grid.nx, grid.ny, grid.x0 * to_file, grid.y0 * to_file,
+                                          grid.spacing * to_file, GDT_Float64, kUnset, wkt);
+  gdal::ErrorCapture errors;
+  const char* const args[] = {"-r", "near", "-dstnodata", "nan", "-q", nullptr};
+  GDALWarpAppOptions* options = GDALWarpAppOptionsNew(const_cast<char**>(args), nullptr);
+  GDALDatasetH source = ds;
+  int usage_error = 0;
+  GDALDatasetH done = GDALWarp(nullptr, target.get(), 1, &source, options, &usage_error);
+  GDALWarpAppOptionsFree(options);
+  if (!done) throw InputError(file, "GDAL cannot sample the classes (" + errors.message() + ")");
+  std::vector<double> cells(static_cast<std::size_t>(grid.nx) * grid.ny);
+  gdal::ReadNodeRaster(target.get(), GDT_Float64, cells.data());
+
+  Claims claims;
+  claims.material.assign(cells.size(), -1);
+  std::map<double, int> count;
+  int unclaimed = 0;
+  for (int j = 0; j < grid.ny; ++j) {
+    for (int i = 0; i < grid.nx; ++i) {
+      const double c = cells[static_cast<std::size_t>(grid.ny - 1 - j) * grid.nx + i];
+      if (std::isnan(c)) {
+        ++unclaimed;
+        continue;
+      }
+      const auto it = classes.find(c);
+      if (it == classes.end()) {
+        throw InputError(file, "class value " + FormatNumber(c) + " (at grid node " +
+                                   FormatNumber(grid.x(i) * to_file) + ", " +
+                                   FormatNumber(grid.y(j) * to_file) +
+                                   ") is not in \"classes\" (classes: " + Join(class_names) +
+                                   "); expected every class on the terrain mapped to a material");
+      }
+      claims.material[static_cast<std::size_t>(grid.index(i, j))] = it->second;
+      ++claims.claimed;
+      ++count[c];
+    }
+  }
+  std::string note = "zones: classes of " + file + " at the nodes:";
+  for (const auto& [value, index] : classes) {
+    note += " " + FormatNumber(value) + " -> " + ids[static_cast<std::size_t>(index)] + " " +
+            std::to_string(count[value]) + " nodes,";
+  }
+  site->notes.push_back(note + " nodata or off the raster " + std::to_string(unclaimed) + " nodes");
+  return claims;
+}
+
+}  // namespace
+
+void ApplyZoneFile(const JsonNode& zones, const std::string& base_dir, Site* site) {
+  zones.Keys({"file", "field", "layer", "classes"});
+  const bool vector = zones.Has("field");
+  if (vector == zones.Has("classes")) {
+    zones.Fail(
+        "expected exactly one of 'field' (the attribute of a vector file's polygons "
+        "that holds material ids) or 'classes' (a raster's class values -> material "
+        "ids)");
+  }
+  if (!vector && zones.Has("layer"))
+    zones.Get("layer").Fail("'layer' goes with a vector file ('field') only");
+  const JsonNode file_node = zones.Get("file");
+  const std::string file = ResolveDataFile(file_node, base_dir);
+  gdal::Init();
+  gdal::Dataset ds;
+  {
+    gdal::ErrorCapture errors;
+    ds.reset(GDALOpenEx(file.c_str(), (vector ? GDAL_OF_VECTOR : GDAL_OF_RASTER) | GDAL_OF_READONLY,
+                        nullptr, nullptr, nullptr));
+    if (!ds) {
+      const std::string why = errors.message().empty() ? "" : " (GDAL: " + errors.message() + ")";
+      file_node.Fail("'" + file + "' is not a " + (vector ? "vector" : "raster") +
+                     " file GDAL can read" + why + "; expected " +
+                     (vector ? "a GeoPackage, Shapefile, GeoJSON or another vector format GDAL "
+                               "reads (with \"field\")"
+                             : "a GeoTIFF or another raster GDAL reads (with \"classes\")"));
+    }
+  }
+  const Claims claims =
+      vector ? FromVector(zones, file, ds.get(), site) : FromClasses(zones, file, ds.get(), site);
+  if (claims.claimed == 0) {
+    const core::HeightGrid& grid = site->scene.grid;
+    const double to_file = 1.0 / LengthToSI(1.0, site->units);
+    file_node.Fail("the zone file '" + file + "' claims no grid node (the terrain spans x " +
+                   FormatNumber(grid.x(0) * to_file) + " to " +
+                   FormatNumber(grid.x(grid.nx - 1) * to_file) + ", y " +
+                   FormatNumber(grid.y(0) * to_file) + " to " +
+                   FormatNumber(grid.y(grid.ny - 1) * to_file) +
+                   "); expected zones over the terrain, in the site's frame and unit");
+  }
+  std::vector<int>& material = site->scene.grid.material;
+  for (std::size_t n = 0; n < material.size(); ++n)
+    if (claims.material[n] >= 0) material[n] = claims.material[n];
+  std::vector<std::string> files = gdal::FileList(ds.get());
+  if (files.empty()) files.push_back(file);
+  site->inputs.insert(site->inputs.end(), files.begin(), files.end());
+  site->gis = true;
+}
+
+}  // namespace rockcal::sites

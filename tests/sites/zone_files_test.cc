@@ -1,0 +1,263 @@
+#include "rockcal/sites/zone_files.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <functional>
+
+#include "gis_files.h"
+#include "rockcal/sites/site.h"
+#include "test_files.h"
+
+namespace rockcal::sites {
+namespace {
+
+using ::testing::Contains;
+using ::testing::EndsWith;
+using testing::ErrorOf;
+using ::testing::HasSubstr;
+using testing::RasterSpec;
+using testing::TempDir;
+using testing::WriteRaster;
+using testing::WriteZones;
+using testing::ZoneFeature;
+using Json = nlohmann::json;
+
+// A 100 m x 50 m plane, nodes every 5 m; three materials; zones from a file.
+Json BaseSite(const Json& zones) {
+  Json site = Json::parse(R"({
+    "name": "zones", "units": "si",
+    "surface": {"resolution": 5, "points": [[0, 0, 50], [100, 0, 0], [0, 50, 50], [100, 50, 0]]},
+    "materials": [
+      {"id": "rock", "hardness": 0.6, "roughness": 0.5},
+      {"id": "talus", "hardness": 0.3, "roughness": 1.0},
+      {"id": "soil", "hardness": 0.2, "roughness": 1.0}
+    ],
+    "rocks": [{"count": 1, "shape": "sphere", "size": 1, "unit_weight": 26,
+               "release": {"point": [10, 25]}}]
+  })");
+  site["zones"] = zones;
+  return site;
+}
+
+// talus from x = 42, soil from x = 72 on top of it (the later feature wins).
+std::vector<ZoneFeature> TwoBands() {
+  return {{"POLYGON ((42 -1, 101 -1, 101 51, 42 51, 42 -1))", "talus"},
+          {"POLYGON ((72 -1, 101 -1, 101 51, 72 51, 72 -1))", "soil"}};
+}
+
+Site Load(const TempDir& dir, const Json& site) {
+  return LoadSite(dir.Write("site.json", site.dump(2)));
+}
+
+std::string LoadError(const TempDir& dir, const Json& site) {
+  const std::string path = dir.Write("site.json", site.dump(2));
+  return ErrorOf([&] { LoadSite(path); });
+}
+
+// The material id of the node at (x, y).
+std::string MaterialAt(const Site& site, double x, double y) {
+  const core::HeightGrid& g = site.scene.grid;
+  const int i = static_cast<int>(std::lround((x - g.x0) / g.spacing));
+  const int j = static_cast<int>(std::lround((y - g.y0) / g.spacing));
+  return site.scene.materials[static_cast<std::size_t>(g.material[g.index(i, j)])].id;
+}
+
+void ExpectBands(const Site& site, const std::string& what) {
+  for (double y : {0.0, 25.0, 50.0}) {
+    for (double x = 0; x <= 100; x += 5) {
+      const char* want = x < 42 ? "rock" : x < 72 ? "talus" : "soil";
+      EXPECT_EQ(MaterialAt(site, x, y), want) << what << " node " << x << ", " << y;
+    }
+  }
+}
+
+TEST(ApplyZoneFile, PolygonsOfGeoPackageShapefileAndGeoJson) {
+  const std::vector<std::pair<std::string, std::string>> formats = {
+      {"GPKG", "zones.gpkg"}, {"ESRI Shapefile", "zones.shp"}, {"GeoJSON", "zones.geojson"}};
+  for (const auto& [driver, name] : formats) {
+    TempDir dir;
+    WriteZones(dir.path() + "/" + name, TwoBands(), "EPSG:2154", driver);
+    const Site site = Load(dir, BaseSite({{"file", name}, {"field", "material"}}));
+    ExpectBands(site, driver);
+    EXPECT_TRUE(site.gis) << driver;
+    EXPECT_THAT(site.inputs, Contains(EndsWith("/" + name))) << driver;
+    EXPECT_THAT(site.notes,
+                Contains(HasSubstr("zones: 2 polygon features of " + dir.path() + "/" + name)))
+        << driver;
+    if (driver == "ESRI Shapefile") {
+      EXPECT_THAT(site.inputs, Contains(EndsWith("/zones.dbf")));
+    }
+  }
+}
+
+TEST(ApplyZoneFile, InlineZonesGoOnTopAndMultiPolygonsCount) {
+  TempDir dir;
+  WriteZones(dir.path() + "/zones.gpkg",
+             {{"MULTIPOLYGON (((42 -1, 60 -1, 60 51, 42 51, 42 -1)), "
+               "((82 -1, 101 -1, 101 51, 82 51, 82 -1)))",
+               "talus"},
+              {"POLYGON ((62 -1, 80 -1, 80 51, 62 51, 62 -1))", "soil"}});
+  Json json = BaseSite({{"file", "zones.gpkg"}, {"field", "material"}});
+  json["materials"][2]["zone"] = Json::parse("[[-1, -1], [12, -1], [12, 51], [-1, 51]]");
+  const Site site = Load(dir, json);
+  for (double x = 0; x <= 100; x += 5) {
+    const char* want = x < 12   ? "soil"  // the material's own zone, on top
+                       : x < 42 ? "rock"
+                       : x < 62 ? "talus"
+                       : x < 82 ? "soil"
+                                : "talus";
+    EXPECT_EQ(MaterialAt(site, x, 20), want) << "node x " << x;
+  }
+}
+
+TEST(ApplyZoneFile, ErrorsNameTheFileTheFeatureAndWhatWasExpected) {
+  TempDir dir;
+  const std::string gpkg = dir.path() + "/zones.gpkg";
+  auto error_with = [&](const std::vector<ZoneFeature>& features, const Json& zones) {
+    std::filesystem::remove(gpkg);
+    WriteZones(gpkg, features);
+    return LoadError(dir, BaseSite(zones));
+  };
+  const Json zones = {{"file", "zones.gpkg"}, {"field", "material"}};
+  std::vector<ZoneFeature> f = TwoBands();
+  f[1].material = "granite";
+  EXPECT_THAT(error_with(f, zones),
+              HasSubstr(gpkg + ": layer 'zones', feature 2: field 'material' holds 'granite', not "
+                               "a material of the site (materials: rock, talus, soil)"));
+  f = TwoBands();
+  f[0].material = "";
+  EXPECT_THAT(error_with(f, zones), HasSubstr(gpkg + ": layer 'zones', feature 1: field "
+                                                     "'material' is empty; expected a material "
+                                                     "id"));
+  f = TwoBands();
+  f.push_back({"LINESTRING (0 0, 10 10)", "talus"});
+  EXPECT_THAT(error_with(f, zones), HasSubstr(gpkg + ": layer 'zones', feature 3: a Line String; "
+                                                     "expected a Polygon or a MultiPolygon"));
+  const std::string site = dir.path() + "/site.json: ";
+  EXPECT_THAT(error_with(TwoBands(), {{"file", "zones.gpkg"}, {"field", "kind"}}),
+              HasSubstr(site + "$.zones.field: layer 'zones' of the zone file '" + gpkg +
+                        "' has no such field (fields: material)"));
+  EXPECT_THAT(error_with(TwoBands(), {{"file", "zones.gpkg"}}),
+              HasSubstr(site + "$.zones: expected exactly one of 'field'"));
+  EXPECT_THAT(
+      error_with(TwoBands(),
+                 {{"file", "zones.gpkg"}, {"field", "material"}, {"classes", {{"1", "rock"}}}}),
+      HasSubstr(site + "$.zones: expected exactly one of 'field'"));
+  EXPECT_THAT(error_with({{"POLYGON ((500 500, 600 500, 600 600, 500 500))", "talus"}}, zones),
+              HasSubstr(site + "$.zones.file: the zone file '" + gpkg +
+                        "' claims no grid node (the terrain spans x 0 to 100, y 0 to 50)"));
+  // Nothing claims talus: the usual check of every material.
+  EXPECT_THAT(error_with({{"POLYGON ((72 -1, 101 -1, 101 51, 72 51, 72 -1))", "soil"}}, zones),
+              HasSubstr(site + "$.materials[1]: material 'talus' covers no terrain node"));
+  dir.Write("notes.txt", "no zones here\n");
+  EXPECT_THAT(LoadError(dir, BaseSite({{"file", "notes.txt"}, {"field", "material"}})),
+              HasSubstr(site + "$.zones.file: '" + dir.path() +
+                        "/notes.txt' is not a vector file GDAL can read"));
+}
+
+TEST(ApplyZoneFile, LayersByName) {
+  TempDir dir;
+  const std::string gpkg = dir.path() + "/zones.gpkg";
+  WriteZones(gpkg, {{"POLYGON ((0 0, 1 0, 1 1, 0 0))", "rock"}}, "", "GPKG", "old",
+             {{"current", TwoBands()}});
+  EXPECT_THAT(LoadError(dir, BaseSite({{"file", "zones.gpkg"}, {"field", "material"}})),
+              HasSubstr("$.zones: the zone file '" + gpkg +
+                        "' has 2 layers (old, current); expected \"layer\" naming the one with "
+                        "the zones"));
+  EXPECT_THAT(
+      LoadError(dir, BaseSite({{"file", "zones.gpkg"}, {"field", "material"}, {"layer", "new"}})),
+      HasSubstr("$.zones.layer: the zone file '" + gpkg +
+                "' has no such layer (layers: old, current)"));
+  const Site site =
+      Load(dir, BaseSite({{"file", "zones.gpkg"}, {"field", "material"}, {"layer", "current"}}));
+  ExpectBands(site, "layer current");
+}
+
+TEST(ApplyZoneFile, TheZoneFilesCrsMatchesOrIsAdopted) {
+  TempDir dir;
+  const std::string gpkg = dir.path() + "/zones.gpkg";
+  WriteZones(gpkg, TwoBands(), "EPSG:2154");
+  Json json = BaseSite({{"file", "zones.gpkg"}, {"field", "material"}});
+  // The terrain has no CRS: the zone file's is adopted.
+  Site site = Load(dir, json);
+  EXPECT_THAT(site.crs_wkt, HasSubstr("Lambert-93"));
+  EXPECT_THAT(site.notes, Contains(HasSubstr("crs: RGF93 v1 / Lambert-93 (EPSG:2154), adopted "
+                                             "from the zone file")));
+  json["surface"]["crs"] = "EPSG:2154";
+  site = Load(dir, json);
+  ExpectBands(site, "same CRS");
+  json["surface"]["crs"] = "EPSG:32631";
+  EXPECT_THAT(LoadError(dir, json),
+              HasSubstr("$.zones.file: the zone file '" + gpkg +
+                        "' has the CRS RGF93 v1 / Lambert-93 (EPSG:2154), the terrain WGS 84 / "
+                        "UTM zone 31N (EPSG:32631); expected the same CRS"));
+  std::filesystem::remove(gpkg);
+  WriteZones(gpkg, TwoBands(), "EPSG:4326");
+  json["surface"].erase("crs");
+  EXPECT_THAT(LoadError(dir, json), HasSubstr("the CRS WGS 84 (EPSG:4326) is geographic"));
+  // GeoJSON without a "crs" member is WGS 84 (RFC 7946).
+  WriteZones(dir.path() + "/zones.geojson", TwoBands(), "", "GeoJSON");
+  json["zones"]["file"] = "zones.geojson";
+  EXPECT_THAT(
+      LoadError(dir, json),
+      HasSubstr("is geographic (longitude and latitude in degrees); expected a projected "
+                "CRS in metres (reproject first, with gdalwarp or ogr2ogr -t_srs) (a GeoJSON file "
+                "without a \"crs\" member is WGS 84 longitude and latitude, by RFC "
+                "7946)"));
+}
+
+// Classes on 10 m cells whose edges fall between the 5 m nodes: class 1
+// west of x = 43, class 2 east of it; the north-west cell is nodata (0).
+RasterSpec Classes() {
+  RasterSpec r;
+  r.nx = 11;
+  r.ny = 6;
+  r.geotransform = {-7, 10, 0, 57, 0, -10};
+  r.type = GDT_Byte;
+  r.nodata = 0;
+  for (int row = 0; row < r.ny; ++row)
+    for (int col = 0; col < r.nx; ++col) r.values.push_back(col < 5 ? 1 : 2);
+  r.values[0] = 0;
+  return r;
+}
+
+TEST(ApplyZoneFile, RasterOfClasses) {
+  TempDir dir;
+  WriteRaster(dir.path() + "/classes.tif", Classes());
+  const Json zones = {{"file", "classes.tif"}, {"classes", {{"1", "soil"}, {"2", "talus"}}}};
+  const Site site = Load(dir, BaseSite(zones));
+  for (double y = 0; y <= 50; y += 5) {
+    for (double x = 0; x <= 100; x += 5) {
+      const char* want = (x < 3 && y > 47) ? "rock" : x < 43 ? "soil" : "talus";
+      EXPECT_EQ(MaterialAt(site, x, y), want) << "node " << x << ", " << y;
+    }
+  }
+  EXPECT_TRUE(site.gis);
+  EXPECT_THAT(site.inputs, Contains(EndsWith("/classes.tif")));
+  EXPECT_THAT(site.notes, Contains(HasSubstr("1 -> soil 98 nodes, 2 -> talus 132 nodes, nodata or "
+                                             "off the raster 1 nodes")));
+
+  RasterSpec bad = Classes();
+  bad.values[30] = 7;  // row 2, column 8: x 73-83, y 27-37
+  WriteRaster(dir.path() + "/bad.tif", bad);
+  EXPECT_THAT(
+      LoadError(dir, BaseSite({{"file", "bad.tif"}, {"classes", {{"1", "soil"}, {"2", "talus"}}}})),
+      HasSubstr(dir.path() + "/bad.tif: class value 7 (at grid node 75, 30) is not in "
+                             "\"classes\" (classes: 1, 2)"));
+  EXPECT_THAT(LoadError(dir, BaseSite({{"file", "classes.tif"},
+                                       {"classes", {{"one", "soil"}, {"2", "talus"}}}})),
+              HasSubstr("$.zones.classes.one: the key 'one' is not a number"));
+  EXPECT_THAT(LoadError(dir, BaseSite({{"file", "classes.tif"},
+                                       {"classes", {{"1", "sand"}, {"2", "talus"}}}})),
+              HasSubstr("$.zones.classes.1: unknown material 'sand' (materials: rock, talus, "
+                        "soil)"));
+  EXPECT_THAT(
+      LoadError(dir,
+                BaseSite({{"file", "classes.tif"}, {"classes", {{"1", "soil"}}}, {"layer", "x"}})),
+      HasSubstr("$.zones.layer: 'layer' goes with a vector file ('field') only"));
+}
+
+}  // namespace
+}  // namespace rockcal::sites
