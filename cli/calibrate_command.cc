@@ -18,6 +18,8 @@
 #include "rockcal/reports/calibration_outputs.h"
 #include "rockcal/reports/html_report.h"
 #include "rockcal/reports/output_dir.h"
+#include "rockcal/core/rasters.h"
+#include "rockcal/reports/raster_outputs.h"
 #include "rockcal/reports/simulation_outputs.h"
 #include "rockcal/sites/site.h"
 
@@ -168,13 +170,17 @@ calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
   return callbacks;
 }
 
-// Every file of a finished calibration in DIR `out`; calibration.json, which
-// marks the folder complete, after every other file.
+// Every file of a finished calibration in DIR `out` (with `rasters`, the
+// maps of the simulation at the calibrated values that the report shows);
+// calibration.json, which marks the folder complete, after every other file.
 void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
                            const observations::Observations& obs,
                            const calibrate::CalibrationSummary& summary,
-                           const std::optional<calibrate::HoldoutSummary>& holdout) {
+                           const std::optional<calibrate::HoldoutSummary>& holdout, bool rasters) {
+  // One set of maps for rasters.tif and the report's plan view.
+  const core::RasterSet maps = core::ComputeRasters(summary.calibrated, summary.simulation);
   reports::WriteSimulationFiles(out, summary.calibrated, summary.simulation);
+  if (rasters) reports::WriteRasterFiles(out, maps, SiteRasterFrame(site));
   reports::WriteFileAtomically(out + "/parameters.json",
                                reports::ParametersJson(summary).dump(2) + "\n");
   reports::WriteFileAtomically(out + "/parameters.csv", reports::ParametersCsv(summary));
@@ -190,7 +196,7 @@ void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
   if (summary.reach)
     reports::WriteFileAtomically(out + "/reach.json",
                                  calibrate::ReachJson(summary.site, *summary.reach).dump(2) + "\n");
-  reports::ReportInput report = SiteReport(site, summary.calibrated, summary.simulation);
+  reports::ReportInput report = SiteReport(site, summary.calibrated, summary.simulation, &maps);
   report.calibration = &summary;
   report.observations = &obs;
   reports::WriteFileAtomically(out + "/report.html", reports::HtmlReport(report));
@@ -205,7 +211,7 @@ void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
 // The closing lines: the rocks at the calibrated values, the verdict on the
 // fit, the parameter table and what was written.
 void PrintCalibration(const std::string& out, const calibrate::CalibrationSummary& summary,
-                      bool holdout, double wall_seconds) {
+                      bool holdout, const std::string& rasters, double wall_seconds) {
   const core::SimulationResult& sim = summary.simulation;
   if (summary.race_winner >= 0) {
     std::printf("\nrace of the refining stage's start at %d rocks (misfit):", summary.final_rocks);
@@ -224,17 +230,17 @@ void PrintCalibration(const std::string& out, const calibrate::CalibrationSummar
   if (summary.methods.size() > 1)
     std::printf("\n%s", reports::ComparisonMarkdown(summary).c_str());
   std::printf("\nwrote %s/ in %.1f s: parameters.{json,csv,md}, trace.csv, calibration.json, "
-              "evaluations.jsonl, summary.json, rocks.csv, report.html%s%s\n",
+              "evaluations.jsonl, summary.json, rocks.csv, report.html%s%s%s\n",
               out.c_str(), wall_seconds,
               summary.methods.size() > 1 ? ", comparison.{csv,md}" : "",
-              holdout ? ", holdout.{json,csv}, evaluations-fold-*.jsonl" : "");
+              holdout ? ", holdout.{json,csv}, evaluations-fold-*.jsonl" : "", rasters.c_str());
 }
 
 }  // namespace
 
 int Calibrate(const std::vector<std::string>& argv) {
   const auto start_time = std::chrono::steady_clock::now();
-  const Args args(argv, {"force", "quiet", "resume"},
+  const Args args(argv, {"force", "quiet", "resume", "rasters"},
                   {"observations", "method", "methods", "max-evals", "max-seconds", "rocks",
                    "refine", "race", "seed", "threads", "loss", "estimate", "holdout", "reach",
                    "out"});
@@ -281,10 +287,11 @@ int Calibrate(const std::vector<std::string>& argv) {
       std::printf("holdout, %d folds: misfit in sample %.4g, held out %.4g (means)\n", folds,
                   holdout->mean_in_sample_misfit, holdout->mean_held_out_misfit);
   }
-  WriteCalibrationFiles(out, site, obs, summary, holdout);
+  // The rasters: asked for, or by default for a site read from GIS files.
+  WriteCalibrationFiles(out, site, obs, summary, holdout, args.Flag("rasters") || site.gis);
   if (!quiet)
     PrintCalibration(
-        out, summary, holdout.has_value(),
+        out, summary, holdout.has_value(), RastersWritten(args.Flag("rasters"), site),
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count());
   return 0;
 }

@@ -12,20 +12,24 @@
 #include "rockcal/calibrate/score.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/limits.h"
+#include "rockcal/core/rasters.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/reports/html_report.h"
 #include "rockcal/reports/output_dir.h"
+#include "rockcal/reports/raster_outputs.h"
 #include "rockcal/reports/simulation_outputs.h"
 #include "rockcal/sites/site.h"
 
 namespace rockcal::cli {
 
 reports::ReportInput SiteReport(const sites::Site& site, const core::Scene& scene,
-                                const core::SimulationResult& result) {
+                                const core::SimulationResult& result,
+                                const core::RasterSet* rasters) {
   reports::ReportInput report;
   report.scene = &scene;
   report.result = &result;
+  report.rasters = rasters;
   report.site_file = site.path;
   report.units = site.units;
   report.notes = site.notes;
@@ -34,12 +38,26 @@ reports::ReportInput SiteReport(const sites::Site& site, const core::Scene& scen
   return report;
 }
 
+reports::RasterFrame SiteRasterFrame(const sites::Site& site) {
+  reports::RasterFrame frame;
+  frame.crs_wkt = site.crs_wkt;
+  frame.units = site.units;
+  return frame;
+}
+
+std::string RastersWritten(bool asked, const sites::Site& site) {
+  if (!asked && !site.gis) return "";
+  return std::string(", rasters.tif, rasters/*.asc") +
+         (asked ? "" : " (rasters: on by default for a site read from GIS files)");
+}
+
 // ---- simulate --------------------------------------------------------------
 
 int Simulate(const std::vector<std::string>& argv) {
-  const Args args(argv, {"force", "quiet"},
-                  {"rocks", "seed", "set", "parameters", "trajectories", "sample-seconds", "threads",
-                   "out"}, {"set"});
+  const Args args(
+      argv, {"force", "quiet", "rasters"},
+      {"rocks", "seed", "set", "parameters", "trajectories", "sample-seconds", "threads", "out"},
+      {"set"});
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   sites::Site site = sites::LoadSite(site_path);
@@ -73,17 +91,22 @@ int Simulate(const std::vector<std::string>& argv) {
   recorded.options.record = calibrate::RecordingFor(scene, needs);
   const core::SimulationResult result =
       core::Simulate(recorded, terrain, [&](int done, int total) { progress.Update(done, total); });
+  // One set of maps for rasters.tif and the report's plan view.
+  const core::RasterSet rasters = core::ComputeRasters(recorded, result);
+  const bool write_rasters = args.Flag("rasters") || site.gis;
   reports::WriteSimulationFiles(dir.folder(), scene, result);
+  if (write_rasters) reports::WriteRasterFiles(dir.folder(), rasters, SiteRasterFrame(site));
   reports::WriteFileAtomically(dir.File("report.html"),
-                               reports::HtmlReport(SiteReport(site, scene, result)));
+                               reports::HtmlReport(SiteReport(site, scene, result, &rasters)));
   dir.Commit();
   if (!args.Flag("quiet")) {
     std::printf("%s: %zu rocks in %.2f s (%ld steps, %ld flights): %d stopped, %d left, %d timeout\n",
                 scene.name.c_str(), result.rocks.size(), result.wall_seconds, result.steps,
                 result.flights, result.count(core::Outcome::kStopped),
                 result.count(core::Outcome::kLeft), result.count(core::Outcome::kTimeout));
-    std::printf("wrote %s/summary.json, rocks.csv, diagnostics.json, report.html%s\n", out.c_str(),
-                scene.options.record.trajectories > 0 ? ", trajectories.csv" : "");
+    std::printf("wrote %s/summary.json, rocks.csv, diagnostics.json, report.html%s%s\n",
+                out.c_str(), scene.options.record.trajectories > 0 ? ", trajectories.csv" : "",
+                RastersWritten(args.Flag("rasters"), site).c_str());
   }
   if (result.non_finite > 0) {
     std::fprintf(stderr, "rockcal: failed: %d rocks reached a non-finite state\n", result.non_finite);

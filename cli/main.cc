@@ -17,13 +17,13 @@ constexpr const char* kUsage =
     "usage:\n"
     "  rockcal simulate SITE.json [--rocks N] [--seed S] [--parameters parameters.json]\n"
     "                   [--set KEY=VALUE ...]\n"
-    "                   [--trajectories N --sample-seconds DT] [--threads N]\n"
+    "                   [--trajectories N --sample-seconds DT] [--rasters] [--threads N]\n"
     "                   [--force] [--quiet] --out DIR\n"
     "  rockcal calibrate SITE.json --observations OBS.json [--method M | --methods M1,M2,...]\n"
     "                   [--max-evals N] [--max-seconds T] [--rocks N | --refine F] [--seed S]\n"
     "                   [--threads N]\n"
     "                   [--loss none|huber|cauchy] [--estimate lowest|smoothed]\n"
-    "                   [--holdout K] [--resume | --force] [--quiet] --out DIR\n"
+    "                   [--holdout K] [--rasters] [--resume | --force] [--quiet] --out DIR\n"
     "  rockcal score SITE.json --observations OBS.json [--parameters parameters.json]\n"
     "                   [--rocks N] [--seed S] [--threads N] [--force] [--quiet] --out DIR\n"
     "  rockcal sensitivity SITE.json [--method morris|sobol] [--samples N] [--observations OBS.json]\n"
@@ -42,7 +42,11 @@ constexpr const char* kUsage =
     "  rockcal validate SITE.json [--observations OBS.json]\n"
     "\n"
     "KEY for --set: material.<id>.hardness | .roughness | .contact_time | .rolling_resistance\n"
-    "               | .friction (site units)\n";
+    "               | .friction (site units)\n"
+    "--rasters: also write DIR/rasters.tif (GeoTIFF, one band per map: passages,\n"
+    "           reach_probability, stop_density, energy_max, energy_p95, height_max,\n"
+    "           height_p95) and DIR/rasters/<band>.asc (ESRI ASCII grids), on the site grid\n"
+    "           with the terrain's CRS; on by default for a site read from GIS files\n";
 
 }  // namespace
 

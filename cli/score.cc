@@ -8,6 +8,7 @@
 #include "args.h"
 #include "commands.h"
 #include "progress.h"
+#include "rockcal/core/rasters.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/reports/html_report.h"
 #include "rockcal/reports/output_dir.h"
@@ -59,7 +60,8 @@ int Score(const std::vector<std::string>& argv) {
       {"residuals", residuals}};
   reports::WriteSimulationFiles(dir.folder(), score.scene, sim);
   reports::WriteFileAtomically(dir.File("score.json"), json.dump(2) + "\n");
-  reports::ReportInput report = SiteReport(site, score.scene, sim);
+  const core::RasterSet rasters = core::ComputeRasters(score.scene, sim);
+  reports::ReportInput report = SiteReport(site, score.scene, sim, &rasters);
   report.observations = &obs;
   reports::WriteFileAtomically(dir.File("report.html"), reports::HtmlReport(report));
   dir.Commit();

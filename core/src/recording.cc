@@ -24,6 +24,7 @@ void Recorder::Start(const RockState& s) {
   trajectory_ = opt_.trajectories > rec_->rock;
   next_sample_ = 0.0;
   Sample(s);
+  if (opt_.passages) VisitAt(s, s, true);
 }
 
 void Recorder::Advance(const RockState& s0, const RockState& s, bool flew) {
@@ -64,6 +65,7 @@ void Recorder::Advance(const RockState& s0, const RockState& s, bool flew) {
     const double f = (-bb - std::sqrt(disc)) / (2.0 * aa);
     if (f >= 0.0 && f <= 1.0) cr = Record(s0, Between(s0, s, f, flew));
   }
+  if (opt_.passages) Visit(s0, s, flew);
   if (trajectory_) {
     while (next_sample_ <= s.t) {
       const double f = s.t > s0.t ? (next_sample_ - s0.t) / (s.t - s0.t) : 1.0;
@@ -72,15 +74,66 @@ void Recorder::Advance(const RockState& s0, const RockState& s, bool flew) {
   }
 }
 
-void Recorder::Cell(int cell) {
-  if (!opt_.passages) return;
-  if (cell >= 0 && (rec_->cells.empty() || rec_->cells.back() != cell)) rec_->cells.push_back(cell);
+void Recorder::Visit(const RockState& s0, const RockState& s, bool flew) {
+  // Quarter cells along the advance's plan path (a small step: none).
+  const double quarter = 0.25 * scene_.grid.spacing;
+  const double run2 = flew ? (s.x.head<2>() - s0.x.head<2>()).squaredNorm() : 0.0;
+  if (run2 <= quarter * quarter) {  // kept when over another cell or an eighth of one away
+    VisitAt(s0, s, /*every=*/false);
+    return;
+  }
+  const int n = static_cast<int>(std::ceil(std::sqrt(run2) / quarter));
+  for (int k = 1; k < n; ++k) VisitAt(s0, Between(s0, s, static_cast<double>(k) / n, true), true);
+  VisitAt(s0, s, true);
+}
+
+void Recorder::VisitAt(const RockState& s0, const RockState& s, bool every) {
+  const HeightGrid& g = scene_.grid;
+  const double fi = std::round((s.x.x() - g.x0) / g.spacing);
+  const double fj = std::round((s.x.y() - g.y0) / g.spacing);
+  if (!(fi >= 0.0 && fj >= 0.0 && fi < g.nx && fj < g.ny)) return;  // off the grid
+  const int cell = static_cast<int>(fj) * g.nx + static_cast<int>(fi);
+  if (std::isnan(g.z[static_cast<std::size_t>(cell)])) return;  // over a hole: no map there
+  std::vector<CellVisit>& cells = rec_->cells;
+  // The cell's visit if it is one of the last few (a rock at rest on a cell
+  // border goes back and forth); -1: a new one.
+  int at = -1;
+  for (int k = static_cast<int>(cells.size()) - 1; k >= 0 && k + 4 >= static_cast<int>(cells.size());
+       --k) {
+    if (cells[static_cast<std::size_t>(k)].cell == cell) {
+      at = k;
+      break;
+    }
+  }
+  if (at >= 0 && !every &&
+      (s.x.head<2>() - last_visit_).squaredNorm() < 0.015625 * g.spacing * g.spacing)
+    return;  // within an eighth of a cell of the last sample kept
+  last_visit_ = s.x.head<2>();
+  const Crossing c = Record(s0, s);
+  if (at < 0) {
+    cells.push_back({cell, c.height, c.energy});
+  } else {
+    CellVisit& v = cells[static_cast<std::size_t>(at)];
+    v.height = std::max(v.height, c.height);
+    v.energy = std::max(v.energy, c.energy);
+  }
 }
 
 void Recorder::Finish(const RockState& s) {
-  if (opt_.passages) {
-    std::sort(rec_->cells.begin(), rec_->cells.end());
-    rec_->cells.erase(std::unique(rec_->cells.begin(), rec_->cells.end()), rec_->cells.end());
+  if (opt_.passages) {  // one visit per cell, by cell: the largest values of its passes
+    std::vector<CellVisit>& cells = rec_->cells;
+    std::stable_sort(cells.begin(), cells.end(),
+                     [](const CellVisit& a, const CellVisit& b) { return a.cell < b.cell; });
+    std::size_t out = 0;
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+      if (out > 0 && cells[out - 1].cell == cells[k].cell) {
+        cells[out - 1].height = std::max(cells[out - 1].height, cells[k].height);
+        cells[out - 1].energy = std::max(cells[out - 1].energy, cells[k].energy);
+      } else {
+        cells[out++] = cells[k];
+      }
+    }
+    cells.resize(out);
   }
   if (trajectory_) Sample(s, /*force=*/true);
 }

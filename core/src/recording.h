@@ -22,8 +22,6 @@ class Recorder final {
   // Partition crossings, tree passages and trajectory samples within the
   // advance from s0 to s (flew: on the exact parabola; else a small step).
   void Advance(const RockState& s0, const RockState& s, bool flew);
-  // The grid cell the rock's centre is over after an advance (-1: none).
-  void Cell(int cell);
   // At the end, in state s: the cells in order, the last sample.
   void Finish(const RockState& s);
 
@@ -38,6 +36,15 @@ class Recorder final {
   // ground where the plan path from s0 to (x, y) left the slope.
   double GroundBelow(const RockState& s0, double x, double y) const;
   void Sample(const RockState& s, bool force = false);
+  // The cells passed over within the advance from s0 to s: every quarter
+  // cell along a flight; after a small step or a flight shorter than that,
+  // its end, when it is over another cell or an eighth of a cell from the
+  // last sample kept (a rock near the ground changes its height and energy
+  // little over that; its impacts begin at a flight's end).
+  void Visit(const RockState& s0, const RockState& s, bool flew);
+  // Keeps state s (reached from s0) in the record of the cell it is over;
+  // unless `every`, not within an eighth of a cell of the last sample kept.
+  void VisitAt(const RockState& s0, const RockState& s, bool every);
 
   const Scene& scene_;
   const RecordOptions& opt_;
@@ -48,6 +55,7 @@ class Recorder final {
   RockRecord* rec_;
   bool trajectory_ = false;
   double next_sample_ = 0.0;
+  Eigen::Vector2d last_visit_ = Eigen::Vector2d::Zero();  // plan position of the last cell sample
 };
 
 }  // namespace rockcal::core

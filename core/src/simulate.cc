@@ -103,7 +103,6 @@ class RockRun {
       }
       recorder_.Advance(before, s_, flew);
       const int cell = ctx_.terrain.CellOf(s_.x.x(), s_.x.y());
-      recorder_.Cell(cell);
       if (opt_.record.energy_check && !flew) CheckEnergy();
       if (Ended(cell, before.t, &outcome)) break;
     }
@@ -820,7 +819,7 @@ StepSizes RockSteps(const RockBody& body, const std::vector<ContactLaw>& laws, c
 }
 
 // The result's totals from its rocks (`shrunk`: per rock, its step was cut).
-void AddUpRocks(const Scene& scene, const std::vector<char>& shrunk, SimulationResult* out) {
+void AddUpRocks(const std::vector<char>& shrunk, SimulationResult* out) {
   SimulationResult& result = *out;
   result.dt_min = kInf;
   result.dt_max = 0.0;
@@ -843,12 +842,6 @@ void AddUpRocks(const Scene& scene, const std::vector<char>& shrunk, SimulationR
     result.max_penetration = std::max(result.max_penetration, r.max_penetration);
   }
   if (result.rocks.empty()) result.dt_min = 0.0;
-  if (scene.options.record.passages) {
-    result.passages.assign(static_cast<std::size_t>(std::max(scene.grid.nx - 1, 0)) *
-                               std::max(scene.grid.ny - 1, 0), 0);
-    for (const RockRecord& r : result.rocks)
-      for (int cell : r.cells) ++result.passages[static_cast<std::size_t>(cell)];
-  }
 }
 
 }  // namespace
@@ -922,7 +915,8 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
       progress(++done, static_cast<int>(n));
     }
   }
-  AddUpRocks(scene, shrunk, &result);
+  AddUpRocks(shrunk, &result);
+  result.cells_recorded = scene.options.record.passages;
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

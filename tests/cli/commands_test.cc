@@ -79,7 +79,8 @@ TEST_P(ExampleTest, SimulateWritesSummaryAndRocks) {
   EXPECT_FALSE(fs::exists(out + "/trajectories.csv"));
 }
 
-INSTANTIATE_TEST_SUITE_P(Examples, ExampleTest, ::testing::Values("tutorial", "profile2d", "authume"));
+INSTANTIATE_TEST_SUITE_P(Examples, ExampleTest, ::testing::Values("tutorial", "profile2d", "authume",
+                                                             "authume_gis"));
 
 TEST(Simulate, AuthumeStopPointsLieOnTheTerrain) {
   const std::string out = FreshDir("authume_stops");

@@ -327,29 +327,6 @@ TEST(Simulate, UnreachedMaterialLeavesEveryRockAlone) {
   }
 }
 
-TEST(Simulate, PassagesCountRocksPerCell) {
-  Scene scene = RoughSlope(3);
-  scene.options.record.passages = true;
-  const SimulationResult result = Simulate(scene);
-  ASSERT_EQ(result.passages.size(), static_cast<std::size_t>((scene.grid.nx - 1) * (scene.grid.ny - 1)));
-  const Terrain terrain = BuildTerrain(scene);
-  for (const auto& r : result.rocks) {
-    // Every rock passed over the cell it started in (and, if it stopped, the one it stopped in).
-    const int start = terrain.CellOf(r.start.x(), r.start.y());
-    EXPECT_TRUE(std::binary_search(r.cells.begin(), r.cells.end(), start)) << "rock " << r.rock;
-    if (r.outcome == Outcome::kStopped) {
-      EXPECT_TRUE(std::binary_search(r.cells.begin(), r.cells.end(),
-                                     terrain.CellOf(r.stop.x(), r.stop.y())));
-    }
-  }
-  int most = 0;
-  for (int c : result.passages) most = std::max(most, c);
-  EXPECT_LE(most, static_cast<int>(result.rocks.size()));
-  EXPECT_GT(most, 1);
-  scene.options.record.passages = false;
-  EXPECT_TRUE(Simulate(scene).passages.empty()) << "not recorded unless asked";
-}
-
 TEST(Simulate, PartitionRecordsCrossing) {
   Scene scene = RoughSlope(3);
   scene.partitions = {{"P-x", Partition::Kind::kX, 40.0}, {"P-z", Partition::Kind::kZ, 20.0}};

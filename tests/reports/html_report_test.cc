@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "report_check.h"
+#include "rockcal/core/rasters.h"
 #include "rockcal/reports/calibration_outputs.h"
 #include "rockcal/reports/simulation_outputs.h"
 #include "rockcal/sites/site.h"
@@ -313,6 +314,52 @@ TEST(HtmlReportTest, NoFitSectionWithoutResiduals) {
   const Parsed p = Render(in);
   EXPECT_TRUE(HasSection(p, "calibration"));
   EXPECT_FALSE(HasSection(p, "fit"));
+}
+
+// The plan's passage density is drawn from the run's maps (the RasterSet that
+// rasters.tif holds), one full cell centred on each grid node.
+TEST(HtmlReportTest, PlanDrawsTheRastersCellsCentredOnNodes) {
+  const SimulatedSite run = Simulated("tutorial", 4);
+  core::RasterSet maps = core::ComputeRasters(run.site.scene, run.result);
+  ASSERT_NE(maps.Find("reach_probability"), nullptr);
+  core::RasterBand& reach =
+      maps.bands[static_cast<std::size_t>(maps.Find("reach_probability") - maps.bands.data())];
+  for (double& v : reach.values)
+    if (!std::isnan(v)) v = 0.0;
+  // Two neighbouring cells of the class 20-50 %, inside the grid.
+  const core::HeightGrid& g = run.site.scene.grid;
+  const int i = g.nx / 2, j = g.ny / 2;
+  reach.values[static_cast<std::size_t>(g.index(i, j))] = 0.3;
+  reach.values[static_cast<std::size_t>(g.index(i + 1, j))] = 0.4;
+  ReportInput in = Input(run);
+  in.rasters = &maps;
+  const Parsed p = Render(in);
+  const XmlNode* plan = FindSection(p, "plan");
+  ASSERT_NE(plan, nullptr);
+  // The density layer: one class, one run of two cells.
+  std::vector<const XmlNode*> rects;
+  std::set<std::string> fills;
+  plan->Visit([&](const XmlNode& n) {
+    if (n.name != "g" || n.Attribute("fill-opacity") != "0.85") return;
+    for (const auto& cls : n.children) {
+      fills.insert(cls->Attribute("fill"));
+      for (const auto& r : cls->children) rects.push_back(r.get());
+    }
+  });
+  EXPECT_EQ(fills, (std::set<std::string>{"#e31a1c"}));
+  ASSERT_EQ(rects.size(), 1u);
+  const double w = std::atof(rects[0]->Attribute("width").c_str());
+  const double h = std::atof(rects[0]->Attribute("height").c_str());
+  EXPECT_NEAR(w, 2.0 * h, 0.02 * h) << "two whole cells side by side";
+
+  // Without maps and without recorded cells the plan says so.
+  SimulatedSite bare = run;
+  bare.result.cells_recorded = false;
+  const Parsed q = Render(Input(bare));
+  EXPECT_NE(FindSection(q, "plan")->AllText().find("was not recorded"), std::string::npos);
+  // Maps of another grid are a programmer error.
+  maps.nx += 1;
+  EXPECT_THROW(HtmlReport(in), std::invalid_argument);
 }
 
 }  // namespace

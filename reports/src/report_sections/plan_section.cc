@@ -296,6 +296,15 @@ std::string PlanZones(const Context& c, double step, std::string* legend, double
   return plot.Svg();
 }
 
+// The bands of the run's maps that the plan draws (null when not recorded):
+// cells centred on the grid nodes, as in rasters.tif.
+const core::RasterBand* Passages(const Context& c) {
+  return c.rasters ? c.rasters->Find("passages") : nullptr;
+}
+const core::RasterBand* Reach(const Context& c) {
+  return c.rasters ? c.rasters->Find("reach_probability") : nullptr;
+}
+
 // The part of the grid where rocks went: release zones, passages, stop
 // points and observed stop points, with a margin; the whole grid when that
 // is most of it.
@@ -312,12 +321,12 @@ View ActiveView(const Context& c) {
   for (const core::RockRecord& r : c.result.rocks) add(r.stop.x(), r.stop.y());
   if (c.in.observations && c.in.observations->runout)
     for (const Eigen::Vector2d& p : c.in.observations->runout->stop_points) add(p.x(), p.y());
-  const std::vector<int>& pass = c.result.passages;
-  if (pass.size() == static_cast<std::size_t>((g.nx - 1) * (g.ny - 1))) {
-    for (int j = 0; j + 1 < g.ny; ++j)
-      for (int i = 0; i + 1 < g.nx; ++i)
-        if (pass[static_cast<std::size_t>(j * (g.nx - 1) + i)] > 0)
-          add(g.x(i), g.y(j)), add(g.x(i + 1), g.y(j + 1));
+  if (const core::RasterBand* pass = Passages(c)) {
+    const double h = 0.5 * g.spacing;
+    for (int j = 0; j < g.ny; ++j)
+      for (int i = 0; i < g.nx; ++i)
+        if (pass->values[static_cast<std::size_t>(g.index(i, j))] > 0)
+          add(g.x(i) - h, g.y(j) - h), add(g.x(i) + h, g.y(j) + h);
   }
   const View whole = WholeGrid(g);
   if (!(xhi >= xlo) || !(yhi >= ylo)) return whole;
@@ -341,21 +350,26 @@ std::string PlanPaths(const Context& c, double step, const View& view, std::stri
       c, view, 780.0, 620.0,
       "Plan of the rock paths: passage density, stop points, partitions and release zones");
   plot.Raw(ElevationBands(c, view, plot, step, 0xf4, 0xb8));
-  const std::vector<int>& pass = c.result.passages;
-  const int rocks = std::max(Rocks(c), 1);
-  const bool have_passages = pass.size() == static_cast<std::size_t>((g.nx - 1) * (g.ny - 1));
+  // Passage density: the reach probability of each cell of the maps (centred
+  // on a grid node, half cells at the edges of the view).
+  const core::RasterBand* reach = Reach(c);
+  const bool have_passages = reach != nullptr;
   if (have_passages) {
     auto cls = [&](int i, int j) {
-      const int n = pass[static_cast<std::size_t>(j * (g.nx - 1) + i)];
-      if (n <= 0) return -1;
-      const double share = static_cast<double>(n) / rocks;
+      const double share = reach->values[static_cast<std::size_t>(g.index(i, j))];
+      if (!(share > 0.0)) return -1;  // none, or no terrain (NaN)
       int k = 0;
       while (k + 1 < kDensityClasses && share >= kDensityBreaks[k + 1]) ++k;
       return k;
     };
-    auto xr = [&](int i, double* lo, double* hi) { *lo = g.x(i), *hi = g.x(i + 1); };
-    auto yr = [&](int j, double* lo, double* hi) { *lo = g.y(j), *hi = g.y(j + 1); };
-    const auto runs = Runs(plot, view.i0, view.i1, view.j0, view.j1, cls, xr, yr);
+    const double h = 0.5 * g.spacing;
+    auto xr = [&](int i, double* lo, double* hi) {
+      *lo = std::max(g.x(i) - h, plot.xlo()), *hi = std::min(g.x(i) + h, plot.xhi());
+    };
+    auto yr = [&](int j, double* lo, double* hi) {
+      *lo = std::max(g.y(j) - h, plot.ylo()), *hi = std::min(g.y(j) + h, plot.yhi());
+    };
+    const auto runs = Runs(plot, view.i0, view.i1 + 1, view.j0, view.j1 + 1, cls, xr, yr);
     std::string d = "<g shape-rendering=\"crispEdges\" fill-opacity=\"0.85\">";
     for (const auto& [k, rects] : runs)
       d += "<g fill=\"" + std::string(kDensityColours[k]) + "\">" + rects + "</g>";
@@ -442,8 +456,9 @@ std::string PlanSection(const Context& c) {
                   Escape(Length(step)) + ", release zones and partitions." + zones_legend,
               zones_width);
   std::string cap = "<b>Rock paths.</b> Passage density: the share of the " + Int(Rocks(c)) +
-                    " rocks whose centre passed over each grid cell (the preferred paths)";
-  if (c.result.passages.empty()) cap += " was not recorded for this run";
+                    " rocks whose centre passed over each cell of the site grid, centred on a "
+                    "grid node (the preferred paths; the reach_probability band of rasters.tif)";
+  if (!c.rasters) cap += " was not recorded for this run";
   cap += "; where each rock ended";
   if (drawn < Rocks(c)) cap += " (the first " + Int(drawn) + " rocks)";
   cap += ". Grey shading: elevation bands every " + Escape(Length(step)) + ", darker is higher.";

@@ -44,6 +44,12 @@ Context MakeContext(const ReportInput& in) {
     if (std::isfinite(z)) c.zmin = std::min(c.zmin, z), c.zmax = std::max(c.zmax, z);
   if (!(c.zmax >= c.zmin)) c.zmin = 0.0, c.zmax = 1.0;
   if (c.zmax == c.zmin) c.zmax = c.zmin + 1.0;
+  if (in.rasters && (in.rasters->nx != g.nx || in.rasters->ny != g.ny))
+    throw std::invalid_argument("HtmlReport: the rasters are not on the scene's grid");
+  if (in.rasters)  // not owned
+    c.rasters = std::shared_ptr<const core::RasterSet>(std::shared_ptr<void>(), in.rasters);
+  else if (c.result.cells_recorded)
+    c.rasters = std::make_shared<const core::RasterSet>(core::ComputeRasters(c.scene, c.result));
   return c;
 }
 

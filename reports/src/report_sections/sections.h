@@ -6,10 +6,12 @@
 #define ROCKCAL_REPORTS_SRC_REPORT_SECTIONS_SECTIONS_H_
 
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "rockcal/core/format.h"
+#include "rockcal/core/rasters.h"
 #include "rockcal/core/scene.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/core/statistics.h"
@@ -59,6 +61,9 @@ struct Context {
   bool several_shapes = false;
   int stopped = 0, left = 0, timeout = 0;
   double zmin = kInf, zmax = -kInf;  // terrain elevation range (valid nodes)
+  // The maps of the run (ReportInput::rasters, or computed when the scene
+  // recorded the cells); null when the cells were not recorded.
+  std::shared_ptr<const core::RasterSet> rasters = nullptr;
 };
 
 // Checks the input (scene, result and options) and computes the context;

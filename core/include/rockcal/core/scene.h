@@ -87,7 +87,7 @@ struct RecordOptions {
   bool partitions = true;    // crossings at partitions
   bool energy_check = true;  // track the largest relative energy gain
   std::vector<TreeProbe> trees;  // record passages at these trees
-  bool passages = false;     // count the rocks whose centre passed over each grid cell
+  bool passages = false;     // the cells each rock passed over (RockRecord::cells; core/rasters.h)
   int trajectories = 0;      // record the path of the first N rocks
   double sample_seconds = 0.05;  // trajectory sampling interval
 };

@@ -30,6 +30,16 @@ struct TrajectorySample {
   Eigen::Vector4d q;  // orientation quaternion (w, x, y, z); identity for spheres
 };
 
+// What a rock did over one cell of the site grid (cell (i, j) centred on
+// grid node (i, j), index j * nx + i): its largest kinetic energy and
+// centre height above the ground there, sampled at every small step and at
+// least every quarter cell along a flight.
+struct CellVisit {
+  int cell = 0;
+  double height = 0.0;  // m, as Crossing::height
+  double energy = 0.0;  // J, as Crossing::energy
+};
+
 struct RockRecord {
   int rock = 0, group = 0;
   Shape shape = Shape::kSphere;
@@ -48,7 +58,7 @@ struct RockRecord {
   bool tunneled = false;    // centre stayed below Terrain::FloorHeight by more than its radius for 2 t_c
   std::vector<Crossing> crossings;  // per partition, scene order (empty if not recorded)
   std::vector<Crossing> trees;      // per RecordOptions::trees entry; height = rock centre above ground
-  std::vector<int> cells;           // grid cells its centre passed over (RecordOptions::passages)
+  std::vector<CellVisit> cells;     // cells its centre passed over, by cell (RecordOptions::passages)
   std::vector<TrajectorySample> trajectory;
 };
 
@@ -62,9 +72,7 @@ struct SimulationResult {
   double max_relative_energy_gain = 0.0;
   double max_penetration = 0.0;
   int non_finite = 0;  // rocks whose state became non-finite (must be 0)
-  // With RecordOptions::passages: per grid cell (j * (nx - 1) + i), the
-  // number of rocks whose centre passed over it (the preferred paths).
-  std::vector<int> passages;
+  bool cells_recorded = false;  // RecordOptions::passages was on: RockRecord::cells hold the paths
   int tunneled = 0;
   int count(Outcome o) const;
 };

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "rockcal/core/rasters.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/reports/calibration_outputs.h"
@@ -36,6 +37,11 @@ struct ReportOptions {
 struct ReportInput {
   const core::Scene* scene = nullptr;
   const core::SimulationResult* result = nullptr;
+  // The maps of `result` (core::ComputeRasters), drawn by the plan view so
+  // that it shows what rasters.tif holds. Null: computed here when `scene`
+  // records the cells (RecordOptions::passages); else the plan has no
+  // passage map and says so.
+  const core::RasterSet* rasters = nullptr;
   std::string site_file;  // shown as given
   sites::Units units =
       sites::Units::kSI;           // the site's units (US values are shown beside SI anyway)
