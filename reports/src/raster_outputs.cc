@@ -12,13 +12,13 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
-#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <system_error>
 #include <vector>
 
 #include "rockcal/core/format.h"
+#include "rockcal/sites/gdal_util.h"
 
 #ifndef ROCKCAL_VERSION
 #define ROCKCAL_VERSION "unknown"
@@ -29,36 +29,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The failures GDAL reports while one is alive (quietly: nothing on stderr);
-// the first one is the cause named in the message.
-class GdalErrors final {
- public:
-  GdalErrors() { CPLPushErrorHandlerEx(&GdalErrors::Handle, this); }
-  ~GdalErrors() { CPLPopErrorHandler(); }
-  GdalErrors(const GdalErrors&) = delete;
-  GdalErrors& operator=(const GdalErrors&) = delete;
-
-  bool failed() const { return failed_; }
-  // The first failure's message, or `fallback` when GDAL gave none.
-  std::string Cause(const std::string& fallback) const {
-    return message_.empty() ? fallback : message_;
-  }
-
- private:
-  static void CPL_STDCALL Handle(CPLErr type, CPLErrorNum, const char* message) {
-    auto* self = static_cast<GdalErrors*>(CPLGetErrorHandlerUserData());
-    if (self == nullptr || type < CE_Failure) return;
-    if (!self->failed_ && message != nullptr) self->message_ = message;
-    self->failed_ = true;
-  }
-
-  bool failed_ = false;
-  std::string message_;
-};
-
 GDALDriver* Driver(const char* name) {
-  static std::once_flag registered;
-  std::call_once(registered, [] { GDALAllRegister(); });
+  sites::gdal::Init();
   GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(name);
   if (driver == nullptr)
     throw std::runtime_error(std::string("GDAL has no ") + name +
@@ -127,7 +99,7 @@ using Dataset = std::unique_ptr<GDALDataset, GDALDatasetUniquePtrDeleter>;
 // (the GeoTIFF keeps them; an ASCII grid would need a side file for them).
 Dataset MemoryDataset(const core::RasterSet& r, std::vector<std::vector<float>>& values,
                       std::size_t first, std::size_t last, const RasterFrame& frame, bool described,
-                      const GdalErrors& errors) {
+                      const sites::gdal::ErrorCapture& errors) {
   Dataset ds(
       Driver("MEM")->Create("", r.nx, r.ny, static_cast<int>(last - first), GDT_Float32, nullptr));
   if (!ds)
@@ -157,7 +129,7 @@ Dataset MemoryDataset(const core::RasterSet& r, std::vector<std::vector<float>>&
 // `shown` and GDAL's cause.
 void CopyTo(const char* driver, GDALDataset* source, const std::string& path,
             const CPLStringList& options, const std::string& shown) {
-  GdalErrors errors;
+  sites::gdal::ErrorCapture errors;
   Dataset copy(
       Driver(driver)->CreateCopy(path.c_str(), source, FALSE, options.List(), nullptr, nullptr));
   if (copy) copy.reset();  // closing writes the last blocks: failures land in `errors`
@@ -208,7 +180,7 @@ void WriteRasterFiles(const std::string& folder, const core::RasterSet& rasters,
   };
   try {
     {
-      GdalErrors errors;
+      sites::gdal::ErrorCapture errors;
       Dataset all = MemoryDataset(rasters, values, 0, rasters.bands.size(), frame, true, errors);
       all->SetMetadataItem("ROCKS_RELEASED", std::to_string(rasters.released).c_str());
       all->SetMetadataItem("TIFFTAG_SOFTWARE", "rockcal " ROCKCAL_VERSION);
@@ -223,7 +195,7 @@ void WriteRasterFiles(const std::string& folder, const core::RasterSet& rasters,
       throw std::runtime_error("cannot write " + asc + "/ (its temporary folder " + asc_temp +
                                "): " + ec.message());
     for (std::size_t k = 0; k < rasters.bands.size(); ++k) {
-      GdalErrors errors;
+      sites::gdal::ErrorCapture errors;
       Dataset one = MemoryDataset(rasters, values, k, k + 1, frame, false, errors);
       CPLStringList options;
       options.SetNameValue("SIGNIFICANT_DIGITS", "7");

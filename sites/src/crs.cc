@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "gdal_util.h"
+#include "rockcal/sites/gdal_util.h"
 
 namespace rockcal::sites {
 

@@ -1,4 +1,4 @@
-#include "gdal_util.h"
+#include "rockcal/sites/gdal_util.h"
 
 #include <mutex>
 #include <stdexcept>
@@ -19,7 +19,9 @@ ErrorCapture::~ErrorCapture() { CPLPopErrorHandler(); }
 
 void CPL_STDCALL ErrorCapture::Handle(CPLErr level, CPLErrorNum, const char* text) {
   auto* self = static_cast<ErrorCapture*>(CPLGetErrorHandlerUserData());
-  if (!self || !text) return;
+  if (!self) return;
+  if (level >= CE_Failure) self->failed_ = true;
+  if (!text) return;
   std::string& slot = level >= CE_Failure ? self->failure_ : self->warning_;
   if (level >= CE_Warning && slot.empty()) slot = text;
 }

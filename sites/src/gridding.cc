@@ -7,7 +7,7 @@
 #include <limits>
 #include <memory>
 
-#include "gdal_util.h"
+#include "rockcal/sites/gdal_util.h"
 #include "rockcal/core/format.h"
 
 namespace rockcal::sites {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "gdal_util.h"
+#include "rockcal/sites/gdal_util.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/format.h"
 

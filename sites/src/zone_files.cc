@@ -11,7 +11,7 @@
 #include <memory>
 #include <vector>
 
-#include "gdal_util.h"
+#include "rockcal/sites/gdal_util.h"
 #include "rockcal/sites/crs.h"
 #include "rockcal/sites/surface.h"
 #include "rockcal/sites/text_reader.h"

@@ -1,8 +1,9 @@
-// Private helpers of the sites library around the GDAL C API: drivers
-// registered once, owning handles, and GDAL's error messages caught (never
-// printed) so that each failure becomes one InputError naming the file.
-#ifndef ROCKCAL_SITES_SRC_GDAL_UTIL_H_
-#define ROCKCAL_SITES_SRC_GDAL_UTIL_H_
+// Helpers around the GDAL C API for the libraries that read and write GIS
+// files (sites, reports): drivers registered once, owning handles, and
+// GDAL's error messages caught (never printed) so that each failure becomes
+// one error naming the file. Its users link GDAL themselves.
+#ifndef ROCKCAL_SITES_GDAL_UTIL_H_
+#define ROCKCAL_SITES_GDAL_UTIL_H_
 
 #include <cpl_error.h>
 #include <cpl_string.h>
@@ -29,10 +30,17 @@ class ErrorCapture final {
   ErrorCapture& operator=(const ErrorCapture&) = delete;
   // "" when GDAL reported nothing; otherwise the message, trimmed to one line.
   std::string message() const;
+  // True when GDAL reported a failure (not only a warning).
+  bool failed() const { return failed_; }
+  // The first failure's message, or `fallback` when there was none.
+  std::string Cause(const std::string& fallback) const {
+    return failure_.empty() ? fallback : message();
+  }
 
  private:
   static void CPL_STDCALL Handle(CPLErr level, CPLErrorNum number, const char* text);
   std::string failure_, warning_;
+  bool failed_ = false;
 };
 
 struct DatasetCloser {
@@ -74,4 +82,4 @@ void ReadNodeRaster(GDALDatasetH ds, GDALDataType type, void* data);
 
 }  // namespace rockcal::sites::gdal
 
-#endif  // ROCKCAL_SITES_SRC_GDAL_UTIL_H_
+#endif  // ROCKCAL_SITES_GDAL_UTIL_H_
