@@ -29,6 +29,9 @@ void FlyCentre(const Eigen::Vector3d& gravity, double tau, RockState* s);
 // Turns the orientation q by the constant angular velocity w for h.
 void Rotate(const Eigen::Vector3d& w, double h, Eigen::Quaterniond* q);
 
+// Sub-step of the torque-free rotation of non-isotropic clusters in flight [s].
+inline constexpr double kFlightRotationStep = 1e-3;
+
 // Torque-free rotation of a cluster for tau: its angular momentum stays
 // fixed in the world. An isotropic body keeps w; others follow
 // w = R I^-1 R^T L in midpoint sub-steps of at most `substep` (no energy is

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "flight.h"
+
 namespace rockcal::core {
 
 Recorder::Recorder(const Scene& scene, const Terrain& terrain, const RockBody& body, bool cluster,
@@ -15,6 +17,7 @@ Recorder::Recorder(const Scene& scene, const Terrain& terrain, const RockBody& b
       body_(body),
       cluster_(cluster),
       gravity_(0, 0, -scene.gravity),
+      inv_inertia_(body.inertia.cwiseInverse()),
       rec_(rec) {}
 
 void Recorder::Start(const RockState& s) {
@@ -141,16 +144,17 @@ void Recorder::Finish(const RockState& s) {
 RockState Recorder::Between(const RockState& s0, const RockState& s1, double f, bool flew) const {
   RockState s = s0;
   const double tau = f * (s1.t - s0.t);
-  if (flew) {
+  s.t = s0.t + tau;
+  if (flew) {  // the exact flight: a parabola, a torque-free turn
     s.x = s0.x + s0.v * tau + 0.5 * gravity_ * tau * tau;
     s.v = s0.v + gravity_ * tau;
-  } else {
-    s.x = s0.x + f * (s1.x - s0.x);
-    s.v = s0.v + f * (s1.v - s0.v);
+    if (cluster_) RotateFree(body_, inv_inertia_, tau, kFlightRotationStep, &s);
+    return s;
   }
+  s.x = s0.x + f * (s1.x - s0.x);
+  s.v = s0.v + f * (s1.v - s0.v);
   s.w = s0.w + f * (s1.w - s0.w);
   s.q = s1.q;
-  s.t = s0.t + tau;
   return s;
 }
 

@@ -26,8 +26,9 @@ class Recorder final {
   void Finish(const RockState& s);
 
  private:
-  // State at fraction f of the advance from s0 to s: exact parabola after a
-  // flight, linear within a small step.
+  // State at fraction f of the advance from s0 to s: after a flight the
+  // exact parabola and (a cluster) torque-free turn from s0; within a small
+  // step, linear.
   RockState Between(const RockState& s0, const RockState& s, double f, bool flew) const;
   // The crossing in state s, reached within an advance that began at s0 (on
   // the slope, as every advance does).
@@ -52,6 +53,7 @@ class Recorder final {
   const RockBody& body_;
   const bool cluster_;
   const Eigen::Vector3d gravity_;
+  const Eigen::Vector3d inv_inertia_;  // the body's principal moments inverted
   RockRecord* rec_;
   bool trajectory_ = false;
   double next_sample_ = 0.0;

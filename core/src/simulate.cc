@@ -37,8 +37,6 @@ constexpr double kSkin = 0.25;
 // A step is redone at most this many times with the shorter step its
 // contacts ask for.
 constexpr int kMaxRetries = 3;
-// Sub-step of the torque-free rotation of non-isotropic clusters in flight [s].
-constexpr double kFlightRotationStep = 1e-3;
 
 struct ContactState {
   std::int64_t key;
