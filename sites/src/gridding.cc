@@ -7,8 +7,8 @@
 #include <limits>
 #include <memory>
 
-#include "rockcal/sites/gdal_util.h"
 #include "rockcal/core/format.h"
+#include "rockcal/sites/gdal_util.h"
 
 namespace rockcal::sites {
 namespace {

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <limits>
 
-#include "rockcal/sites/gdal_util.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/format.h"
+#include "rockcal/sites/gdal_util.h"
 
 namespace rockcal::sites {
 namespace {

@@ -11,8 +11,8 @@
 #include <memory>
 #include <vector>
 
-#include "rockcal/sites/gdal_util.h"
 #include "rockcal/sites/crs.h"
+#include "rockcal/sites/gdal_util.h"
 #include "rockcal/sites/surface.h"
 #include "rockcal/sites/text_reader.h"
 
