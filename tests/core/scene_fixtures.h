@@ -2,7 +2,9 @@
 #ifndef ROCKCAL_TESTS_CORE_SCENE_FIXTURES_H_
 #define ROCKCAL_TESTS_CORE_SCENE_FIXTURES_H_
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <functional>
 
 #include "rockcal/core/scene.h"
@@ -54,6 +56,22 @@ inline RockGroup PointGroup(Shape shape, double size, double x, double y, double
   g.release.point = Eigen::Vector2d(x, y);
   g.release.height = height;
   return g;
+}
+
+// Level ground, 21 x 21 nodes 1 m apart, one material.
+inline Scene FlatScene(const Material& m) {
+  return GridScene(21, 21, 1.0, [](double, double) { return 0.0; }, m);
+}
+
+// The centre's first apex after the first bounce of a sampled trajectory: the
+// highest point after the velocity first turns upward.
+template <typename Trajectory>
+double FirstApex(const Trajectory& tr) {
+  std::size_t k = 0;
+  while (k < tr.size() && tr[k].v.z() <= 0.0) ++k;
+  double apex = -1e9;
+  for (; k < tr.size() && tr[k].v.z() >= -1e-9; ++k) apex = std::max(apex, tr[k].x.z());
+  return apex;
 }
 
 }  // namespace rockcal::core::testing
