@@ -12,6 +12,9 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Contact keys of catch planes (below every node and facet key).
 constexpr std::int64_t kCatchKey = -(std::int64_t{1} << 40);
+// Cosine of the steepest slope whose fall-line spacing sizes a virtual
+// sphere (60 degrees; see Terrain::BuildSpheres).
+constexpr double kMinFallLineCos = 0.5;
 
 // Height at (u, v) in [0, 1]^2 of a cell with corner heights z00 .. z11,
 // split along the (0, 0)-(1, 1) diagonal into two planar facets.
@@ -67,6 +70,27 @@ double FacetDistance(const Eigen::Vector3d& c, const Eigen::Vector3d& p0, const 
   return height;
 }
 
+// The largest radius, up to r_max, of a sphere touching node (i, j) from
+// below (centre at the node less radius times `normal`) that holds no other
+// node: node q lies inside once the radius passes |q|^2 / (2 depth), depth
+// its distance below the tangent plane (a sphere of r_max reaches 2 r_max).
+double EmptyRadius(const HeightGrid& grid, int i, int j, const Eigen::Vector3d& normal,
+                   double r_max) {
+  const double s = grid.spacing;
+  const Eigen::Vector3d p(grid.x(i), grid.y(j), grid.z[grid.index(i, j)]);
+  const int w = static_cast<int>(std::ceil(2.0 * r_max / s));
+  double r = r_max;
+  for (int jj = std::max(j - w, 0); jj <= std::min(j + w, grid.ny - 1); ++jj)
+    for (int ii = std::max(i - w, 0); ii <= std::min(i + w, grid.nx - 1); ++ii) {
+      if ((ii == i && jj == j) || !grid.valid(ii, jj)) continue;
+      const Eigen::Vector3d q =
+          Eigen::Vector3d(grid.x(ii), grid.y(jj), grid.z[grid.index(ii, jj)]) - p;
+      const double depth = -normal.dot(q);
+      if (depth > 0.0 && q.squaredNorm() < 2.0 * r * depth) r = q.squaredNorm() / (2.0 * depth);
+    }
+  return r;
+}
+
 }  // namespace
 
 bool HeightGrid::valid(int i, int j) const {
@@ -76,12 +100,13 @@ bool HeightGrid::valid(int i, int j) const {
 Terrain::Terrain(HeightGrid grid, const std::vector<double>& roughness_m, double max_element_radius)
     : grid_(std::move(grid)),
       inv_spacing_(1.0 / grid_.spacing),
-      max_element_radius_(max_element_radius) {
-  BuildSpheres(roughness_m);
+      max_element_radius_(max_element_radius),
+      roughness_(roughness_m) {
+  BuildSpheres();
   BuildCandidates();
 }
 
-void Terrain::BuildSpheres(const std::vector<double>& roughness_m) {
+void Terrain::BuildSpheres() {
   const int nx = grid_.nx, ny = grid_.ny;
   const double s = grid_.spacing;
   centre_.assign(static_cast<std::size_t>(nx) * ny, Eigen::Vector3d::Zero());
@@ -94,7 +119,7 @@ void Terrain::BuildSpheres(const std::vector<double>& roughness_m) {
     for (int i = 0; i < nx; ++i) {
       if (!grid_.valid(i, j)) continue;
       const int n = grid_.index(i, j);
-      const double rough = roughness_m[static_cast<std::size_t>(grid_.material[n])];
+      const double rough = roughness_[static_cast<std::size_t>(grid_.material[n])];
       if (rough <= 0.0) {
         has_smooth_ = true;
         continue;
@@ -106,10 +131,32 @@ void Terrain::BuildSpheres(const std::vector<double>& roughness_m) {
       const double dzdx = ir > il ? (zat(ir, j) - zat(il, j)) / ((ir - il) * s) : 0.0;
       const double dzdy = ju > jd ? (zat(i, ju) - zat(i, jd)) / ((ju - jd) * s) : 0.0;
       const Eigen::Vector3d normal = Eigen::Vector3d(-dzdx, -dzdy, 1.0).normalized();
-      const double r = VirtualSphereRadius(rough, s);
+      // R is the sag a rock feels between neighbouring spheres along the
+      // surface, on any slope. Along the fall line the nodes are s / n_z
+      // apart on the surface, and the sphere is sized from that distance (s
+      // on level ground; exact on planes whose fall line follows the grid).
+      // Two bounds keep the spheres of steep nodes in check:
+      // - the distance is capped at that of a 60-degree face, 2 s. r grows
+      //   as d^2 / (8 R): a wall (n_z -> 0) would take a sphere without
+      //   bound, and the candidate search with it. The cap keeps r within 4
+      //   times its level-ground size (40 s at MinRoughness). On steeper
+      //   faces rocks mostly fall and strike the face rather than roll or
+      //   slide on it; there the sag along the fall line grows again above R
+      //   (the spheres still meet up to 84 degrees at R = s / 10).
+      // - a sphere grows past its level-ground size only while it holds no
+      //   other node. At a convex break (the crest of a face) the larger
+      //   sphere of a steep node would stand above the ground beyond the
+      //   break, by up to r (1 - n_z). A plane holds no node inside its
+      //   spheres, so this bound leaves the rule exact there.
+      const double level = VirtualSphereRadius(rough, s);
+      double r = VirtualSphereRadius(rough, s / std::max(normal.z(), kMinFallLineCos));
+      if (r > level) r = std::max(level, EmptyRadius(grid_, i, j, normal, r));
       radius_[n] = r;
       max_offset_ = std::max(max_offset_, r * std::hypot(normal.x(), normal.y()));
-      const double half_diagonal2 = 0.5 * s * s;
+      // Deepest sag, normal to the surface, at the centre of a cell of
+      // surface sides s (across the slope) and s / n_z (along it).
+      const double fall = s / normal.z();
+      const double half_diagonal2 = 0.25 * (s * s + fall * fall);
       sag_ = std::max(sag_, r * r > half_diagonal2 ? r - std::sqrt(r * r - half_diagonal2) : r);
       centre_[n] = Eigen::Vector3d(grid_.x(i), grid_.y(j), zat(i, j)) - r * normal;
     }
@@ -164,7 +211,7 @@ void Terrain::BuildCandidates() {
 
 double Terrain::BuildCellCandidates(int i, int j, int rings, CellScratch* scratch) {
   const int cx = std::max(grid_.nx - 1, 0);
-  const double s = grid_.spacing, a = max_element_radius_;
+  const double a = max_element_radius_;
   const std::size_t cell = static_cast<std::size_t>(j) * cx + i;
   const double x0 = grid_.x(i), x1 = grid_.x(i + 1), y0 = grid_.y(j), y1 = grid_.y(j + 1);
   // floor: a lower bound of the obstacle envelope over the cell, the
@@ -232,9 +279,9 @@ double Terrain::BuildCellCandidates(int i, int j, int rings, CellScratch* scratc
   for (int k = 0; k < 4; ++k) {
     const int n = grid_.index(i + (k & 1), j + (k >> 1));
     lowest = std::min(lowest, grid_.z[n]);
-    const double r = radius_[n];
-    // R from r = (R^2 + (s/2)^2) / (2R): the sag between neighbours.
-    if (!std::isinf(r)) roughness = std::max(roughness, r - std::sqrt(r * r - 0.25 * s * s));
+    // The sag between neighbours along the surface.
+    if (!std::isinf(radius_[n]))
+      roughness = std::max(roughness, roughness_[static_cast<std::size_t>(grid_.material[n])]);
   }
   return std::isfinite(floor) ? floor : lowest - roughness;
 }
@@ -346,19 +393,16 @@ bool Terrain::Elevation(double x, double y, double* z) const {
 bool Terrain::GroundHeight(double x, double y, double* z) const {
   if (!OnSlope(x, y)) return false;
   double top = FloorHeight(x, y);
-  const int i = std::min(static_cast<int>((x - grid_.x0) * inv_spacing_), grid_.nx - 2);
-  const int j = std::min(static_cast<int>((y - grid_.y0) * inv_spacing_), grid_.ny - 2);
-  // The spheres of the nodes around the cell (a tilted sphere's top need not
-  // lie over its own node).
-  for (int jj = std::max(0, j - 1); jj <= std::min(grid_.ny - 1, j + 2); ++jj) {
-    for (int ii = std::max(0, i - 1); ii <= std::min(grid_.nx - 1, i + 2); ++ii) {
-      const std::size_t n = static_cast<std::size_t>(grid_.index(ii, jj));
-      const double r = radius_[n];
-      if (!std::isfinite(r)) continue;
-      const double dx = x - centre_[n].x(), dy = y - centre_[n].y();
-      const double h2 = r * r - dx * dx - dy * dy;
-      if (h2 > 0.0) top = std::max(top, centre_[n].z() + std::sqrt(h2));
-    }
+  // The candidate spheres of the cell: every sphere over it that is not
+  // buried under the others (a tilted sphere's top may lie several cells
+  // from its node).
+  const std::size_t cell = static_cast<std::size_t>(CellOf(x, y));
+  for (int k = list_start_[cell]; k < list_start_[cell + 1]; ++k) {
+    const std::size_t n = static_cast<std::size_t>(list_[static_cast<std::size_t>(k)]);
+    const double r = radius_[n];
+    const double dx = x - centre_[n].x(), dy = y - centre_[n].y();
+    const double h2 = r * r - dx * dx - dy * dy;
+    if (h2 > 0.0) top = std::max(top, centre_[n].z() + std::sqrt(h2));
   }
   *z = top;
   return true;

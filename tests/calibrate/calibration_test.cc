@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -330,7 +331,15 @@ TEST(Calibration, SmoothedEstimateIsEvaluatedAndReported) {
     // evaluation) and within one of the fit's scatters of the lowest;
     // otherwise the lowest evaluation stands, and the message says why.
     if (r.smoothed.used) {
-      EXPECT_EQ(r.trace.back().parameters, r.best) << method;
+      // The second stage's estimate, evaluated last; or, when it did not
+      // hold, the first stage's, evaluated before the stencil.
+      if (r.smoothed.message.find("the first estimate's") == std::string::npos) {
+        EXPECT_EQ(r.trace.back().parameters, r.best) << method << ": " << r.smoothed.message;
+      } else {
+        EXPECT_TRUE(std::any_of(r.trace.begin(), r.trace.end(),
+                                [&](const Evaluation& e) { return e.parameters == r.best; }))
+            << method << ": " << r.smoothed.message;
+      }
       EXPECT_EQ(r.best_misfit, small.objective.Evaluate(r.best).value) << method;
       EXPECT_EQ(r.best_misfit, r.smoothed.evaluated_misfit) << method;
       EXPECT_LE(r.best_misfit, r.lowest_misfit + r.smoothed.scatter + 1e-9) << method;

@@ -113,9 +113,13 @@ TEST(Study, ReachReportsARunoutTheSlopeCannotProduce) {
   EXPECT_THAT(run.out, HasSubstr("above the range"));
   const nlohmann::json j = nlohmann::json::parse(ReadFile(out + "/reach.json"));
   for (const auto& s : j["statistics"]) {
-    // The max may be reached by a rock that left the slope: it is censored
-    // at or beyond the farthest observed stop (it may have gone that far).
-    if (s["observation"] == "runout distance" && s["quantity"] != "max") {
+    // A quantile above the share of rocks that stopped may be reached by a
+    // rock that left the slope: it is censored at or beyond the farthest
+    // observed stop (it may have gone that far). At some points of the box
+    // half the rocks run off the twin's 90 m.
+    const std::string q = s["quantity"];
+    if (s["observation"] == "runout distance" && q.size() == 3 && q[0] == 'p' &&
+        std::stoi(q.substr(1)) <= 50) {
       EXPECT_EQ(s["verdict"], "out of reach (above)") << s["name"];
     }
   }

@@ -81,7 +81,7 @@ TEST(Rasters, AFlightRecordsEveryCellBelowItWithItsHeightAndEnergy) {
 TEST(Rasters, CountRocksStopsAndLeaveHolesEmpty) {
   const double tan30 = std::tan(30.0 * M_PI / 180.0);
   Material m = SmoothMaterial(0.3, 0.005, 0.6);
-  m.roughness_m = 0.3;
+  m.roughness_m = 0.5;  // rough enough that some rocks stop, and some leave
   Scene scene = GridScene(
       30, 10, 2.0, [&](double x, double) { return x < 30.0 ? (30.0 - x) * tan30 : 0.0; }, m);
   const std::size_t hole = static_cast<std::size_t>(scene.grid.index(25, 1));

@@ -56,14 +56,18 @@ double ClampedRestitution(double zeta);
 // Inverse of ClampedRestitution: the damping ratio giving restitution e in (0, 1).
 double DampingRatioForRestitution(double e);
 
-// Roughness R -> virtual sphere radius for grid spacing s: (R^2 + (s/2)^2) / (2R).
-// Returns +infinity for R == 0 (smooth).
+// Roughness R -> radius of virtual spheres a distance s apart that sag R
+// between them: (R^2 + (s/2)^2) / (2R). Terrain takes s as the surface
+// distance between neighbouring nodes along the fall line (the grid spacing
+// on level ground). Returns +infinity for R == 0 (smooth).
 double VirtualSphereRadius(double roughness, double spacing);
 
 // Smallest roughness above 0 a site may give on a grid of spacing s: s / 80,
-// whose virtual spheres have radius 10.006 s (twice the manual's largest, 60 ft
-// on a 12 ft grid). Below it r grows as s^2 / (8R) without bound, while the
-// surface differs from the smooth facets (R = 0) by less than s / 80.
+// whose virtual spheres have radius 10.006 s on level ground (twice the
+// manual's largest, 60 ft on a 12 ft grid; up to 4 times that on faces of 60
+// degrees and more, see Terrain). Below it r grows as s^2 / (8R) without
+// bound, while the surface differs from the smooth facets (R = 0) by less
+// than s / 80.
 double MinRoughness(double spacing);
 
 }  // namespace rockcal::core

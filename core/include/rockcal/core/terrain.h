@@ -126,9 +126,12 @@ class Terrain final {
     return true;
   }
 
-  // Deepest sag of the virtual-sphere surface below the nodes: at a cell
-  // centre, r - sqrt(r^2 - s^2/2) for the largest sphere radius r in use (r
-  // itself where the four spheres leave a hole, R > 0.207 s); 0 when smooth.
+  // Deepest sag of the virtual-sphere surface below the nodes, measured
+  // normal to the surface: at a cell centre, r - sqrt(r^2 - h^2) with h half
+  // the cell's surface diagonal (s / sqrt(2) on level ground), the largest
+  // over the nodes (r itself where the four spheres leave a hole: R > 0.207 s
+  // on level ground, faces steeper than the cap of BuildSpheres); 0 when
+  // smooth.
   double sag() const { return sag_; }
   // The lowest support under (x, y): the facet surface in a smooth cell, the
   // catch surface that closes holes of the virtual-sphere surface in a rough
@@ -151,7 +154,7 @@ class Terrain final {
   double sphere_radius(int n) const { return radius_[n]; }
 
  private:
-  void BuildSpheres(const std::vector<double>& roughness_m);
+  void BuildSpheres();
   // Per cell: the virtual spheres an element centred in it may touch (those
   // reaching the cell that are not buried under the others), and the ceiling.
   void BuildCandidates();
@@ -197,6 +200,7 @@ class Terrain final {
   HeightGrid grid_;
   double inv_spacing_ = 1.0;
   double max_element_radius_ = 0.0;
+  std::vector<double> roughness_;          // per material, R [m] (0: smooth)
   std::vector<Eigen::Vector3d> centre_;    // per node
   std::vector<double> radius_;             // per node, +inf when smooth or hole
   std::vector<std::uint8_t> smooth_cell_;  // per cell: a corner is smooth

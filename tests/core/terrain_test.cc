@@ -1,0 +1,106 @@
+// The virtual-sphere surface of the terrain, through its public queries.
+#include "rockcal/core/terrain.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "rockcal/core/material.h"
+#include "rockcal/core/scene.h"
+
+namespace rockcal::core {
+namespace {
+
+// How deep a small probe sphere sinks between the virtual spheres of two
+// neighbouring nodes along the fall line of a uniform plane of angle
+// `degrees` (down +x) with roughness R on a grid of spacing s: the depth of
+// the probe's lowest point below the plane, measured normal to it, where the
+// probe just touches the terrain (Terrain::Gap = 0) on the plane's normal
+// through the midpoint of the two nodes.
+double FallLineSag(double degrees, double roughness, double s, double probe) {
+  const double theta = degrees * M_PI / 180.0;
+  HeightGrid grid;
+  grid.spacing = s;
+  grid.nx = 11;
+  grid.ny = 5;
+  for (int j = 0; j < grid.ny; ++j)
+    for (int i = 0; i < grid.nx; ++i) {
+      grid.z.push_back((grid.nx - 1 - i) * s * std::tan(theta));
+      grid.material.push_back(0);
+    }
+  const Terrain terrain(grid, {roughness}, probe);
+  // Nodes (5, 2) and (6, 2), far from the edges (whose normals are one-sided).
+  const Eigen::Vector3d mid(5.5 * s, 2 * s, 4.5 * s * std::tan(theta));
+  const Eigen::Vector3d up(std::sin(theta), 0.0, std::cos(theta));
+  // Gap along the normal rises with the height h of the probe's centre over
+  // the plane: bisect for the touching height (a spacing below the plane the
+  // probe is deep in the spheres).
+  double lo = -s, hi = probe + roughness;
+  EXPECT_LT(terrain.Gap(mid + lo * up, probe, 0.0), 0.0);
+  EXPECT_GT(terrain.Gap(mid + hi * up, probe, 0.0), 0.0);
+  for (int k = 0; k < 100; ++k) {
+    const double h = 0.5 * (lo + hi);
+    (terrain.Gap(mid + h * up, probe, 0.0) < 0.0 ? lo : hi) = h;
+  }
+  return probe - 0.5 * (lo + hi);
+}
+
+// Issue 13, finding 2: roughness R is the sag a rock feels between
+// neighbouring virtual spheres along the surface, whatever the slope. (It
+// was the sag on level ground only: the nodes of a slope of angle theta are
+// s / cos(theta) apart along its fall line, and with R = 1 ft on a 12 ft
+// grid the sag there grew to 1.35 ft at 30 degrees and 4.4 ft at 60.)
+TEST(Terrain, RoughnessIsTheSagAlongTheFallLineAtAnySlope) {
+  const double s = 12 * kFoot, roughness = 1 * kFoot;
+  // A probe of 0.01 ft stops 0.0006 ft short of the cusp between the spheres.
+  const double probe = 0.01 * kFoot;
+  for (double degrees : {0.0, 30.0, 45.0, 60.0}) {
+    const double sag = FallLineSag(degrees, roughness, s, probe);
+    EXPECT_NEAR(sag / roughness, 1.0, 0.02)
+        << degrees << " degrees: sag " << sag / kFoot << " ft, R = " << roughness / kFoot << " ft";
+  }
+}
+
+// A 60-degree face 20 m high below a level plateau (x <= 10 m) and above a
+// level toe, on a 1 m grid, roughness 0.1 m.
+Terrain CrestTerrain() {
+  HeightGrid grid;
+  grid.spacing = 1.0;
+  grid.nx = 41;
+  grid.ny = 5;
+  const double tan60 = std::tan(60.0 * M_PI / 180.0);
+  for (int j = 0; j < grid.ny; ++j)
+    for (int i = 0; i < grid.nx; ++i) {
+      grid.z.push_back(std::clamp(20.0 - (i - 10.0) * tan60, 0.0, 20.0));
+      grid.material.push_back(0);
+    }
+  return Terrain(grid, {0.1}, 0.2);
+}
+
+// The larger spheres of a steep face must not stand up behind its crest: a
+// sphere of the face 5 m below the crest, sized for the sag along the face
+// (radius 5.05 m against 1.3 m on level ground), would rise 0.8 m above the
+// plateau, 2 m and more behind the crest. A sphere grows past its
+// level-ground size only while it holds no other node, and the plateau
+// stays as it is with level-ground spheres.
+TEST(Terrain, SlopeSpheresDoNotStandUpBehindACrest) {
+  const Terrain terrain = CrestTerrain();
+  const HeightGrid& grid = terrain.grid();
+  const double face_r = terrain.sphere_radius(grid.index(15, 2));
+  EXPECT_NEAR(face_r, VirtualSphereRadius(0.1, 2.0), 1e-9) << "the middle of the face";
+  double highest = -1e9, at = 0.0;
+  for (double x = 1.0; x <= 8.0; x += 0.01) {
+    double z = 0.0;
+    ASSERT_TRUE(terrain.GroundHeight(x, 2.0, &z));
+    if (z > highest) {
+      highest = z;
+      at = x;
+    }
+  }
+  EXPECT_LE(highest, 20.0 + 1e-9) << "the spheres stand " << highest - 20.0
+                                  << " m above the plateau at x = " << at << " m";
+}
+
+}  // namespace
+}  // namespace rockcal::core
