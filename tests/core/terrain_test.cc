@@ -63,8 +63,8 @@ TEST(Terrain, RoughnessIsTheSagAlongTheFallLineAtAnySlope) {
 }
 
 // A 60-degree face 20 m high below a level plateau (x <= 10 m) and above a
-// level toe, on a 1 m grid, roughness 0.1 m.
-Terrain CrestTerrain() {
+// level toe, on a 1 m grid.
+Terrain CrestTerrain(double roughness) {
   HeightGrid grid;
   grid.spacing = 1.0;
   grid.nx = 41;
@@ -75,7 +75,7 @@ Terrain CrestTerrain() {
       grid.z.push_back(std::clamp(20.0 - (i - 10.0) * tan60, 0.0, 20.0));
       grid.material.push_back(0);
     }
-  return Terrain(grid, {0.1}, 0.2);
+  return Terrain(grid, {roughness}, 0.2);
 }
 
 // The larger spheres of a steep face must not stand up behind its crest: a
@@ -85,7 +85,7 @@ Terrain CrestTerrain() {
 // level-ground size only while it holds no other node, and the plateau
 // stays as it is with level-ground spheres.
 TEST(Terrain, SlopeSpheresDoNotStandUpBehindACrest) {
-  const Terrain terrain = CrestTerrain();
+  const Terrain terrain = CrestTerrain(0.1);
   const HeightGrid& grid = terrain.grid();
   const double face_r = terrain.sphere_radius(grid.index(15, 2));
   EXPECT_NEAR(face_r, VirtualSphereRadius(0.1, 2.0), 1e-9) << "the middle of the face";
@@ -100,6 +100,33 @@ TEST(Terrain, SlopeSpheresDoNotStandUpBehindACrest) {
   }
   EXPECT_LE(highest, 20.0 + 1e-9) << "the spheres stand " << highest - 20.0
                                   << " m above the plateau at x = " << at << " m";
+}
+
+// The ground a rock rolls on (heights at partitions, trees and map cells) is
+// the top of the highest virtual sphere over the point. With a small
+// roughness the spheres are large (R = 0.02 m on a 1 m grid: r = 6.3 m on
+// level ground), and past a crest the plateau's spheres overhang the face
+// for several cells: a search of the nodes one ring around the point's cell
+// missed them, and read the ground on the face up to metres too low.
+TEST(Terrain, GroundHeightIsTheTopOfTheHighestSphereOverThePoint) {
+  const Terrain terrain = CrestTerrain(0.02);
+  const HeightGrid& grid = terrain.grid();
+  int checked = 0;
+  for (double x = 5.05; x < 25.0; x += 0.13)
+    for (double y = 1.05; y < 3.0; y += 0.31) {
+      double top = terrain.FloorHeight(x, y);
+      for (int n = 0; n < grid.nx * grid.ny; ++n) {
+        const Eigen::Vector3d& c = terrain.sphere_centre(n);
+        const double r = terrain.sphere_radius(n);
+        const double h2 = r * r - (x - c.x()) * (x - c.x()) - (y - c.y()) * (y - c.y());
+        if (h2 > 0.0) top = std::max(top, c.z() + std::sqrt(h2));
+      }
+      double z = 0.0;
+      ASSERT_TRUE(terrain.GroundHeight(x, y, &z));
+      EXPECT_NEAR(z, top, 1e-9) << "at (" << x << ", " << y << ")";
+      ++checked;
+    }
+  EXPECT_GT(checked, 500);
 }
 
 }  // namespace
