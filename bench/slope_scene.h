@@ -5,9 +5,13 @@
 //     stop;
 //   - a 100 x 24 node grid at 12 ft (3.66 m), 362 m by 84 m in plan;
 //   - one material: hardness 0.5 (e = 0.5), contact time 5 ms (default), and
-//     the roughness R = 0.29 m that gives virtual spheres of radius 6 m on
-//     this grid (r = (R^2 + (s/2)^2) / (2R)): a closed sphere surface, no
-//     holes (R < 0.207 s);
+//     the roughness R = 0.43 m that gives virtual spheres of radius 6 m on
+//     the slope, whose nodes are d = s / cos(35 deg) = 4.47 m apart along
+//     the fall line (r = (R^2 + (d/2)^2) / (2R); R is the sag along the
+//     fall line at any slope angle), and of 4.1 m on the flat runout: a
+//     closed sphere surface, no holes. (Before roughness was taken along
+//     the fall line, R = 0.29 m gave 6 m spheres on the slope and the
+//     runout alike.)
 //   - sphere rocks of diameter 0.6-1.2 m (radius 0.3-0.6 m), 26 kN/m^3,
 //     released at rest near the top (x 4-12 m, y 37-48 m, the middle).
 #ifndef ROCKCAL_BENCH_SLOPE_SCENE_H_
@@ -48,7 +52,8 @@ inline core::Scene SlopeScene(int rocks) {
   core::Material m;
   m.id = "slope";
   m.hardness = 0.5;
-  m.roughness_m = kSphereRadius - std::sqrt(kSphereRadius * kSphereRadius - 0.25 * s * s);
+  const double fall = s / std::cos(kSlopeDegrees * M_PI / 180.0);  // node distance along the slope
+  m.roughness_m = kSphereRadius - std::sqrt(kSphereRadius * kSphereRadius - 0.25 * fall * fall);
   scene.materials = {m};
   core::RockGroup g;
   g.count = rocks;
