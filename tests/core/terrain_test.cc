@@ -8,6 +8,7 @@
 
 #include "rockcal/core/material.h"
 #include "rockcal/core/scene.h"
+#include "scene_fixtures.h"
 
 namespace rockcal::core {
 namespace {
@@ -20,15 +21,10 @@ namespace {
 // through the midpoint of the two nodes.
 double FallLineSag(double degrees, double roughness, double s, double probe) {
   const double theta = degrees * M_PI / 180.0;
-  HeightGrid grid;
-  grid.spacing = s;
-  grid.nx = 11;
-  grid.ny = 5;
-  for (int j = 0; j < grid.ny; ++j)
-    for (int i = 0; i < grid.nx; ++i) {
-      grid.z.push_back((grid.nx - 1 - i) * s * std::tan(theta));
-      grid.material.push_back(0);
-    }
+  const HeightGrid grid =
+      testing::GridScene(11, 5, s, [&](double x, double) { return (10 * s - x) * std::tan(theta); },
+                         Material())
+          .grid;
   const Terrain terrain(grid, {roughness}, probe);
   // Nodes (5, 2) and (6, 2), far from the edges (whose normals are one-sided).
   const Eigen::Vector3d mid(5.5 * s, 2 * s, 4.5 * s * std::tan(theta));
@@ -65,16 +61,12 @@ TEST(Terrain, RoughnessIsTheSagAlongTheFallLineAtAnySlope) {
 // A 60-degree face 20 m high below a level plateau (x <= 10 m) and above a
 // level toe, on a 1 m grid.
 Terrain CrestTerrain(double roughness) {
-  HeightGrid grid;
-  grid.spacing = 1.0;
-  grid.nx = 41;
-  grid.ny = 5;
   const double tan60 = std::tan(60.0 * M_PI / 180.0);
-  for (int j = 0; j < grid.ny; ++j)
-    for (int i = 0; i < grid.nx; ++i) {
-      grid.z.push_back(std::clamp(20.0 - (i - 10.0) * tan60, 0.0, 20.0));
-      grid.material.push_back(0);
-    }
+  const HeightGrid grid =
+      testing::GridScene(
+          41, 5, 1.0, [&](double x, double) { return std::clamp(20.0 - (x - 10.0) * tan60, 0.0, 20.0); },
+          Material())
+          .grid;
   return Terrain(grid, {roughness}, 0.2);
 }
 
