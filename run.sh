@@ -7,8 +7,10 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
+# libopenmpi-dev: the MPI engine (mpirun -np N rockcal ...); rockcal also
+# builds without it (then single-process only).
 PACKAGES=(build-essential cmake libeigen3-dev libnlopt-cxx-dev libceres-dev
-          nlohmann-json3-dev libgtest-dev libgmock-dev libgdal-dev)
+          nlohmann-json3-dev libgtest-dev libgmock-dev libgdal-dev libopenmpi-dev)
 JOBS=$(nproc 2>/dev/null || echo 2)
 
 install_missing() {
@@ -54,6 +56,9 @@ case "${1:-}" in
     # keep their file and line) ...
     build build-asan RelWithDebInfo -DROCKCAL_SANITIZE=ON -DROCKCAL_BUILD_BENCH=OFF \
       -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
+    # The light tests include tests/cli/mpi_test.cc: rockcal under mpirun -np 2
+    # against the single process, bit for bit (its leak check skips Open
+    # MPI's own libraries, tests/cli/mpi_lsan.supp).
     ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
       ctest --test-dir build-asan --output-on-failure -j "$JOBS" -LE heavy
     # ... but the numerical experiments labelled "heavy" (calibration twin
