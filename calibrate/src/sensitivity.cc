@@ -593,11 +593,11 @@ SensitivityResult RunSensitivity(const sites::Site& site, const observations::Ob
       opt.method == SensitivityMethod::kMorris ? res.samples * (k + 1) : res.samples * (k + 2);
   const int total_runs = design_runs + 1;
 
-  // One simulation at physical values `x`; the terrain is rebuilt only when
+  // One simulation at `physical` values; the terrain is rebuilt only when
   // the roughness values change (hardness and contact time reuse it).
   std::vector<double> terrain_key;
   std::unique_ptr<core::Terrain> terrain;
-  auto simulate = [&](const std::vector<double>& physical, const std::string& what) {
+  auto run_at = [&](const std::vector<double>& physical) {
     core::Scene scene = base;
     space.Apply(physical, &scene);
     std::vector<double> key;
@@ -609,16 +609,20 @@ SensitivityResult RunSensitivity(const sites::Site& site, const observations::Ob
       terrain_key = key;
     }
     core::SimulationResult r = parallel::Simulate(scene, *terrain);
-    ++res.simulations;
-    res.simulation_seconds += r.wall_seconds;
-    if (r.non_finite > 0) ++res.non_finite_runs;
-    if (opt.progress) opt.progress(res.simulations, total_runs, what);
     return std::make_pair(std::move(scene), std::move(r));
+  };
+  // A simulation's share of the result's counts.
+  auto count = [&](double seconds, bool non_finite) {
+    ++res.simulations;
+    res.simulation_seconds += seconds;
+    if (non_finite) ++res.non_finite_runs;
   };
 
   // The site's current parameters: each output's value and its noise.
   {
-    const auto [scene, r] = simulate(res.current, "current parameters");
+    const auto [scene, r] = run_at(res.current);
+    count(r.wall_seconds, r.non_finite > 0);
+    if (opt.progress) opt.progress(res.simulations, total_runs, "current parameters");
     const std::vector<double> noise = OutputNoise(outputs, scene, r, opt.bootstrap, res.seed);
     for (std::size_t o = 0; o < outputs.size(); ++o)
       res.outputs.push_back({outputs[o].name, outputs[o].unit, outputs[o].description,
@@ -657,18 +661,7 @@ SensitivityResult RunSensitivity(const sites::Site& site, const observations::Ob
   const std::vector<std::string> runs = parallel::Map(
       static_cast<int>(points.size()),
       [&](int p) {
-        const std::vector<double> physical = space.ToPhysical(points[static_cast<std::size_t>(p)]);
-        core::Scene scene = base;
-        space.Apply(physical, &scene);
-        std::vector<double> key;
-        for (int i = 0; i < k; ++i)
-          if (res.parameters[static_cast<std::size_t>(i)].kind == ParameterKind::kRoughness)
-            key.push_back(physical[static_cast<std::size_t>(i)]);
-        if (!terrain || key != terrain_key) {
-          terrain = std::make_unique<core::Terrain>(core::BuildTerrain(scene));
-          terrain_key = key;
-        }
-        const core::SimulationResult r = parallel::Simulate(scene, *terrain);
+        const auto [scene, r] = run_at(space.ToPhysical(points[static_cast<std::size_t>(p)]));
         std::vector<double> y(outputs.size());
         for (std::size_t o = 0; o < outputs.size(); ++o) y[o] = outputs[o].compute(scene, r);
         parallel::Writer w;
@@ -684,9 +677,8 @@ SensitivityResult RunSensitivity(const sites::Site& site, const observations::Ob
   for (const std::string& bytes : runs) {
     parallel::Reader r(bytes);
     ys.push_back(r.Doubles());
-    ++res.simulations;
-    res.simulation_seconds += r.Double();
-    if (r.Int() != 0) ++res.non_finite_runs;
+    const double seconds = r.Double();
+    count(seconds, r.Int() != 0);
   }
   std::size_t next = 0;
   run_design([&](const std::vector<double>& unit) {
