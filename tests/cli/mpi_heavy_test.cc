@@ -10,6 +10,7 @@
 // it with no mpirun, and it skips.
 #include <unistd.h>
 
+#include <fstream>
 #include <regex>
 
 #include "cli_fixture.h"
@@ -122,6 +123,44 @@ TEST(Mpi, BadInputIsExitTwoOnEveryRank) {
       2, "simulate " + Example("tutorial") + " --rocks 2 --quiet --out " + out);
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_NE(r.err.find("rockcal: error:"), std::string::npos) << r.err;
+}
+
+// A rank that stops answering (SIGSTOP, after the first evaluations are in
+// the log) is named by rank 0 with its host, the job ends with exit status
+// 1, and the log it leaves resumes on one rank as a straight run would go.
+TEST(Mpi, AHungRankIsNamedAndTheLogResumes) {
+  SKIP_WITHOUT_MPI();
+  const std::string hung = FreshDir("hung"), straight = FreshDir("straight");
+  const std::string args = "calibrate " + Tutorial() + " --rocks 150 --reach 0 --threads 1 --quiet";
+  const std::string base = ::testing::TempDir() + "/rockcal_" + TestFileName();
+  // The run is long (40 evaluations); rank 1 is stopped once two are logged.
+  const std::string script =
+      "ROCKCAL_RANK_TIMEOUT=3 " + Mpirun(2) + ROCKCAL_EXE + " " + args +
+      " --max-evals 40 --out " + hung + " > " + base + ".stdout 2> " + base + ".stderr & m=$!\n" +
+      "for i in $(seq 1200); do [ \"$(cat " + hung +
+      "/evaluations.jsonl 2>/dev/null | grep -c .)\" -ge 3 ] && break; sleep 0.1; done\n"
+      "stopped=\n"
+      "for p in $(pgrep -f -- '--out " + hung + "'); do\n"
+      "  tr '\\0' '\\n' < /proc/$p/environ 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=1 &&"
+      " kill -STOP $p && stopped=\"$stopped $p\"\n"
+      "done\n"
+      "wait $m; status=$?\n"
+      "for p in $stopped; do kill -KILL $p 2>/dev/null; rm -rf \"${TMPDIR:-/tmp}/rockcal-rank1-$p\"; done\n"
+      "exit $status\n";
+  std::ofstream(base + ".sh") << script;
+  const int raw = std::system(("timeout 300 bash " + base + ".sh").c_str());
+  const std::string err = ReadFile(base + ".stderr");
+  ASSERT_TRUE(WIFEXITED(raw)) << err;
+  EXPECT_EQ(WEXITSTATUS(raw), 1) << err;
+  EXPECT_NE(err.find("rockcal: failed: rank 1 (host "), std::string::npos) << err;
+  EXPECT_NE(err.find("did not answer within 3 s"), std::string::npos) << err;
+  // The log holds whole evaluations only: a resume on one rank with the
+  // budget of what was logged replays them and finishes as a straight run.
+  const RunResult resumed = Rockcal(args + " --max-evals 2 --resume --out " + hung);
+  ASSERT_EQ(resumed.status, 0) << resumed.err;
+  const RunResult a = Rockcal(args + " --max-evals 2 --out " + straight);
+  ASSERT_EQ(a.status, 0) << a.err;
+  ExpectSameFiles(straight, hung, {"parameters.json", "rocks.csv", "summary.json"});
 }
 
 }  // namespace
