@@ -7,8 +7,10 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 
+# libopenmpi-dev: the MPI engine (mpirun -np N rockcal ...); rockcal also
+# builds without it (then single-process only).
 PACKAGES=(build-essential cmake libeigen3-dev libnlopt-cxx-dev libceres-dev
-          nlohmann-json3-dev libgtest-dev libgmock-dev libgdal-dev)
+          nlohmann-json3-dev libgtest-dev libgmock-dev libgdal-dev libopenmpi-dev)
 JOBS=$(nproc 2>/dev/null || echo 2)
 
 install_missing() {
@@ -58,6 +60,9 @@ case "${1:-}" in
       ctest --test-dir build-asan --output-on-failure -j "$JOBS" -LE heavy
     # ... but the numerical experiments labelled "heavy" (calibration twin
     # experiments) in the optimised build: under the sanitizers they take hours.
+    # They include tests/cli/mpi_heavy_test.cc: rockcal under mpirun -np 2
+    # against the single process, bit for bit (Open MPI's own allocations
+    # defeat the sanitized build's leak check).
     cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
     heavy=$(cd tests && ls */*_heavy_test.cc | cut -d/ -f1 | sort -u | sed 's/$/_heavy_tests/')
     for target in $heavy; do cmake --build build -j "$JOBS" --target "$target"; done

@@ -15,6 +15,7 @@
 #include "rockcal/calibrate/calibration_run.h"
 #include "rockcal/core/error.h"
 #include "rockcal/observations/misfit.h"
+#include "rockcal/parallel/parallel.h"
 #include "rockcal/reports/calibration_outputs.h"
 #include "rockcal/reports/html_report.h"
 #include "rockcal/reports/output_dir.h"
@@ -271,7 +272,20 @@ int Calibrate(const std::vector<std::string>& argv) {
   const int folds = args.Has("holdout") ? static_cast<int>(args.Integer("holdout", 0, 2, 1000)) : 0;
   if (folds > 0) observations::MakeFolds(obs, folds, 0);  // enough values for the folds?
 
-  PrepareFolder(out, args.Flag("resume"), args.Flag("force"), site, obs_path);
+  // Rank 0 prepares the folder; under mpirun the other ranks replay the
+  // same evaluation logs from copies in a scratch folder of their own and
+  // write their (discarded) files there.
+  parallel::OnRoot(
+      [&] { PrepareFolder(out, args.Flag("resume"), args.Flag("force"), site, obs_path); });
+  const std::string folder = parallel::IsRoot() ? out : parallel::ScratchFolder();
+  parallel::ShareFiles(
+      out,
+      [](const std::string& name) {
+        return name.rfind("evaluations", 0) == 0 && name.size() > 6 &&
+               name.compare(name.size() - 6, 6, ".jsonl") == 0;
+      },
+      folder);
+  options.log_path = folder + "/evaluations.jsonl";
   const bool quiet = args.Flag("quiet");
   std::optional<Progress> progress;
   const calibrate::CalibrationCallbacks callbacks =
@@ -288,7 +302,7 @@ int Calibrate(const std::vector<std::string>& argv) {
                   holdout->mean_in_sample_misfit, holdout->mean_held_out_misfit);
   }
   // The rasters: asked for, or by default for a site read from GIS files.
-  WriteCalibrationFiles(out, site, obs, summary, holdout, args.Flag("rasters") || site.gis);
+  WriteCalibrationFiles(folder, site, obs, summary, holdout, args.Flag("rasters") || site.gis);
   if (!quiet)
     PrintCalibration(
         out, summary, holdout.has_value(), RastersWritten(args.Flag("rasters"), site),

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 
 #include "args.h"
@@ -15,6 +16,7 @@
 #include "rockcal/core/rasters.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/observations/observations.h"
+#include "rockcal/parallel/parallel.h"
 #include "rockcal/reports/html_report.h"
 #include "rockcal/reports/output_dir.h"
 #include "rockcal/reports/raster_outputs.h"
@@ -51,6 +53,25 @@ std::string RastersWritten(bool asked, const sites::Site& site) {
          (asked ? "" : " (rasters: on by default for a site read from GIS files)");
 }
 
+RankOutputDir::RankOutputDir(const std::string& path, bool force, reports::OutputOrigin origin) {
+  parallel::OnRoot(
+      [&] { dir_ = std::make_unique<reports::OutputDir>(path, force, std::move(origin)); });
+  if (!dir_) {
+    scratch_ = parallel::ScratchFolder() + "/out";
+    std::filesystem::create_directories(scratch_);
+  }
+}
+
+std::string RankOutputDir::File(const std::string& name) const {
+  return dir_ ? dir_->File(name) : scratch_ + "/" + name;
+}
+
+const std::string& RankOutputDir::folder() const { return dir_ ? dir_->folder() : scratch_; }
+
+void RankOutputDir::Commit() {
+  if (dir_) dir_->Commit();
+}
+
 // ---- simulate --------------------------------------------------------------
 
 int Simulate(const std::vector<std::string>& argv) {
@@ -80,7 +101,7 @@ int Simulate(const std::vector<std::string>& argv) {
   std::string error;
   if (!scene.IsValid(&error)) throw InputError(site_path, error);
 
-  reports::OutputDir dir(out, args.Flag("force"), {"simulate", site.inputs});
+  RankOutputDir dir(out, args.Flag("force"), {"simulate", site.inputs});
   Progress progress("simulate", args.Flag("quiet"));
   const core::Terrain terrain = core::BuildTerrain(scene);
   // The report's views need the passages per cell and a few trajectories;
@@ -90,7 +111,7 @@ int Simulate(const std::vector<std::string>& argv) {
   needs.report = true;
   recorded.options.record = calibrate::RecordingFor(scene, needs);
   const core::SimulationResult result =
-      core::Simulate(recorded, terrain, [&](int done, int total) { progress.Update(done, total); });
+      parallel::Simulate(recorded, terrain, [&](int done, int total) { progress.Update(done, total); });
   // One set of maps for rasters.tif and the report's plan view.
   const core::RasterSet rasters = core::ComputeRasters(recorded, result);
   const bool write_rasters = args.Flag("rasters") || site.gis;

@@ -6,8 +6,9 @@
 #include <vector>
 
 #include "commands.h"
-#include "sensitivity.h"
 #include "rockcal/core/error.h"
+#include "rockcal/parallel/parallel.h"
+#include "sensitivity.h"
 #include "study.h"
 #include "table.h"
 
@@ -20,10 +21,11 @@ constexpr const char* kUsage =
     "                   [--trajectories N --sample-seconds DT] [--rasters] [--threads N]\n"
     "                   [--force] [--quiet] --out DIR\n"
     "  rockcal calibrate SITE.json --observations OBS.json [--method M | --methods M1,M2,...]\n"
-    "                   [--max-evals N] [--max-seconds T] [--rocks N | --refine F] [--seed S]\n"
-    "                   [--threads N]\n"
+    "                   [--max-evals N] [--max-seconds T] [--rocks N | --refine F [--race N]]\n"
+    "                   [--seed S] [--threads N]\n"
     "                   [--loss none|huber|cauchy] [--estimate lowest|smoothed]\n"
-    "                   [--holdout K] [--rasters] [--resume | --force] [--quiet] --out DIR\n"
+    "                   [--holdout K] [--reach N] [--rasters] [--resume | --force] [--quiet]\n"
+    "                   --out DIR\n"
     "  rockcal score SITE.json --observations OBS.json [--parameters parameters.json]\n"
     "                   [--rocks N] [--seed S] [--threads N] [--force] [--quiet] --out DIR\n"
     "  rockcal sensitivity SITE.json [--method morris|sobol] [--samples N] [--observations OBS.json]\n"
@@ -41,6 +43,11 @@ constexpr const char* kUsage =
     "                   [--force] [--quiet] --out DIR\n"
     "  rockcal validate SITE.json [--observations OBS.json]\n"
     "\n"
+    "Under mpirun -np N (or srun), every command spreads its simulations over the N\n"
+    "ranks (OMP_NUM_THREADS or --threads: threads per rank) with results identical\n"
+    "to a single process; only rank 0 writes and prints. ROCKCAL_RANK_TIMEOUT\n"
+    "(seconds) bounds the wait for a rank before it is reported dead or hung.\n"
+    "\n"
     "KEY for --set: material.<id>.hardness | .roughness | .contact_time | .rolling_resistance\n"
     "               | .friction (site units)\n"
     "--rasters: also write DIR/rasters.tif (GeoTIFF, one band per map: passages,\n"
@@ -51,6 +58,9 @@ constexpr const char* kUsage =
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Under mpirun, every rank runs the same command (parallel.h); only rank 0
+  // writes and prints.
+  const rockcal::parallel::Session session(&argc, &argv);
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     std::fputs(kUsage, args.empty() ? stderr : stdout);

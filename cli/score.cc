@@ -33,7 +33,7 @@ int Score(const std::vector<std::string>& argv) {
   if (args.Has("parameters")) options.parameters_file = args.Get("parameters");
   const core::Scene scene = calibrate::ScoreScene(site, options);
 
-  reports::OutputDir dir(out, args.Flag("force"));
+  RankOutputDir dir(out, args.Flag("force"));
   const calibrate::ScoreSummary score = calibrate::Score(scene, obs);
   const core::SimulationResult& sim = score.simulation;
   nlohmann::json residuals = nlohmann::json::array();

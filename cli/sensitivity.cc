@@ -8,6 +8,7 @@
 #include <string>
 
 #include "args.h"
+#include "commands.h"
 #include "progress.h"
 #include "rockcal/calibrate/sensitivity.h"
 #include "rockcal/core/error.h"
@@ -55,7 +56,7 @@ int Sensitivity(const std::vector<std::string>& argv) {
 
   std::vector<std::string> inputs = site.inputs;
   if (obs) inputs.push_back(args.Get("observations"));
-  reports::OutputDir dir(out, args.Flag("force"), {"sensitivity", inputs});
+  RankOutputDir dir(out, args.Flag("force"), {"sensitivity", inputs});
   calibrate::SensitivityResult result;
   {
     Progress progress("sensitivity " + method, args.Flag("quiet"));

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "args.h"
+#include "commands.h"
 #include "progress.h"
 #include "rockcal/calibrate/objective.h"
 #include "rockcal/calibrate/reach.h"
@@ -95,7 +96,7 @@ int Stability(const Args& args, sites::Site* site, const std::string& out) {
   std::string error;
   if (!opt.IsValid(&error)) throw InputError("arguments", error);
 
-  reports::OutputDir dir(out, args.Flag("force"), {"study stability", site->inputs});
+  RankOutputDir dir(out, args.Flag("force"), {"study stability", site->inputs});
   Progress progress("stability", args.Flag("quiet"));
   opt.progress = [&](int done, int total, const std::string& what) {
     progress.Update(done, total, what);
@@ -143,7 +144,7 @@ int Convergence(const Args& args, sites::Site* site, const std::string& out) {
   std::string error;
   if (!opt.IsValid(&error)) throw InputError("arguments", error);
 
-  reports::OutputDir dir(out, args.Flag("force"), {"study convergence", site->inputs});
+  RankOutputDir dir(out, args.Flag("force"), {"study convergence", site->inputs});
   calibrate::ConvergenceResult result;
   {
     Progress progress("convergence", args.Flag("quiet"));
@@ -204,7 +205,7 @@ int Reach(const Args& args, sites::Site* site, const std::string& out) {
   const observations::Observations obs =
       observations::LoadObservations(args.Get("observations"), scene);
 
-  reports::OutputDir dir(out, args.Flag("force"));
+  RankOutputDir dir(out, args.Flag("force"));
   const calibrate::Objective objective(scene, space, obs, observations::MisfitOptions{});
   calibrate::ReachResult result;
   {

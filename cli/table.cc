@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "args.h"
+#include "commands.h"
 #include "rockcal/calibrate/default_table.h"
 #include "rockcal/core/error.h"
 #include "rockcal/reports/default_table_outputs.h"
@@ -58,7 +59,7 @@ int Table(const std::vector<std::string>& argv) {
   for (const std::string& d : dirs) sites.push_back(calibrate::ReadCalibratedSite(d));
   const calibrate::DefaultTable table = calibrate::BuildDefaultTable(sites, options);
 
-  reports::OutputDir dir(out, args.Flag("force"), {"table", dirs});
+  RankOutputDir dir(out, args.Flag("force"), {"table", dirs});  // under mpirun: rank 0 writes
   const std::string markdown = reports::DefaultTableMarkdown(table);
   reports::WriteFileAtomically(dir.File("table.json"),
                                reports::DefaultTableJson(table).dump(2) + "\n");

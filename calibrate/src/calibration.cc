@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "rockcal/core/error.h"
+#include "rockcal/parallel/parallel.h"
 
 namespace rockcal::calibrate {
 namespace {
@@ -89,9 +90,11 @@ class Evaluator final {
 
   // The search's budget: the options' less the evaluations kept back for
   // the smoothed estimate.
+  // The time budget is rank 0's clock, so that every rank of a distributed
+  // run stops at the same evaluation.
   bool exhausted() const {
     if (static_cast<int>(trace_.size()) >= limit()) return true;
-    return options_.max_seconds > 0 && Elapsed() >= options_.max_seconds;
+    return options_.max_seconds > 0 && parallel::RootDecides(Elapsed() >= options_.max_seconds);
   }
   int remaining() const { return limit() - static_cast<int>(trace_.size()); }
   void Reserve(int evaluations) { reserved_ = evaluations; }
@@ -394,15 +397,24 @@ Uncertainty CeresUncertainty(const MethodResult& result, const Objective& object
     const std::vector<double> best_unit = objective.space().ToUnit(result.best);
     const int m = objective.residual_count();
     Eigen::MatrixXd j(m, n);
+    // The 2n points are independent: simulated over the ranks of an MPI run.
+    std::vector<std::vector<double>> points;
+    std::vector<double> widths;
     for (int k = 0; k < n; ++k) {
       const double h = std::min(0.05, 0.5 * std::min(best_unit[k], 1 - best_unit[k]) + 1e-3);
       std::vector<double> up = best_unit, down = best_unit;
       up[k] = std::min(1.0, up[k] + h);
       down[k] = std::max(0.0, down[k] - h);
-      const observations::Misfit a = objective.Evaluate(objective.space().ToPhysical(up));
-      const observations::Misfit b = objective.Evaluate(objective.space().ToPhysical(down));
+      widths.push_back(up[k] - down[k]);
+      points.push_back(objective.space().ToPhysical(up));
+      points.push_back(objective.space().ToPhysical(down));
+    }
+    const std::vector<observations::Misfit> misfits = objective.EvaluateAll(points);
+    for (int k = 0; k < n; ++k) {
+      const observations::Misfit& a = misfits[2 * static_cast<std::size_t>(k)];
+      const observations::Misfit& b = misfits[2 * static_cast<std::size_t>(k) + 1];
       for (int r = 0; r < m; ++r)
-        j(r, k) = (a.residuals[r].value - b.residuals[r].value) / (up[k] - down[k]);
+        j(r, k) = (a.residuals[r].value - b.residuals[r].value) / widths[static_cast<std::size_t>(k)];
     }
     return JacobianUncertainty(j, result.best_misfit, objective.space());
   }

@@ -11,6 +11,7 @@
 #include "rockcal/calibrate/score.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/statistics.h"
+#include "rockcal/parallel/parallel.h"
 
 namespace rockcal::calibrate {
 
@@ -127,11 +128,16 @@ std::vector<double> RaceCandidates(const CalibrationOptions& options, const Obje
       race.push_back({"design point " + std::to_string(order[k] + 1), points[order[k]].physical,
                       points[order[k]].misfit, 0.0, false});
   }
+  // The candidates are independent: simulated over the ranks of an MPI run.
+  std::vector<std::vector<double>> points;
+  for (const Entry& entry : race)
+    if (entry.physical != summary->start) points.push_back(entry.physical);
+  const std::vector<observations::Misfit> misfits = objective.EvaluateAll(points);
   double lowest = 0.0;
+  std::size_t next = 0;
   for (std::size_t k = 0; k < race.size(); ++k) {
-    const observations::Misfit m =
-        race[k].physical == summary->start ? summary->misfit_before
-                                           : objective.Evaluate(race[k].physical);
+    const observations::Misfit& m =
+        race[k].physical == summary->start ? summary->misfit_before : misfits[next++];
     race[k].misfit = m.value;
     race[k].penalised = m.penalised;
     if (summary->race_winner < 0 || m.value < lowest) {
@@ -186,12 +192,17 @@ void MeasureMisfitNoise(const sites::Site& site, const observations::Observation
                         CalibrationSummary* summary) {
   if (options.noise_seeds <= 0) return;
   std::vector<double> all = {summary->misfit_after.value};
+  // The seeds are independent: simulated over the ranks of an MPI run.
+  const std::vector<std::string> misfits = parallel::Map(options.noise_seeds, [&](int k) {
+    const std::uint64_t seed = summary->seed + static_cast<std::uint64_t>(k + 1);
+    const core::Scene scene = RunScene(site, summary->final_rocks, seed, options.threads);
+    parallel::Writer w;
+    w.Double(Objective(scene, space, obs, options.misfit).Evaluate(summary->best_method().best).value);
+    return w.bytes();
+  });
   for (int k = 1; k <= options.noise_seeds; ++k) {
     const std::uint64_t seed = summary->seed + static_cast<std::uint64_t>(k);
-    const core::Scene scene = RunScene(site, summary->final_rocks, seed, options.threads);
-    const double misfit = Objective(scene, space, obs, options.misfit)
-                              .Evaluate(summary->best_method().best)
-                              .value;
+    const double misfit = parallel::Reader(misfits[static_cast<std::size_t>(k - 1)]).Double();
     summary->noise_seeds.push_back(seed);
     summary->noise_misfits.push_back(misfit);
     all.push_back(misfit);

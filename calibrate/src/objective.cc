@@ -4,6 +4,7 @@
 #include <exception>
 
 #include "rockcal/calibrate/recording.h"
+#include "rockcal/parallel/parallel.h"
 
 namespace rockcal::calibrate {
 namespace {
@@ -16,7 +17,58 @@ std::vector<double> RoughnessKey(const ParameterSpace& space, const std::vector<
   return key;
 }
 
+// A misfit as bytes for parallel::Map, and back.
+std::string Encode(const observations::Misfit& m) {
+  parallel::Writer w;
+  w.Double(m.value);
+  w.Int(m.penalised ? 1 : 0);
+  w.String(m.message);
+  w.Int(static_cast<long long>(m.residuals.size()));
+  for (const observations::Residual& r : m.residuals) {
+    w.String(r.observation);
+    w.String(r.quantity);
+    w.Double(r.simulated);
+    w.Double(r.observed);
+    w.Double(r.sigma);
+    w.Double(r.value);
+  }
+  return w.bytes();
+}
+
+observations::Misfit Decode(const std::string& bytes) {
+  parallel::Reader r(bytes);
+  observations::Misfit m;
+  m.value = r.Double();
+  m.penalised = r.Int() != 0;
+  m.message = r.String();
+  m.residuals.resize(static_cast<std::size_t>(r.Int()));
+  for (observations::Residual& res : m.residuals) {
+    res.observation = r.String();
+    res.quantity = r.String();
+    res.simulated = r.Double();
+    res.observed = r.Double();
+    res.sigma = r.Double();
+    res.value = r.Double();
+  }
+  return m;
+}
+
 }  // namespace
+
+std::vector<observations::Misfit> Objective::EvaluateAll(
+    const std::vector<std::vector<double>>& points,
+    const std::function<void(int, const observations::Misfit&)>& done) const {
+  const std::vector<std::string> bytes = parallel::Map(
+      static_cast<int>(points.size()),
+      [&](int k) { return Encode(Evaluate(points[static_cast<std::size_t>(k)])); },
+      [&](int k, const std::string& b) {
+        if (done) done(k, Decode(b));
+      });
+  std::vector<observations::Misfit> out;
+  out.reserve(bytes.size());
+  for (const std::string& b : bytes) out.push_back(Decode(b));
+  return out;
+}
 
 Objective::Objective(core::Scene scene, ParameterSpace space,
                      observations::Observations observations, observations::MisfitOptions misfit)
@@ -61,7 +113,7 @@ observations::Misfit Objective::Evaluate(const std::vector<double>& physical,
       }
       terrain = terrain_;
     }
-    core::SimulationResult sim = core::Simulate(scene, *terrain);
+    core::SimulationResult sim = parallel::Simulate(scene, *terrain);
     misfit = observations::ComputeMisfit(observations_, scene, sim, misfit_);
     if (result) *result = std::move(sim);
   } catch (const std::exception& e) {

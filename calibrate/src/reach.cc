@@ -342,11 +342,20 @@ ReachResult RunReach(const Objective& objective, const ReachOptions& options) {
   // Statistics in first-seen order, keyed by (observation, quantity).
   std::map<std::pair<std::string, std::string>, std::size_t> index;
   std::vector<std::vector<observations::Residual>> residuals;
+  // The design points are independent: simulated over the ranks of an MPI
+  // run, in design order all the same.
+  std::vector<std::vector<double>> physical;
+  for (const std::vector<double>& unit : design) physical.push_back(space.ToPhysical(unit));
+  int finished = 0;
+  std::vector<observations::Misfit> misfits =
+      objective.EvaluateAll(physical, [&](int, const observations::Misfit& m) {
+        if (options.progress) options.progress(++finished, count, "misfit " + G(m.value));
+      });
   for (int p = 0; p < count; ++p) {
     ReachPoint point;
     point.unit = design[static_cast<std::size_t>(p)];
-    point.physical = space.ToPhysical(point.unit);
-    observations::Misfit misfit = objective.Evaluate(point.physical);
+    point.physical = physical[static_cast<std::size_t>(p)];
+    observations::Misfit& misfit = misfits[static_cast<std::size_t>(p)];
     point.misfit = misfit.value;
     point.penalised = misfit.penalised;
     point.message = misfit.message;
@@ -363,8 +372,6 @@ ReachResult RunReach(const Objective& objective, const ReachOptions& options) {
     }
     residuals.push_back(std::move(misfit.residuals));
     result.points.push_back(std::move(point));
-    if (options.progress)
-      options.progress(p + 1, count, "misfit " + G(result.points.back().misfit));
   }
   const std::size_t m = result.statistics.size();
   for (std::size_t p = 0; p < result.points.size(); ++p) {

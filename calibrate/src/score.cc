@@ -2,6 +2,7 @@
 
 #include "rockcal/calibrate/recording.h"
 #include "rockcal/core/error.h"
+#include "rockcal/parallel/parallel.h"
 #include "rockcal/sites/json_reader.h"
 #include "rockcal/sites/site.h"
 
@@ -60,7 +61,7 @@ ScoreSummary Score(const core::Scene& scene, const observations::Observations& o
   core::Scene recorded = out.scene;
   needs.report = true;
   recorded.options.record = RecordingFor(recorded, needs);
-  out.simulation = core::Simulate(recorded);
+  out.simulation = parallel::Simulate(recorded);
   out.misfit = observations::ComputeMisfit(obs, recorded, out.simulation, misfit);
   return out;
 }

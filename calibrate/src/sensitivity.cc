@@ -16,6 +16,7 @@
 #include "rockcal/core/error.h"
 #include "rockcal/core/random.h"
 #include "rockcal/core/statistics.h"
+#include "rockcal/parallel/parallel.h"
 #include "table_text.h"
 
 namespace rockcal::calibrate {
@@ -592,11 +593,11 @@ SensitivityResult RunSensitivity(const sites::Site& site, const observations::Ob
       opt.method == SensitivityMethod::kMorris ? res.samples * (k + 1) : res.samples * (k + 2);
   const int total_runs = design_runs + 1;
 
-  // One simulation at physical values `x`; the terrain is rebuilt only when
+  // One simulation at `physical` values; the terrain is rebuilt only when
   // the roughness values change (hardness and contact time reuse it).
   std::vector<double> terrain_key;
   std::unique_ptr<core::Terrain> terrain;
-  auto simulate = [&](const std::vector<double>& physical, const std::string& what) {
+  auto run_at = [&](const std::vector<double>& physical) {
     core::Scene scene = base;
     space.Apply(physical, &scene);
     std::vector<double> key;
@@ -607,45 +608,84 @@ SensitivityResult RunSensitivity(const sites::Site& site, const observations::Ob
       terrain = std::make_unique<core::Terrain>(core::BuildTerrain(scene));
       terrain_key = key;
     }
-    core::SimulationResult r = core::Simulate(scene, *terrain);
-    ++res.simulations;
-    res.simulation_seconds += r.wall_seconds;
-    if (r.non_finite > 0) ++res.non_finite_runs;
-    if (opt.progress) opt.progress(res.simulations, total_runs, what);
+    core::SimulationResult r = parallel::Simulate(scene, *terrain);
     return std::make_pair(std::move(scene), std::move(r));
+  };
+  // A simulation's share of the result's counts.
+  auto count = [&](double seconds, bool non_finite) {
+    ++res.simulations;
+    res.simulation_seconds += seconds;
+    if (non_finite) ++res.non_finite_runs;
   };
 
   // The site's current parameters: each output's value and its noise.
   {
-    const auto [scene, r] = simulate(res.current, "current parameters");
+    const auto [scene, r] = run_at(res.current);
+    count(r.wall_seconds, r.non_finite > 0);
+    if (opt.progress) opt.progress(res.simulations, total_runs, "current parameters");
     const std::vector<double> noise = OutputNoise(outputs, scene, r, opt.bootstrap, res.seed);
     for (std::size_t o = 0; o < outputs.size(); ++o)
       res.outputs.push_back({outputs[o].name, outputs[o].unit, outputs[o].description,
                              outputs[o].compute(scene, r), noise[o]});
   }
 
-  const SensitivityModel model = [&](const std::vector<double>& unit) {
-    const auto [scene, r] = simulate(space.ToPhysical(unit), SensitivityMethodName(opt.method));
-    std::vector<double> y(outputs.size());
-    for (std::size_t o = 0; o < outputs.size(); ++o) y[o] = outputs[o].compute(scene, r);
-    return y;
-  };
+  // The design's points do not depend on the outputs: a first pass of the
+  // method with a model that only notes them gives the list, which is
+  // simulated as independent tasks (over the ranks of an MPI run,
+  // parallel::Map); the second pass reads the outputs back in the same order.
   double delta = 0.0;
-  if (opt.method == SensitivityMethod::kMorris) {
-    MorrisOptions mo;
-    mo.trajectories = res.samples;
-    mo.levels = opt.levels;
-    mo.seed = res.seed;
-    res.morris = RunMorris(k, m, model, mo);
-    delta = res.morris.delta;
-  } else {
-    SobolOptions so;
-    so.samples = res.samples;
-    so.bootstrap = opt.bootstrap;
-    so.confidence = opt.confidence;
-    so.seed = res.seed;
-    res.sobol = RunSobol(k, m, model, so);
+  auto run_design = [&](const SensitivityModel& model) {
+    if (opt.method == SensitivityMethod::kMorris) {
+      MorrisOptions mo;
+      mo.trajectories = res.samples;
+      mo.levels = opt.levels;
+      mo.seed = res.seed;
+      res.morris = RunMorris(k, m, model, mo);
+      delta = res.morris.delta;
+    } else {
+      SobolOptions so;
+      so.samples = res.samples;
+      so.bootstrap = opt.bootstrap;
+      so.confidence = opt.confidence;
+      so.seed = res.seed;
+      res.sobol = RunSobol(k, m, model, so);
+    }
+  };
+  std::vector<std::vector<double>> points;
+  run_design([&](const std::vector<double>& unit) {
+    points.push_back(unit);
+    return std::vector<double>(static_cast<std::size_t>(m), 0.0);
+  });
+  const std::string what = SensitivityMethodName(opt.method);
+  int finished = res.simulations;
+  const std::vector<std::string> runs = parallel::Map(
+      static_cast<int>(points.size()),
+      [&](int p) {
+        const auto [scene, r] = run_at(space.ToPhysical(points[static_cast<std::size_t>(p)]));
+        std::vector<double> y(outputs.size());
+        for (std::size_t o = 0; o < outputs.size(); ++o) y[o] = outputs[o].compute(scene, r);
+        parallel::Writer w;
+        w.Doubles(y);
+        w.Double(r.wall_seconds);
+        w.Int(r.non_finite > 0 ? 1 : 0);
+        return w.bytes();
+      },
+      [&](int, const std::string&) {
+        if (opt.progress) opt.progress(++finished, total_runs, what);
+      });
+  std::vector<std::vector<double>> ys;
+  for (const std::string& bytes : runs) {
+    parallel::Reader r(bytes);
+    ys.push_back(r.Doubles());
+    const double seconds = r.Double();
+    count(seconds, r.Int() != 0);
   }
+  std::size_t next = 0;
+  run_design([&](const std::vector<double>& unit) {
+    if (next >= ys.size() || unit != points[next])
+      throw std::logic_error("sensitivity: the design changed between its two passes");
+    return ys[next++];
+  });
 
   AddEntries(opt.method, delta, &res);
   AddNotes(opt.method, &res);

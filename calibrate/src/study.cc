@@ -13,6 +13,7 @@
 #include "rockcal/core/rock_shape.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/core/statistics.h"
+#include "rockcal/parallel/parallel.h"
 #include "table_text.h"
 
 namespace rockcal::calibrate {
@@ -380,7 +381,7 @@ StabilityCase RunVariant(const StabilityVariant& v, const StabilityOptions& opt,
   std::string error;
   if (!v.scene.options.IsValid(&error)) throw std::invalid_argument(v.name + ": " + error);
   const core::Terrain terrain = core::BuildTerrain(v.scene);
-  const core::SimulationResult r = core::Simulate(v.scene, terrain, progress);
+  const core::SimulationResult r = parallel::Simulate(v.scene, terrain, progress);
   StabilityCase c;
   c.name = v.name;
   c.description = v.description;
@@ -700,7 +701,7 @@ std::vector<RunData> RunConvergenceGrid(const core::Scene& base, const core::Ter
                        static_cast<int>(total), what);
         };
       }
-      run.result = core::Simulate(scene, terrain, progress);
+      run.result = parallel::Simulate(scene, terrain, progress);
       done_before += run.rocks;
       run.samples = Samples(scene, run.result);
       run.values.assign(sources * kLevelCount, kNaN);

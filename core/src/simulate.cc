@@ -8,7 +8,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 #include "flight.h"
 #include "recording.h"
@@ -847,6 +850,11 @@ void AddUpRocks(const std::vector<char>& shrunk, SimulationResult* out) {
 SimulationResult Simulate(const Scene& scene) { return Simulate(scene, BuildTerrain(scene)); }
 
 SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const ProgressFn& progress) {
+  return SimulateRocks(scene, terrain, 0, scene.total_rocks(), progress);
+}
+
+SimulationResult SimulateRocks(const Scene& scene, const Terrain& terrain, int first, int last,
+                               const ProgressFn& progress) {
   const auto start = std::chrono::steady_clock::now();
   SceneContext ctx{scene, terrain, {}, Eigen::Vector3d(0, 0, -scene.gravity)};
   for (const auto& m : scene.materials) {
@@ -862,6 +870,13 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
   for (std::size_t g = 0; g < scene.groups.size(); ++g)
     for (int k = 0; k < scene.groups[g].count; ++k)
       jobs.push_back({static_cast<int>(g), static_cast<int>(jobs.size()), k});
+
+  if (first < 0 || first > last || last > static_cast<int>(jobs.size()))
+    throw std::invalid_argument("SimulateRocks: rocks [" + std::to_string(first) + ", " +
+                                std::to_string(last) + ") are not within the scene's " +
+                                std::to_string(jobs.size()));
+  jobs.erase(jobs.begin() + last, jobs.end());
+  jobs.erase(jobs.begin(), jobs.begin() + first);
 
   SimulationResult result;
   result.rocks.resize(jobs.size());
@@ -918,6 +933,35 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
+}
+
+SimulationResult JoinRockBlocks(std::vector<SimulationResult> blocks) {
+  SimulationResult out;
+  bool any = false;
+  for (SimulationResult& b : blocks) {
+    out.wall_seconds = std::max(out.wall_seconds, b.wall_seconds);
+    out.cells_recorded = out.cells_recorded || b.cells_recorded;
+    if (b.rocks.empty()) continue;
+    out.steps += b.steps;
+    out.flights += b.flights;
+    out.gentle_steps += b.gentle_steps;
+    out.retried_steps += b.retried_steps;
+    out.dt_min = any ? std::min(out.dt_min, b.dt_min) : b.dt_min;
+    out.dt_max = any ? std::max(out.dt_max, b.dt_max) : b.dt_max;
+    out.dt_shrunk += b.dt_shrunk;
+    out.max_relative_energy_gain = std::max(out.max_relative_energy_gain, b.max_relative_energy_gain);
+    out.max_penetration = std::max(out.max_penetration, b.max_penetration);
+    out.non_finite += b.non_finite;
+    out.tunneled += b.tunneled;
+    any = true;
+    if (out.rocks.empty()) {
+      out.rocks = std::move(b.rocks);
+    } else {
+      out.rocks.insert(out.rocks.end(), std::make_move_iterator(b.rocks.begin()),
+                       std::make_move_iterator(b.rocks.end()));
+    }
+  }
+  return out;
 }
 
 ResultStats ComputeStats(const Scene& scene, const SimulationResult& result) {

@@ -39,7 +39,7 @@ const std::map<std::string, std::string>& HeaderPackages() {
       {"Eigen", "libeigen3-dev"},        {"ceres", "libceres-dev"},
       {"nlopt.hpp", "libnlopt-cxx-dev"}, {"nlohmann", "nlohmann-json3-dev"},
       {"gtest", "libgtest-dev"},         {"gmock", "libgmock-dev"},
-      {"omp.h", "build-essential"}};
+      {"omp.h", "build-essential"},      {"mpi.h", "libopenmpi-dev"}};
   return packages;
 }
 

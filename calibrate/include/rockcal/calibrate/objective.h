@@ -5,6 +5,7 @@
 #define ROCKCAL_CALIBRATE_OBJECTIVE_H_
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -35,6 +36,16 @@ class Objective final {
   // `result`, when given, receives the simulation.
   observations::Misfit Evaluate(const std::vector<double>& physical,
                                 core::SimulationResult* result = nullptr) const;
+
+  // Evaluate at each of `points` (physical values), the points independent
+  // of one another: under mpirun each point is simulated whole on one rank,
+  // the points handed out to the ranks as they become free
+  // (parallel::Map). Misfits in the order of `points`, identical to
+  // evaluating them one by one. `done(index, misfit)` follows each point as
+  // it finishes (on rank 0 only under mpirun).
+  std::vector<observations::Misfit> EvaluateAll(
+      const std::vector<std::vector<double>>& points,
+      const std::function<void(int, const observations::Misfit&)>& done = nullptr) const;
 
  private:
   core::Scene scene_;

@@ -96,6 +96,20 @@ SimulationResult Simulate(const Scene& scene);
 SimulationResult Simulate(const Scene& scene, const Terrain& terrain,
                           const ProgressFn& progress = nullptr);
 
+// Only rocks [first, last) of the scene (0 <= first <= last <=
+// total_rocks()), each exactly as in the whole run (same index, same random
+// stream): `rocks` holds their records in rock order, the totals are theirs
+// and `progress` counts them. A distributed run simulates one such block per
+// process and joins the blocks with JoinRockBlocks.
+SimulationResult SimulateRocks(const Scene& scene, const Terrain& terrain, int first, int last,
+                               const ProgressFn& progress = nullptr);
+
+// The result of consecutive blocks of SimulateRocks (in rock order) as
+// Simulate gives it for the whole run: records appended, totals summed or
+// taken as min / max (wall_seconds: the largest block's; a caller timing
+// the whole run sets it).
+SimulationResult JoinRockBlocks(std::vector<SimulationResult> blocks);
+
 // Builds the terrain for a scene (virtual spheres from material roughness).
 Terrain BuildTerrain(const Scene& scene);
 

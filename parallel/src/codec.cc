@@ -1,0 +1,207 @@
+// Plain values and simulation records as bytes: what the ranks exchange.
+// Doubles travel as their bytes, so a decoded record is the encoded one bit
+// for bit (all ranks of a job share one architecture).
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+
+#include "rockcal/parallel/parallel.h"
+
+namespace rockcal::parallel {
+namespace {
+
+void Vector3(Writer* w, const Eigen::Vector3d& v) {
+  for (int k = 0; k < 3; ++k) w->Double(v[k]);
+}
+Eigen::Vector3d Vector3(Reader* r) {
+  Eigen::Vector3d v;
+  for (int k = 0; k < 3; ++k) v[k] = r->Double();
+  return v;
+}
+
+void Crossings(Writer* w, const std::vector<core::Crossing>& list) {
+  w->Int(static_cast<long long>(list.size()));
+  for (const core::Crossing& c : list) {
+    w->Int(c.crossed ? 1 : 0);
+    w->Double(c.height);
+    w->Double(c.speed);
+    w->Double(c.energy);
+    Vector3(w, c.point);
+  }
+}
+std::vector<core::Crossing> Crossings(Reader* r) {
+  std::vector<core::Crossing> list(static_cast<std::size_t>(r->Int()));
+  for (core::Crossing& c : list) {
+    c.crossed = r->Int() != 0;
+    c.height = r->Double();
+    c.speed = r->Double();
+    c.energy = r->Double();
+    c.point = Vector3(r);
+  }
+  return list;
+}
+
+void Record(Writer* w, const core::RockRecord& rec) {
+  w->Int(rec.rock);
+  w->Int(rec.group);
+  w->Int(static_cast<long long>(rec.shape));
+  w->Double(rec.size);
+  w->Double(rec.mass);
+  w->Int(static_cast<long long>(rec.outcome));
+  Vector3(w, rec.start);
+  Vector3(w, rec.stop);
+  w->Double(rec.time);
+  w->Int(rec.steps);
+  w->Int(rec.gentle_steps);
+  w->Int(rec.retried_steps);
+  w->Int(rec.flights);
+  w->Double(rec.dt);
+  w->Double(rec.max_relative_energy_gain);
+  w->Double(rec.max_penetration);
+  w->Int(rec.tunneled ? 1 : 0);
+  Crossings(w, rec.crossings);
+  Crossings(w, rec.trees);
+  w->Int(static_cast<long long>(rec.cells.size()));
+  for (const core::CellVisit& c : rec.cells) {
+    w->Int(c.cell);
+    w->Double(c.height);
+    w->Double(c.energy);
+  }
+  w->Int(static_cast<long long>(rec.trajectory.size()));
+  for (const core::TrajectorySample& s : rec.trajectory) {
+    w->Double(s.t);
+    Vector3(w, s.x);
+    Vector3(w, s.v);
+    Vector3(w, s.w);
+    for (int k = 0; k < 4; ++k) w->Double(s.q[k]);
+  }
+}
+
+core::RockRecord Record(Reader* r) {
+  core::RockRecord rec;
+  rec.rock = static_cast<int>(r->Int());
+  rec.group = static_cast<int>(r->Int());
+  rec.shape = static_cast<core::Shape>(r->Int());
+  rec.size = r->Double();
+  rec.mass = r->Double();
+  rec.outcome = static_cast<core::Outcome>(r->Int());
+  rec.start = Vector3(r);
+  rec.stop = Vector3(r);
+  rec.time = r->Double();
+  rec.steps = static_cast<long>(r->Int());
+  rec.gentle_steps = static_cast<long>(r->Int());
+  rec.retried_steps = static_cast<long>(r->Int());
+  rec.flights = static_cast<long>(r->Int());
+  rec.dt = r->Double();
+  rec.max_relative_energy_gain = r->Double();
+  rec.max_penetration = r->Double();
+  rec.tunneled = r->Int() != 0;
+  rec.crossings = Crossings(r);
+  rec.trees = Crossings(r);
+  rec.cells.resize(static_cast<std::size_t>(r->Int()));
+  for (core::CellVisit& c : rec.cells) {
+    c.cell = static_cast<int>(r->Int());
+    c.height = r->Double();
+    c.energy = r->Double();
+  }
+  rec.trajectory.resize(static_cast<std::size_t>(r->Int()));
+  for (core::TrajectorySample& s : rec.trajectory) {
+    s.t = r->Double();
+    s.x = Vector3(r);
+    s.v = Vector3(r);
+    s.w = Vector3(r);
+    for (int k = 0; k < 4; ++k) s.q[k] = r->Double();
+  }
+  return rec;
+}
+
+}  // namespace
+
+void Writer::Int(long long v) { bytes_.append(reinterpret_cast<const char*>(&v), sizeof v); }
+void Writer::Double(double v) { bytes_.append(reinterpret_cast<const char*>(&v), sizeof v); }
+void Writer::Doubles(const std::vector<double>& v) {
+  Int(static_cast<long long>(v.size()));
+  for (double x : v) Double(x);
+}
+void Writer::String(const std::string& v) {
+  Int(static_cast<long long>(v.size()));
+  bytes_ += v;
+}
+
+void Reader::Take(void* to, std::size_t n) {
+  if (n > bytes_.size() - at_) throw std::runtime_error("parallel: a message ended early");
+  std::memcpy(to, bytes_.data() + at_, n);
+  at_ += n;
+}
+long long Reader::Int() {
+  long long v = 0;
+  Take(&v, sizeof v);
+  return v;
+}
+double Reader::Double() {
+  double v = 0.0;
+  Take(&v, sizeof v);
+  return v;
+}
+std::vector<double> Reader::Doubles() {
+  const long long n = Int();
+  if (n < 0 || static_cast<unsigned long long>(n) > (bytes_.size() - at_) / sizeof(double))
+    throw std::runtime_error("parallel: a message ended early");
+  std::vector<double> v(static_cast<std::size_t>(n));
+  for (double& x : v) x = Double();
+  return v;
+}
+std::string Reader::String() {
+  const long long n = Int();
+  if (n < 0 || static_cast<unsigned long long>(n) > bytes_.size() - at_)
+    throw std::runtime_error("parallel: a message ended early");
+  std::string s = bytes_.substr(at_, static_cast<std::size_t>(n));
+  at_ += static_cast<std::size_t>(n);
+  return s;
+}
+
+std::string EncodeResult(const core::SimulationResult& result) {
+  Writer w;
+  w.Int(static_cast<long long>(result.rocks.size()));
+  for (const core::RockRecord& rec : result.rocks) Record(&w, rec);
+  w.Int(result.steps);
+  w.Int(result.flights);
+  w.Int(result.gentle_steps);
+  w.Int(result.retried_steps);
+  w.Double(result.wall_seconds);
+  w.Double(result.dt_min);
+  w.Double(result.dt_max);
+  w.Int(result.dt_shrunk);
+  w.Double(result.max_relative_energy_gain);
+  w.Double(result.max_penetration);
+  w.Int(result.non_finite);
+  w.Int(result.cells_recorded ? 1 : 0);
+  w.Int(result.tunneled);
+  return w.bytes();
+}
+
+core::SimulationResult DecodeResult(const std::string& bytes) {
+  Reader r(bytes);
+  core::SimulationResult result;
+  const long long n = r.Int();
+  if (n < 0) throw std::runtime_error("parallel: a message ended early");
+  result.rocks.reserve(std::min(static_cast<std::size_t>(n), bytes.size()));
+  for (long long k = 0; k < n; ++k) result.rocks.push_back(Record(&r));
+  result.steps = static_cast<long>(r.Int());
+  result.flights = static_cast<long>(r.Int());
+  result.gentle_steps = static_cast<long>(r.Int());
+  result.retried_steps = static_cast<long>(r.Int());
+  result.wall_seconds = r.Double();
+  result.dt_min = r.Double();
+  result.dt_max = r.Double();
+  result.dt_shrunk = static_cast<int>(r.Int());
+  result.max_relative_energy_gain = r.Double();
+  result.max_penetration = r.Double();
+  result.non_finite = static_cast<int>(r.Int());
+  result.cells_recorded = r.Int() != 0;
+  result.tunneled = static_cast<int>(r.Int());
+  if (!r.done()) throw std::runtime_error("parallel: a simulation message has extra bytes");
+  return result;
+}
+
+}  // namespace rockcal::parallel

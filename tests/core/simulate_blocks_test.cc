@@ -1,0 +1,93 @@
+// SimulateRocks and JoinRockBlocks: a run split into blocks of rocks (as the
+// ranks of an MPI job simulate it) joins into exactly the whole run.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "rockcal/core/simulate.h"
+#include "scene_fixtures.h"
+
+namespace rockcal::core {
+namespace {
+
+// A 30 degree slope with a partition, two groups (spheres and cubes) and
+// everything recorded: crossings, cells and the first rocks' paths.
+Scene SlopeScene() {
+  Material m = testing::SmoothMaterial(0.4, 0.005, 0.5, 0.1);
+  m.roughness_m = 0.3;
+  Scene scene = testing::GridScene(
+      31, 9, 1.0, [](double x, double) { return std::max(0.0, 15.0 - 0.58 * x); }, m);
+  scene.partitions.push_back({"P", Partition::Kind::kX, 12.0});
+  RockGroup spheres = testing::PointGroup(Shape::kSphere, 0.5, 3.0, 4.0, 0.5, 5);
+  spheres.size_min = 0.3;
+  spheres.size_max = 0.8;
+  spheres.release.zone = {{2, 2}, {5, 2}, {5, 6}, {2, 6}};
+  RockGroup cubes = testing::PointGroup(Shape::kCube, 0.6, 3.0, 4.0, 0.2, 4);
+  cubes.release.zone = spheres.release.zone;
+  scene.groups = {spheres, cubes};
+  scene.options.max_time = 6.0;
+  scene.options.seed = 7;
+  scene.options.record.passages = true;
+  scene.options.record.trajectories = 3;
+  return scene;
+}
+
+void ExpectSameRecord(const RockRecord& a, const RockRecord& b) {
+  EXPECT_EQ(a.rock, b.rock);
+  EXPECT_EQ(a.group, b.group);
+  EXPECT_EQ(a.mass, b.mass);
+  EXPECT_EQ(a.outcome, b.outcome);
+  EXPECT_EQ(a.stop, b.stop) << "rock " << a.rock;
+  EXPECT_EQ(a.time, b.time);
+  EXPECT_EQ(a.steps, b.steps);
+  EXPECT_EQ(a.flights, b.flights);
+  ASSERT_EQ(a.crossings.size(), b.crossings.size());
+  for (std::size_t p = 0; p < a.crossings.size(); ++p) {
+    EXPECT_EQ(a.crossings[p].crossed, b.crossings[p].crossed);
+    EXPECT_EQ(a.crossings[p].energy, b.crossings[p].energy);
+  }
+  ASSERT_EQ(a.cells.size(), b.cells.size());
+  for (std::size_t c = 0; c < a.cells.size(); ++c) EXPECT_EQ(a.cells[c].energy, b.cells[c].energy);
+  ASSERT_EQ(a.trajectory.size(), b.trajectory.size());
+  for (std::size_t s = 0; s < a.trajectory.size(); ++s)
+    EXPECT_EQ(a.trajectory[s].x, b.trajectory[s].x);
+}
+
+TEST(SimulateRocks, BlocksJoinIntoTheWholeRun) {
+  const Scene scene = SlopeScene();
+  const Terrain terrain = BuildTerrain(scene);
+  const SimulationResult whole = Simulate(scene, terrain);
+  ASSERT_EQ(whole.rocks.size(), 9u);
+  // Uneven blocks, one empty, one across the two groups.
+  std::vector<SimulationResult> blocks;
+  for (const auto& [first, last] : {std::pair{0, 2}, {2, 2}, {2, 7}, {7, 9}})
+    blocks.push_back(SimulateRocks(scene, terrain, first, last));
+  EXPECT_TRUE(blocks[1].rocks.empty());
+  const SimulationResult joined = JoinRockBlocks(blocks);
+  ASSERT_EQ(joined.rocks.size(), whole.rocks.size());
+  for (std::size_t k = 0; k < whole.rocks.size(); ++k)
+    ExpectSameRecord(whole.rocks[k], joined.rocks[k]);
+  EXPECT_EQ(joined.steps, whole.steps);
+  EXPECT_EQ(joined.flights, whole.flights);
+  EXPECT_EQ(joined.gentle_steps, whole.gentle_steps);
+  EXPECT_EQ(joined.retried_steps, whole.retried_steps);
+  EXPECT_EQ(joined.dt_min, whole.dt_min);
+  EXPECT_EQ(joined.dt_max, whole.dt_max);
+  EXPECT_EQ(joined.dt_shrunk, whole.dt_shrunk);
+  EXPECT_EQ(joined.max_relative_energy_gain, whole.max_relative_energy_gain);
+  EXPECT_EQ(joined.max_penetration, whole.max_penetration);
+  EXPECT_EQ(joined.non_finite, whole.non_finite);
+  EXPECT_EQ(joined.tunneled, whole.tunneled);
+  EXPECT_EQ(joined.cells_recorded, whole.cells_recorded);
+}
+
+TEST(SimulateRocks, RejectsARangeOutsideTheScene) {
+  const Scene scene = SlopeScene();
+  const Terrain terrain = BuildTerrain(scene);
+  EXPECT_THROW(SimulateRocks(scene, terrain, 3, 2), std::invalid_argument);
+  EXPECT_THROW(SimulateRocks(scene, terrain, 0, 10), std::invalid_argument);
+  EXPECT_THROW(SimulateRocks(scene, terrain, -1, 2), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rockcal::core
