@@ -49,7 +49,7 @@ constexpr const char* kUsage =
     "(seconds) bounds the wait for a rank before it is reported dead or hung.\n"
     "\n"
     "KEY for --set: material.<id>.hardness | .roughness | .contact_time | .rolling_resistance\n"
-    "               | .friction (site units)\n"
+    "               | .friction | .vegetation (site units: ft or m, lbf/ft^2 or kPa)\n"
     "--rasters: also write DIR/rasters.tif (GeoTIFF, one band per map: passages,\n"
     "           reach_probability, stop_density, energy_max, energy_p95, height_max,\n"
     "           height_p95) and DIR/rasters/<band>.asc (ESRI ASCII grids), on the site grid\n"

@@ -71,6 +71,7 @@ ContactLaw DeriveContactLaw(const Material& material, const HardnessModel& model
   law.rolling_resistance = material.rolling_resistance.value_or(
       model.rolling_soft - (model.rolling_soft - model.rolling_hard) * h);
   law.contact_time = material.contact_time_s;
+  law.vegetation_stress = material.vegetation_pa;
   const double ln_e = std::log(law.restitution);
   const double tc = law.contact_time;
   law.stiffness_per_mass = (kPi * kPi + ln_e * ln_e) / (tc * tc);

@@ -16,6 +16,8 @@ const std::vector<MaterialFieldInfo>& MaterialFields() {
       {MaterialField::kRollingResistance, "rolling_resistance", "rolling resistance",
        FieldUnit::kNone, 0.0, 1.0},
       {MaterialField::kFriction, "friction", "friction", FieldUnit::kNone, 0.0, 10.0},
+      {MaterialField::kVegetation, "vegetation", "vegetation resistance", FieldUnit::kStress, 0.0,
+       kMaxVegetationStress},
   };
   return fields;
 }
@@ -48,6 +50,8 @@ double FieldValue(const Material& material, MaterialField field, const HardnessM
       return DeriveContactLaw(material, model).rolling_resistance;
     case MaterialField::kFriction:
       return DeriveContactLaw(material, model).friction;
+    case MaterialField::kVegetation:
+      return material.vegetation_pa;
   }
   return 0.0;
 }
@@ -68,6 +72,9 @@ void SetFieldValue(Material* material, MaterialField field, double value) {
       break;
     case MaterialField::kFriction:
       material->friction = value;
+      break;
+    case MaterialField::kVegetation:
+      material->vegetation_pa = value;
       break;
   }
 }

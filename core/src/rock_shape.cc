@@ -77,11 +77,35 @@ double NominalVolume(Shape shape, double size, const Eigen::Vector3d& box) {
   return 0.0;
 }
 
+double NominalSurface(Shape shape, double size, const Eigen::Vector3d& box) {
+  const double s2 = size * size;
+  switch (shape) {
+    case Shape::kSphere:
+      return kPi * s2;
+    case Shape::kCylinder:
+      return 2.0 * kPi * s2 / 16.0 + kPi * s2 / 2.0;  // two ends of radius size / 4, the side
+    case Shape::kDisc:
+      return std::sqrt(3.0) / 2.0 * s2 + 1.5 * s2;  // two triangles, three sides of size x size / 2
+    case Shape::kTetrahedron: {
+      const double edge = size * std::sqrt(1.5);
+      return std::sqrt(3.0) * edge * edge;
+    }
+    case Shape::kCube:
+      return 6.0 * s2;
+    case Shape::kBox: {
+      const Eigen::Vector3d d = BoxSides(size, box);
+      return 2.0 * (d.x() * d.y() + d.y() * d.z() + d.z() * d.x());
+    }
+  }
+  return 0.0;
+}
+
 RockBody MakeBoxBody(const Eigen::Vector3d& dims, double mass) {
   RockBody body;
   body.shape = Shape::kBox;
   body.size = dims.maxCoeff();
   body.mass = mass;
+  body.frontal_area = NominalSurface(Shape::kBox, body.size, dims) / 4.0;
   const double a = dims.minCoeff() / 4.0;
   body.element_radius = a;
   int n[3];
@@ -118,6 +142,7 @@ RockBody MakeRockBody(Shape shape, double size, double unit_weight, double gravi
   body.shape = shape;
   body.size = size;
   body.mass = unit_weight * NominalVolume(shape, size) / gravity;
+  body.frontal_area = NominalSurface(shape, size) / 4.0;
   const double q = size / 4.0;
   switch (shape) {
     case Shape::kSphere:

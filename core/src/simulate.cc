@@ -459,6 +459,7 @@ class RockRun {
                       w_half, dt, joint ? &v_end : nullptr, &load);
     const Eigen::Vector3d torque =
         load.torque + LimitRollingTorque(load.rolling, inertia_min_, w_half.norm(), dt);
+    AddVegetationForce(v_half, dt, &load);
     if (next_.empty()) needed_dt_ = dt_;
     contacts_.swap(next_);
     a_ = ctx_.gravity + load.force / body_.mass;
@@ -472,6 +473,21 @@ class RockRun {
     Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
     Eigen::Vector3d rolling = Eigen::Vector3d::Zero();  // rolling resistance, before its limit
   };
+
+  // Undergrowth on the ground the rock touches (the highest stress of this
+  // step's contacts' materials): tau times the rock's frontal area, at its
+  // centre, against its velocity, at most what stops it within the step,
+  // so it only ever takes energy and never reverses the motion. A rock
+  // flying over the ground is not slowed.
+  void AddVegetationForce(const Eigen::Vector3d& v_half, double dt, Load* load) const {
+    double stress = 0.0;
+    for (const Hit& h : hits_)
+      stress = std::max(stress, ctx_.laws[static_cast<std::size_t>(h.contact.material)].vegetation_stress);
+    const double speed = v_half.norm();
+    if (!(stress > 0.0) || !(speed > 0.0)) return;
+    const double deceleration = std::min(stress * body_.frontal_area / body_.mass, speed / dt);
+    load->force -= (body_.mass * deceleration / speed) * v_half;
+  }
 
   // touching_: the spheres of the neighbourhood that the bounding sphere
   // overlaps now, in the neighbourhood's order. Every element lies inside

@@ -9,6 +9,7 @@
 #include "rockcal/core/format.h"
 #include "rockcal/core/scene.h"
 #include "rockcal/observations/misfit.h"
+#include "rockcal/sites/json_reader.h"
 
 namespace rockcal::reports {
 namespace {
@@ -30,6 +31,8 @@ const char* SiUnit(const Parameter& p) {
     case ParameterKind::kRollingResistance:
     case ParameterKind::kFriction:
       return "";
+    case ParameterKind::kVegetation:
+      return "Pa";
   }
   return "";
 }
@@ -40,6 +43,8 @@ std::string SiteValue(const Parameter& p, double v, sites::Units units) {
     return FormatNumber(v / core::kFoot, "%.3g") + " ft";
   if (p.kind == ParameterKind::kContactTime) return FormatNumber(v * 1e3, "%.3g") + " ms";
   if (p.kind == ParameterKind::kRoughness) return FormatNumber(v, "%.3g") + " m";
+  if (p.kind == ParameterKind::kVegetation)
+    return FormatNumber(v / sites::StressToSI(1.0, units), "%.3g") + " " + sites::StressUnit(units);
   return FormatNumber(v, "%.3f");
 }
 

@@ -22,22 +22,26 @@ using calibrate::ValueStatistics;
 const char* SiUnit(const std::string& name) {
   if (name == "roughness") return "m";
   if (name == "contact_time") return "s";
+  if (name == "vegetation") return "Pa";
   return "";
 }
 
 std::string Label(const std::string& name) {
   if (name == "rolling_resistance") return "rolling resistance";
+  if (name == "vegetation") return "vegetation resistance";
   return name == "contact_time" ? "contact time" : name;
 }
 
 // A value for reading: hardness as it is, roughness in m, contact time in ms.
 std::string Show(const std::string& name, double v) {
   if (name == "contact_time") return FormatNumber(v * 1e3, "%.3g");
+  if (name == "vegetation") return FormatNumber(v * 1e-3, "%.3g");
   return FormatNumber(v, "%.3g");
 }
 std::string Unit(const std::string& name) {
   if (name == "roughness") return " m";
   if (name == "contact_time") return " ms";
+  if (name == "vegetation") return " kPa";
   return "";
 }
 // "0.21 m (0.69 ft)", "0.4", "5 ms".

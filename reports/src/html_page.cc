@@ -178,7 +178,8 @@ std::string MaterialsTable(const core::Scene& sc) {
   std::string s = "<h3>Materials</h3><table><thead><tr>" + Th("material") +
                   Th("share of the slope") + Th("hardness H") + Th("roughness R") +
                   Th("virtual sphere radius") + Th("restitution e") + Th("friction f") +
-                  Th("rolling resistance") + Th("contact time") + Th("damping ratio (eq. 13)") +
+                  Th("rolling resistance") + Th("vegetation") + Th("contact time") +
+                  Th("damping ratio (eq. 13)") +
                   "</tr></thead><tbody>";
   bool overridden = false;
   for (std::size_t k = 0; k < sc.materials.size(); ++k) {
@@ -198,6 +199,7 @@ std::string MaterialsTable(const core::Scene& sc) {
          Td(FormatNumber(law.friction, "%.3f") + mark(m.friction.has_value()), true) +
          Td(FormatNumber(law.rolling_resistance, "%.3f") + mark(m.rolling_resistance.has_value()),
             true) +
+         Td(m.vegetation_pa > 0 ? Show(m.vegetation_pa * 1e-3) + " kPa" : "-", true) +
          Td(Show(law.contact_time * 1e3) + " ms", true) +
          Td(FormatNumber(law.damping_ratio, "%.3f") + " (" +
                 FormatNumber(law.eq13_damping_ratio, "%.3f") + ")",

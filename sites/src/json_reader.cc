@@ -273,6 +273,10 @@ double NumberInRange(const JsonNode& node, double value, double lo, double hi, c
     case Quantity::kTime:
       unit = "s";
       break;
+    case Quantity::kStress:
+      scale = 1.0 / StressToSI(1.0, units);
+      unit = StressUnit(units);
+      break;
   }
   node.Fail(std::string(what) + " " + FormatNumber(value * scale) + " " + unit +
             " is outside the physically sensible range; expected [" + FormatNumber(lo * scale) +
@@ -291,6 +295,13 @@ std::vector<double> CoordinatesToSI(const JsonNode& node, std::size_t n, Units u
   for (const JsonNode& e : node.Array()) out.push_back(CoordinateToSI(e, units));
   return out;
 }
+
+double StressToSI(double value, Units units) {
+  // 1 lbf/ft^2 = 4.4482216152605 N / 0.09290304 m^2 = 47.88025898 Pa.
+  return units == Units::kUS ? value * 4.4482216152605 / 0.09290304 : value * 1000.0;
+}
+
+const char* StressUnit(Units units) { return units == Units::kUS ? "lbf/ft^2" : "kPa"; }
 
 double UnitWeightToSI(double value, Units units) {
   // 1 lbf/ft^3 = 4.4482216152605 N / 0.028316846592 m^3 = 157.0874606 N/m^3.

@@ -119,6 +119,11 @@ void ReadCalibrateBounds(const JsonNode& node, const core::Material& mat,
                                           std::max(f.min, min_roughness_m) / to_si * (1 - 1e-12),
                                           max_roughness_m / to_si, false, value / to_si, to_si,
                                           std::string(" ") + LengthUnit(units)));
+    } else if (f.unit == core::FieldUnit::kStress) {
+      const double to_pa = StressToSI(1.0, units);
+      site->calibrate.push_back(ReadBound(*b, mat.id, mat_class, f.name, f.min / to_pa,
+                                          f.max / to_pa, false, value / to_pa, to_pa,
+                                          std::string(" ") + StressUnit(units)));
     } else {
       site->calibrate.push_back(ReadBound(*b, mat.id, mat_class, f.name, f.min, f.max, false,
                                           value, 1.0,
@@ -314,7 +319,7 @@ std::vector<PendingMaterial> ReadMaterials(const JsonNode& node, Units units, Si
   for (std::size_t k = 0; k < materials.size(); ++k) {
     const JsonNode& m = materials[k];
     m.Keys({"id", "hardness", "roughness", "contact_time", "restitution", "friction",
-            "rolling_resistance", "class", "zone", "calibrate"});
+            "rolling_resistance", "vegetation", "class", "zone", "calibrate"});
     core::Material mat;
     const JsonNode id = m.Get("id");
     mat.id = ReadId(id);
@@ -343,6 +348,11 @@ std::vector<PendingMaterial> ReadMaterials(const JsonNode& node, Units units, Si
     }
     if (auto f = m.Find("friction")) mat.friction = f->Number(0.0, 10.0);
     if (auto r = m.Find("rolling_resistance")) mat.rolling_resistance = r->Number(0.0, 1.0);
+    if (auto v = m.Find("vegetation")) {
+      mat.vegetation_pa = NumberInRange(*v, StressToSI(v->NonNegative(), units), 0.0,
+                                        core::kMaxVegetationStress, "vegetation resistance",
+                                        Quantity::kStress, units);
+    }
     PendingMaterial p{m, std::nullopt};
     if (auto z = m.Find("zone")) {
       if (k == 0) {
@@ -596,8 +606,10 @@ void ApplySetting(const std::string& key_value, Site* site) {
   double value = 0.0;
   if (!ParseNumber(text, &value))
     throw InputError(where, "'" + text + "' is not a number; expected a finite number");
-  // Roughness is given in the site's length unit.
-  const double si = field == "roughness" ? LengthToSI(value, site->units) : value;
+  // Roughness is given in the site's length unit, vegetation in its stress unit.
+  const double si = field == "roughness"    ? LengthToSI(value, site->units)
+                    : field == "vegetation" ? StressToSI(value, site->units)
+                                            : value;
   std::string message;
   if (SetMaterialValue(id, field, si, site->units, &site->scene, &message) !=
       MaterialValueFault::kNone)
@@ -633,6 +645,11 @@ MaterialValueFault SetMaterialValue(const std::string& id, const std::string& fi
                  " (virtual spheres of at most 10 grid spacings, sag at most half a spacing)";
       return MaterialValueFault::kValue;
     }
+  } else if (f->unit == core::FieldUnit::kStress && !(value >= f->min && value <= f->max)) {
+    const double to_file = 1.0 / StressToSI(1.0, units);
+    *message = std::string("expected a ") + f->label + " in [" + FormatNumber(f->min * to_file) +
+               ", " + FormatNumber(f->max * to_file) + "] " + StressUnit(units);
+    return MaterialValueFault::kValue;
   } else if (!(value >= f->min && value <= f->max)) {
     *message = std::string("expected a ") + f->label +
                (f->unit == core::FieldUnit::kTime ? " in seconds" : "") + " in [" +

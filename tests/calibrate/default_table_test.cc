@@ -141,7 +141,7 @@ TEST(ReadCalibratedSite, ErrorsNameTheFileAndPath) {
               HasSubstr("$.parameters[0].class: expected a class name (not empty)"));
   EXPECT_THAT(ReadError([](Json& j) { j["parameters"][2]["name"] = "colour"; }),
               HasSubstr("$.parameters[2].name: unknown parameter name (allowed: hardness, "
-                        "roughness, contact_time, rolling_resistance, friction) (found "
+                        "roughness, contact_time, rolling_resistance, friction, vegetation) (found "
                         "\"colour\")"));
   EXPECT_THAT(ReadError([](Json& j) { j["parameters"][0]["value"] = 0.8; }),
               HasSubstr("$.parameters[0].value: expected a value within its bounds [0.1, 0.7] "

@@ -60,6 +60,22 @@ TEST(RockShape, GeometryOfEachShape) {
   EXPECT_GT(d.inertia.z(), d.inertia.x());
 }
 
+// The frontal area undergrowth acts on is the mean projected area, surface
+// / 4 for a convex solid: pi r^2 for a sphere, 6 s^2 / 4 for a cube, half
+// the sides' pairwise products summed for a box, whatever its mass.
+TEST(RockShape, FrontalAreaIsTheMeanProjectedArea) {
+  const double pi = std::acos(-1.0);
+  EXPECT_NEAR(MakeRockBody(Shape::kSphere, 0.6, 26e3, 9.81).frontal_area, pi * 0.09, 1e-12);
+  EXPECT_NEAR(MakeRockBody(Shape::kCube, 0.5, 26e3, 9.81).frontal_area, 1.5 * 0.25, 1e-12);
+  const RockBody box = MakeBoxBody(Eigen::Vector3d(1.6, 1.3, 1.0), 500.0);
+  EXPECT_NEAR(box.frontal_area, 0.5 * (1.6 * 1.3 + 1.3 * 1.0 + 1.6 * 1.0), 1e-12);
+  EXPECT_EQ(WithMass(box, 900.0).frontal_area, box.frontal_area);
+  // A cylinder of length s and diameter s / 2: two ends and the side.
+  const double s = 0.8;
+  EXPECT_NEAR(MakeRockBody(Shape::kCylinder, s, 26e3, 9.81).frontal_area,
+              (2 * pi * (s / 4) * (s / 4) + pi * (s / 2) * s) / 4, 1e-12);
+}
+
 TEST(RockShape, ParseNames) {
   Shape s;
   for (Shape shape : kAll) {

@@ -138,6 +138,88 @@ TEST(Simulate, SphereSlidesDownIncline) {
   EXPECT_NEAR(a / expected, 1.0, 0.01) << "a = " << a << " expected " << expected;
 }
 
+// Undergrowth (Material::vegetation_pa = tau) pushes on the frontal area A
+// of a rock touching the ground against its motion: a deceleration tau A / m
+// beside gravity and friction. A 0.4 m sphere (A = pi 0.2^2, m = 26 kN/m^3 x
+// its volume / g) on the 30-degree incline, tau giving 1 m/s^2.
+double VegetationDeceleration(double tau) {
+  const double r = 0.2;
+  const double mass = 26.0e3 * (4.0 / 3.0 * M_PI * r * r * r) / kG;
+  return tau * M_PI * r * r / mass;
+}
+double VegetationForOneMetrePerSecondSquared() { return 1.0 / VegetationDeceleration(1.0); }
+
+double InclineAccelerationThroughVegetation(double friction, double tau) {
+  Material m = SmoothMaterial(0.3, 0.005, friction, 0.0);
+  m.vegetation_pa = tau;
+  Scene scene = Incline30(m);
+  scene.groups = {PointGroup(Shape::kSphere, 0.4, 5.0, 2.0, 0.0)};
+  scene.options.max_time = 3.0;
+  scene.options.record.trajectories = 1;
+  scene.options.record.sample_seconds = 0.5;
+  const auto& tr = Simulate(scene).rocks[0].trajectory;
+  auto speed_at = [&](double t) {
+    for (const auto& s : tr)
+      if (std::abs(s.t - t) < 1e-9) return s.v.norm();
+    ADD_FAILURE() << "no sample at t = " << t;
+    return 0.0;
+  };
+  return (speed_at(2.5) - speed_at(1.0)) / 1.5;
+}
+
+// Sliding (friction 0.1, too little to roll it): a = g (sin t - mu cos t) - tau A / m.
+TEST(Simulate, VegetationSlowsASlidingSphereByTauAOverM) {
+  const double theta = 30.0 * M_PI / 180.0, mu = 0.1;
+  const double tau = VegetationForOneMetrePerSecondSquared();
+  const double expected = kG * (std::sin(theta) - mu * std::cos(theta)) - 1.0;
+  const double a = InclineAccelerationThroughVegetation(mu, tau);
+  EXPECT_NEAR(a / expected, 1.0, 0.01) << "a = " << a << " expected " << expected;
+}
+
+// Rolling (friction 1): the force acts at the centre, so the sphere rolls on
+// with a = 5/7 (g sin t - tau A / m).
+TEST(Simulate, VegetationSlowsARollingSphereByFiveSeventhsOfTauAOverM) {
+  const double theta = 30.0 * M_PI / 180.0;
+  const double tau = VegetationForOneMetrePerSecondSquared();
+  const double expected = 5.0 / 7.0 * (kG * std::sin(theta) - 1.0);
+  const double a = InclineAccelerationThroughVegetation(1.0, tau);
+  EXPECT_NEAR(a / expected, 1.0, 0.01) << "a = " << a << " expected " << expected;
+}
+
+// A cube (a 2 x 2 x 2 cluster, frontal area 6 s^2 / 4) sliding on level
+// ground at v stops after v^2 / (2 (mu g + tau A / m)); the deceleration
+// falls as 1 / s, so the larger cube slides farther in the same undergrowth.
+// Measured from 0.3 s on, once the cube released at v0 has settled on its
+// face (its first hops touch the ground only part of the time, and
+// undergrowth acts on a rock touching the ground).
+TEST(Simulate, VegetationStopsASlidingCubeAtTheExactDistance) {
+  const double mu = 0.2, v0 = 4.0, tau = 2000.0, settled = 0.3;
+  for (const double size : {0.4, 0.8}) {
+    for (const double t : {0.0, tau}) {
+      Material m = SmoothMaterial(0.3, 0.005, mu, 0.0);
+      m.vegetation_pa = t;
+      Scene scene = GridScene(41, 11, 1.0, [](double, double) { return 0.0; }, m);
+      RockGroup g = PointGroup(Shape::kCube, size, 5.0, 5.0, 0.0);
+      g.release.velocity = Eigen::Vector3d(v0, 0.0, 0.0);
+      scene.groups = {g};
+      scene.options.max_time = 10.0;
+      scene.options.record.trajectories = 1;
+      scene.options.record.sample_seconds = 0.05;
+      const RockRecord r = Simulate(scene).rocks[0];
+      ASSERT_EQ(r.outcome, Outcome::kStopped) << "size " << size << " tau " << t;
+      const auto from = std::find_if(r.trajectory.begin(), r.trajectory.end(),
+                                     [&](const auto& q) { return q.t > settled - 1e-9; });
+      ASSERT_NE(from, r.trajectory.end());
+      const double v = from->v.norm();
+      const double deceleration = mu * kG + t * (1.5 * size * size) / r.mass;
+      const double expected = v * v / (2.0 * deceleration);
+      EXPECT_NEAR((r.stop.x() - from->x.x()) / expected, 1.0, 0.01)
+          << "size " << size << " tau " << t << ": slid " << r.stop.x() - from->x.x()
+          << " m from " << v << " m/s, expected " << expected;
+    }
+  }
+}
+
 // A rough 35-degree slope with a flat runout, a few materials and shapes.
 Scene RoughSlope(int rocks_per_group) {
   const double theta = 35.0 * M_PI / 180.0;
@@ -184,6 +266,24 @@ TEST(Simulate, RoughSlopeEndsCleanlyWithoutEnergyGain) {
   EXPECT_EQ(result.count(Outcome::kStopped) + result.count(Outcome::kLeft) +
                 result.count(Outcome::kTimeout),
             static_cast<int>(result.rocks.size()));
+}
+
+// Undergrowth only takes energy: the rough slope's rocks through it never
+// gain any, and stop sooner.
+TEST(Simulate, VegetationOnARoughSlopeNeverAddsEnergy) {
+  Scene scene = RoughSlope(4);
+  const SimulationResult bare = Simulate(scene);
+  for (Material& m : scene.materials) m.vegetation_pa = 3000.0;
+  const SimulationResult result = Simulate(scene);
+  EXPECT_EQ(result.non_finite, 0);
+  double bare_run = 0.0, run = 0.0;
+  for (std::size_t k = 0; k < result.rocks.size(); ++k) {
+    const RockRecord& r = result.rocks[k];
+    EXPECT_LT(r.max_relative_energy_gain, 1e-2) << "rock " << r.rock << " " << ShapeName(r.shape);
+    run += r.stop.x();
+    bare_run += bare.rocks[k].stop.x();
+  }
+  EXPECT_LT(run, bare_run);
 }
 
 // With R > 0.207 s the four virtual spheres around a cell leave a hole at its

@@ -465,12 +465,35 @@ TEST(LoadSite, CalibrateErrors) {
                 s["materials"][1]["calibrate"]["colour"] = {0, 1};
               }),
               HasSubstr("$.materials[1].calibrate.colour: unknown key 'colour' (allowed keys: "
-                        "hardness, roughness, contact_time, rolling_resistance, friction)"));
+                        "hardness, roughness, contact_time, rolling_resistance, friction, vegetation)"));
   EXPECT_THAT(LoadError([](Json& s) {
                 s["materials"][1]["restitution"] = 0.4;
                 s["materials"][1]["friction"] = 0.6;
               }),
               HasSubstr("$.materials[1].calibrate.hardness: hardness has no effect"));
+}
+
+// Undergrowth in the file's stress unit: kPa in SI files, lbf/ft^2 in US ones.
+TEST(LoadSite, VegetationInTheFilesStressUnit) {
+  TempDir dir;
+  Json us = BaseSite();
+  us["materials"][1]["vegetation"] = 40;
+  us["materials"][1]["calibrate"]["vegetation"] = {0, 60};
+  const Site site = LoadSite(WriteSite(dir, us));
+  EXPECT_NEAR(site.scene.materials[1].vegetation_pa, 40 * 47.88025898, 1e-6);
+  EXPECT_EQ(site.scene.materials[0].vegetation_pa, 0.0);
+  const auto bound = std::find_if(site.calibrate.begin(), site.calibrate.end(),
+                                  [](const ParameterBound& b) { return b.name == "vegetation"; });
+  ASSERT_NE(bound, site.calibrate.end());
+  EXPECT_NEAR(bound->upper, 60 * 47.88025898, 1e-6);
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["vegetation"] = -1; }),
+              HasSubstr("$.materials[1].vegetation: expected a number >= 0"));
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["vegetation"] = 5000; }),
+              HasSubstr("$.materials[1].vegetation: vegetation resistance 5000 lbf/ft^2 is outside "
+                        "the physically sensible range; expected [0, 2088.543423] lbf/ft^2"));
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["calibrate"]["vegetation"] = {0, 3000}; }),
+              HasSubstr("$.materials[1].calibrate.vegetation: expected bounds within [0, 2088.543423] "
+                        "lbf/ft^2"));
 }
 
 TEST(LoadSite, PartitionErrors) {
@@ -620,6 +643,8 @@ TEST(ApplySetting, OverridesInSiteUnits) {
   ApplySetting("material.talus.hardness=0.45", &site);
   ApplySetting("material.talus.roughness=3", &site);
   ApplySetting("material.rock.contact_time=0.01", &site);
+  ApplySetting("material.talus.vegetation=20", &site);  // lbf/ft^2
+  EXPECT_NEAR(site.scene.materials[1].vegetation_pa, 957.6051796, 1e-6);
   EXPECT_DOUBLE_EQ(site.scene.materials[1].hardness, 0.45);
   EXPECT_DOUBLE_EQ(site.scene.materials[1].roughness_m, 0.9144);
   EXPECT_DOUBLE_EQ(site.scene.materials[0].contact_time_s, 0.01);
@@ -634,7 +659,9 @@ TEST(ApplySetting, Errors) {
                         "(materials: rock, talus)"));
   EXPECT_THAT(error("material.rock.colour=1"),
               HasSubstr("unknown field 'colour' (allowed: hardness, roughness, contact_time, "
-                        "rolling_resistance, friction)"));
+                        "rolling_resistance, friction, vegetation)"));
+  EXPECT_THAT(error("material.rock.vegetation=3000"),
+              HasSubstr("expected a vegetation resistance in [0, 2088.543423] lbf/ft^2"));
   EXPECT_THAT(error("material.rock.hardness=high"), HasSubstr("'high' is not a number"));
   EXPECT_THAT(error("material.rock.hardness="), HasSubstr("'' is not a number"));
   EXPECT_THAT(error("material.rock.hardness=1.5"), HasSubstr("expected a hardness in [0, 1]"));

@@ -20,6 +20,8 @@ std::string ParameterValue(const calibrate::Parameter& p, double v) {
     case calibrate::ParameterKind::kRollingResistance:
     case calibrate::ParameterKind::kFriction:
       return FormatNumber(v, "%.3f");
+    case calibrate::ParameterKind::kVegetation:
+      return Show(v * 1e-3) + " kPa (" + Show(v / 47.88025898) + " lbf/ft²)";
   }
   return Show(v);
 }

@@ -14,6 +14,9 @@ inline constexpr double kMaxSpeed = 500.0;           // m/s: a release velocity 
 inline constexpr double kMaxObservationError = 1e4;  // m: a one-sigma measurement error
 inline constexpr double kMinContactTime = 1e-5;      // s: below it a run never ends
 inline constexpr double kMaxContactTime = 1.0;       // s
+// Pa: undergrowth's stress on a rock's frontal area (100 kPa decelerates a
+// 0.3 m block at about 10 g).
+inline constexpr double kMaxVegetationStress = 100e3;
 inline constexpr int kMaxRocks = 10'000'000;         // rocks in one run
 // Upper estimate of the steps of one run (every rock in contact for max_time
 // at its shortest step) above which a run is refused: it would not finish.

@@ -17,6 +17,12 @@ struct Material {
   std::optional<double> restitution;  // overrides e = H when set, in (0, 1)
   std::optional<double> friction;     // overrides f(H) when set, >= 0
   std::optional<double> rolling_resistance;  // overrides mu_r(H) when set, >= 0
+  // Undergrowth (shrubs, saplings) on the material: the stress it puts on
+  // the frontal area of a rock moving through it while the rock touches the
+  // ground, against the rock's motion [Pa] (0: bare ground). Its deceleration
+  // tau A / m falls with the rock's size: undergrowth stops small rocks
+  // sooner than large ones, which nothing else of the contact law does.
+  double vegetation_pa = 0.0;
 };
 
 // Constants of the default hardness model.
@@ -44,6 +50,7 @@ struct ContactLaw {
   double damping_ratio = 0.0;       // zeta = C / (2 sqrt(k m))
   double eq13_damping_ratio = 0.0;  // the manual's eq. 13 zeta (reported, not used)
   double tangential_ratio = 2.0 / 7.0;  // k_s / k_n
+  double vegetation_stress = 0.0;       // tau [Pa], Material::vegetation_pa
 };
 
 // Derives the contact law of `material` with the hardness model. Pure function.

@@ -12,9 +12,17 @@
 
 namespace rockcal::core {
 
-enum class MaterialField { kHardness, kRoughness, kContactTime, kRollingResistance, kFriction };
+enum class MaterialField {
+  kHardness,
+  kRoughness,
+  kContactTime,
+  kRollingResistance,
+  kFriction,
+  kVegetation
+};
 
-enum class FieldUnit { kNone, kLength, kTime };
+// kStress: kPa in SI site files, lbf/ft^2 in US ones; Pa inside.
+enum class FieldUnit { kNone, kLength, kTime, kStress };
 
 struct MaterialFieldInfo {
   MaterialField field;

@@ -26,12 +26,19 @@ struct RockBody {
   std::vector<Eigen::Vector3d> elements;  // element centres, body frame
   Eigen::Vector3d inertia = Eigen::Vector3d::Zero();  // principal moments, kg m^2
   double bounding_radius = 0.0;  // max |element| + element_radius
+  // Mean projected area of the nominal solid over all orientations, its
+  // surface / 4 (Cauchy's formula for convex bodies; pi r^2 for a sphere),
+  // m^2: the frontal area undergrowth acts on (Material::vegetation_pa).
+  double frontal_area = 0.0;
 };
 
 // Nominal volume of `shape` at `size` (m^3). A box's size is its longest
 // side L1, its other sides in `box` proportions (L1 : L2 : L3, any scale).
 double NominalVolume(Shape shape, double size,
                      const Eigen::Vector3d& box = Eigen::Vector3d::Ones());
+// Nominal surface area of `shape` at `size` (m^2), same solids as NominalVolume.
+double NominalSurface(Shape shape, double size,
+                      const Eigen::Vector3d& box = Eigen::Vector3d::Ones());
 // Builds the body of `shape` at `size` [m] with unit weight gamma [N/m^3] and
 // gravity g [m/s^2]: mass = gamma * volume / g.
 RockBody MakeRockBody(Shape shape, double size, double unit_weight, double gravity,

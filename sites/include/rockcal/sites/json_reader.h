@@ -78,12 +78,16 @@ double LengthToSI(double value, Units units);
 const char* LengthUnit(Units units);
 // Unit weight in the file's units (lbf/ft^3 or kN/m^3) -> N/m^3.
 double UnitWeightToSI(double value, Units units);
+// Stress in the file's units (lbf/ft^2 or kPa) -> Pa.
+double StressToSI(double value, Units units);
+// The files' stress unit: "lbf/ft^2" or "kPa".
+const char* StressUnit(Units units);
 
 // Physical plausibility (core/limits.h): fails at `node` unless lo <= value
 // <= hi, all three in SI; `what` names the quantity and `kind` says how to
 // show it in the file's units; `why`, if given, ends the message. The
 // message names file, path, value and range.
-enum class Quantity { kLength, kSpeed, kUnitWeight, kTime };
+enum class Quantity { kLength, kSpeed, kUnitWeight, kTime, kStress };
 double NumberInRange(const JsonNode& node, double value, double lo, double hi, const char* what,
                      Quantity kind, Units units, const char* why = nullptr);
 // A coordinate (file units) of a point -> SI, within +-kMaxCoordinate.
