@@ -2,7 +2,8 @@
 # Writes the observations of the twin campaign: each site simulated at the
 # true values (class "ground": hardness 0.45, roughness 0.3 m) with 600 rocks
 # and seed 11, then
-#   fan/observations.json    the stop points of the rocks that stopped;
+#   fan/observations.json    the stop points of the rocks that stopped, and
+#                            the share that stopped;
 #   gully/observations.json  the bounce heights at partitions P1 and P2.
 # Measurement errors 0.1 m (heights) and 1 m (runout).
 #   sites/examples/twin_campaign/make_observations.sh BUILD_DIR
@@ -24,9 +25,14 @@ def rows(name):
         return list(csv.DictReader(f))
 
 error = {"height": 0.1, "runout": 1.0}
+fan_rows = rows("fan")
 stops = [[round(float(r["stop_x"]), 4), round(float(r["stop_y"]), 4)]
-         for r in rows("fan") if r["outcome"] == "stopped"]
-fan = {"units": "si", "runout": {"stop_points": stops, "from": [2.5, 10.0], "direction": [1, 0]},
+         for r in fan_rows if r["outcome"] == "stopped"]
+# The share that stopped: the field would see the others go.
+fan = {"units": "si",
+       "runout": {"stop_points": stops, "from": [2.5, 10.0], "direction": [1, 0],
+                  "observed_rocks": len(fan_rows),
+                  "stopped_fraction": round(len(stops) / len(fan_rows), 6)},
        "error": error}
 gully_rows = rows("gully")
 scars = [{"partition": p, "heights": [round(float(r[f"{p}.height_m"]), 4)
