@@ -143,7 +143,7 @@ JointSpace::JointSpace(const Campaign& campaign) {
       auto it = index.find(key);
       if (it == index.end()) {
         Parameter q;
-        q.material = cls;
+        q.material = std::get<0>(key).empty() ? cls : site.name + ":" + cls;
         q.material_class = cls;
         q.site = std::get<0>(key);
         q.kind = p.kind;
@@ -161,7 +161,7 @@ JointSpace::JointSpace(const Campaign& campaign) {
       }
       sources[static_cast<std::size_t>(it->second)].push_back(
           "site '" + site.name + "' material '" + p.material + "' " + Interval(p.lower, p.upper));
-      terms.push_back({it->second, -1});
+      terms.push_back({it->second, kNoOffset});
     }
     sites_.push_back(std::move(terms));
   }
@@ -170,18 +170,18 @@ JointSpace::JointSpace(const Campaign& campaign) {
     std::string from;
     for (const std::string& s : sources[k]) from += (from.empty() ? "" : ", ") + s;
     if (!(q.lower < q.upper))
-      throw InputError(where, "class '" + q.material + "' " + q.name() +
+      throw InputError(where, "class '" + q.material_class + "' " + q.name() +
                                   ": the bounds of the sites sharing it have no common interval (" +
                                   from +
                                   "); expected overlapping \"calibrate\" bounds, or leave "
                                   "the class out of \"shared\"");
     if (q.lower != first_bounds[k].first || q.upper != first_bounds[k].second)
-      notes_.push_back("class " + q.material + " " + q.name() + ": bounds " +
+      notes_.push_back("class " + q.material_class + " " + q.name() + ": bounds " +
                        Interval(q.lower, q.upper) + ", the intersection of " + from);
   }
   for (const std::string& cls : campaign.shared) {
     bool found = false;
-    for (const Parameter& q : parameters) found = found || q.material == cls;
+    for (const Parameter& q : parameters) found = found || q.material_class == cls;
     if (!found)
       throw InputError(where + ": $.shared",
                        "class '" + cls +
@@ -207,25 +207,47 @@ JointSpace::JointSpace(const Campaign& campaign) {
       throw InputError(path, "class '" + prior.class_name + "' " + prior.parameter +
                                  ": no site calibrates it; expected a class and parameter of the "
                                  "sites' \"calibrate\" bounds");
-    for (std::size_t s = 0; s < campaign.sites.size(); ++s) {
-      int offset = -1;
-      for (Term& t : sites_[s]) {
-        if (t.value != it->second) continue;
-        if (offset < 0) {
-          Parameter q = parameters[static_cast<std::size_t>(it->second)];
-          q.site = campaign.sites[s].name;
-          q.offset = true;
-          q.lower = -3.0 * prior.sigma;
-          q.upper = 3.0 * prior.sigma;
-          offset = static_cast<int>(parameters.size());
-          parameters.push_back(q);
-          offsets_.push_back({offset, prior.sigma});
+    // The sites calibrating it, in order; all but the last get an offset
+    // parameter, the last minus their sum (the offsets sum to zero).
+    std::vector<std::size_t> with;
+    for (std::size_t s = 0; s < campaign.sites.size(); ++s)
+      for (const Term& t : sites_[s])
+        if (t.value == it->second) {
+          with.push_back(s);
+          break;
         }
-        t.offset = offset;
-      }
+    std::vector<int> free;
+    for (std::size_t w = 0; w + 1 < with.size(); ++w) {
+      Parameter q = parameters[static_cast<std::size_t>(it->second)];
+      q.site = campaign.sites[with[w]].name;
+      q.material = q.site + ":" + prior.class_name;
+      q.offset = true;
+      q.lower = -3.0 * prior.sigma;
+      q.upper = 3.0 * prior.sigma;
+      free.push_back(static_cast<int>(parameters.size()));
+      parameters.push_back(q);
+    }
+    for (std::size_t w = 0; w < with.size() && with.size() > 1; ++w) {
+      Offset offset;
+      offset.sigma = prior.sigma;
+      offset.label =
+          campaign.sites[with[w]].name + ":" + prior.class_name + "." + prior.parameter + "_offset";
+      if (w + 1 < with.size())
+        offset.terms = {{free[w], 1.0}};
+      else
+        for (int f : free) offset.terms.emplace_back(f, -1.0);
+      for (Term& t : sites_[with[w]])
+        if (t.value == it->second) t.offset = offsets_.size();
+      offsets_.push_back(std::move(offset));
     }
   }
   space_ = ParameterSpace(std::move(parameters));
+}
+
+double JointSpace::Offset::Value(const std::vector<double>& joint) const {
+  double v = 0.0;
+  for (const auto& [index, sign] : terms) v += sign * joint[static_cast<std::size_t>(index)];
+  return v;
 }
 
 const ParameterSpace& JointSpace::site_space(int site) const {
@@ -238,7 +260,7 @@ std::vector<double> JointSpace::SiteValues(int site, const std::vector<double>& 
   std::vector<double> x(terms.size());
   for (std::size_t k = 0; k < terms.size(); ++k) {
     double v = joint[static_cast<std::size_t>(terms[k].value)];
-    if (terms[k].offset >= 0) v += joint[static_cast<std::size_t>(terms[k].offset)];
+    if (terms[k].offset != kNoOffset) v += offsets_[terms[k].offset].Value(joint);
     x[k] = std::clamp(v, own[k].lower, own[k].upper);
   }
   return x;
@@ -269,8 +291,8 @@ std::vector<observations::Residual> JointSpace::PriorResiduals(
   for (const Offset& o : offsets_) {
     observations::Residual r;
     r.observation = "prior";
-    r.quantity = space_.parameters()[static_cast<std::size_t>(o.index)].label();
-    r.simulated = joint[static_cast<std::size_t>(o.index)];
+    r.quantity = o.label;
+    r.simulated = o.Value(joint);
     r.observed = 0.0;
     r.sigma = o.sigma;
     r.value = r.simulated / o.sigma;

@@ -11,9 +11,7 @@ std::string Parameter::name() const {
   return std::string(core::Info(kind).name) + (offset ? "_offset" : "");
 }
 
-std::string Parameter::label() const {
-  return (site.empty() ? std::string() : site + ":") + material + "." + name();
-}
+std::string Parameter::label() const { return material + "." + name(); }
 
 const std::string& Parameter::class_name() const {
   return material_class.empty() ? material : material_class;

@@ -125,38 +125,44 @@ TEST(JointSpace, SharedClassesAndOffsetsMustNameWhatTheSitesCalibrate) {
   EXPECT_THAT(ErrorOf([&] { JointSpace{c}; }), HasSubstr("$.offsets[0].sigma: 0: expected"));
 }
 
-TEST(JointSpace, OffsetsAddToTheSharedValueAndEnterTheMisfitAsPriorResiduals) {
+TEST(JointSpace, OffsetsAddToTheSharedValueSumToZeroAndEnterTheMisfitAsPriorResiduals) {
   Campaign c = TwoTwins(4);
   c.offsets = {{"slope", "hardness", 0.05}};
   const JointSpace joint(c);
-  ASSERT_EQ(joint.space().size(), 6);
+  // One offset parameter: site b's offset is minus site a's.
+  ASSERT_EQ(joint.space().size(), 5);
   EXPECT_EQ(Labels(joint.space())[4], "a:slope.hardness_offset");
-  EXPECT_EQ(Labels(joint.space())[5], "b:slope.hardness_offset");
   const Parameter& offset = joint.space().parameters()[4];
   EXPECT_TRUE(offset.offset);
+  EXPECT_EQ(offset.site, "a");
   EXPECT_DOUBLE_EQ(offset.lower, -0.15);  // 3 sigma
   EXPECT_DOUBLE_EQ(offset.upper, 0.15);
   EXPECT_EQ(joint.prior_count(), 2);
 
-  const std::vector<double> x = {0.5, 0.2, 0.3, 0.4, 0.1, -0.05};
+  const std::vector<double> x = {0.5, 0.2, 0.3, 0.4, 0.1};
   EXPECT_DOUBLE_EQ(joint.SiteValues(0, x)[0], 0.6);
-  EXPECT_DOUBLE_EQ(joint.SiteValues(1, x)[0], 0.45);
+  EXPECT_DOUBLE_EQ(joint.SiteValues(1, x)[0], 0.4);
   EXPECT_DOUBLE_EQ(joint.SiteValues(1, x)[1], 0.2);  // roughness has no offset
   // A site's value stays within its own bounds ([0.2, 0.8]).
-  EXPECT_DOUBLE_EQ(joint.SiteValues(0, {0.75, 0.2, 0.3, 0.4, 0.15, 0.0})[0], 0.8);
+  EXPECT_DOUBLE_EQ(joint.SiteValues(0, {0.75, 0.2, 0.3, 0.4, 0.15})[0], 0.8);
+  EXPECT_DOUBLE_EQ(joint.SiteValues(1, {0.75, 0.2, 0.3, 0.4, 0.15})[0], 0.6);
   const std::vector<observations::Residual> prior = joint.PriorResiduals(x);
   ASSERT_EQ(prior.size(), 2u);
   EXPECT_DOUBLE_EQ(prior[0].value, 2.0);
-  EXPECT_DOUBLE_EQ(prior[1].value, -1.0);
+  EXPECT_DOUBLE_EQ(prior[1].value, -2.0);
   EXPECT_EQ(prior[0].observation, "prior");
   EXPECT_EQ(prior[0].quantity, "a:slope.hardness_offset");
+  EXPECT_EQ(prior[1].quantity, "b:slope.hardness_offset");
   EXPECT_DOUBLE_EQ(prior[0].sigma, 0.05);
   // The start: offsets 0.
   const std::vector<double> start =
       joint.FromSiteValues({{0.4, 0.2, 0.3, 0.4}, {0.6, 0.2, 0.3, 0.4}});
   EXPECT_DOUBLE_EQ(start[0], 0.5);
   EXPECT_EQ(start[4], 0.0);
-  EXPECT_EQ(start[5], 0.0);
+  // One site alone has no offset to take.
+  c.sites.pop_back();
+  EXPECT_EQ(JointSpace(c).space().size(), 4);
+  EXPECT_EQ(JointSpace(c).prior_count(), 0);
 }
 
 // ---- the joint objective ---------------------------------------------------------
@@ -170,21 +176,21 @@ TEST(CampaignObjective, JoinsTheSitesWeightedResidualsAndThePriors) {
   const CampaignObjective objective(c, scenes, {});
   const int a = objective.site(0).residual_count(), b = objective.site(1).residual_count();
   EXPECT_EQ(objective.residual_count(), a + b + 2);
-  const std::vector<double> x = {0.5, 0.3, 0.3, 0.4, 0.05, -0.1};
+  const std::vector<double> x = {0.5, 0.3, 0.3, 0.4, 0.05};
   const observations::Misfit joint = objective.Evaluate(x);
   const observations::Misfit ma = objective.site(0).Evaluate(objective.joint().SiteValues(0, x));
   const observations::Misfit mb = objective.site(1).Evaluate(objective.joint().SiteValues(1, x));
   ASSERT_EQ(static_cast<int>(joint.residuals.size()), a + b + 2);
-  EXPECT_NEAR(joint.value, ma.value + 4.0 * mb.value + 0.5 * (0.25 + 1.0), 1e-9 * joint.value);
+  EXPECT_NEAR(joint.value, ma.value + 4.0 * mb.value + 0.5 * (0.25 + 0.25), 1e-9 * joint.value);
   double sum = 0.0;
   for (const auto& r : joint.residuals) sum += r.value * r.value;
   EXPECT_NEAR(joint.value, 0.5 * sum, 1e-9 * joint.value);
   EXPECT_EQ(joint.residuals[0].observation, "a: " + ma.residuals[0].observation);
   EXPECT_EQ(joint.residuals[static_cast<std::size_t>(a)].value, 2.0 * mb.residuals[0].value);
   EXPECT_EQ(joint.residuals.back().observation, "prior");
-  EXPECT_DOUBLE_EQ(joint.residuals.back().value, -1.0);
+  EXPECT_DOUBLE_EQ(joint.residuals.back().value, -0.5);
   // Several points at once: the same misfits as one by one, and `done` once per point.
-  const std::vector<double> y = {0.4, 0.2, 0.2, 0.3, 0.0, 0.0};
+  const std::vector<double> y = {0.4, 0.2, 0.2, 0.3, 0.0};
   int done = 0;
   const std::vector<observations::Misfit> all =
       objective.EvaluateAll({x, y}, [&](int, const observations::Misfit&) { ++done; });

@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rockcal/calibrate/calibration.h"
@@ -39,7 +40,13 @@ struct CampaignSite {
 // A per-site offset of a shared parameter: every site calibrating
 // `parameter` of class `class_name` gets a value of its own, the shared one
 // plus an offset that a Gaussian prior N(0, sigma^2) pulls to 0 (a residual
-// offset / sigma joins the misfit). The offset is searched within +-3 sigma.
+// offset / sigma joins the misfit). The offsets of the S sites sum to zero:
+// the first S - 1 are joint parameters, searched within +-3 sigma, the last
+// is minus their sum. With one sigma for all, that is where free offsets
+// under the prior have their optimum (the shared value the mean of the
+// sites'), without the direction (shared value up, every offset down) that
+// only the prior sees and that a Monte Carlo Jacobian loses in its noise.
+// With one site, the offset is 0.
 struct OffsetPrior {
   std::string class_name;
   std::string parameter;  // a core::MaterialFields() name: "hardness", "roughness", ...
@@ -97,8 +104,8 @@ class JointSpace final {
   // the mean over the materials that share it (clamped into its bounds),
   // an offset 0.
   std::vector<double> FromSiteValues(const std::vector<std::vector<double>>& site_values) const;
-  // The prior residuals, offset / sigma, one per offset parameter in the
-  // joint order (observation "prior", quantity the parameter's label).
+  // The prior residuals, offset / sigma, one per site with an offset
+  // (observation "prior", quantity "<site>:<class>.<parameter>_offset").
   std::vector<observations::Residual> PriorResiduals(const std::vector<double>& joint) const;
   int prior_count() const { return static_cast<int>(offsets_.size()); }
   // Where the shared bounds were narrowed to the sites' intersection, one
@@ -106,13 +113,18 @@ class JointSpace final {
   const std::vector<std::string>& notes() const { return notes_; }
 
  private:
+  static constexpr std::size_t kNoOffset = static_cast<std::size_t>(-1);
   struct Term {
-    int value = -1;   // joint index of the value
-    int offset = -1;  // joint index of the offset, -1: none
+    int value = -1;                  // joint index of the value
+    std::size_t offset = kNoOffset;  // index into offsets_
   };
+  // A site's offset: a sum of joint values with signs (+ its own parameter,
+  // or - every other site's for the last site), and its prior's sigma.
   struct Offset {
-    int index = 0;  // joint index
+    std::vector<std::pair<int, double>> terms;
     double sigma = 0.0;
+    std::string label;  // "<site>:<class>.<parameter>_offset"
+    double Value(const std::vector<double>& joint) const;
   };
   ParameterSpace space_;
   std::vector<ParameterSpace> site_spaces_;
