@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "args.h"
+#include "calibrate_common.h"
 #include "commands.h"
 #include "progress.h"
 #include "rockcal/calibrate/calibration_run.h"
@@ -37,19 +38,11 @@ std::vector<std::string> SplitList(const std::string& text) {
   return out;
 }
 
-// Prepares DIR: a new folder, or (with --resume) the folder of a stopped run,
-// or (with --force) a replaced one. Nothing is removed without --force, and
-// --force replaces only a folder rockcal wrote that holds none of `inputs`
-// (reports::CheckOutputFolder). Files a killed run left half-written are
-// removed, and so is calibration.json, which marks the folder complete: it is
-// written again, after every other file, when the calibration finishes.
-// A new folder appears whole, with its marker and an empty evaluation log
-// (built under a temporary name and renamed into place), so that a run killed
-// at any moment leaves no folder or one that --resume continues.
-void PrepareFolder(std::string out, bool resume, bool force, const sites::Site& site,
-                   const std::string& obs_path) {
-  std::vector<std::string> inputs = site.inputs;
-  inputs.push_back(obs_path);
+}  // namespace
+
+void PrepareCalibrationFolder(std::string out, bool resume, bool force,
+                              const std::vector<std::string>& inputs, const std::string& command,
+                              const std::string& complete_file) {
   std::error_code ec;
   while (out.size() > 1 && out.back() == '/') out.pop_back();
   const std::string name = fs::path(out).filename().string();
@@ -60,15 +53,15 @@ void PrepareFolder(std::string out, bool resume, bool force, const sites::Site& 
       throw InputError(out, "nothing to resume: no evaluations.jsonl in this folder");
     reports::CheckOutputAgainstInputs(out, inputs);
     reports::RemoveStaleTemporaries(out, "");
-    fs::remove(out + "/calibration.json", ec);
-    if (ec) throw InputError(out, "cannot remove the old calibration.json: " + ec.message());
-    reports::WriteOutputMarker(out, "calibrate", std::nullopt);
+    fs::remove(out + "/" + complete_file, ec);
+    if (ec) throw InputError(out, "cannot remove the old " + complete_file + ": " + ec.message());
+    reports::WriteOutputMarker(out, command, std::nullopt);
     return;
   }
   if (!force && fs::exists(out, ec))
     throw InputError(out,
                      "output folder exists already (give --force to replace it, or "
-                     "--resume to continue the calibration it holds)");
+                     "--resume to continue the run it holds)");
   reports::CheckOutputFolder(out, force, inputs);
   const std::string pid = std::to_string(::getpid());
   if (fs::exists(out, ec)) {
@@ -84,7 +77,7 @@ void PrepareFolder(std::string out, bool resume, bool force, const sites::Site& 
   if (!fs::create_directory(temp, ec))
     throw InputError(out, "cannot create the output folder (its temporary " + temp +
                               "): " + ec.message());
-  reports::WriteOutputMarker(temp, "calibrate", std::nullopt);
+  reports::WriteOutputMarker(temp, command, std::nullopt);
   reports::WriteFileAtomically(temp + "/evaluations.jsonl", "");
   fs::rename(temp, out, ec);
   if (ec) {
@@ -95,7 +88,6 @@ void PrepareFolder(std::string out, bool resume, bool force, const sites::Site& 
   }
 }
 
-// --method or --methods, each checked against calibrate::MethodNames().
 std::vector<std::string> MethodsFromArgs(const Args& args) {
   if (args.Has("method") && args.Has("methods"))
     throw InputError("arguments", "give --method or --methods, not both");
@@ -110,8 +102,6 @@ std::vector<std::string> MethodsFromArgs(const Args& args) {
   return methods;
 }
 
-// The calibration's options from the arguments, but for the methods and the
-// reach check (whose default depends on the site's parameters).
 calibrate::CalibrationOptions OptionsFromArgs(const Args& args, const std::string& out) {
   calibrate::CalibrationOptions options;
   if (args.Has("rocks")) options.rocks = static_cast<int>(args.Integer("rocks", 0, 1, 10000000));
@@ -132,8 +122,6 @@ calibrate::CalibrationOptions OptionsFromArgs(const Args& args, const std::strin
   return options;
 }
 
-// What the calibration shows as it goes: the start, the reach check, a
-// progress bar per method and each method's result.
 calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
                                                   std::optional<Progress>* progress) {
   calibrate::CalibrationCallbacks callbacks;
@@ -170,6 +158,20 @@ calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
   };
   return callbacks;
 }
+
+std::string RankCalibrationFolder(const std::string& out) {
+  const std::string folder = parallel::IsRoot() ? out : parallel::ScratchFolder();
+  parallel::ShareFiles(
+      out,
+      [](const std::string& name) {
+        return name.rfind("evaluations", 0) == 0 && name.size() > 6 &&
+               name.compare(name.size() - 6, 6, ".jsonl") == 0;
+      },
+      folder);
+  return folder;
+}
+
+namespace {
 
 // Every file of a finished calibration in DIR `out` (with `rasters`, the
 // maps of the simulation at the calibrated values that the report shows);
@@ -275,16 +277,13 @@ int Calibrate(const std::vector<std::string>& argv) {
   // Rank 0 prepares the folder; under mpirun the other ranks replay the
   // same evaluation logs from copies in a scratch folder of their own and
   // write their (discarded) files there.
-  parallel::OnRoot(
-      [&] { PrepareFolder(out, args.Flag("resume"), args.Flag("force"), site, obs_path); });
-  const std::string folder = parallel::IsRoot() ? out : parallel::ScratchFolder();
-  parallel::ShareFiles(
-      out,
-      [](const std::string& name) {
-        return name.rfind("evaluations", 0) == 0 && name.size() > 6 &&
-               name.compare(name.size() - 6, 6, ".jsonl") == 0;
-      },
-      folder);
+  std::vector<std::string> inputs = site.inputs;
+  inputs.push_back(obs_path);
+  parallel::OnRoot([&] {
+    PrepareCalibrationFolder(out, args.Flag("resume"), args.Flag("force"), inputs, "calibrate",
+                             "calibration.json");
+  });
+  const std::string folder = RankCalibrationFolder(out);
   options.log_path = folder + "/evaluations.jsonl";
   const bool quiet = args.Flag("quiet");
   std::optional<Progress> progress;

@@ -45,6 +45,8 @@ class RankOutputDir final {
 int Simulate(const std::vector<std::string>& args);
 int Validate(const std::vector<std::string>& args);
 int Calibrate(const std::vector<std::string>& args);
+// rockcal campaign CAMPAIGN.json: the joint calibration of several sites.
+int Campaign(const std::vector<std::string>& args);
 int Score(const std::vector<std::string>& args);
 
 }  // namespace rockcal::cli

@@ -26,6 +26,10 @@ constexpr const char* kUsage =
     "                   [--loss none|huber|cauchy] [--estimate lowest|smoothed]\n"
     "                   [--holdout K] [--reach N] [--rasters] [--resume | --force] [--quiet]\n"
     "                   --out DIR\n"
+    "  rockcal campaign CAMPAIGN.json [--method M | --methods M1,M2,...] [--max-evals N]\n"
+    "                   [--max-seconds T] [--rocks N] [--seed S] [--threads N]\n"
+    "                   [--loss none|huber|cauchy] [--estimate lowest|smoothed]\n"
+    "                   [--resume | --force] [--quiet] --out DIR\n"
     "  rockcal score SITE.json --observations OBS.json [--parameters parameters.json]\n"
     "                   [--rocks N] [--seed S] [--threads N] [--force] [--quiet] --out DIR\n"
     "  rockcal sensitivity SITE.json [--method morris|sobol] [--samples N] [--observations OBS.json]\n"
@@ -72,12 +76,13 @@ int main(int argc, char** argv) {
     if (command == "simulate") return rockcal::cli::Simulate(args);
     if (command == "validate") return rockcal::cli::Validate(args);
     if (command == "calibrate") return rockcal::cli::Calibrate(args);
+    if (command == "campaign") return rockcal::cli::Campaign(args);
     if (command == "score") return rockcal::cli::Score(args);
     if (command == "sensitivity") return rockcal::cli::Sensitivity(args);
     if (command == "study") return rockcal::cli::Study(args);
     if (command == "table") return rockcal::cli::Table(args);
     throw rockcal::InputError("", "unknown command '" + command +
-                                      "' (available: simulate, calibrate, score, sensitivity, study, "
+                                      "' (available: simulate, calibrate, campaign, score, sensitivity, study, "
                                       "table, validate; see rockcal --help)");
   } catch (const rockcal::InputError& e) {
     std::fprintf(stderr, "rockcal: error: %s\n", e.what());

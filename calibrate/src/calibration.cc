@@ -80,7 +80,7 @@ T WholeField(const nlohmann::json& record, const char* key, const std::string& w
 // Everything a method asks of the objective: budget, log replay, trace, best.
 class Evaluator final {
  public:
-  Evaluator(std::string method, const Objective& objective, const MethodOptions& options,
+  Evaluator(std::string method, const ObjectiveFunction& objective, const MethodOptions& options,
             EvaluationLog* log, const CalibrationProgress& progress)
       : method_(std::move(method)),
         objective_(objective),
@@ -173,7 +173,7 @@ class Evaluator final {
   int limit() const { return options_.max_evals - reserved_; }
 
   std::string method_;
-  const Objective& objective_;
+  const ObjectiveFunction& objective_;
   const MethodOptions& options_;
   EvaluationLog* log_;
   const CalibrationProgress& progress_;
@@ -388,37 +388,10 @@ Termination RunCeres(std::vector<double> unit, const MethodOptions& options, Eva
   return {TerminationType::kStopped, summary.message};
 }
 
-// Uncertainty at the calibrated values: the Jacobian by central differences
-// in the unit box (2n more evaluations, run outside the budget so the
-// estimate exists).
-Uncertainty CeresUncertainty(const MethodResult& result, const Objective& objective) {
-  const int n = objective.space().size();
-  if (!result.best.empty() && objective.residual_count() > 0) {
-    const std::vector<double> best_unit = objective.space().ToUnit(result.best);
-    const int m = objective.residual_count();
-    Eigen::MatrixXd j(m, n);
-    // The 2n points are independent: simulated over the ranks of an MPI run.
-    std::vector<std::vector<double>> points;
-    std::vector<double> widths;
-    for (int k = 0; k < n; ++k) {
-      const double h = std::min(0.05, 0.5 * std::min(best_unit[k], 1 - best_unit[k]) + 1e-3);
-      std::vector<double> up = best_unit, down = best_unit;
-      up[k] = std::min(1.0, up[k] + h);
-      down[k] = std::max(0.0, down[k] - h);
-      widths.push_back(up[k] - down[k]);
-      points.push_back(objective.space().ToPhysical(up));
-      points.push_back(objective.space().ToPhysical(down));
-    }
-    const std::vector<observations::Misfit> misfits = objective.EvaluateAll(points);
-    for (int k = 0; k < n; ++k) {
-      const observations::Misfit& a = misfits[2 * static_cast<std::size_t>(k)];
-      const observations::Misfit& b = misfits[2 * static_cast<std::size_t>(k) + 1];
-      for (int r = 0; r < m; ++r)
-        j(r, k) = (a.residuals[r].value - b.residuals[r].value) / widths[static_cast<std::size_t>(k)];
-    }
-    return JacobianUncertainty(j, result.best_misfit, objective.space());
-  }
-  return Uncertainty{};
+// Uncertainty at the calibrated values (JacobianUncertaintyAt).
+Uncertainty CeresUncertainty(const MethodResult& result, const ObjectiveFunction& objective) {
+  if (result.best.empty()) return Uncertainty{};
+  return JacobianUncertaintyAt(objective, result.best, result.best_misfit);
 }
 
 // The evaluations the smoothed estimate keeps back from the search: a
@@ -462,7 +435,7 @@ std::string Agreement(const SmoothedEstimate& s, double lowest) {
 // after the second the lowest evaluation stands. Without `smoothed`, the
 // lowest evaluation.
 MethodResult Conclude(Evaluator* ev, Termination termination, bool smoothed,
-                      const MethodOptions& options, const Objective& objective) {
+                      const MethodOptions& options, const ObjectiveFunction& objective) {
   const ParameterSpace& space = objective.space();
   const int n = space.size();
   if (!smoothed || ev->best().empty()) {
@@ -539,6 +512,35 @@ MethodResult Conclude(Evaluator* ev, Termination termination, bool smoothed,
 }
 
 }  // namespace
+
+Uncertainty JacobianUncertaintyAt(const ObjectiveFunction& objective,
+                                  const std::vector<double>& at, double misfit) {
+  const int n = objective.space().size();
+  if (at.empty() || objective.residual_count() <= 0) return Uncertainty{};
+  const std::vector<double> best_unit = objective.space().ToUnit(at);
+  const int m = objective.residual_count();
+  Eigen::MatrixXd j(m, n);
+  // The 2n points are independent: simulated over the ranks of an MPI run.
+  std::vector<std::vector<double>> points;
+  std::vector<double> widths;
+  for (int k = 0; k < n; ++k) {
+    const double h = std::min(0.05, 0.5 * std::min(best_unit[k], 1 - best_unit[k]) + 1e-3);
+    std::vector<double> up = best_unit, down = best_unit;
+    up[k] = std::min(1.0, up[k] + h);
+    down[k] = std::max(0.0, down[k] - h);
+    widths.push_back(up[k] - down[k]);
+    points.push_back(objective.space().ToPhysical(up));
+    points.push_back(objective.space().ToPhysical(down));
+  }
+  const std::vector<observations::Misfit> misfits = objective.EvaluateAll(points);
+  for (int k = 0; k < n; ++k) {
+    const observations::Misfit& a = misfits[2 * static_cast<std::size_t>(k)];
+    const observations::Misfit& b = misfits[2 * static_cast<std::size_t>(k) + 1];
+    for (int r = 0; r < m; ++r)
+      j(r, k) = (a.residuals[r].value - b.residuals[r].value) / widths[static_cast<std::size_t>(k)];
+  }
+  return JacobianUncertainty(j, misfit, objective.space());
+}
 
 std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluation>& trace,
                                                        const ParameterSpace& space,
@@ -831,7 +833,7 @@ void EvaluationLog::Append(const Evaluation& evaluation) {
   records_.push_back(evaluation);
 }
 
-MethodResult RunMethod(const std::string& method, const Objective& objective,
+MethodResult RunMethod(const std::string& method, const ObjectiveFunction& objective,
                        const std::vector<double>& start, const MethodOptions& options,
                        EvaluationLog* log, const CalibrationProgress& progress) {
   const MethodInfo* info = FindMethod(method);

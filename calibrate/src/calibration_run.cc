@@ -267,6 +267,25 @@ Fingerprint CalibrationFingerprint(const sites::Site& site, const observations::
   return f;
 }
 
+void SearchMethods(const ObjectiveFunction& objective, const std::vector<double>& start,
+                   const std::vector<std::string>& methods, const MethodOptions& options,
+                   EvaluationLog* log, const CalibrationCallbacks& callbacks,
+                   CalibrationSummary* summary) {
+  const std::size_t first = summary->methods.size();
+  for (const std::string& method : methods) {
+    if (callbacks.method_started) callbacks.method_started(method);
+    summary->methods.push_back(
+        RunMethod(method, objective, start, options, log, callbacks.evaluated));
+    if (callbacks.method_finished) callbacks.method_finished(summary->methods.back());
+  }
+  summary->best = static_cast<int>(first);
+  for (std::size_t k = first + 1; k < summary->methods.size(); ++k)
+    if (summary->methods[k].best_misfit < summary->best_method().best_misfit)
+      summary->best = static_cast<int>(k);
+  if (summary->methods.size() == first || summary->best_method().best.empty())
+    throw std::runtime_error("no evaluation finished; nothing to report");
+}
+
 void CheckCalibration(const sites::Site& site, const CalibrationOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("calibration options", error);
@@ -312,17 +331,8 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
     }
     if (callbacks.reach_done) callbacks.reach_done(r);
   }
-  for (const std::string& method : options.methods) {
-    if (callbacks.method_started) callbacks.method_started(method);
-    summary.methods.push_back(RunMethod(method, objective, summary.search_start, method_options,
-                                        log ? &*log : nullptr, callbacks.evaluated));
-    if (callbacks.method_finished) callbacks.method_finished(summary.methods.back());
-  }
-  for (std::size_t k = 1; k < summary.methods.size(); ++k)
-    if (summary.methods[k].best_misfit < summary.best_method().best_misfit)
-      summary.best = static_cast<int>(k);
-  if (summary.best_method().best.empty())
-    throw std::runtime_error("no evaluation finished; nothing to report");
+  SearchMethods(objective, summary.search_start, options.methods, method_options,
+                log ? &*log : nullptr, callbacks, &summary);
   summary.final_rocks = summary.rocks;
   core::Scene final_scene = scene;
   if (refine) {

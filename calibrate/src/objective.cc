@@ -17,8 +17,9 @@ std::vector<double> RoughnessKey(const ParameterSpace& space, const std::vector<
   return key;
 }
 
-// A misfit as bytes for parallel::Map, and back.
-std::string Encode(const observations::Misfit& m) {
+}  // namespace
+
+std::string EncodeMisfit(const observations::Misfit& m) {
   parallel::Writer w;
   w.Double(m.value);
   w.Int(m.penalised ? 1 : 0);
@@ -35,7 +36,7 @@ std::string Encode(const observations::Misfit& m) {
   return w.bytes();
 }
 
-observations::Misfit Decode(const std::string& bytes) {
+observations::Misfit DecodeMisfit(const std::string& bytes) {
   parallel::Reader r(bytes);
   observations::Misfit m;
   m.value = r.Double();
@@ -53,20 +54,18 @@ observations::Misfit Decode(const std::string& bytes) {
   return m;
 }
 
-}  // namespace
-
 std::vector<observations::Misfit> Objective::EvaluateAll(
     const std::vector<std::vector<double>>& points,
     const std::function<void(int, const observations::Misfit&)>& done) const {
   const std::vector<std::string> bytes = parallel::Map(
       static_cast<int>(points.size()),
-      [&](int k) { return Encode(Evaluate(points[static_cast<std::size_t>(k)])); },
+      [&](int k) { return EncodeMisfit(Evaluate(points[static_cast<std::size_t>(k)])); },
       [&](int k, const std::string& b) {
-        if (done) done(k, Decode(b));
+        if (done) done(k, DecodeMisfit(b));
       });
   std::vector<observations::Misfit> out;
   out.reserve(bytes.size());
-  for (const std::string& b : bytes) out.push_back(Decode(b));
+  for (const std::string& b : bytes) out.push_back(DecodeMisfit(b));
   return out;
 }
 
@@ -97,8 +96,7 @@ Objective::Objective(core::Scene scene, ParameterSpace space,
       observations::ComputeMisfit(observations_, scene_, shape, misfit_).residuals.size());
 }
 
-observations::Misfit Objective::Evaluate(const std::vector<double>& physical,
-                                         core::SimulationResult* result) const {
+observations::Misfit Objective::Evaluate(const std::vector<double>& physical) const {
   core::Scene scene = scene_;
   space_.Apply(physical, &scene);
   observations::Misfit misfit;
@@ -115,7 +113,6 @@ observations::Misfit Objective::Evaluate(const std::vector<double>& physical,
     }
     core::SimulationResult sim = parallel::Simulate(scene, *terrain);
     misfit = observations::ComputeMisfit(observations_, scene, sim, misfit_);
-    if (result) *result = std::move(sim);
   } catch (const std::exception& e) {
     misfit = observations::Misfit{};
     misfit.value = misfit_.penalty;

@@ -7,7 +7,9 @@
 
 namespace rockcal::calibrate {
 
-std::string Parameter::name() const { return core::Info(kind).name; }
+std::string Parameter::name() const {
+  return std::string(core::Info(kind).name) + (offset ? "_offset" : "");
+}
 
 std::string Parameter::label() const { return material + "." + name(); }
 

@@ -115,6 +115,30 @@ TEST(Mpi, ACalibrationStartedOnTwoRanksResumesOnOne) {
   ExpectSameFiles(straight, resumed, kCalibrationFiles);
 }
 
+// A joint campaign of two sites: each evaluation's site simulations spread
+// over the ranks as (point, site) tasks; the same files at 1 and 2 ranks,
+// and a campaign started on two ranks resumes on one as a straight run goes.
+TEST(Mpi, ACampaignIsTheSameOnTwoRanksAndResumesOnOne) {
+  SKIP_WITHOUT_MPI();
+  const std::string one = FreshDir("one"), two = FreshDir("two"), resumed = FreshDir("resumed");
+  const std::string args = "campaign " + std::string(ROCKCAL_SOURCE_DIR) +
+                           "/sites/examples/twin_campaign/campaign.json --rocks 12 --seed 3 "
+                           "--threads 1 --quiet";
+  const std::vector<std::string> files = {"evaluations.jsonl", "parameters.json", "parameters.csv",
+                                          "sites.csv", "summary.json"};
+  const RunResult a = Rockcal(args + " --max-evals 6 --out " + one);
+  ASSERT_EQ(a.status, 0) << a.err;
+  const RunResult b = RockcalRanks(2, args + " --max-evals 6 --out " + two);
+  ASSERT_EQ(b.status, 0) << b.err;
+  ExpectSameFiles(one, two, files);
+  const RunResult c = RockcalRanks(2, args + " --max-evals 3 --out " + resumed);
+  ASSERT_EQ(c.status, 0) << c.err;
+  const RunResult d = Rockcal(args + " --max-evals 6 --resume --out " + resumed);
+  ASSERT_EQ(d.status, 0) << d.err;
+  // All but summary.json, which counts the evaluations simulated (3 of 6 resumed).
+  ExpectSameFiles(one, resumed, {"evaluations.jsonl", "parameters.json", "parameters.csv", "sites.csv"});
+}
+
 TEST(Mpi, BadInputIsExitTwoOnEveryRank) {
   SKIP_WITHOUT_MPI();
   const std::string out = FreshDir("out");

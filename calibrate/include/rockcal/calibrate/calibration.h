@@ -1,4 +1,4 @@
-// Calibration methods (NLopt and Ceres) over an Objective, with an evaluation
+// Calibration methods (NLopt and Ceres) over an ObjectiveFunction, with an evaluation
 // log that a stopped calibration resumes from without repeating work.
 #ifndef ROCKCAL_CALIBRATE_CALIBRATION_H_
 #define ROCKCAL_CALIBRATE_CALIBRATION_H_
@@ -187,9 +187,19 @@ using CalibrationProgress = std::function<void(const Evaluation&, double best)>;
 
 // Runs `method` from `start` (physical values) within the options' budget.
 // Throws InputError for an unknown method or invalid options.
-MethodResult RunMethod(const std::string& method, const Objective& objective,
+MethodResult RunMethod(const std::string& method, const ObjectiveFunction& objective,
                        const std::vector<double>& start, const MethodOptions& options,
                        EvaluationLog* log, const CalibrationProgress& progress = nullptr);
+
+// Standard errors and correlations at `at` (physical values, misfit
+// `misfit` there): the Jacobian of the scaled residuals by central
+// differences in the unit box (2n evaluations, spread over the ranks under
+// mpirun, a step of 5 % of each range or less near a bound), then the
+// Gauss-Newton covariance (J^T J)^-1, scaled by the reduced chi-square when
+// that is above 1, mapped to physical units. What the ceres method reports
+// at its calibrated values.
+Uncertainty JacobianUncertaintyAt(const ObjectiveFunction& objective,
+                                  const std::vector<double>& at, double misfit);
 
 // One stage of the smoothed estimate of MethodOptions::estimate: a linear
 // model of the residual vector, r(u) = a + J (u - u_around) in the unit box,

@@ -193,6 +193,17 @@ HoldoutSummary CrossValidate(const sites::Site& site,
                              const CalibrationOptions& options, int folds,
                              const CalibrationCallbacks& callbacks = {});
 
+// The search of a calibration, on any objective (a site's Objective, a
+// campaign's CampaignObjective): each of `methods` in turn from `start`
+// (physical values) with `options`, through `log` (none: null) and the
+// callbacks' method_started, evaluated and method_finished; appends the
+// results to summary->methods and makes summary->best the lowest misfit's.
+// Throws std::runtime_error when no evaluation finished.
+void SearchMethods(const ObjectiveFunction& objective, const std::vector<double>& start,
+                   const std::vector<std::string>& methods, const MethodOptions& options,
+                   EvaluationLog* log, const CalibrationCallbacks& callbacks,
+                   CalibrationSummary* summary);
+
 // Throws the InputError Calibrate would throw before its first evaluation
 // (invalid options, a site without calibrated parameters), so that a caller
 // can check before it writes anything.

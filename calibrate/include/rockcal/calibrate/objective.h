@@ -1,6 +1,8 @@
-// The calibration objective: the whole scene simulated with a fixed seed set
-// (common random numbers), so the misfit is a deterministic function of the
-// parameters; a failed simulation gives a large finite penalty, never NaN.
+// What a calibration searches (ObjectiveFunction), and the calibration
+// objective of one site (Objective): the whole scene simulated with a fixed
+// seed set (common random numbers), so the misfit is a deterministic
+// function of the parameters; a failed simulation gives a large finite
+// penalty, never NaN.
 #ifndef ROCKCAL_CALIBRATE_OBJECTIVE_H_
 #define ROCKCAL_CALIBRATE_OBJECTIVE_H_
 
@@ -8,6 +10,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <vector>
 
 #include "rockcal/calibrate/parameter_space.h"
@@ -18,34 +21,55 @@
 
 namespace rockcal::calibrate {
 
-class Objective final {
+// What the calibration methods (RunMethod), the evaluation log and the
+// uncertainty see of a calibration: a residual vector of fixed length, a
+// deterministic function of the physical values of a box of parameters. One
+// site's Objective and a campaign's joint objective (CampaignObjective, of
+// several sites) implement it, so both are searched by the same code.
+class ObjectiveFunction {
+ public:
+  virtual ~ObjectiveFunction() = default;
+
+  // The parameters searched, with their bounds.
+  virtual const ParameterSpace& space() const = 0;
+  // Number of residuals every evaluation returns.
+  virtual int residual_count() const = 0;
+  // The misfit at `physical` (residuals always of residual_count(): a
+  // penalised evaluation spreads the penalty over them); never throws for a
+  // failed simulation.
+  virtual observations::Misfit Evaluate(const std::vector<double>& physical) const = 0;
+  // Evaluate at each of `points` (physical values), the points independent
+  // of one another, spread over the ranks under mpirun (parallel::Map).
+  // Misfits in the order of `points`, identical to evaluating them one by
+  // one. `done(index, misfit)` follows each point as it finishes (on rank 0
+  // only under mpirun).
+  virtual std::vector<observations::Misfit> EvaluateAll(
+      const std::vector<std::vector<double>>& points,
+      const std::function<void(int, const observations::Misfit&)>& done = nullptr) const = 0;
+};
+
+class Objective final : public ObjectiveFunction {
  public:
   // `scene` is the site's scene with the run's rock count and seed; the
   // recording is reduced to what the observations need.
   Objective(core::Scene scene, ParameterSpace space, observations::Observations observations,
             observations::MisfitOptions misfit);
 
-  const ParameterSpace& space() const { return space_; }
+  const ParameterSpace& space() const override { return space_; }
   const core::Scene& scene() const { return scene_; }
   const observations::Observations& observations() const { return observations_; }
-  // Number of residuals every evaluation returns.
-  int residual_count() const { return residual_count_; }
+  const observations::MisfitOptions& misfit_options() const { return misfit_; }
+  int residual_count() const override { return residual_count_; }
 
-  // Simulates at `physical` and returns the misfit (residuals always of
-  // residual_count(): a penalised evaluation spreads the penalty over them).
-  // `result`, when given, receives the simulation.
-  observations::Misfit Evaluate(const std::vector<double>& physical,
-                                core::SimulationResult* result = nullptr) const;
+  // Simulates the scene at `physical` (every rank's share of its rocks
+  // under mpirun, parallel::Simulate) and returns the misfit.
+  observations::Misfit Evaluate(const std::vector<double>& physical) const override;
 
-  // Evaluate at each of `points` (physical values), the points independent
-  // of one another: under mpirun each point is simulated whole on one rank,
-  // the points handed out to the ranks as they become free
-  // (parallel::Map). Misfits in the order of `points`, identical to
-  // evaluating them one by one. `done(index, misfit)` follows each point as
-  // it finishes (on rank 0 only under mpirun).
+  // Under mpirun each point is simulated whole on one rank, the points
+  // handed out to the ranks as they become free (parallel::Map).
   std::vector<observations::Misfit> EvaluateAll(
       const std::vector<std::vector<double>>& points,
-      const std::function<void(int, const observations::Misfit&)>& done = nullptr) const;
+      const std::function<void(int, const observations::Misfit&)>& done = nullptr) const override;
 
  private:
   core::Scene scene_;
@@ -58,6 +82,11 @@ class Objective final {
   mutable std::vector<double> terrain_key_;
   mutable std::shared_ptr<const core::Terrain> terrain_;
 };
+
+// A misfit as bytes for parallel::Map (every field, doubles bit for bit),
+// and back.
+std::string EncodeMisfit(const observations::Misfit& misfit);
+observations::Misfit DecodeMisfit(const std::string& bytes);
 
 }  // namespace rockcal::calibrate
 

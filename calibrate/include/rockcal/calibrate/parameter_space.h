@@ -23,8 +23,17 @@ struct Parameter {
   int material_index = 0;
   ParameterKind kind = ParameterKind::kHardness;
   double lower = 0.0, upper = 1.0;  // SI (roughness m, contact time s)
+  // A joint parameter of a campaign (JointSpace), whose `material` is the
+  // class ("talus"), or "<site>:<class>" for one of a single site: the site
+  // it belongs to, empty when the sites share it (and in a single site's
+  // calibration); and whether it is that site's offset from the shared
+  // value rather than a value.
+  std::string site;
+  bool offset = false;
 
-  std::string name() const;  // core::Info(kind).name: "hardness", "roughness", ...
+  // core::Info(kind).name: "hardness", "roughness", ...; an offset's with
+  // "_offset" after it ("hardness_offset").
+  std::string name() const;
   std::string label() const;  // "talus.hardness"
   // material_class, or the material id when it is empty.
   const std::string& class_name() const;

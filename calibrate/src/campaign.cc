@@ -1,0 +1,531 @@
+#include "rockcal/calibrate/campaign.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <tuple>
+
+#include "rockcal/calibrate/score.h"
+#include "rockcal/core/error.h"
+#include "rockcal/core/format.h"
+#include "rockcal/core/limits.h"
+#include "rockcal/core/material_field.h"
+#include "rockcal/parallel/parallel.h"
+#include "rockcal/sites/json_reader.h"
+
+namespace rockcal::calibrate {
+namespace {
+
+namespace fs = std::filesystem;
+using core::FormatNumber;
+
+std::string Interval(double lower, double upper) {
+  return "[" + FormatNumber(lower) + ", " + FormatNumber(upper) + "]";
+}
+
+// A file named at `node`, relative to the campaign file's folder; a missing
+// one is an InputError at the node.
+std::string ResolveFile(const sites::JsonNode& node, const fs::path& dir, const char* what) {
+  const std::string name = node.String();
+  const fs::path p = fs::path(name).is_absolute() ? fs::path(name) : dir / name;
+  std::error_code ec;
+  if (!fs::is_regular_file(p, ec))
+    node.Fail(std::string("no such file: ") + p.string() + "; expected " + what +
+              " (relative to the campaign file)");
+  return p.string();
+}
+
+// Rocks per evaluation of a site.
+int SiteRocks(const CampaignSite& site, const CalibrationOptions& options) {
+  return site.rocks > 0 ? site.rocks : options.rocks;
+}
+
+}  // namespace
+
+// ---- the campaign file -------------------------------------------------------
+
+Campaign LoadCampaign(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw InputError(path, "no such file; expected a campaign file (JSON listing the sites)");
+  const nlohmann::json json = sites::ReadJsonFile(path);
+  const sites::JsonNode root(&json, path, "$");
+  if (!root.is_object()) root.Fail("expected a JSON object (a campaign file)");
+  root.Keys({"name", "units", "sites", "shared", "offsets"});
+  Campaign c;
+  c.path = path;
+  c.name = root.Has("name") ? root.Get("name").String() : fs::path(path).stem().string();
+  c.units = sites::ReadUnits(root.Get("units"));
+  c.inputs.push_back(path);
+  const fs::path dir = fs::path(path).parent_path();
+  const std::vector<sites::JsonNode> list = root.Get("sites").Array(1);
+  for (const sites::JsonNode& node : list) {
+    if (!node.is_object()) node.Fail("expected an object {\"site\": ..., \"observations\": ...}");
+    node.Keys({"site", "observations", "name", "rocks", "weight"});
+    CampaignSite s;
+    s.site = sites::LoadSite(ResolveFile(node.Get("site"), dir, "a site file"));
+    const std::string obs = ResolveFile(node.Get("observations"), dir, "an observations file");
+    s.observations = observations::LoadObservations(obs, s.site.scene);
+    s.name = node.Has("name") ? node.Get("name").String() : s.site.scene.name;
+    if (s.name.empty()) node.Fail("the site has no name: give the campaign's site a \"name\"");
+    for (const CampaignSite& other : c.sites)
+      if (other.name == s.name)
+        (node.Has("name") ? node.Get("name") : node)
+            .Fail("two sites named '" + s.name +
+                  "': give each site of the campaign a unique \"name\"");
+    if (node.Has("rocks"))
+      s.rocks = static_cast<int>(node.Get("rocks").Integer(1, core::kMaxRocks));
+    if (node.Has("weight")) s.weight = node.Get("weight").Positive();
+    for (const std::string& f :
+         s.site.inputs.empty() ? std::vector<std::string>{s.site.path} : s.site.inputs)
+      c.inputs.push_back(f);
+    for (const std::string& f :
+         s.observations.inputs.empty() ? std::vector<std::string>{obs} : s.observations.inputs)
+      c.inputs.push_back(f);
+    c.sites.push_back(std::move(s));
+  }
+  if (const auto shared = root.Find("shared"))
+    for (const sites::JsonNode& name : shared->Array(1)) {
+      const std::string cls = name.String();
+      if (std::find(c.shared.begin(), c.shared.end(), cls) != c.shared.end())
+        name.Fail("class '" + cls + "' listed twice");
+      c.shared.push_back(cls);
+    }
+  if (const auto offsets = root.Find("offsets"))
+    for (const sites::JsonNode& node : offsets->Array(1)) {
+      if (!node.is_object())
+        node.Fail("expected an object {\"class\": ..., \"parameter\": ..., \"sigma\": ...}");
+      node.Keys({"class", "parameter", "sigma"});
+      OffsetPrior o;
+      o.class_name = node.Get("class").String();
+      const sites::JsonNode parameter = node.Get("parameter");
+      o.parameter = parameter.String();
+      const core::MaterialFieldInfo* field = core::FindMaterialField(o.parameter);
+      if (!field) parameter.Fail("unknown parameter (allowed: " + core::MaterialFieldNames() + ")");
+      o.sigma = node.Get("sigma").Positive();
+      if (field->unit == core::FieldUnit::kLength) o.sigma = sites::LengthToSI(o.sigma, c.units);
+      for (const OffsetPrior& other : c.offsets)
+        if (other.class_name == o.class_name && other.parameter == o.parameter)
+          node.Fail("a second offset of class '" + o.class_name + "' " + o.parameter);
+      c.offsets.push_back(o);
+    }
+  JointSpace{c};  // its errors now, before anything runs
+  return c;
+}
+
+// ---- the joint space ----------------------------------------------------------
+
+JointSpace::JointSpace(const Campaign& campaign) {
+  const std::string where = campaign.path.empty() ? std::string("campaign") : campaign.path;
+  auto shared = [&](const std::string& cls) {
+    return campaign.shared.empty() ||
+           std::find(campaign.shared.begin(), campaign.shared.end(), cls) != campaign.shared.end();
+  };
+  // A joint value: (site, class, kind); the site is empty for a shared class.
+  using Key = std::tuple<std::string, std::string, ParameterKind>;
+  std::map<Key, int> index;
+  std::vector<Parameter> parameters;
+  // Who contributed each value's bounds: "site 'a' material 'talus' [0.1, 0.6]".
+  std::vector<std::vector<std::string>> sources;
+  std::vector<std::pair<double, double>> first_bounds;
+  for (std::size_t s = 0; s < campaign.sites.size(); ++s) {
+    const CampaignSite& site = campaign.sites[s];
+    site_spaces_.push_back(ParameterSpace::FromSite(site.site));
+    std::vector<Term> terms;
+    for (const Parameter& p : site_spaces_.back().parameters()) {
+      const std::string& cls = p.class_name();
+      const Key key{shared(cls) ? std::string() : site.name, cls, p.kind};
+      auto it = index.find(key);
+      if (it == index.end()) {
+        Parameter q;
+        q.material = std::get<0>(key).empty() ? cls : site.name + ":" + cls;
+        q.material_class = cls;
+        q.site = std::get<0>(key);
+        q.kind = p.kind;
+        q.lower = p.lower;
+        q.upper = p.upper;
+        q.material_index = -1;
+        it = index.emplace(key, static_cast<int>(parameters.size())).first;
+        parameters.push_back(q);
+        sources.emplace_back();
+        first_bounds.emplace_back(p.lower, p.upper);
+      } else {
+        Parameter& q = parameters[static_cast<std::size_t>(it->second)];
+        q.lower = std::max(q.lower, p.lower);
+        q.upper = std::min(q.upper, p.upper);
+      }
+      sources[static_cast<std::size_t>(it->second)].push_back(
+          "site '" + site.name + "' material '" + p.material + "' " + Interval(p.lower, p.upper));
+      terms.push_back({it->second, kNoOffset});
+    }
+    sites_.push_back(std::move(terms));
+  }
+  for (std::size_t k = 0; k < parameters.size(); ++k) {
+    const Parameter& q = parameters[k];
+    std::string from;
+    for (const std::string& s : sources[k]) from += (from.empty() ? "" : ", ") + s;
+    if (!(q.lower < q.upper))
+      throw InputError(where, "class '" + q.material_class + "' " + q.name() +
+                                  ": the bounds of the sites sharing it have no common interval (" +
+                                  from +
+                                  "); expected overlapping \"calibrate\" bounds, or leave "
+                                  "the class out of \"shared\"");
+    if (q.lower != first_bounds[k].first || q.upper != first_bounds[k].second)
+      notes_.push_back("class " + q.material_class + " " + q.name() + ": bounds " +
+                       Interval(q.lower, q.upper) + ", the intersection of " + from);
+  }
+  for (const std::string& cls : campaign.shared) {
+    bool found = false;
+    for (const Parameter& q : parameters) found = found || q.material_class == cls;
+    if (!found)
+      throw InputError(where + ": $.shared",
+                       "class '" + cls +
+                           "': no site calibrates a material of this class; "
+                           "expected a class of the sites' materials with \"calibrate\" bounds");
+  }
+  for (std::size_t o = 0; o < campaign.offsets.size(); ++o) {
+    const OffsetPrior& prior = campaign.offsets[o];
+    const std::string path = where + ": $.offsets[" + std::to_string(o) + "]";
+    const core::MaterialFieldInfo* field = core::FindMaterialField(prior.parameter);
+    if (!field)
+      throw InputError(path + ".parameter",
+                       "'" + prior.parameter +
+                           "': unknown parameter (allowed: " + core::MaterialFieldNames() + ")");
+    if (!(prior.sigma > 0))
+      throw InputError(path + ".sigma", FormatNumber(prior.sigma) + ": expected a sigma > 0");
+    if (!shared(prior.class_name))
+      throw InputError(path + ".class", "class '" + prior.class_name +
+                                            "' is not shared (not in \"shared\"): an offset is a "
+                                            "site's departure from a shared value");
+    const auto it = index.find(Key{std::string(), prior.class_name, field->field});
+    if (it == index.end())
+      throw InputError(path, "class '" + prior.class_name + "' " + prior.parameter +
+                                 ": no site calibrates it; expected a class and parameter of the "
+                                 "sites' \"calibrate\" bounds");
+    // The sites calibrating it, in order; all but the last get an offset
+    // parameter, the last minus their sum (the offsets sum to zero).
+    std::vector<std::size_t> with;
+    for (std::size_t s = 0; s < campaign.sites.size(); ++s)
+      for (const Term& t : sites_[s])
+        if (t.value == it->second) {
+          with.push_back(s);
+          break;
+        }
+    std::vector<int> free;
+    for (std::size_t w = 0; w + 1 < with.size(); ++w) {
+      Parameter q = parameters[static_cast<std::size_t>(it->second)];
+      q.site = campaign.sites[with[w]].name;
+      q.material = q.site + ":" + prior.class_name;
+      q.offset = true;
+      q.lower = -3.0 * prior.sigma;
+      q.upper = 3.0 * prior.sigma;
+      free.push_back(static_cast<int>(parameters.size()));
+      parameters.push_back(q);
+    }
+    for (std::size_t w = 0; w < with.size() && with.size() > 1; ++w) {
+      Offset offset;
+      offset.sigma = prior.sigma;
+      offset.label =
+          campaign.sites[with[w]].name + ":" + prior.class_name + "." + prior.parameter + "_offset";
+      if (w + 1 < with.size())
+        offset.terms = {{free[w], 1.0}};
+      else
+        for (int f : free) offset.terms.emplace_back(f, -1.0);
+      for (Term& t : sites_[with[w]])
+        if (t.value == it->second) t.offset = offsets_.size();
+      offsets_.push_back(std::move(offset));
+    }
+  }
+  space_ = ParameterSpace(std::move(parameters));
+}
+
+double JointSpace::Offset::Value(const std::vector<double>& joint) const {
+  double v = 0.0;
+  for (const auto& [index, sign] : terms) v += sign * joint[static_cast<std::size_t>(index)];
+  return v;
+}
+
+const ParameterSpace& JointSpace::site_space(int site) const {
+  return site_spaces_[static_cast<std::size_t>(site)];
+}
+
+std::vector<double> JointSpace::SiteValues(int site, const std::vector<double>& joint) const {
+  const std::vector<Term>& terms = sites_[static_cast<std::size_t>(site)];
+  const std::vector<Parameter>& own = site_space(site).parameters();
+  std::vector<double> x(terms.size());
+  for (std::size_t k = 0; k < terms.size(); ++k) {
+    double v = joint[static_cast<std::size_t>(terms[k].value)];
+    if (terms[k].offset != kNoOffset) v += offsets_[terms[k].offset].Value(joint);
+    x[k] = std::clamp(v, own[k].lower, own[k].upper);
+  }
+  return x;
+}
+
+std::vector<double> JointSpace::FromSiteValues(
+    const std::vector<std::vector<double>>& site_values) const {
+  const std::size_t n = static_cast<std::size_t>(space_.size());
+  std::vector<double> sum(n, 0.0);
+  std::vector<int> count(n, 0);
+  for (std::size_t s = 0; s < sites_.size(); ++s)
+    for (std::size_t k = 0; k < sites_[s].size(); ++k) {
+      const std::size_t j = static_cast<std::size_t>(sites_[s][k].value);
+      sum[j] += site_values[s][k];
+      ++count[j];
+    }
+  std::vector<double> joint(n, 0.0);
+  for (std::size_t j = 0; j < n; ++j) {
+    const Parameter& p = space_.parameters()[j];
+    if (!p.offset && count[j] > 0) joint[j] = std::clamp(sum[j] / count[j], p.lower, p.upper);
+  }
+  return joint;
+}
+
+std::vector<observations::Residual> JointSpace::PriorResiduals(
+    const std::vector<double>& joint) const {
+  std::vector<observations::Residual> out;
+  for (const Offset& o : offsets_) {
+    observations::Residual r;
+    r.observation = "prior";
+    r.quantity = o.label;
+    r.simulated = o.Value(joint);
+    r.observed = 0.0;
+    r.sigma = o.sigma;
+    r.value = r.simulated / o.sigma;
+    out.push_back(r);
+  }
+  return out;
+}
+
+// ---- the joint objective ---------------------------------------------------------
+
+CampaignObjective::CampaignObjective(const Campaign& campaign, std::vector<core::Scene> scenes,
+                                     const observations::MisfitOptions& misfit)
+    : joint_(campaign) {
+  for (std::size_t s = 0; s < campaign.sites.size(); ++s) {
+    const CampaignSite& site = campaign.sites[s];
+    names_.push_back(site.name);
+    weights_.push_back(site.weight);
+    sites_.push_back(std::make_unique<Objective>(
+        std::move(scenes[s]), joint_.site_space(static_cast<int>(s)), site.observations, misfit));
+    residual_count_ += sites_.back()->residual_count();
+  }
+  residual_count_ += joint_.prior_count();
+}
+
+std::vector<observations::Misfit> CampaignObjective::EvaluateSites(
+    const std::vector<std::pair<int, std::vector<double>>>& tasks,
+    const std::function<void(int, const observations::Misfit&)>& done) const {
+  const std::vector<std::string> bytes = parallel::Map(
+      static_cast<int>(tasks.size()),
+      [&](int k) {
+        const auto& [s, x] = tasks[static_cast<std::size_t>(k)];
+        return EncodeMisfit(site(s).Evaluate(x));
+      },
+      [&](int k, const std::string& b) {
+        if (done) done(k, DecodeMisfit(b));
+      });
+  std::vector<observations::Misfit> out;
+  out.reserve(bytes.size());
+  for (const std::string& b : bytes) out.push_back(DecodeMisfit(b));
+  return out;
+}
+
+observations::Misfit CampaignObjective::Join(const std::vector<double>& joint,
+                                             const std::vector<observations::Misfit>& sites) const {
+  observations::Misfit out;
+  out.value = 0.0;
+  for (std::size_t s = 0; s < sites.size(); ++s) {
+    const observations::Misfit& m = sites[s];
+    const double scale = std::sqrt(weights_[s]);
+    out.value += weights_[s] * m.value;
+    if (m.penalised) {
+      out.penalised = true;
+      out.message += (out.message.empty() ? "" : "; ") + names_[s] + ": " + m.message;
+    }
+    for (observations::Residual r : m.residuals) {
+      r.observation = names_[s] + ": " + r.observation;
+      r.value *= scale;
+      out.residuals.push_back(std::move(r));
+    }
+  }
+  for (observations::Residual& r : joint_.PriorResiduals(joint)) {
+    out.value += 0.5 * r.value * r.value;
+    out.residuals.push_back(std::move(r));
+  }
+  return out;
+}
+
+observations::Misfit CampaignObjective::Evaluate(const std::vector<double>& physical) const {
+  std::vector<std::pair<int, std::vector<double>>> tasks;
+  for (int s = 0; s < site_count(); ++s) tasks.emplace_back(s, joint_.SiteValues(s, physical));
+  return Join(physical, EvaluateSites(tasks));
+}
+
+std::vector<observations::Misfit> CampaignObjective::EvaluateAll(
+    const std::vector<std::vector<double>>& points,
+    const std::function<void(int, const observations::Misfit&)>& done) const {
+  const std::size_t n = static_cast<std::size_t>(site_count());
+  std::vector<std::pair<int, std::vector<double>>> tasks;
+  for (const std::vector<double>& x : points)
+    for (int s = 0; s < site_count(); ++s) tasks.emplace_back(s, joint_.SiteValues(s, x));
+  // `done` per point once all its sites have finished (rank 0).
+  std::vector<std::vector<observations::Misfit>> partial(points.size());
+  std::vector<std::size_t> finished(points.size(), 0);
+  const std::vector<observations::Misfit> misfits =
+      EvaluateSites(tasks, [&](int k, const observations::Misfit& m) {
+        if (!done) return;
+        const std::size_t point = static_cast<std::size_t>(k) / n;
+        std::vector<observations::Misfit>& parts = partial[point];
+        if (parts.empty()) parts.resize(n);
+        parts[static_cast<std::size_t>(k) % n] = m;
+        if (++finished[point] == n) {
+          done(static_cast<int>(point), Join(points[point], parts));
+          parts.clear();
+        }
+      });
+  std::vector<observations::Misfit> out;
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    const std::vector<observations::Misfit> sites(
+        misfits.begin() + static_cast<std::ptrdiff_t>(p * n),
+        misfits.begin() + static_cast<std::ptrdiff_t>((p + 1) * n));
+    out.push_back(Join(points[p], sites));
+  }
+  return out;
+}
+
+// ---- the run ---------------------------------------------------------------------
+
+std::string CampaignSummary::BriefReport() const {
+  std::ostringstream out;
+  out << name << ": " << sites.size() << " sites, " << calibration.space.size()
+      << " joint parameters; " << calibration.BriefReport();
+  return out.str();
+}
+
+Fingerprint CampaignFingerprint(const Campaign& campaign, const CalibrationOptions& options) {
+  Fingerprint f;
+  if (!campaign.path.empty()) f.Add("campaign file", HashFile(campaign.path));
+  const JointSpace joint(campaign);
+  std::ostringstream parameters;
+  parameters.precision(17);
+  for (const Parameter& p : joint.space().parameters())
+    parameters << p.label() << " [" << p.lower << ", " << p.upper << "] ";
+  f.Add("joint parameters", parameters.str());
+  for (const CampaignSite& site : campaign.sites) {
+    CalibrationOptions o = options;
+    o.rocks = SiteRocks(site, options);
+    for (const auto& [what, value] : CalibrationFingerprint(site.site, site.observations, o).parts)
+      f.Add(site.name + ": " + what, value);
+    std::ostringstream weight;
+    weight.precision(17);
+    weight << site.weight;
+    f.Add(site.name + ": weight", weight.str());
+  }
+  return f;
+}
+
+void CheckCampaign(const Campaign& campaign, const CalibrationOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("calibration options", error);
+  const char* unsupported = options.reach_points > 0    ? "a reach check (reach_points)"
+                            : options.refine_factor > 1 ? "a refining stage (refine_factor)"
+                            : options.race_points > 0   ? "a race (race_points)"
+                            : options.noise_seeds > 0   ? "noise seeds (noise_seeds)"
+                            : !options.observations_subset.empty()
+                                ? "a subset of the observations (observations_subset)"
+                                : nullptr;
+  if (unsupported)
+    throw InputError("calibration options", std::string("a campaign takes no ") + unsupported +
+                                                "; calibrate the sites alone for it");
+  if (campaign.sites.empty())
+    throw InputError(campaign.path.empty() ? std::string("campaign") : campaign.path,
+                     "no sites; expected at least one in \"sites\"");
+  JointSpace{campaign};
+}
+
+CampaignSummary RunCampaign(const Campaign& campaign, const CalibrationOptions& options,
+                            const CalibrationCallbacks& callbacks) {
+  const auto start_time = std::chrono::steady_clock::now();
+  CheckCampaign(campaign, options);
+  std::vector<core::Scene> scenes;
+  int rocks = 0;
+  for (const CampaignSite& site : campaign.sites) {
+    scenes.push_back(RunScene(site.site, SiteRocks(site, options), options.seed, options.threads));
+    rocks += scenes.back().total_rocks();
+  }
+  const std::uint64_t seed = scenes.front().options.seed;
+  const CampaignObjective objective(campaign, scenes, options.misfit);
+  const JointSpace& joint = objective.joint();
+  const int n_sites = objective.site_count();
+  std::vector<std::vector<double>> own_start;  // each site's own starting values
+  for (int s = 0; s < n_sites; ++s)
+    own_start.push_back(joint.site_space(s).Current(objective.site(s).scene()));
+
+  CampaignSummary summary;
+  summary.name = campaign.name;
+  summary.path = campaign.path;
+  summary.notes = joint.notes();
+  summary.prior_residuals = joint.prior_count();
+  CalibrationSummary& cal = summary.calibration;
+  cal.site = campaign.name;
+  cal.units = campaign.units;
+  cal.space = joint.space();
+  cal.rocks = cal.final_rocks = rocks;
+  cal.seed = seed;
+  cal.start = cal.search_start = joint.FromSiteValues(own_start);
+
+  // One round over the ranks: every site at the joint start, and at its own.
+  std::vector<std::pair<int, std::vector<double>>> tasks;
+  for (int s = 0; s < n_sites; ++s) tasks.emplace_back(s, joint.SiteValues(s, cal.start));
+  for (int s = 0; s < n_sites; ++s) tasks.emplace_back(s, own_start[static_cast<std::size_t>(s)]);
+  std::vector<observations::Misfit> misfits = objective.EvaluateSites(tasks);
+  cal.misfit_before = objective.Join(
+      cal.start, std::vector<observations::Misfit>(misfits.begin(), misfits.begin() + n_sites));
+  for (int s = 0; s < n_sites; ++s) {
+    const CampaignSite& site = campaign.sites[static_cast<std::size_t>(s)];
+    CampaignSiteFit fit;
+    fit.name = site.name;
+    fit.site_file = site.site.path;
+    fit.weight = site.weight;
+    fit.rocks = scenes[static_cast<std::size_t>(s)].total_rocks();
+    fit.space = joint.site_space(s);
+    fit.start = own_start[static_cast<std::size_t>(s)];
+    fit.misfit_start = misfits[static_cast<std::size_t>(n_sites + s)];
+    summary.sites.push_back(std::move(fit));
+  }
+  if (callbacks.started) callbacks.started(cal);
+
+  std::optional<EvaluationLog> log;
+  if (!options.log_path.empty())
+    log.emplace(options.log_path, options.resume, joint.space(), seed, rocks,
+                CampaignFingerprint(campaign, options));
+  MethodOptions method_options = options.method;
+  method_options.seed = seed;
+  SearchMethods(objective, cal.search_start, options.methods, method_options, log ? &*log : nullptr,
+                callbacks, &cal);
+  MethodResult& best = cal.methods[static_cast<std::size_t>(cal.best)];
+  // The uncertainty of the joint values, whatever the method (ceres has it).
+  if (!best.uncertainty.computed)
+    best.uncertainty = JacobianUncertaintyAt(objective, best.best, best.best_misfit);
+  cal.termination = best.termination;
+
+  tasks.clear();
+  for (int s = 0; s < n_sites; ++s) tasks.emplace_back(s, joint.SiteValues(s, best.best));
+  misfits = objective.EvaluateSites(tasks);
+  cal.misfit_after = objective.Join(best.best, misfits);
+  for (int s = 0; s < n_sites; ++s) {
+    CampaignSiteFit& fit = summary.sites[static_cast<std::size_t>(s)];
+    fit.calibrated = tasks[static_cast<std::size_t>(s)].second;
+    fit.misfit_joint = misfits[static_cast<std::size_t>(s)];
+  }
+  cal.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  return summary;
+}
+
+}  // namespace rockcal::calibrate

@@ -1,0 +1,107 @@
+// rockcal campaign: the joint calibration of several sites whose materials
+// share classes (calibrate::RunCampaign), with calibrate's search, methods,
+// evaluation log and resume.
+#include <chrono>
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include "args.h"
+#include "calibrate_common.h"
+#include "commands.h"
+#include "progress.h"
+#include "rockcal/calibrate/campaign.h"
+#include "rockcal/core/error.h"
+#include "rockcal/core/format.h"
+#include "rockcal/observations/misfit.h"
+#include "rockcal/parallel/parallel.h"
+#include "rockcal/reports/calibration_outputs.h"
+#include "rockcal/reports/campaign_outputs.h"
+#include "rockcal/reports/output_dir.h"
+
+namespace rockcal::cli {
+namespace {
+
+// Every file of a finished campaign in DIR `out`; summary.json, which marks
+// the folder complete, after every other file.
+void WriteCampaignFiles(const std::string& out, const calibrate::CampaignSummary& summary) {
+  const calibrate::CalibrationSummary& cal = summary.calibration;
+  reports::WriteFileAtomically(out + "/parameters.json",
+                               reports::ParametersJson(cal).dump(2) + "\n");
+  reports::WriteFileAtomically(out + "/parameters.csv", reports::ParametersCsv(cal));
+  reports::WriteFileAtomically(out + "/parameters.md", reports::CampaignMarkdown(summary));
+  reports::WriteFileAtomically(out + "/trace.csv", reports::TraceCsv(cal));
+  reports::WriteFileAtomically(out + "/sites.csv", reports::CampaignSitesCsv(summary));
+  if (cal.methods.size() > 1) {
+    reports::WriteFileAtomically(out + "/comparison.csv", reports::ComparisonCsv(cal));
+    reports::WriteFileAtomically(out + "/comparison.md", reports::ComparisonMarkdown(cal));
+  }
+  // Last: summary.json marks the folder complete (PrepareCalibrationFolder).
+  reports::WriteFileAtomically(out + "/summary.json",
+                               reports::CampaignJson(summary).dump(2) + "\n");
+}
+
+void PrintCampaign(const std::string& out, const calibrate::CampaignSummary& summary,
+                   double wall_seconds) {
+  const calibrate::CalibrationSummary& cal = summary.calibration;
+  std::printf("\njoint misfit %.4g at the start, %.4g at the calibrated values\n",
+              cal.misfit_before.value, cal.misfit_after.value);
+  for (const calibrate::CampaignSiteFit& fit : summary.sites)
+    std::printf("  %-16s misfit %.4g at its own start, %.4g at the joint values; fit %s\n",
+                fit.name.c_str(), fit.misfit_start.value, fit.misfit_joint.value,
+                observations::AssessFit(fit.misfit_joint).Sentence().c_str());
+  std::printf("\n%s", reports::ParametersMarkdown(cal).c_str());
+  const calibrate::Uncertainty& u = cal.best_method().uncertainty;
+  if (u.computed && !u.rank_deficient) std::printf("Standard errors: %s.\n", u.message.c_str());
+  if (cal.methods.size() > 1) std::printf("\n%s", reports::ComparisonMarkdown(cal).c_str());
+  std::printf(
+      "\nwrote %s/ in %.1f s: parameters.{json,csv,md}, sites.csv, trace.csv, "
+      "summary.json, evaluations.jsonl%s\n",
+      out.c_str(), wall_seconds, cal.methods.size() > 1 ? ", comparison.{csv,md}" : "");
+}
+
+}  // namespace
+
+int Campaign(const std::vector<std::string>& argv) {
+  const auto start_time = std::chrono::steady_clock::now();
+  const Args args(argv, {"force", "quiet", "resume"},
+                  {"method", "methods", "max-evals", "max-seconds", "rocks", "seed", "threads",
+                   "loss", "estimate", "out"});
+  const std::string path = args.OnlyPositional("CAMPAIGN.json");
+  const std::string out = args.Get("out");
+  const std::vector<std::string> methods = MethodsFromArgs(args);
+  if (args.Flag("resume") && args.Flag("force"))
+    throw InputError("arguments", "give --resume or --force, not both");
+  const calibrate::Campaign campaign = calibrate::LoadCampaign(path);
+  calibrate::CalibrationOptions options = OptionsFromArgs(args, out);
+  options.methods = methods;
+  // A campaign searches in one stage, at the rocks it is given.
+  options.refine_factor = 1;
+  options.noise_seeds = 0;
+  calibrate::CheckCampaign(campaign, options);
+
+  const bool quiet = args.Flag("quiet");
+  if (!quiet) {
+    std::printf("campaign %s: %zu sites\n", campaign.name.c_str(), campaign.sites.size());
+    const calibrate::JointSpace joint(campaign);
+    for (const std::string& note : joint.notes()) std::printf("  %s\n", note.c_str());
+  }
+  parallel::OnRoot([&] {
+    PrepareCalibrationFolder(out, args.Flag("resume"), args.Flag("force"), campaign.inputs,
+                             "campaign", "summary.json");
+  });
+  const std::string folder = RankCalibrationFolder(out);
+  options.log_path = folder + "/evaluations.jsonl";
+  std::optional<Progress> progress;
+  const calibrate::CalibrationCallbacks callbacks =
+      ProgressCallbacks(quiet, options.method.max_evals, &progress);
+  const calibrate::CampaignSummary summary = calibrate::RunCampaign(campaign, options, callbacks);
+  WriteCampaignFiles(folder, summary);
+  if (!quiet)
+    PrintCampaign(
+        out, summary,
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count());
+  return 0;
+}
+
+}  // namespace rockcal::cli
