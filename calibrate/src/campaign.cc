@@ -15,7 +15,6 @@
 #include "rockcal/core/format.h"
 #include "rockcal/core/limits.h"
 #include "rockcal/core/material_field.h"
-#include "rockcal/parallel/parallel.h"
 #include "rockcal/sites/json_reader.h"
 
 namespace rockcal::calibrate {
@@ -320,19 +319,13 @@ CampaignObjective::CampaignObjective(const Campaign& campaign, std::vector<core:
 std::vector<observations::Misfit> CampaignObjective::EvaluateSites(
     const std::vector<std::pair<int, std::vector<double>>>& tasks,
     const std::function<void(int, const observations::Misfit&)>& done) const {
-  const std::vector<std::string> bytes = parallel::Map(
+  return MapMisfits(
       static_cast<int>(tasks.size()),
       [&](int k) {
         const auto& [s, x] = tasks[static_cast<std::size_t>(k)];
-        return EncodeMisfit(site(s).Evaluate(x));
+        return site(s).Evaluate(x);
       },
-      [&](int k, const std::string& b) {
-        if (done) done(k, DecodeMisfit(b));
-      });
-  std::vector<observations::Misfit> out;
-  out.reserve(bytes.size());
-  for (const std::string& b : bytes) out.push_back(DecodeMisfit(b));
-  return out;
+      done);
 }
 
 observations::Misfit CampaignObjective::Join(const std::vector<double>& joint,

@@ -57,9 +57,16 @@ observations::Misfit DecodeMisfit(const std::string& bytes) {
 std::vector<observations::Misfit> Objective::EvaluateAll(
     const std::vector<std::vector<double>>& points,
     const std::function<void(int, const observations::Misfit&)>& done) const {
-  const std::vector<std::string> bytes = parallel::Map(
+  return MapMisfits(
       static_cast<int>(points.size()),
-      [&](int k) { return EncodeMisfit(Evaluate(points[static_cast<std::size_t>(k)])); },
+      [&](int k) { return Evaluate(points[static_cast<std::size_t>(k)]); }, done);
+}
+
+std::vector<observations::Misfit> MapMisfits(
+    int n, const std::function<observations::Misfit(int)>& evaluate,
+    const std::function<void(int, const observations::Misfit&)>& done) {
+  const std::vector<std::string> bytes = parallel::Map(
+      n, [&](int k) { return EncodeMisfit(evaluate(k)); },
       [&](int k, const std::string& b) {
         if (done) done(k, DecodeMisfit(b));
       });

@@ -88,6 +88,13 @@ class Objective final : public ObjectiveFunction {
 std::string EncodeMisfit(const observations::Misfit& misfit);
 observations::Misfit DecodeMisfit(const std::string& bytes);
 
+// evaluate(0), ..., evaluate(n - 1), independent of one another, handed to
+// the ranks by parallel::Map (in this process without MPI); the misfits in
+// index order, `done(k, misfit)` after each (on rank 0 under mpirun).
+std::vector<observations::Misfit> MapMisfits(
+    int n, const std::function<observations::Misfit(int)>& evaluate,
+    const std::function<void(int, const observations::Misfit&)>& done);
+
 }  // namespace rockcal::calibrate
 
 #endif  // ROCKCAL_CALIBRATE_OBJECTIVE_H_
