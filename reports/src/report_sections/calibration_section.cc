@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rockcal/sites/json_reader.h"
 #include "sections.h"
 
 namespace rockcal::reports::sections {
@@ -21,7 +22,7 @@ std::string ParameterValue(const calibrate::Parameter& p, double v) {
     case calibrate::ParameterKind::kFriction:
       return FormatNumber(v, "%.3f");
     case calibrate::ParameterKind::kVegetation:
-      return Show(v * 1e-3) + " kPa (" + Show(v / 47.88025898) + " lbf/ft²)";
+      return Show(v * 1e-3) + " kPa (" + Show(v / sites::StressToSI(1.0, sites::Units::kUS)) + " lbf/ft²)";
   }
   return Show(v);
 }
