@@ -132,6 +132,8 @@ JointSpace::JointSpace(const Campaign& campaign) {
   // Who contributed each value's bounds: "site 'a' material 'talus' [0.1, 0.6]".
   std::vector<std::vector<std::string>> sources;
   std::vector<std::pair<double, double>> first_bounds;
+  // The sphere spacing of the site that first gave each value.
+  std::vector<std::pair<std::string, double>> first_spacing;
   for (std::size_t s = 0; s < campaign.sites.size(); ++s) {
     const CampaignSite& site = campaign.sites[s];
     site_spaces_.push_back(ParameterSpace::FromSite(site.site));
@@ -153,8 +155,18 @@ JointSpace::JointSpace(const Campaign& campaign) {
         parameters.push_back(q);
         sources.emplace_back();
         first_bounds.emplace_back(p.lower, p.upper);
+        first_spacing.emplace_back(site.name, site.site.scene.grid.spacing);
       } else {
         Parameter& q = parameters[static_cast<std::size_t>(it->second)];
+        const auto& [first_site, spacing] = first_spacing[static_cast<std::size_t>(it->second)];
+        const double here = site.site.scene.grid.spacing;
+        if (p.kind == ParameterKind::kRoughness && std::abs(here - spacing) > 1e-9 * spacing)
+          throw InputError(where, "class '" + cls + "' roughness is shared by sites whose virtual "
+                                  "spheres are spaced differently ('" + first_site + "' " +
+                                  FormatNumber(spacing) + " m, '" + site.name + "' " +
+                                  FormatNumber(here) + " m); a roughness means one ground only "
+                                  "at one sphere spacing: expected one surface.sphere_spacing "
+                                  "for these sites, or the class left out of \"shared\"");
         q.lower = std::max(q.lower, p.lower);
         q.upper = std::min(q.upper, p.upper);
       }

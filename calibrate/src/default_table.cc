@@ -147,8 +147,9 @@ CalibratedSite ReadParametersFile(const std::string& path) {
   out.file = fs::is_directory(path, ec) ? (fs::path(path) / "parameters.json").string() : path;
   out.result_dir = fs::path(out.file).parent_path().string();
   if (!fs::is_regular_file(out.file, ec))
-    throw InputError(out.file, "no such file; expected the parameters.json that rockcal "
-                               "calibrate writes");
+    throw InputError(out.file,
+                     "no such file; expected the parameters.json that rockcal "
+                     "calibrate writes");
   const nlohmann::json json = sites::ReadJsonFile(out.file);
   const JsonNode root(&json, out.file, "$");
   root.Keys(
@@ -284,7 +285,8 @@ std::map<std::pair<std::string, int>, TableRow> CollectRows(
 }
 
 // A row's statistics (all values, and the counted ones), with notes on values
-// at a bound and on roughness from grids of different spacings.
+// at a bound and on roughness from sites whose virtual spheres are spaced
+// differently.
 void SummariseRow(TableRow* row_out, DefaultTable* table_out) {
   TableRow& row = *row_out;
   DefaultTable& table = *table_out;
@@ -322,10 +324,11 @@ void SummariseRow(TableRow* row_out, DefaultTable* table_out) {
     std::vector<std::string> list;
     for (double s : spacings) list.push_back(FormatNumber(s) + " m");
     table.notes.push_back(
-        row.material_class + " roughness: the values come from grids of " +
+        row.material_class + " roughness: the values come from virtual spheres of " +
         (spacings.size() > 1 ? "different spacings (" + Join(list) + ")"
                              : std::string("unknown spacing (files without grid_spacing_m)")) +
-        "; a roughness means the same virtual spheres only at the same spacing");
+        "; a roughness means the same ground only at the same sphere spacing (a site's "
+        "surface.sphere_spacing, 12 ft unless it sets one, whatever its resolution)");
   }
 }
 

@@ -216,7 +216,7 @@ std::string DefaultTableMarkdown(const DefaultTable& table) {
     }
   }
   out << "\n### Result folders\n\n"
-      << "| folder | site | method | evaluations | misfit | grid spacing |\n"
+      << "| folder | site | method | evaluations | misfit | sphere spacing |\n"
       << "|---|---|---|---|---|---|\n";
   for (const calibrate::CalibratedSite& s : table.sites) {
     out << "| " << Cell(s.result_dir) << " | " << Cell(s.site) << " | " << Cell(s.method) << " | "

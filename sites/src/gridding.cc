@@ -203,4 +203,60 @@ bool GridPoints(const std::vector<Eigen::Vector3d>& points, const GriddingOption
   return true;
 }
 
+core::HeightGrid ResampleNodes(int ncols, int nrows, double cell, double x0, double y0,
+                               const std::function<double(int, int)>& z_at, double spacing) {
+  core::HeightGrid out;
+  out.x0 = x0;
+  out.y0 = y0;
+  if (std::abs(spacing - cell) <= 1e-9 * cell) {
+    out.spacing = cell;
+    out.nx = ncols;
+    out.ny = nrows;
+    out.z.resize(static_cast<std::size_t>(out.nx) * out.ny);
+    for (int j = 0; j < out.ny; ++j)
+      for (int i = 0; i < out.nx; ++i) out.z[out.index(i, j)] = z_at(i, j);
+  } else {
+    out.spacing = spacing;
+    out.nx = static_cast<int>(NodeCount((ncols - 1) * cell, spacing));
+    out.ny = static_cast<int>(NodeCount((nrows - 1) * cell, spacing));
+    out.z.resize(static_cast<std::size_t>(out.nx) * out.ny);
+    for (int j = 0; j < out.ny; ++j) {
+      const double fy = j * spacing / cell;
+      const int jy = std::max(0, std::min(static_cast<int>(fy), nrows - 2));
+      const double ty = fy - jy;
+      for (int i = 0; i < out.nx; ++i) {
+        const double fx = i * spacing / cell;
+        const int ix = std::max(0, std::min(static_cast<int>(fx), ncols - 2));
+        const double tx = fx - ix;
+        // A corner with zero weight is not used; a hole corner with a
+        // positive weight makes the node a hole (NaN propagates).
+        const double w[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty};
+        double z = 0.0;
+        for (int k = 0; k < 4; ++k)
+          if (w[k] > 0) z += w[k] * z_at(ix + (k & 1), jy + (k >> 1));
+        out.z[out.index(i, j)] = z;
+      }
+    }
+  }
+  out.material.assign(out.z.size(), 0);
+  return out;
+}
+
+core::HeightGrid ResampleGrid(const core::HeightGrid& grid, double spacing) {
+  core::HeightGrid out = ResampleNodes(
+      grid.nx, grid.ny, grid.spacing, grid.x0, grid.y0,
+      [&](int i, int j) { return grid.z[grid.index(i, j)]; }, spacing);
+  if (grid.material.size() != grid.z.size()) return out;
+  for (int j = 0; j < out.ny; ++j) {
+    const int jn =
+        std::min(grid.ny - 1, static_cast<int>(std::lround(j * out.spacing / grid.spacing)));
+    for (int i = 0; i < out.nx; ++i) {
+      const int in =
+          std::min(grid.nx - 1, static_cast<int>(std::lround(i * out.spacing / grid.spacing)));
+      out.material[out.index(i, j)] = grid.material[grid.index(in, jn)];
+    }
+  }
+  return out;
+}
+
 }  // namespace rockcal::sites

@@ -7,6 +7,7 @@
 #include "rockcal/core/error.h"
 #include "rockcal/core/format.h"
 #include "rockcal/sites/gdal_util.h"
+#include "rockcal/sites/gridding.h"
 
 namespace rockcal::sites {
 namespace {
@@ -24,43 +25,10 @@ double RasterGrid::at(int i, int j) const {
 }
 
 core::HeightGrid RasterToHeightGrid(const RasterGrid& grid, double length_scale, double spacing) {
-  core::HeightGrid out;
-  const double cs = grid.cellsize * length_scale;
-  out.x0 = grid.x_center * length_scale;
-  out.y0 = grid.y_center * length_scale;
-  out.spacing = spacing;
-  auto z_at = [&](int i, int j) { return grid.at(i, j) * length_scale; };
-  if (std::abs(spacing - cs) <= 1e-9 * cs) {
-    out.spacing = cs;
-    out.nx = grid.ncols;
-    out.ny = grid.nrows;
-    out.z.resize(static_cast<std::size_t>(out.nx) * out.ny);
-    for (int j = 0; j < out.ny; ++j)
-      for (int i = 0; i < out.nx; ++i) out.z[out.index(i, j)] = z_at(i, j);
-  } else {
-    out.nx = static_cast<int>(std::floor((grid.ncols - 1) * cs / spacing + 1e-6)) + 1;
-    out.ny = static_cast<int>(std::floor((grid.nrows - 1) * cs / spacing + 1e-6)) + 1;
-    out.z.resize(static_cast<std::size_t>(out.nx) * out.ny);
-    for (int j = 0; j < out.ny; ++j) {
-      const double fy = j * spacing / cs;
-      const int jy = std::min(static_cast<int>(fy), grid.nrows - 2);
-      const double ty = fy - jy;
-      for (int i = 0; i < out.nx; ++i) {
-        const double fx = i * spacing / cs;
-        const int ix = std::min(static_cast<int>(fx), grid.ncols - 2);
-        const double tx = fx - ix;
-        // A corner with zero weight is not used; a NODATA corner with a
-        // positive weight makes the node a hole (NaN propagates).
-        const double w[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty};
-        double z = 0.0;
-        for (int k = 0; k < 4; ++k)
-          if (w[k] > 0) z += w[k] * z_at(ix + (k & 1), jy + (k >> 1));
-        out.z[out.index(i, j)] = z;
-      }
-    }
-  }
-  out.material.assign(out.z.size(), 0);
-  return out;
+  return ResampleNodes(
+      grid.ncols, grid.nrows, grid.cellsize * length_scale, grid.x_center * length_scale,
+      grid.y_center * length_scale, [&](int i, int j) { return grid.at(i, j) * length_scale; },
+      spacing);
 }
 
 RasterFile ReadRaster(const std::string& path, int band_index) {

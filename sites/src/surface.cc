@@ -155,8 +155,8 @@ void RasterInto(const RasterGrid& raster, const JsonNode& where, bool has_resolu
 
 Surface ReadSurface(const JsonNode& surface, Units units, const std::string& base_dir,
                     const std::vector<std::string>& material_ids) {
-  surface.Keys({"resolution", "crs", "max_edge", "points", "points_file", "lidar", "grid_file",
-                "raster", "stl"});
+  surface.Keys({"resolution", "sphere_spacing", "crs", "max_edge", "points", "points_file", "lidar",
+                "grid_file", "raster", "stl"});
   std::vector<const char*> present;
   for (const char* k : kSources)
     if (surface.Has(k)) present.push_back(k);
@@ -169,8 +169,13 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
   Surface out;
   out.source = present[0];
   const double to_file = 1.0 / LengthToSI(1.0, units);  // m -> file units
+  // The virtual spheres' spacing, at which roughness is defined whatever the
+  // data's resolution; the resolution defaults to it.
+  const std::optional<JsonNode> sphere_node = surface.Find("sphere_spacing");
+  const double sphere_spacing =
+      sphere_node ? LengthToSI(sphere_node->Positive(), units) : kDefaultSphereSpacingM;
   const std::optional<JsonNode> resolution = surface.Find("resolution");
-  double spacing = resolution ? LengthToSI(resolution->Positive(), units) : kDefaultResolutionM;
+  double spacing = resolution ? LengthToSI(resolution->Positive(), units) : sphere_spacing;
   const JsonNode where = resolution ? *resolution : surface;
   const JsonNode src = surface.Get(present[0]);
   const bool from_points =
@@ -312,6 +317,17 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
   if (crs) {
     if (const std::string problem = CrsUnitMismatch(out.crs_wkt, units); !problem.empty())
       crs->Fail(problem);
+  }
+  if (std::abs(sphere_spacing - out.grid.spacing) > 1e-9 * sphere_spacing) {
+    Box box;
+    box.Add(out.grid.x(0), out.grid.y(0));
+    box.Add(out.grid.x(out.grid.nx - 1), out.grid.y(out.grid.ny - 1));
+    CheckGridSize(sphere_node ? *sphere_node : surface, box, sphere_spacing, to_file);
+    const double from = out.grid.spacing;
+    out.grid = ResampleGrid(out.grid, sphere_spacing);
+    out.notes.push_back("surface: the grid of " + FormatNumber(from * to_file) +
+                        " resampled bilinearly to the virtual spheres' spacing " +
+                        FormatNumber(sphere_spacing * to_file) + " (sphere_spacing)");
   }
   if (!out.crs_wkt.empty()) out.notes.push_back("crs: " + CrsLabel(out.crs_wkt));
 

@@ -107,6 +107,19 @@ TEST(JointSpace, BoundsWithoutACommonIntervalAreBadInput) {
   EXPECT_EQ(joint.SiteValues(1, x), (std::vector<double>{0.88, 0.3, 0.4, 0.5}));
 }
 
+// Issue 13, finding 1: a roughness is the sag between virtual spheres a sphere
+// spacing apart, so two sites share one only at one spacing.
+TEST(JointSpace, SharedRoughnessAtTwoSphereSpacingsIsBadInput) {
+  Campaign c = TwoTwins(4);
+  c.path = "campaign.json";
+  c.sites[1].site.scene.grid.spacing *= 2;
+  const std::string error = ErrorOf([&] { JointSpace{c}; });
+  EXPECT_THAT(error, HasSubstr("campaign.json: class 'slope' roughness is shared by sites whose "
+                               "virtual spheres are spaced differently"));
+  EXPECT_THAT(error, HasSubstr("('a' 2 m, 'b' 4 m)"));
+  EXPECT_THAT(error, HasSubstr("one surface.sphere_spacing"));
+}
+
 TEST(JointSpace, SharedClassesAndOffsetsMustNameWhatTheSitesCalibrate) {
   Campaign c = TwoTwins(4);
   c.path = "campaign.json";

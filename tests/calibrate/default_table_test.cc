@@ -312,7 +312,7 @@ TEST(BuildDefaultTable, RoughnessFromDifferentGridSpacingsIsNoted) {
   const DefaultTable t = BuildDefaultTable(sites, {});
   std::string notes;
   for (const std::string& n : t.notes) notes += n + "\n";
-  EXPECT_THAT(notes, HasSubstr("talus roughness: the values come from grids of different "
+  EXPECT_THAT(notes, HasSubstr("talus roughness: the values come from virtual spheres of different "
                                "spacings (1 m, 3.6576 m)"));
   // 12 ft computed two ways is one spacing.
   sites[0].grid_spacing_m = 3.6576000000000004;

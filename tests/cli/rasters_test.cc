@@ -91,7 +91,7 @@ std::string SiteJson() {
   const nlohmann::json site = {
       {"name", "GIS plane"},
       {"units", "si"},
-      {"surface", {{"raster", "dem.tif"}}},
+      {"surface", {{"raster", "dem.tif"}, {"sphere_spacing", 1}}},
       {"materials", nlohmann::json::array({{{"id", "rock"}, {"hardness", 0.5}, {"roughness", 0}}})},
       {"partitions", nlohmann::json::array({{{"id", "X20"}, {"x", ColumnX(kColumn)}}})},
       {"rocks", rocks},
@@ -251,7 +251,8 @@ TEST(Rasters, OnByDefaultForAGisSiteOnlyAndSaidSo) {
 // rocks that stopped are counted on the terrain.
 TEST(Rasters, TheGisExampleMapsOnItsDemCells) {
   const std::string out = FreshDir("authume_gis");
-  const RunResult run = Rockcal("simulate " + Example("authume_gis") + " --rocks 8 --quiet --out " + out);
+  const RunResult run =
+      Rockcal("simulate " + Example("authume_gis") + " --rocks 8 --quiet --out " + out);
   ASSERT_EQ(run.status, 0) << run.err;
   const ReadRaster dem =
       OpenRaster(std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/authume_gis/dem.tif");
@@ -296,7 +297,7 @@ TEST(Rasters, UsSiteGridIsInFeet) {
   const nlohmann::json site = {
       {"name", "feet"},
       {"units", "us"},
-      {"surface", {{"grid_file", "dem.asc"}, {"resolution", 10}}},
+      {"surface", {{"grid_file", "dem.asc"}, {"resolution", 10}, {"sphere_spacing", 10}}},
       {"materials",
        nlohmann::json::array({{{"id", "rock"}, {"hardness", 0.5}, {"roughness", 0.5}}})},
       {"rocks",

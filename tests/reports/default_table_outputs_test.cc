@@ -125,7 +125,7 @@ TEST(DefaultTableMarkdown, ATableToPasteWithFeet) {
   EXPECT_THAT(md, HasSubstr("| soil | contact time | Site B | out/b,c | blue | 6 ms | 0.5 ms | "
                             "[2, 10] ms |  |"));
   EXPECT_THAT(md, HasSubstr("### Result folders\n\n| folder | site | method | evaluations | "
-                            "misfit | grid spacing |\n|---|---|---|---|---|---|\n"
+                            "misfit | sphere spacing |\n|---|---|---|---|---|---|\n"
                             "| out/a | Site A | nlopt:bobyqa | 0 | 0 | 1 m |\n"));
   EXPECT_THAT(md, HasSubstr("### Notes\n\n- talus roughness: Site B (out/b,c, material red) is "
                             "at its upper bound"));

@@ -3,10 +3,13 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
 #include "rockcal/core/simulate.h"
+#include "rockcal/core/statistics.h"
+#include "rockcal/sites/surface.h"
 #include "test_files.h"
 
 namespace rockcal::sites {
@@ -22,7 +25,7 @@ Json BaseSite() {
   return Json::parse(R"({
     "name": "test slope",
     "units": "us",
-    "surface": {"resolution": 10,
+    "surface": {"resolution": 10, "sphere_spacing": 10,
                 "points": [[0, 0, 100], [200, 0, 0], [0, 100, 100], [200, 100, 0]]},
     "materials": [
       {"id": "rock", "hardness": 0.6, "roughness": 1.0},
@@ -71,6 +74,7 @@ TEST(LoadSite, RefusesPhysicallyMeaninglessValues) {
   msg = LoadError([](Json& s) {
     s["units"] = "si";
     s["surface"]["resolution"] = 10;
+    s["surface"]["sphere_spacing"] = 10;
     s["rocks"][1]["unit_weight"] = 2500;  // a density typed as a unit weight
   });
   EXPECT_THAT(msg, HasSubstr("$.rocks[1].unit_weight: unit weight 2500 kN/m^3"));
@@ -239,7 +243,7 @@ TEST(LoadSite, TheExampleOfDesignMdLoads) {
 Json FourCornerPlane(double friction) {
   Json site = Json::parse(R"({
     "name": "four corners", "units": "si",
-    "surface": {"resolution": 1,
+    "surface": {"resolution": 1, "sphere_spacing": 1,
                 "points": [[0, 0, 200], [300, 0, 26.8], [0, 40, 200], [300, 40, 26.8]]},
     "materials": [{"id": "smooth", "hardness": 0.3, "roughness": 0, "restitution": 0.3,
                    "contact_time": 0.005, "rolling_resistance": 0}],
@@ -327,10 +331,9 @@ TEST(LoadSite, MaterialErrors) {
       HasSubstr("$.materials[0].roughness: roughness exceeds half the grid spacing (5 ft)"));
   EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["contact_time"] = 0; }),
               HasSubstr("$.materials[1].contact_time: expected a number > 0 (found 0)"));
-  EXPECT_THAT(
-      LoadError([](Json& s) { s["materials"][1]["contact_time"] = 5; }),
-      HasSubstr("$.materials[1].contact_time: contact time 5 s is outside the physically "
-                "sensible range; expected [1e-05, 1] s"));
+  EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["contact_time"] = 5; }),
+              HasSubstr("$.materials[1].contact_time: contact time 5 s is outside the physically "
+                        "sensible range; expected [1e-05, 1] s"));
   EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["restitution"] = 1.0; }),
               HasSubstr("$.materials[1].restitution: expected a restitution in (0, 1)"));
   EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["id"] = "rock"; }),
@@ -356,14 +359,16 @@ TEST(LoadSite, RoughnessNearZeroIsRefused) {
                         "(smooth) or a roughness in [0.125, 5] ft"));
   EXPECT_THAT(LoadError([](Json& s) { s["materials"][0]["roughness"] = 0.12; }),
               HasSubstr("expected 0 (smooth) or a roughness in [0.125, 5] ft"));
-  EXPECT_THAT(LoadError([](Json& s) {
-                s["materials"][1]["calibrate"]["roughness"] = {0.05, 5};
-              }),
-              HasSubstr("$.materials[1].calibrate.roughness: expected bounds within [0.125, 5] ft"));
-  EXPECT_THAT(LoadError([](Json& s) {
-                s["materials"][1]["calibrate"]["roughness"] = {0, 5};
-              }),
-              HasSubstr("$.materials[1].calibrate.roughness: expected bounds within [0.125, 5] ft"));
+  EXPECT_THAT(
+      LoadError([](Json& s) {
+        s["materials"][1]["calibrate"]["roughness"] = {0.05, 5};
+      }),
+      HasSubstr("$.materials[1].calibrate.roughness: expected bounds within [0.125, 5] ft"));
+  EXPECT_THAT(
+      LoadError([](Json& s) {
+        s["materials"][1]["calibrate"]["roughness"] = {0, 5};
+      }),
+      HasSubstr("$.materials[1].calibrate.roughness: expected bounds within [0.125, 5] ft"));
   for (double ok : {0.0, 0.13}) {
     TempDir dir;
     Json json = BaseSite();
@@ -453,19 +458,22 @@ TEST(LoadSite, CalibrateErrors) {
                 s["materials"][1]["calibrate"]["hardness"] = {0.4, 0.6};
               }),
               HasSubstr("the material's hardness 0.3 is outside its calibrate bounds"));
-  EXPECT_THAT(LoadError([](Json& s) {
-                s["materials"][1]["calibrate"]["roughness"] = {0.5, 8};
-              }),
-              HasSubstr("$.materials[1].calibrate.roughness: expected bounds within [0.125, 5] ft"));
-  EXPECT_THAT(LoadError([](Json& s) {
-                s["materials"][1]["calibrate"]["contact_time"] = {0, 0.01};
-              }),
-              HasSubstr("$.materials[1].calibrate.contact_time: expected bounds within [1e-05, 1] s"));
-  EXPECT_THAT(LoadError([](Json& s) {
-                s["materials"][1]["calibrate"]["colour"] = {0, 1};
-              }),
-              HasSubstr("$.materials[1].calibrate.colour: unknown key 'colour' (allowed keys: "
-                        "hardness, roughness, contact_time, rolling_resistance, friction, vegetation)"));
+  EXPECT_THAT(
+      LoadError([](Json& s) {
+        s["materials"][1]["calibrate"]["roughness"] = {0.5, 8};
+      }),
+      HasSubstr("$.materials[1].calibrate.roughness: expected bounds within [0.125, 5] ft"));
+  EXPECT_THAT(
+      LoadError([](Json& s) {
+        s["materials"][1]["calibrate"]["contact_time"] = {0, 0.01};
+      }),
+      HasSubstr("$.materials[1].calibrate.contact_time: expected bounds within [1e-05, 1] s"));
+  EXPECT_THAT(
+      LoadError([](Json& s) {
+        s["materials"][1]["calibrate"]["colour"] = {0, 1};
+      }),
+      HasSubstr("$.materials[1].calibrate.colour: unknown key 'colour' (allowed keys: "
+                "hardness, roughness, contact_time, rolling_resistance, friction, vegetation)"));
   EXPECT_THAT(LoadError([](Json& s) {
                 s["materials"][1]["restitution"] = 0.4;
                 s["materials"][1]["friction"] = 0.6;
@@ -491,9 +499,12 @@ TEST(LoadSite, VegetationInTheFilesStressUnit) {
   EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["vegetation"] = 5000; }),
               HasSubstr("$.materials[1].vegetation: vegetation resistance 5000 lbf/ft^2 is outside "
                         "the physically sensible range; expected [0, 2088.543423] lbf/ft^2"));
-  EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["calibrate"]["vegetation"] = {0, 3000}; }),
-              HasSubstr("$.materials[1].calibrate.vegetation: expected bounds within [0, 2088.543423] "
-                        "lbf/ft^2"));
+  EXPECT_THAT(
+      LoadError([](Json& s) {
+        s["materials"][1]["calibrate"]["vegetation"] = {0, 3000};
+      }),
+      HasSubstr("$.materials[1].calibrate.vegetation: expected bounds within [0, 2088.543423] "
+                "lbf/ft^2"));
 }
 
 TEST(LoadSite, PartitionErrors) {
@@ -578,7 +589,7 @@ TEST(LoadSite, ReleaseOverAHoleIsAnError) {
             "ncols 5\nnrows 5\nxllcenter 0\nyllcenter 0\ncellsize 10\nNODATA_value -9999\n"
             "5 5 5 5 5\n5 5 5 5 5\n5 5 -9999 5 5\n5 5 5 5 5\n5 5 5 5 5\n");
   Json site = Json::parse(R"({
-    "name": "holes", "units": "si", "surface": {"grid_file": "g.asc"},
+    "name": "holes", "units": "si", "surface": {"grid_file": "g.asc", "sphere_spacing": 10},
     "materials": [{"id": "m", "hardness": 0.5, "roughness": 0}],
     "rocks": [{"count": 1, "shape": "sphere", "size": 1, "unit_weight": 26,
                "release": {"point": [25, 25]}}]})");
@@ -621,7 +632,7 @@ TEST(LoadSite, RelativePathsFromTheSiteFolder) {
   TempDir dir;
   dir.Write("site/data/p.csv", "x y z\n0 0 10\n20 0 0\n0 20 10\n20 20 0\n");
   Json site = Json::parse(R"({
-    "name": "relative", "units": "si", "surface": {"resolution": 5, "points_file": "data/p.csv"},
+    "name": "relative", "units": "si", "surface": {"resolution": 5, "sphere_spacing": 5, "points_file": "data/p.csv"},
     "materials": [{"id": "m", "hardness": 0.5, "roughness": 0.5}],
     "rocks": [{"count": 3, "shape": "disc", "size": [0.5, 1], "unit_weight": 26,
                "release": {"point": [2, 10]}}],
@@ -665,7 +676,8 @@ TEST(ApplySetting, Errors) {
   EXPECT_THAT(error("material.rock.hardness=high"), HasSubstr("'high' is not a number"));
   EXPECT_THAT(error("material.rock.hardness="), HasSubstr("'' is not a number"));
   EXPECT_THAT(error("material.rock.hardness=1.5"), HasSubstr("expected a hardness in [0, 1]"));
-  EXPECT_THAT(error("material.rock.roughness=6"), HasSubstr("expected 0 (smooth) or a roughness in [0.125, 5] ft"));
+  EXPECT_THAT(error("material.rock.roughness=6"),
+              HasSubstr("expected 0 (smooth) or a roughness in [0.125, 5] ft"));
   EXPECT_THAT(error("material.rock.contact_time=0"), HasSubstr("expected a contact time"));
   EXPECT_THAT(error("rock.hardness=0.3"), HasSubstr("expected material.<id>.<field>=VALUE"));
   EXPECT_THAT(error("material.rock.hardness"), HasSubstr("expected material.<id>.<field>=VALUE"));
@@ -683,8 +695,7 @@ namespace {
 // blocks' own masses and sides.
 TEST(LoadSite, RocksFromABlockInventory) {
   TempDir dir;
-  dir.Write("blocks.csv",
-            "# three blocks\nmass,L1,L2,L3\n100,1,2,3\n200, 2, 1, 1\n\n300 3 2 1\n");
+  dir.Write("blocks.csv", "# three blocks\nmass,L1,L2,L3\n100,1,2,3\n200, 2, 1, 1\n\n300 3 2 1\n");
   Json json = BaseSite();
   json["rocks"] = Json::parse(
       R"([{"inventory": "blocks.csv", "release": {"point": [20, 50]}},
@@ -695,7 +706,7 @@ TEST(LoadSite, RocksFromABlockInventory) {
   EXPECT_EQ(g.count, 3);
   EXPECT_EQ(site.scene.groups[1].count, 7);
   EXPECT_NEAR(g.inventory[0].mass, 100 * 0.45359237, 1e-9);  // lb in a US site
-  EXPECT_NEAR(g.inventory[0].sides.x(), 3 * 0.3048, 1e-12);   // sorted, in m
+  EXPECT_NEAR(g.inventory[0].sides.x(), 3 * 0.3048, 1e-12);  // sorted, in m
   EXPECT_NEAR(g.inventory[0].sides.z(), 1 * 0.3048, 1e-12);
   EXPECT_EQ(g.inventory[2].shape, core::Shape::kBox);
   for (int k = 0; k < 7; ++k) {
@@ -756,9 +767,13 @@ TEST(LoadSite, ReleaseAtAnElevationWithAVelocitySpread) {
               }),
               HasSubstr("$.rocks[0].release.elevation: the ground of the release reaches 95 ft; "
                         "expected a drop elevation at or above it"));
-  EXPECT_THAT(LoadError([](Json& s) { s["rocks"][0]["release"]["velocity_spread"] = {-1, 0, 0}; }),
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["rocks"][0]["release"]["velocity_spread"] = {-1, 0, 0};
+              }),
               HasSubstr("$.rocks[0].release.velocity_spread: expected three spreads >= 0"));
-  EXPECT_THAT(LoadError([](Json& s) { s["rocks"][1]["box"] = {3, 2, 1}; }),
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["rocks"][1]["box"] = {3, 2, 1};
+              }),
               HasSubstr("$.rocks[1].box: 'box' goes with \"shape\": \"box\" only"));
 }
 
@@ -786,15 +801,102 @@ TEST(LoadSite, FrictionIsCalibratedAndSet) {
   EXPECT_DOUBLE_EQ(site.calibrate.back().lower, 0.35);
   // Without an explicit friction, the bounds hold the hardness model's
   // (0.9 - 0.5 H = 0.75 at H = 0.3).
-  EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["calibrate"]["friction"] = {0.35, 0.7}; }),
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["materials"][1]["calibrate"]["friction"] = {0.35, 0.7};
+              }),
               HasSubstr("$.materials[1].calibrate.friction: the material's friction 0.75 is "
                         "outside its calibrate bounds"));
-  EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["calibrate"]["friction"] = {0.5, 11}; }),
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["materials"][1]["calibrate"]["friction"] = {0.5, 11};
+              }),
               HasSubstr("$.materials[1].calibrate.friction: expected bounds within [0, 10]"));
   ApplySetting("material." + site.scene.materials[1].id + ".friction=0.42", &site);
   EXPECT_DOUBLE_EQ(core::DeriveContactLaw(site.scene.materials[1]).friction, 0.42);
   EXPECT_THROW(ApplySetting("material." + site.scene.materials[1].id + ".friction=-1", &site),
                InputError);
+}
+
+}  // namespace
+}  // namespace rockcal::sites
+
+namespace rockcal::sites {
+namespace {
+
+// Issue 13, finding 1: one slope (35 degrees, 40 m, onto a flat apron), its
+// elevations given every 10 m, gridded at `resolution` [m]; hardness 0.4,
+// roughness 0.3 m; 120 spheres of 0.5-1.0 m and a partition 60 m down.
+Json SlopeAtResolution(double resolution) {
+  const double tan35 = std::tan(35.0 * std::acos(-1.0) / 180.0);
+  Json points = Json::array();
+  for (int y = 0; y <= 40; y += 10)
+    for (int x = 0; x <= 120; x += 10) points.push_back({x, y, x < 40 ? (40 - x) * tan35 : 0.0});
+  Json site = Json::parse(R"({
+    "name": "slope and apron", "units": "si",
+    "materials": [{"id": "ground", "hardness": 0.4, "roughness": 0.3}],
+    "partitions": [{"id": "P60", "x": 60}],
+    "rocks": [{"count": 120, "shape": "sphere", "size": [0.5, 1.0], "unit_weight": 26,
+               "release": {"zone": [[3, 15], [6, 15], [6, 25], [3, 25]], "height": 0.5}}],
+    "simulation": {"seed": 3, "max_time": 40}
+  })");
+  site["surface"] = {{"resolution", resolution}, {"points", points}};
+  return site;
+}
+
+struct Distribution {
+  std::vector<double> runout, height;  // stop x of stopped rocks; height at P60 of crossers
+};
+
+Distribution SimulateSlope(const Json& site_json) {
+  TempDir dir;
+  const Site site = LoadSite(WriteSite(dir, site_json));
+  const core::SimulationResult r = core::Simulate(site.scene);
+  Distribution d;
+  for (const core::RockRecord& rock : r.rocks) {
+    if (rock.outcome == core::Outcome::kStopped) d.runout.push_back(rock.stop.x());
+    if (rock.crossings.at(0).crossed) d.height.push_back(rock.crossings[0].height);
+  }
+  return d;
+}
+
+// Medians of two samples agree within two combined standard errors (the
+// median's standard error from the sample's interquartile range,
+// 1.2533 sigma / sqrt(n) with sigma = IQR / 1.349).
+void ExpectSameMedian(std::vector<double> a, std::vector<double> b, const char* what) {
+  ASSERT_GE(a.size(), 30u) << what;
+  ASSERT_GE(b.size(), 30u) << what;
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  auto se = [](const std::vector<double>& s) {
+    const double iqr = core::Quantile(s, 0.75) - core::Quantile(s, 0.25);
+    return 1.2533 * iqr / 1.349 / std::sqrt(static_cast<double>(s.size()));
+  };
+  const double ma = core::Quantile(a, 0.5), mb = core::Quantile(b, 0.5);
+  EXPECT_LE(std::abs(ma - mb), 2.0 * std::hypot(se(a), se(b)))
+      << what << ": median " << ma << " (n " << a.size() << ") against " << mb << " (n " << b.size()
+      << ")";
+}
+
+TEST(LoadSite, RoughnessMeansOneGroundAtAnyResolution) {
+  // The virtual spheres keep their own spacing (12 ft by default) whatever
+  // the resolution the data are gridded at: the same slope at 1 m and 2 m
+  // makes the same sphere surface ...
+  TempDir dir;
+  const Site fine = LoadSite(WriteSite(dir, SlopeAtResolution(1.0)));
+  const Site coarse = LoadSite(WriteSite(dir, SlopeAtResolution(2.0)));
+  const core::HeightGrid& f = fine.scene.grid;
+  const core::HeightGrid& c = coarse.scene.grid;
+  EXPECT_DOUBLE_EQ(f.spacing, kDefaultSphereSpacingM);
+  ASSERT_EQ(f.nx, c.nx);
+  ASSERT_EQ(f.ny, c.ny);
+  for (std::size_t k = 0; k < f.z.size(); ++k) ASSERT_NEAR(f.z[k], c.z[k], 1e-9) << "node " << k;
+  EXPECT_THAT(fine.notes, ::testing::Contains(HasSubstr(
+                              "resampled bilinearly to the virtual spheres' spacing 3.6576")));
+  // ... and so the same runout and bounce heights, within Monte Carlo error
+  // (with a sphere on every data node, R = 0.3 m gave runout medians 5x apart).
+  const Distribution a = SimulateSlope(SlopeAtResolution(1.0));
+  const Distribution b = SimulateSlope(SlopeAtResolution(2.0));
+  ExpectSameMedian(a.runout, b.runout, "runout");
+  ExpectSameMedian(a.height, b.height, "height at x = 60 m");
 }
 
 }  // namespace

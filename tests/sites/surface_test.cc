@@ -12,9 +12,9 @@
 namespace rockcal::sites {
 namespace {
 
-using testing::ErrorOf;
 using ::testing::ElementsAre;
 using ::testing::EndsWith;
+using testing::ErrorOf;
 using ::testing::HasSubstr;
 using testing::TempDir;
 
@@ -74,7 +74,7 @@ TEST(ReadSurface, LidarWithOffsetAndSpinLandsOnTheGrid) {
       << " 120 130 140\n";
   }
   dir.Write("scan.txt", s.str());
-  const Surface surf = Read(R"({"resolution": 2, "lidar": {"file": "scan.txt",
+  const Surface surf = Read(R"({"resolution": 2, "sphere_spacing": 2, "lidar": {"file": "scan.txt",
       "offset": [1000, 5000, 10], "spin_deg": 30}})",
                             dir);
   EXPECT_EQ(surf.source, "lidar");
@@ -86,8 +86,9 @@ TEST(ReadSurface, LidarWithOffsetAndSpinLandsOnTheGrid) {
 TEST(ReadSurface, LidarAutoOffsetKeepsElevation) {
   TempDir dir;
   dir.Write("scan.txt", "X Y Z\n1000 2000 7\n1010 2000 7\n1000 2010 7\n1010 2010 7\n");
-  const Surface surf =
-      Read(R"({"resolution": 5, "lidar": {"file": "scan.txt", "offset": "auto"}})", dir);
+  const Surface surf = Read(
+      R"({"resolution": 5, "sphere_spacing": 5, "lidar": {"file": "scan.txt", "offset": "auto"}})",
+      dir);
   EXPECT_EQ(surf.grid.x0, 0.0);
   EXPECT_EQ(surf.grid.y0, 0.0);
   EXPECT_EQ(surf.grid.nx, 3);
@@ -104,7 +105,7 @@ TEST(ReadSurface, EsriGridStlAndPointsGiveTheSameTerrain) {
     asc << "\n";
   }
   dir.Write("plane.asc", asc.str());
-  const Surface from_grid = Read(R"({"grid_file": "plane.asc"})", dir);
+  const Surface from_grid = Read(R"({"grid_file": "plane.asc", "sphere_spacing": 2})", dir);
   ExpectPlane(from_grid.grid, "grid_file");  // its own cell size
   // Each data file is listed once (Site::inputs, the resume fingerprint).
   EXPECT_THAT(from_grid.files, ElementsAre(EndsWith("/plane.asc")));
@@ -125,7 +126,7 @@ TEST(ReadSurface, EsriGridStlAndPointsGiveTheSameTerrain) {
   }
   stl << "endsolid plane\n";
   dir.Write("zones/plane.stl", stl.str());
-  const Surface from_stl = Read(R"({"resolution": 2, "stl": {"axes": "xzy",
+  const Surface from_stl = Read(R"({"resolution": 2, "sphere_spacing": 2, "stl": {"axes": "xzy",
       "files": [{"file": "zones/plane.stl", "material": "b"}]}})",
                                 dir);
   ExpectPlane(from_stl.grid, "stl");
@@ -138,15 +139,18 @@ TEST(ReadSurface, EsriGridStlAndPointsGiveTheSameTerrain) {
   pts << "x,y,z\n";
   for (const Eigen::Vector3d& p : Lattice()) pts << p.x() << "," << p.y() << "," << p.z() << "\n";
   dir.Write("plane.csv", pts.str());
-  const Surface from_points = Read(R"({"resolution": 2, "points_file": "plane.csv"})", dir);
+  const Surface from_points =
+      Read(R"({"resolution": 2, "sphere_spacing": 2, "points_file": "plane.csv"})", dir);
   ExpectPlane(from_points.grid, "points_file");
   EXPECT_THAT(from_points.files, ElementsAre(EndsWith("/plane.csv")));
 
-  ExpectPlane(Read(R"({"resolution": 2, "points": [[0, 0, 50], [40, 0, 62], [40, 20, 60],
+  ExpectPlane(
+      Read(
+          R"({"resolution": 2, "sphere_spacing": 2, "points": [[0, 0, 50], [40, 0, 62], [40, 20, 60],
       [0, 20, 48]]})",
-                   dir)
-                  .grid,
-              "points");
+          dir)
+          .grid,
+      "points");
 }
 
 // The plane over [0, 40] x [0, 20] as a GeoTIFF of 21 x 11 cells of 2 m
@@ -175,7 +179,7 @@ void WritePlaneRasters(const TempDir& dir, const std::string& crs = "") {
 TEST(ReadSurface, RasterTakesTheEsriGridsWayOntoTheGrid) {
   TempDir dir;
   WritePlaneRasters(dir);
-  const Surface tif = Read(R"({"raster": "plane.tif"})", dir);
+  const Surface tif = Read(R"({"raster": "plane.tif", "sphere_spacing": 2})", dir);
   EXPECT_EQ(tif.source, "raster");
   EXPECT_TRUE(tif.gis);
   EXPECT_TRUE(tif.crs_wkt.empty());
@@ -184,8 +188,10 @@ TEST(ReadSurface, RasterTakesTheEsriGridsWayOntoTheGrid) {
   EXPECT_THAT(tif.notes[0], HasSubstr("(GTiff, band 1), 21 x 11 cells of 2 (cell centres are "
                                       "the grid nodes)"));
   // Resampled: the same bilinear rule as the ESRI grid, to the last bit.
-  const Surface a = Read(R"({"resolution": 3, "raster": {"file": "plane.tif", "band": 1}})", dir);
-  const Surface b = Read(R"({"resolution": 3, "grid_file": "plane.asc"})", dir);
+  const Surface a = Read(
+      R"({"resolution": 3, "sphere_spacing": 3, "raster": {"file": "plane.tif", "band": 1}})", dir);
+  const Surface b =
+      Read(R"({"resolution": 3, "sphere_spacing": 3, "grid_file": "plane.asc"})", dir);
   EXPECT_FALSE(b.gis);
   ASSERT_EQ(a.grid.nx, 14);
   ASSERT_EQ(a.grid.nx, b.grid.nx);
@@ -205,7 +211,7 @@ TEST(ReadSurface, RasterNodataIsAHole) {
   spec.values = {1, 2, 3, -1, 5, 6, 7, 8, 9, 10, 11, 12};
   spec.nodata = -1;
   testing::WriteRaster(dir.path() + "/dem.tif", spec);
-  const Surface s = Read(R"({"raster": "dem.tif"})", dir);
+  const Surface s = Read(R"({"raster": "dem.tif", "sphere_spacing": 1})", dir);
   EXPECT_TRUE(std::isnan(s.grid.z[s.grid.index(3, 2)]));
   EXPECT_DOUBLE_EQ(s.grid.z[s.grid.index(0, 0)], 9.0);
 }
@@ -224,9 +230,10 @@ TEST(ReadSurface, CrsFromTheRasterOrTheCrsKey) {
                         "/plane.tif' has the CRS RGF93 v1 / Lambert-93 (EPSG:2154), not the one "
                         "named here (WGS 84 / UTM zone 31N (EPSG:32631)); expected the same CRS"));
   // Any source may name its CRS.
-  s = Read(R"({"crs": "EPSG:32631", "resolution": 2, "points": [[0, 0, 50], [40, 0, 62],
+  s = Read(
+      R"({"crs": "EPSG:32631", "resolution": 2, "sphere_spacing": 2, "points": [[0, 0, 50], [40, 0, 62],
       [40, 20, 60], [0, 20, 48]]})",
-           dir);
+      dir);
   EXPECT_THAT(s.crs_wkt, HasSubstr("UTM zone 31N"));
   EXPECT_FALSE(s.gis);
   EXPECT_THAT(ReadError(R"({"crs": "EPSG:99999999", "points": [[0,0,0],[9,0,0],[0,9,0]]})", dir),
@@ -251,9 +258,10 @@ TEST(ReadSurface, CrsFromTheRasterOrTheCrsKey) {
 
 TEST(ReadSurface, MaxEdgeAndTriangulationNotes) {
   TempDir dir;
-  const Surface s = Read(R"({"resolution": 1, "max_edge": 6.5, "points": [[0, 0, 0], [4, 0, 0],
+  const Surface s = Read(
+      R"({"resolution": 1, "sphere_spacing": 1, "max_edge": 6.5, "points": [[0, 0, 0], [4, 0, 0],
       [0, 4, 0], [4, 4, 0], [10, 0, 0], [10, 4, 0], [4, 4, 0]]})",
-                         dir);
+      dir);
   // x 0-4: edges of 4 m and diagonals of 5.7 m; x 4-10: diagonals of 7.2 m, holes.
   EXPECT_FALSE(std::isnan(s.grid.z[s.grid.index(2, 2)]));
   EXPECT_TRUE(std::isnan(s.grid.z[s.grid.index(7, 2)]));
@@ -272,7 +280,7 @@ TEST(ReadSurface, MaxEdgeAndTriangulationNotes) {
 TEST(ReadSurface, UsUnitsConvertCoordinatesAndResolution) {
   TempDir dir;
   const nlohmann::json j = nlohmann::json::parse(
-      R"({"resolution": 10, "points": [[0, 0, 100], [100, 0, 100], [0, 50, 100], [100, 50, 100]]})");
+      R"({"resolution": 10, "sphere_spacing": 10, "points": [[0, 0, 100], [100, 0, 100], [0, 50, 100], [100, 50, 100]]})");
   const Surface surf =
       ReadSurface(JsonNode(&j, "s.json", "$.surface"), Units::kUS, dir.path(), {"a"});
   EXPECT_DOUBLE_EQ(surf.grid.spacing, 3.048);

@@ -28,7 +28,7 @@ using Json = nlohmann::json;
 Json BaseSite(const Json& zones) {
   Json site = Json::parse(R"({
     "name": "zones", "units": "si",
-    "surface": {"resolution": 5, "points": [[0, 0, 50], [100, 0, 0], [0, 50, 50], [100, 50, 0]]},
+    "surface": {"resolution": 5, "sphere_spacing": 5, "points": [[0, 0, 50], [100, 0, 0], [0, 50, 50], [100, 50, 0]]},
     "materials": [
       {"id": "rock", "hardness": 0.6, "roughness": 0.5},
       {"id": "talus", "hardness": 0.3, "roughness": 1.0},

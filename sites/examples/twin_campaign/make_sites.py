@@ -40,7 +40,7 @@ def site(name, material, slope_deg, slope_len, length, partitions):
     return {
         "name": name,
         "units": "si",
-        "surface": {"resolution": SPACING, "points": pts},
+        "surface": {"resolution": SPACING, "sphere_spacing": SPACING, "points": pts},
         "materials": [{
             "id": material, "class": "ground", "hardness": 0.3, "roughness": 0.15,
             "contact_time": 0.02,

@@ -100,7 +100,7 @@ struct CalibrationCallbacks {
 struct CalibrationSummary {
   std::string site;  // the site's name
   sites::Units units = sites::Units::kSI;
-  double grid_spacing_m = 0.0;  // the terrain grid's spacing (0: not known)
+  double grid_spacing_m = 0.0;  // the terrain grid's = virtual spheres' spacing (0: unknown)
   ParameterSpace space;
   std::vector<double> start;           // physical values before (the site's)
   // The reach check, when run; the search then started from `search_start`.

@@ -19,8 +19,9 @@ namespace rockcal::reports {
 using calibrate::CalibrationSummary;
 
 // parameters.json of DESIGN.md (SI), for the best method, with each
-// parameter's material "class" and the grid's "grid_spacing_m" (when known)
-// added: a roughness means the same virtual spheres only at the same spacing.
+// parameter's material "class" and the terrain grid's "grid_spacing_m" (when
+// known; the virtual spheres' spacing) added: a roughness means the same
+// ground only at the same sphere spacing.
 nlohmann::json ParametersJson(const CalibrationSummary& record);
 // parameters.csv: material,class,name,value,lower,upper,std_error,unit.
 std::string ParametersCsv(const CalibrationSummary& record);

@@ -1,11 +1,13 @@
-// Scattered points -> height grid: the one gridding rule every point source
-// (inline points, points files, LIDAR) goes through. The points are
-// triangulated (Delaunay, GDAL's) and each grid node takes the linear
-// interpolation of the triangle it lies in.
+// Onto a height grid: the one gridding rule every point source (inline
+// points, points files, LIDAR) goes through (the points are triangulated,
+// Delaunay, GDAL's, and each grid node takes the linear interpolation of the
+// triangle it lies in), and the one bilinear resampling of nodes onto another
+// spacing (rasters, and every terrain onto its virtual-sphere spacing).
 #ifndef ROCKCAL_SITES_GRIDDING_H_
 #define ROCKCAL_SITES_GRIDDING_H_
 
 #include <Eigen/Core>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -58,6 +60,20 @@ struct GriddingReport {
 // lie on one line.
 bool GridPoints(const std::vector<Eigen::Vector3d>& points, const GriddingOptions& options,
                 core::HeightGrid* grid, GriddingReport* report, std::string* error);
+
+// Nodes `cell` [m] apart, `ncols` x `nrows` of them from (x0, y0), with
+// elevation z_at(i, j) (NaN for a hole), onto `spacing` [m]. When spacing
+// equals cell (to 1e-9 relative) the nodes are kept as they are; otherwise
+// the new grid starts at the same node (x0, y0), covers the same extent
+// (NodeCount nodes per axis) and each node takes the bilinear interpolation
+// of the four surrounding nodes, a hole when any of them that has a positive
+// weight is one. Material indices are all 0.
+core::HeightGrid ResampleNodes(int ncols, int nrows, double cell, double x0, double y0,
+                               const std::function<double(int, int)>& z_at, double spacing);
+
+// `grid` onto `spacing` as ResampleNodes does; each new node takes the
+// material of the nearest old node (halfway between two: the higher index).
+core::HeightGrid ResampleGrid(const core::HeightGrid& grid, double spacing);
 
 }  // namespace rockcal::sites
 

@@ -12,9 +12,14 @@
 
 namespace rockcal::sites {
 
-// Default grid spacing when "resolution" is absent: CRSP's 12 ft (3.6576 m),
-// in both unit systems (an ESRI grid or a raster keeps its own cell size instead).
-constexpr double kDefaultResolutionM = 12 * 0.3048;
+// Default spacing of the virtual spheres ("sphere_spacing"): CRSP's surface
+// resolution of 12 ft (3.6576 m), in both unit systems. Roughness is the sag
+// between spheres this far apart, whatever the data's resolution, so one R
+// means one ground at any resolution. "resolution" (how the data are gridded
+// first) defaults to the sphere spacing; an ESRI grid or a raster keeps its
+// own cell size instead. A grid at another spacing than the spheres' is
+// resampled bilinearly onto it (ResampleGrid).
+constexpr double kDefaultSphereSpacingM = 12 * 0.3048;
 // Largest grid accepted (nodes), so a typo in "resolution" fails clearly.
 constexpr long kMaxGridNodes = 20'000'000;
 
@@ -33,7 +38,8 @@ struct Surface {
 // Reads `surface` (the site's "surface" object). `base_dir` resolves
 // relative file names; `material_ids` are the site's materials, which STL
 // files refer to by id. Throws InputError naming the file and JSON path, or
-// the data file and line. Besides the source: "resolution", "crs" (any text
+// the data file and line. Besides the source: "resolution", "sphere_spacing"
+// (see kDefaultSphereSpacingM), "crs" (any text
 // OSRSetFromUserInput accepts; it must be the raster's own CRS when the
 // raster has one, and measure in the site's length unit) and "max_edge"
 // (points sources only; see GriddingOptions).
