@@ -57,7 +57,7 @@ std::string Describe(const MethodResult& r, const ParameterSpace& space) {
   return s;
 }
 
-// The issue's criterion: every parameter within 10 % of its range of the
+// Issue 12's criterion: every parameter within 5 % of its range of the
 // truth. And the optimiser reaches the noise floor: the misfit at the
 // calibrated values is at most 1.5 times the misfit at the truth.
 //
@@ -69,7 +69,7 @@ std::string Describe(const MethodResult& r, const ParameterSpace& space) {
 void ExpectTruthRecovered(const MethodResult& r, const Twin& twin) {
   ASSERT_TRUE(r.smoothed.used) << r.smoothed.message;
   for (int k = 0; k < twin.space.size(); ++k)
-    EXPECT_LT(RangeError(twin.space, r.best, k), 0.10)
+    EXPECT_LT(RangeError(twin.space, r.best, k), 0.05)
         << twin.space.parameters()[k].label() << "\n" << Describe(r, twin.space);
   EXPECT_LT(r.best_misfit, twin.objective.Evaluate(kTruth).value * 1.5) << Describe(r, twin.space);
 }
