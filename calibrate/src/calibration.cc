@@ -542,12 +542,33 @@ Uncertainty JacobianUncertaintyAt(const ObjectiveFunction& objective,
   return JacobianUncertainty(j, misfit, objective.space());
 }
 
-std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluation>& trace,
-                                                       const ParameterSpace& space,
-                                                       const std::vector<double>& around,
-                                                       double radius, SmoothedEstimate* info) {
+namespace {
+
+// A linear model of the residual vector, r(u) = a + J (u - centre) in the
+// unit box, fitted to the unpenalised evaluations of a trace near `centre`.
+struct LocalResidualModel {
+  Eigen::VectorXd a;              // m
+  Eigen::MatrixXd j;              // m x n
+  Eigen::MatrixXd offsets;        // one row u_i - centre per evaluation used
+  std::vector<std::size_t> near;  // the evaluations used (trace indices)
+  double radius = 0.0;            // their max-norm neighbourhood
+  // What the evaluations' noise adds to J^T J on average: the sum over the
+  // residuals of their scatter about the model, s_r^2, times the covariance
+  // block (X^T X)^-1 of the slopes (n x n). J^T J minus it estimates the
+  // noise-free J^T J without bias.
+  Eigen::MatrixXd noise_gram;
+};
+
+// Fits the model to the evaluations within `radius` (max norm) of `centre`,
+// the radius widened by half until 2(n + 1) are inside. *radius_used gets
+// the final radius; nothing (with *why) when too few evaluations, or ones
+// not spanning every parameter, make the model undetermined.
+std::optional<LocalResidualModel> FitLocalResidualModel(const std::vector<Evaluation>& trace,
+                                                        const ParameterSpace& space,
+                                                        const std::vector<double>& centre,
+                                                        double radius, int* points_used,
+                                                        double* radius_used, std::string* why) {
   const int n = space.size();
-  const std::vector<double> centre = space.ToUnit(around);
   std::size_t m = 0;
   std::vector<std::vector<double>> units;
   for (const Evaluation& e : trace) {
@@ -568,12 +589,11 @@ std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluat
         near.push_back(i);
     if (near.size() >= wanted || radius >= 1.0) break;
   }
-  info->radius = radius;
-  info->points = static_cast<int>(near.size());
+  *radius_used = radius;
+  *points_used = static_cast<int>(near.size());
   if (m == 0 || near.size() < wanted) {
-    info->message = std::to_string(near.size()) +
-                    " unpenalised evaluations, fewer than the " + std::to_string(wanted) +
-                    " a linear model of the residuals needs";
+    *why = std::to_string(near.size()) + " unpenalised evaluations, fewer than the " +
+           std::to_string(wanted) + " a linear model of the residuals needs";
     return std::nullopt;
   }
   Eigen::MatrixXd x(static_cast<Eigen::Index>(near.size()), n + 1);
@@ -587,13 +607,112 @@ std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluat
   }
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(x);
   if (qr.rank() < n + 1) {
-    info->message = "the evaluations nearby do not span every parameter (they lie on a "
-                    "lower-dimensional set), so the model is undetermined";
+    *why = "the evaluations nearby do not span every parameter (they lie on a "
+           "lower-dimensional set), so the model is undetermined";
     return std::nullopt;
   }
   const Eigen::MatrixXd coef = qr.solve(r);  // (n + 1) x m
-  const Eigen::VectorXd a = coef.row(0).transpose();
-  const Eigen::MatrixXd j = coef.bottomRows(n).transpose();  // m x n
+  LocalResidualModel model;
+  model.a = coef.row(0).transpose();
+  model.j = coef.bottomRows(n).transpose();  // m x n
+  model.offsets = x.rightCols(n);
+  const Eigen::Index points = static_cast<Eigen::Index>(near.size());
+  const Eigen::MatrixXd xtx_inv =
+      (x.transpose() * x).inverse().bottomRightCorner(n, n);  // slopes' covariance / s^2
+  const double dof = static_cast<double>(points - (n + 1));
+  double scatter = 0.0;  // sum of s_r^2
+  if (dof > 0) scatter = (r - x * coef).colwise().squaredNorm().sum() / dof;
+  model.noise_gram = scatter * xtx_inv;
+  model.near = std::move(near);
+  model.radius = radius;
+  return model;
+}
+
+}  // namespace
+
+Uncertainty LocalModelUncertainty(const std::vector<Evaluation>& trace,
+                                  const ParameterSpace& space, const std::vector<double>& at,
+                                  double misfit, double radius) {
+  if (at.empty()) return Uncertainty{};
+  int points = 0;
+  double used = 0.0;
+  std::string why;
+  const std::optional<LocalResidualModel> model =
+      FitLocalResidualModel(trace, space, space.ToUnit(at), radius, &points, &used, &why);
+  if (!model) return Uncertainty{};
+  // The fitted slopes carry the evaluations' Monte Carlo noise, which makes
+  // J^T J larger than the misfit's true curvature and the errors too small:
+  // take its average share off. A direction where nothing is left is one
+  // the evaluations cannot tell from noise.
+  const int n = space.size();
+  const Eigen::MatrixXd gram = model->j.transpose() * model->j - model->noise_gram;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (gram + gram.transpose()));
+  const Eigen::VectorXd lambda = eig.eigenvalues();  // ascending
+  const Eigen::MatrixXd v = eig.eigenvectors();
+  Uncertainty u;
+  u.computed = true;
+  for (int k = n - 1; k >= 0; --k) u.singular_values.push_back(std::sqrt(std::max(0.0, lambda[k])));
+  std::ostringstream from;
+  from << "a linear model of the residuals fitted to the " << points << " evaluations within "
+       << used << " (unit box) of the calibrated values, its slopes' noise taken off, no extra "
+       << "simulation";
+  const double top = lambda[n - 1];
+  if (!(top > 0.0) || !(lambda[0] > 1e-6 * top)) {
+    u.rank_deficient = true;
+    std::ostringstream msg;
+    int lost = 0;
+    while (lost < n && !(lambda[lost] > 1e-6 * std::max(top, 0.0))) ++lost;
+    msg << "the misfit's curvature is lost in the Monte Carlo noise of the evaluations along "
+        << lost << " of " << n << " directions, the least determined";
+    Eigen::Index largest = 0;
+    v.col(0).cwiseAbs().maxCoeff(&largest);
+    const double sign = v(largest, 0) > 0 ? 1.0 : -1.0;  // its largest part counted +
+    for (int k = 0; k < n; ++k)
+      if (std::abs(v(k, 0)) > 0.3)
+        msg << " " << (sign * v(k, 0) > 0 ? "+" : "-") << space.parameters()[k].label();
+    msg << ": the values are not shown to be determined by the observations (more rocks or "
+           "evaluations near them, calibrations at other seeds, or cross-validation tell more; "
+           "from "
+        << from.str() << ")";
+    u.message = msg.str();
+    return u;
+  }
+  const int dof = std::max<int>(1, static_cast<int>(model->j.rows()) - n);
+  const double chi2 = std::max(1.0, 2.0 * misfit / dof);
+  const Eigen::MatrixXd cov = chi2 * v * lambda.cwiseInverse().asDiagonal() * v.transpose();
+  for (int k = 0; k < n; ++k) {
+    const auto& p = space.parameters()[k];
+    u.std_error.push_back(std::sqrt(cov(k, k)) * (p.upper - p.lower));
+  }
+  u.correlation.assign(n, std::vector<double>(n, 0.0));
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) u.correlation[a][b] = cov(a, b) / std::sqrt(cov(a, a) * cov(b, b));
+  std::ostringstream msg;
+  msg << "linearised (condition number " << std::sqrt(top / lambda[0]) << ", reduced chi-square "
+      << chi2 << "), from " << from.str()
+      << "; quantile residuals of one distribution are correlated, so these errors are a lower "
+         "bound";
+  u.message = msg.str();
+  return u;
+}
+
+std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluation>& trace,
+                                                       const ParameterSpace& space,
+                                                       const std::vector<double>& around,
+                                                       double radius, SmoothedEstimate* info) {
+  const int n = space.size();
+  const std::vector<double> centre = space.ToUnit(around);
+  std::string why;
+  const std::optional<LocalResidualModel> model = FitLocalResidualModel(
+      trace, space, centre, radius, &info->points, &info->radius, &why);
+  if (!model) {
+    info->message = why;
+    return std::nullopt;
+  }
+  radius = model->radius;
+  const Eigen::VectorXd& a = model->a;
+  const Eigen::MatrixXd& j = model->j;
+  const std::vector<std::size_t>& near = model->near;
   const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(j);
   const Eigen::VectorXd d = -cod.solve(a);
   std::vector<double> unit(static_cast<std::size_t>(n));
@@ -607,7 +726,7 @@ std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluat
   // few far evaluations where the model is poor do not widen the scatter.
   std::vector<double> delta;
   for (std::size_t p = 0; p < near.size(); ++p) {
-    const Eigen::VectorXd di = x.row(static_cast<Eigen::Index>(p)).tail(n).transpose();
+    const Eigen::VectorXd di = model->offsets.row(static_cast<Eigen::Index>(p)).transpose();
     delta.push_back(trace[near[p]].misfit - 0.5 * (a + j * di).squaredNorm());
   }
   auto median = [](std::vector<double> v) {
@@ -886,7 +1005,11 @@ MethodResult RunMethod(const std::string& method, const ObjectiveFunction& objec
       termination.type = polish.type;
     }
   }
-  return Conclude(&ev, termination, smoothed, options, objective);
+  MethodResult result = Conclude(&ev, termination, smoothed, options, objective);
+  // NLopt gives no curvature: take it from the search's own evaluations.
+  result.uncertainty = LocalModelUncertainty(result.trace, objective.space(), result.best,
+                                             result.best_misfit, options.smoothing_radius);
+  return result;
 }
 
 double TimeToReach(const MethodResult& result, double target, double fraction) {

@@ -128,9 +128,40 @@ std::string ParametersMarkdown(const CalibrationSummary& record) {
       << FormatNumber(best.best_misfit, "%.4g")
       << " after (half the sum of squared residuals in units of their uncertainty); "
       << record.rocks << " rocks per evaluation, seed " << record.seed << ".\n";
-  if (best.uncertainty.computed && best.uncertainty.rank_deficient)
-    out << "\nStandard errors not available: " << best.uncertainty.message << ".\n";
+  if (const std::string d = DeterminationSentence(record); !d.empty()) out << "\n" << d << "\n";
   return out.str();
+}
+
+std::string DeterminationSentence(const CalibrationSummary& record) {
+  const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
+  const calibrate::Uncertainty& u = best.uncertainty;
+  if (!u.computed)
+    return "Standard errors not computed (too few evaluations near the calibrated values for a "
+           "model of the residuals): how well the observations determine each value is unknown.";
+  if (u.rank_deficient) return "Standard errors not available: " + u.message + ".";
+  const auto& ps = record.space.parameters();
+  std::vector<std::string> loose, pairs;
+  for (std::size_t k = 0; k < ps.size() && k < u.std_error.size(); ++k)
+    if (u.std_error[k] > 0.25 * (ps[k].upper - ps[k].lower))
+      loose.push_back(ps[k].label() + " (" + SiteValue(ps[k], u.std_error[k], record.units) + ")");
+  for (std::size_t a = 0; a < ps.size() && a < u.correlation.size(); ++a)
+    for (std::size_t b = a + 1; b < ps.size() && b < u.correlation[a].size(); ++b)
+      if (std::abs(u.correlation[a][b]) >= 0.9)
+        pairs.push_back(ps[a].label() + " and " + ps[b].label() + " (" +
+                        FormatNumber(u.correlation[a][b], "%.2f") + ")");
+  auto join = [](const std::vector<std::string>& v) {
+    std::string out;
+    for (const std::string& x : v) out += (out.empty() ? "" : ", ") + x;
+    return out;
+  };
+  std::string s;
+  if (!loose.empty())
+    s += "Not determined by the observations (standard error above a quarter of the range): " +
+         join(loose) + ". ";
+  if (!pairs.empty())
+    s += "Determined only together (correlation of 0.9 or more in size): " + join(pairs) + ". ";
+  if (!s.empty()) s += "Standard errors: " + u.message + ".";
+  return s;
 }
 
 std::string TraceCsv(const CalibrationSummary& record) {

@@ -290,6 +290,62 @@ TEST(SmoothedEstimate, AveragesNoiseThatFoolsTheLowestEvaluation) {
   EXPECT_LT(error, lowest_error) << "lowest evaluation " << low[0] << ", " << low[1];
 }
 
+// Issue 12: the standard errors of a search without its own (NLopt) come
+// from the same local model of its evaluations: for residuals A (u - u*)
+// exactly the Gauss-Newton covariance (A^T A)^-1, in physical units.
+TEST(LocalModelUncertainty, IsTheGaussNewtonCovarianceOfTheEvaluations) {
+  const LinearResiduals lin;
+  std::vector<Eigen::Vector2d> units;
+  for (double x : {0.3, 0.45, 0.6})
+    for (double y : {0.5, 0.65, 0.8}) units.emplace_back(x, y);
+  const std::vector<Evaluation> trace = lin.Trace(units, 0.0);
+  const std::vector<double> at = lin.space.ToPhysical({0.4, 0.6});
+  const Uncertainty u = LocalModelUncertainty(trace, lin.space, at, 0.0, 0.2);
+  ASSERT_TRUE(u.computed);
+  ASSERT_FALSE(u.rank_deficient) << u.message;
+  const Eigen::Matrix2d cov = (lin.a.transpose() * lin.a).inverse();
+  EXPECT_NEAR(u.std_error[0], std::sqrt(cov(0, 0)) * 1.0, 1e-9);
+  EXPECT_NEAR(u.std_error[1], std::sqrt(cov(1, 1)) * 0.5, 1e-9);
+  EXPECT_NEAR(u.correlation[0][1], cov(0, 1) / std::sqrt(cov(0, 0) * cov(1, 1)), 1e-9);
+  EXPECT_THAT(u.message, HasSubstr("the 9 evaluations within"));
+  // A parameter the residuals do not see is named as not identifiable.
+  LinearResiduals blind;
+  blind.a.col(1).setZero();
+  const Uncertainty b = LocalModelUncertainty(blind.Trace(units, 0.0), blind.space, at, 0.0, 0.2);
+  ASSERT_TRUE(b.computed);
+  EXPECT_TRUE(b.rank_deficient);
+  EXPECT_THAT(b.message, HasSubstr("along 1 of 2 directions, the least determined +b.roughness: "
+                                   "the values are not shown to be determined"));
+  // Too few evaluations: not computed.
+  const std::vector<Evaluation> few(trace.begin(), trace.begin() + 4);
+  EXPECT_FALSE(LocalModelUncertainty(few, lin.space, at, 0.0, 0.2).computed);
+}
+
+// Noisy evaluations make the fitted slopes steeper on average than the
+// misfit is, and the errors too small; the model's own scatter says by how
+// much. A slope the noise swamps is reported as not determined.
+TEST(LocalModelUncertainty, TakesTheNoiseOfTheSlopesOff) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> offset(-0.2, 0.2);
+  std::vector<Eigen::Vector2d> units;
+  for (int k = 0; k < 40; ++k) units.emplace_back(0.4 + offset(rng), 0.6 + offset(rng));
+  LinearResiduals weak;
+  weak.a.col(1) *= 0.01;  // b moves the residuals by ~0.01 over the box; noise 1
+  const std::vector<double> at = weak.space.ToPhysical({0.4, 0.6});
+  const Uncertainty u = LocalModelUncertainty(weak.Trace(units, 1.0), weak.space, at, 2.5, 0.2);
+  ASSERT_TRUE(u.computed);
+  EXPECT_TRUE(u.rank_deficient) << u.message;
+  EXPECT_THAT(u.message, HasSubstr("the least determined +b.roughness: the values are not shown"));
+  // Slopes well above the noise: errors near the noise-free ones.
+  const LinearResiduals strong;
+  const Uncertainty s = LocalModelUncertainty(strong.Trace(units, 0.3), strong.space, at, 0.0, 0.2);
+  ASSERT_TRUE(s.computed);
+  ASSERT_FALSE(s.rank_deficient) << s.message;
+  const Eigen::Matrix2d cov = (strong.a.transpose() * strong.a).inverse();
+  EXPECT_NEAR(s.std_error[0] / std::sqrt(cov(0, 0)), 1.0, 0.2);
+  EXPECT_NEAR(s.std_error[1] / (std::sqrt(cov(1, 1)) * 0.5), 1.0, 0.2);
+}
+
 TEST(SmoothedEstimate, SaysWhenTheEvaluationsCannotDetermineIt) {
   const LinearResiduals lin;
   SmoothedEstimate info;

@@ -274,6 +274,37 @@ CalibrationSummary MakeRecord(const sites::Site& site, int methods) {
   return record;
 }
 
+// Issue 12: a value the observations do not determine is said to be so, in
+// parameters.md and in the report, not printed as if it were known.
+TEST(HtmlReportTest, TheReportSaysWhichValuesTheObservationsDoNotDetermine) {
+  auto has = [](const std::string& text, const std::string& part) {
+    return text.find(part) != std::string::npos;
+  };
+  const SimulatedSite run = Simulated("tutorial", 6);
+  CalibrationSummary record = MakeRecord(run.site, 2);
+  const auto& ps = record.space.parameters();
+  ASSERT_GE(ps.size(), 2u);
+  EXPECT_EQ(DeterminationSentence(record), "");  // standard errors 0.01: all determined
+  calibrate::Uncertainty& u = record.methods[1].uncertainty;
+  u.message = "linearised";
+  u.std_error[0] = 0.4 * (ps[0].upper - ps[0].lower);
+  u.correlation[0][1] = u.correlation[1][0] = -0.95;
+  const std::string d = DeterminationSentence(record);
+  EXPECT_TRUE(has(d, "Not determined by the observations (standard error above a quarter "
+                     "of the range): " + ps[0].label()))
+      << d;
+  EXPECT_TRUE(has(d, "Determined only together (correlation of 0.9 or more in size): " +
+                         ps[0].label() + " and " + ps[1].label() + " (-0.95)"))
+      << d;
+  EXPECT_TRUE(has(ParametersMarkdown(record), d));
+  ReportInput in = Input(run);
+  in.calibration = &record;
+  EXPECT_TRUE(has(FindSection(Render(in), "calibration")->AllText(), "Determined only together"));
+  u = calibrate::Uncertainty{};
+  EXPECT_TRUE(has(DeterminationSentence(record),
+                  "how well the observations determine each value is unknown"));
+}
+
 TEST(HtmlReportTest, CalibrationSectionsShowTheRecord) {
   const SimulatedSite run = Simulated("tutorial", 6);
   for (int methods : {1, 2}) {

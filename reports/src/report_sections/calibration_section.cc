@@ -135,16 +135,10 @@ std::string ParameterTable(const CalibrationSummary& rec) {
          BoundsBar(v, ps[k].lower, ps[k].upper) + "</td></tr>";
   }
   s += "</tbody></table>";
-  if (u.computed && u.rank_deficient)
-    s += "<p class=\"note\">Standard errors not available: " + Escape(u.message) + ".</p>";
-  else if (!u.computed)
-    s += "<p class=\"note\">Standard errors are computed by the <code>ceres</code> method only; "
-         "\"-\" means not "
-         "computed.</p>";
-  else
-    s += "<p class=\"note\">Standard errors are linearised from the Jacobian of the residuals and "
-         "are a lower "
-         "bound.</p>";
+  if (const std::string d = DeterminationSentence(rec); !d.empty())
+    s += "<p><b>" + Escape(d) + "</b></p>";
+  if (have_se)
+    s += "<p class=\"note\">Standard errors: " + Escape(u.message) + ".</p>";
   return s;
 }
 

@@ -216,6 +216,15 @@ std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluat
                                                        const std::vector<double>& around,
                                                        double radius, SmoothedEstimate* info);
 
+// Standard errors at `at` (physical values; `misfit` there) from the same
+// local linear model of the residuals as FitSmoothedEstimate's, fitted to
+// the evaluations of `trace` around `at`: what the search's own evaluations
+// say of how well the data determine each value, at no extra simulation.
+// Not computed (Uncertainty::computed false) when the model cannot be fitted.
+Uncertainty LocalModelUncertainty(const std::vector<Evaluation>& trace,
+                                  const ParameterSpace& space, const std::vector<double>& at,
+                                  double misfit, double radius);
+
 // Wall seconds at which a method's best misfit first came within `fraction`
 // of `target` (best_misfit <= target * (1 + fraction)); negative if never.
 double TimeToReach(const MethodResult& result, double target, double fraction = 0.1);

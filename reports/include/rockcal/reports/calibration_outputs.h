@@ -27,6 +27,13 @@ nlohmann::json ParametersJson(const CalibrationSummary& record);
 std::string ParametersCsv(const CalibrationSummary& record);
 // parameters.md: a Markdown table ready for a report (site units beside SI).
 std::string ParametersMarkdown(const CalibrationSummary& record);
+// What the standard errors say of how well the observations determine the
+// calibrated values, in plain words: the parameters whose standard error
+// exceeds a quarter of their calibration range ("not determined by the
+// observations"), and the pairs whose correlation is 0.9 or more in size
+// ("determined only together"); or why no standard errors exist. Empty when
+// every value is determined. parameters.md and the report print it.
+std::string DeterminationSentence(const CalibrationSummary& record);
 // trace.csv: method,evaluation,wall_seconds,misfit,best_misfit,<parameters>,replayed.
 std::string TraceCsv(const CalibrationSummary& record);
 // calibration.json: methods, terminations, budgets, misfit before and after,
