@@ -291,6 +291,27 @@ class BudgetCallback final : public ceres::IterationCallback {
   const Evaluator* ev_;
 };
 
+// Standard errors (physical units) and correlations from the covariance
+// (J^T J)^-1 = V diag(1 / lambda) V^T in the unit box, scaled by the reduced
+// chi-square of `residuals` residuals at `misfit` when the fit is worse than
+// the stated uncertainties imply; returns that chi-square.
+double FillFromInverseGram(const Eigen::MatrixXd& v, const Eigen::VectorXd& lambda,
+                           long residuals, double misfit, const ParameterSpace& space,
+                           Uncertainty* u) {
+  const int n = static_cast<int>(lambda.size());
+  const int dof = std::max<int>(1, static_cast<int>(residuals) - n);
+  const double chi2 = std::max(1.0, 2.0 * misfit / dof);
+  const Eigen::MatrixXd cov = chi2 * v * lambda.cwiseInverse().asDiagonal() * v.transpose();
+  for (int k = 0; k < n; ++k) {
+    const auto& p = space.parameters()[k];
+    u->std_error.push_back(std::sqrt(cov(k, k)) * (p.upper - p.lower));
+  }
+  u->correlation.assign(n, std::vector<double>(n, 0.0));
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) u->correlation[a][b] = cov(a, b) / std::sqrt(cov(a, a) * cov(b, b));
+  return chi2;
+}
+
 // Standard errors from the Jacobian of the scaled residuals at the best
 // point: cov = (J^T J)^-1 in the unit box, mapped to physical units.
 Uncertainty JacobianUncertainty(const Eigen::MatrixXd& j_unit, double misfit,
@@ -319,19 +340,8 @@ Uncertainty JacobianUncertainty(const Eigen::MatrixXd& j_unit, double misfit,
     u.message = msg.str();
     return u;
   }
-  const Eigen::MatrixXd v = svd.matrixV();
-  // Scaled by the reduced chi-square when the fit is worse than the stated
-  // uncertainties imply.
-  const int dof = std::max<int>(1, static_cast<int>(j_unit.rows()) - n);
-  const double chi2 = std::max(1.0, 2.0 * misfit / dof);
-  const Eigen::MatrixXd cov = chi2 * v * s.cwiseInverse().cwiseAbs2().asDiagonal() * v.transpose();
-  for (int k = 0; k < n; ++k) {
-    const auto& p = space.parameters()[k];
-    u.std_error.push_back(std::sqrt(cov(k, k)) * (p.upper - p.lower));
-  }
-  u.correlation.assign(n, std::vector<double>(n, 0.0));
-  for (int a = 0; a < n; ++a)
-    for (int b = 0; b < n; ++b) u.correlation[a][b] = cov(a, b) / std::sqrt(cov(a, a) * cov(b, b));
+  const double chi2 =
+      FillFromInverseGram(svd.matrixV(), s.cwiseAbs2(), j_unit.rows(), misfit, space, &u);
   const double condition = s[0] / s[n - 1];
   std::ostringstream msg;
   msg << "linearised, from the Jacobian of the scaled residuals (condition number " << condition
@@ -677,16 +687,7 @@ Uncertainty LocalModelUncertainty(const std::vector<Evaluation>& trace,
     u.message = msg.str();
     return u;
   }
-  const int dof = std::max<int>(1, static_cast<int>(model->j.rows()) - n);
-  const double chi2 = std::max(1.0, 2.0 * misfit / dof);
-  const Eigen::MatrixXd cov = chi2 * v * lambda.cwiseInverse().asDiagonal() * v.transpose();
-  for (int k = 0; k < n; ++k) {
-    const auto& p = space.parameters()[k];
-    u.std_error.push_back(std::sqrt(cov(k, k)) * (p.upper - p.lower));
-  }
-  u.correlation.assign(n, std::vector<double>(n, 0.0));
-  for (int a = 0; a < n; ++a)
-    for (int b = 0; b < n; ++b) u.correlation[a][b] = cov(a, b) / std::sqrt(cov(a, a) * cov(b, b));
+  const double chi2 = FillFromInverseGram(v, lambda, model->j.rows(), misfit, space, &u);
   std::ostringstream msg;
   msg << "linearised (condition number " << std::sqrt(top / lambda[0]) << ", reduced chi-square "
       << chi2 << "), from " << from.str()
