@@ -53,6 +53,7 @@ constexpr double kVeryLongRun = 300.0;  // s: ... and longer than this only once
 struct EngineResult {
   std::vector<double> runout;   // stop x of the stopped rocks [m]
   std::vector<double> heights;  // bounce heights at the partition [m]
+  std::vector<double> speeds;   // speeds there [m/s] (LIGGGHTS: over the frame that crosses)
   int stopped = 0, left = 0,
       moving = 0;  // moving: rockcal's timeout; LIGGGHTS: still fast at the end
 };
@@ -60,8 +61,10 @@ struct EngineResult {
 EngineResult FromRockcal(const core::SimulationResult& result) {
   EngineResult out;
   for (const core::RockRecord& r : result.rocks) {
-    if (!r.crossings.empty() && r.crossings[0].crossed)
+    if (!r.crossings.empty() && r.crossings[0].crossed) {
       out.heights.push_back(r.crossings[0].height);
+      out.speeds.push_back(r.crossings[0].speed);
+    }
     switch (r.outcome) {
       case core::Outcome::kStopped:
         ++out.stopped;
@@ -360,8 +363,10 @@ LiggghtsRun RunLiggghts(const std::string& exe, const Deck& deck) {
 // Reads traj.dump (positions every kSampleSeconds) and final.dump. A rock has
 // left when its centre was off the grid in any frame or it was lost; one at
 // rest at the end (speed below the stop speed) has stopped; others are moving.
-// The bounce height at the partition is the centre's height above the terrain
-// (Terrain::Elevation) where the path between two frames first crosses it.
+// The bounce height at the partition is the centre's height above the ground
+// a rock touches (Terrain::GroundHeight, the top of the virtual spheres, as
+// rockcal's crossings measure it) where the path between two frames first
+// crosses it.
 EngineResult ReadLiggghtsResult(const Deck& deck, const core::Scene& scene,
                                 const core::Terrain& terrain) {
   struct Track {
@@ -399,8 +404,9 @@ EngineResult ReadLiggghtsResult(const Deck& deck, const core::Scene& scene,
       const double f = (t.last.x() - kPartitionX) / (t.last.x() - x);
       const Eigen::Vector3d c = t.last + f * (p - t.last);
       double ground = c.z();
-      terrain.Elevation(c.x(), c.y(), &ground);
+      terrain.GroundHeight(c.x(), c.y(), &ground);
       out.heights.push_back(c.z() - ground);
+      out.speeds.push_back((p - t.last).norm() / kSampleSeconds);
       t.crossed = true;
     }
     t.seen = true;
@@ -442,7 +448,8 @@ EngineResult ReadLiggghtsResult(const Deck& deck, const core::Scene& scene,
 
 void PrintComparisonRow(const char* label, const std::vector<double>& a,
                         const std::vector<double>& b, double p) {
-  const bench::QuantileEstimate qa = bench::EstimateQuantile(a, p), qb = bench::EstimateQuantile(b, p);
+  const bench::QuantileEstimate qa = bench::EstimateQuantile(a, p),
+                                qb = bench::EstimateQuantile(b, p);
   if (!qa.valid || !qb.valid) {
     std::printf("%-18s %22s %22s   (too few values)\n", label, "-", "-");
     return;
@@ -501,7 +508,7 @@ RockcalRuns RunRockcal(const core::Scene& scene, const core::Terrain& terrain, i
 // folder; false when the folder cannot be made.
 bool MakeDeck(const core::Scene& scene, const core::Terrain& terrain,
               const core::SimulationResult& result, const core::ContactLaw& law, double max_time,
-              Deck* deck) {
+              int dt_divisor, Deck* deck) {
   const std::string dir_name =
       (std::filesystem::temp_directory_path() / "rockcal_liggghts_XXXXXX").string();
   std::vector<char> dir_buffer(dir_name.begin(), dir_name.end());
@@ -511,7 +518,7 @@ bool MakeDeck(const core::Scene& scene, const core::Terrain& terrain,
   deck->dir = made;
   deck->terrain_atoms = scene.grid.nx * scene.grid.ny;
   deck->rock_atoms = static_cast<int>(result.rocks.size());
-  deck->dt = result.dt_max;  // t_c / 50 for every rock of this scene
+  deck->dt = result.dt_max / dt_divisor;  // t_c / N_c for every rock of this scene, / K
   deck->chunk_steps = static_cast<int>(std::lround(kCheckSeconds / deck->dt));
   deck->chunks = static_cast<int>(std::ceil(max_time / kCheckSeconds - 1e-9));
   deck->time_limit = deck->chunks * deck->chunk_steps * deck->dt;
@@ -584,6 +591,8 @@ void PrintSideBySide(const EngineResult& ours, const EngineResult& theirs) {
   PrintComparisonRow("height p50 [m]", ours.heights, theirs.heights, 0.50);
   PrintComparisonRow("height p90 [m]", ours.heights, theirs.heights, 0.90);
   PrintComparisonRow("height p95 [m]", ours.heights, theirs.heights, 0.95);
+  PrintComparisonRow("speed p50 [m/s]", ours.speeds, theirs.speeds, 0.50);
+  PrintComparisonRow("speed p90 [m/s]", ours.speeds, theirs.speeds, 0.90);
 }
 
 }  // namespace
@@ -591,11 +600,32 @@ void PrintSideBySide(const EngineResult& ours, const EngineResult& theirs) {
 int main(int argc, char** argv) {
   const int rocks = argc > 1 ? std::atoi(argv[1]) : 200;
   const int runs = argc > 2 ? std::atoi(argv[2]) : 5;
-  if (rocks < 2 || runs < 1) {
-    std::fprintf(stderr, "usage: liggghts_compare [rocks=200] [runs=5] (rocks >= 2, runs >= 1)\n");
+  // Variants of the scene (issue 13, finding 10): grid spacing [m], friction
+  // and rolling resistance on both sides (negative: the hardness model's),
+  // rockcal's steps per contact N_c, and LIGGGHTS' step as rockcal's / K.
+  const double spacing = argc > 3 ? std::atof(argv[3]) : 12 * core::kFoot;
+  const double friction = argc > 4 ? std::atof(argv[4]) : -1.0;
+  const double rolling = argc > 5 ? std::atof(argv[5]) : -1.0;
+  const int steps_per_contact = argc > 6 ? std::atoi(argv[6]) : 50;
+  const int liggghts_divisor = argc > 7 ? std::atoi(argv[7]) : 1;
+  const double max_time = argc > 8 ? std::atof(argv[8]) : 60.0;
+  const bool reference_path = argc > 9 && std::string(argv[9]) == "reference";
+  if (rocks < 2 || runs < 1 || !(spacing > 0.5) || steps_per_contact < 10 || liggghts_divisor < 1 ||
+      !(max_time > 0)) {
+    std::fprintf(stderr,
+                 "usage: liggghts_compare [rocks=200] [runs=5] [spacing_m=3.6576] "
+                 "[friction=model] [rolling_resistance=model] [N_c=50] [liggghts_dt_divisor=1] "
+                 "[max_time_s=60] [production|reference]\n"
+                 "(rocks >= 2, runs >= 1, spacing > 0.5, N_c >= 10, divisor >= 1, max_time > 0; "
+                 "a negative friction or rolling resistance keeps the hardness model's)\n");
     return 2;
   }
-  core::Scene scene = bench::SlopeScene(rocks);
+  core::Scene scene = bench::SlopeScene(rocks, spacing);
+  if (friction >= 0) scene.materials[0].friction = friction;
+  if (rolling >= 0) scene.materials[0].rolling_resistance = rolling;
+  scene.options.steps_per_contact = steps_per_contact;
+  scene.options.max_time = max_time;
+  scene.options.reference_path = reference_path;
   scene.partitions.push_back({"X60", core::Partition::Kind::kX, kPartitionX});
   const core::Terrain terrain = core::BuildTerrain(scene);
   const core::ContactLaw law = core::DeriveContactLaw(scene.materials[0], scene.hardness_model);
@@ -611,6 +641,12 @@ int main(int argc, char** argv) {
   const RockcalRuns rockcal = RunRockcal(scene, terrain, runs);
   const core::SimulationResult& result = rockcal.timed[0].result;
   const EngineResult ours = FromRockcal(result);
+  for (const double p : {0.5, 0.9, 0.95}) {
+    const bench::QuantileEstimate q = bench::EstimateQuantile(ours.heights, p);
+    if (q.valid)
+      std::printf("rockcal height p%.0f at X60: %.2f +- %.2f m (%zu rocks crossed)\n", 100 * p,
+                  q.value, q.se, ours.heights.size());
+  }
 
   std::string exe;
   if (!FindOnPath("liggghts", &exe)) {
@@ -618,7 +654,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   Deck deck;
-  if (!MakeDeck(scene, terrain, result, law, rockcal.max_time, &deck)) {
+  if (!MakeDeck(scene, terrain, result, law, rockcal.max_time, liggghts_divisor, &deck)) {
     std::fprintf(stderr, "liggghts_compare: cannot create a temporary folder\n");
     return 1;
   }

@@ -24,7 +24,7 @@
 namespace rockcal::bench {
 
 constexpr double kSlopeDegrees = 35.0;
-constexpr double kSlopeToeX = 100.0;  // m, where the slope meets the flat runout
+constexpr double kSlopeToeX = 100.0;   // m, where the slope meets the flat runout
 constexpr double kSphereRadius = 6.0;  // m, the virtual spheres
 
 // Ground elevation of the benchmark slope at x [m] (the analytic profile; the
@@ -36,14 +36,15 @@ inline double SlopeGround(double x) {
 }
 
 // The scene with `rocks` sphere rocks and default simulation options (seed 1,
-// 60 s limit, t_c / 50 steps); no partitions.
-inline core::Scene SlopeScene(int rocks) {
-  const double s = 12 * core::kFoot;
+// 60 s limit, t_c / 50 steps); no partitions. `spacing` [m] other than 12 ft
+// keeps the 6 m spheres on the slope and the plan extent (362 m x 84 m).
+inline core::Scene SlopeScene(int rocks, double spacing = 12 * core::kFoot) {
+  const double s = spacing;
   core::Scene scene;
   scene.name = "rough 35-degree slope";
   scene.grid.spacing = s;
-  scene.grid.nx = 100;  // 362 m: 100 m of slope and the runout
-  scene.grid.ny = 24;   // 84 m
+  scene.grid.nx = static_cast<int>(std::floor(362.2 / s + 1e-9)) + 1;  // 100 at 12 ft: 362 m
+  scene.grid.ny = static_cast<int>(std::floor(84.2 / s + 1e-9)) + 1;   // 24 at 12 ft: 84 m
   for (int j = 0; j < scene.grid.ny; ++j)
     for (int i = 0; i < scene.grid.nx; ++i) {
       scene.grid.z.push_back(SlopeGround(i * s));
