@@ -252,6 +252,25 @@ TEST(Simulate, RoughSlopeEndsCleanlyWithoutEnergyGain) {
             static_cast<int>(result.rocks.size()));
 }
 
+// Issue 13, finding 8: the stable step keeps its damping term because the
+// scheme needs it. A hardness-0 (most damped) slope shortens the step of
+// every rock below t_c / N_c, and no sphere, cube or disc gains energy; with
+// the bound at 2 / omega, as an implicit dashpot alone would allow, the
+// study's hardness-0 cases gained up to half their energy on boxes
+// (bench/README.md, "The step").
+TEST(Simulate, TheMostDampedSlopeShortensTheStepAndAddsNoEnergy) {
+  Scene scene = RoughSlope(3);
+  for (Material& m : scene.materials) m.hardness = 0.0;
+  scene.options.max_time = 8.0;
+  const SimulationResult result = Simulate(scene);
+  EXPECT_EQ(result.dt_shrunk, static_cast<int>(result.rocks.size()));
+  EXPECT_LT(result.dt_max, scene.materials[0].contact_time_s / scene.options.steps_per_contact);
+  EXPECT_EQ(result.non_finite, 0);
+  for (const auto& r : result.rocks)
+    EXPECT_LT(r.max_relative_energy_gain, 1e-3)
+        << "rock " << r.rock << " shape " << ShapeName(r.shape) << " size " << r.size;
+}
+
 // Undergrowth only takes energy: the rough slope's rocks through it never
 // gain any, and stop sooner.
 TEST(Simulate, VegetationOnARoughSlopeNeverAddsEnergy) {
