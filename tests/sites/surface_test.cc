@@ -315,6 +315,16 @@ TEST(ReadSurface, ErrorsNameFileAndJsonPath) {
               HasSubstr(site + "$.surface.resolution: the surface data span 9 x 9"));
   EXPECT_THAT(ReadError(R"({"resolution": 0.0001, "points": [[0,0,0],[9,0,0],[0,9,0]]})", dir),
               HasSubstr("is too large"));
+  EXPECT_THAT(ReadError(R"({"sphere_spacing": -1, "points": [[0,0,0],[9,0,0],[0,9,0]]})", dir),
+              HasSubstr(site + "$.surface.sphere_spacing: expected a number > 0"));
+  EXPECT_THAT(
+      ReadError(R"({"resolution": 1, "sphere_spacing": 20, "points": [[0,0,0],[9,0,0],[0,9,0]]})",
+                dir),
+      HasSubstr(site + "$.surface.sphere_spacing: the surface data span 9 x 9"));
+  EXPECT_THAT(ReadError(
+                  R"({"resolution": 1, "sphere_spacing": 0.0001, "points": [[0,0,0],[9,0,0],[0,9,0]]})",
+                  dir),
+              HasSubstr(site + "$.surface.sphere_spacing: a grid of"));
   dir.Write("x.txt", "");
   EXPECT_THAT(ReadError(R"({"lidar": {"file": "x.txt", "offset": "automatic"}})", dir),
               HasSubstr(site + "$.surface.lidar.offset: expected \"auto\" or [x, y, z]"));
