@@ -321,10 +321,11 @@ TEST(ReadSurface, ErrorsNameFileAndJsonPath) {
       ReadError(R"({"resolution": 1, "sphere_spacing": 20, "points": [[0,0,0],[9,0,0],[0,9,0]]})",
                 dir),
       HasSubstr(site + "$.surface.sphere_spacing: the surface data span 9 x 9"));
-  EXPECT_THAT(ReadError(
-                  R"({"resolution": 1, "sphere_spacing": 0.0001, "points": [[0,0,0],[9,0,0],[0,9,0]]})",
-                  dir),
-              HasSubstr(site + "$.surface.sphere_spacing: a grid of"));
+  EXPECT_THAT(
+      ReadError(
+          R"({"resolution": 1, "sphere_spacing": 0.0001, "points": [[0,0,0],[9,0,0],[0,9,0]]})",
+          dir),
+      HasSubstr(site + "$.surface.sphere_spacing: a grid of"));
   dir.Write("x.txt", "");
   EXPECT_THAT(ReadError(R"({"lidar": {"file": "x.txt", "offset": "automatic"}})", dir),
               HasSubstr(site + "$.surface.lidar.offset: expected \"auto\" or [x, y, z]"));
