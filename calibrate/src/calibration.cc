@@ -561,7 +561,6 @@ struct LocalResidualModel {
   Eigen::MatrixXd j;              // m x n
   Eigen::MatrixXd offsets;        // one row u_i - centre per evaluation used
   std::vector<std::size_t> near;  // the evaluations used (trace indices)
-  double radius = 0.0;            // their max-norm neighbourhood
   // What the evaluations' noise adds to J^T J on average: the sum over the
   // residuals of their scatter about the model, s_r^2, times the covariance
   // block (X^T X)^-1 of the slopes (n x n). J^T J minus it estimates the
@@ -634,7 +633,6 @@ std::optional<LocalResidualModel> FitLocalResidualModel(const std::vector<Evalua
   if (dof > 0) scatter = (r - x * coef).colwise().squaredNorm().sum() / dof;
   model.noise_gram = scatter * xtx_inv;
   model.near = std::move(near);
-  model.radius = radius;
   return model;
 }
 
@@ -661,6 +659,7 @@ Uncertainty LocalModelUncertainty(const std::vector<Evaluation>& trace,
   const Eigen::MatrixXd v = eig.eigenvectors();
   Uncertainty u;
   u.computed = true;
+  u.from_search = true;
   for (int k = n - 1; k >= 0; --k) u.singular_values.push_back(std::sqrt(std::max(0.0, lambda[k])));
   std::ostringstream from;
   from << "a linear model of the residuals fitted to the " << points << " evaluations within "
@@ -710,7 +709,7 @@ std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluat
     info->message = why;
     return std::nullopt;
   }
-  radius = model->radius;
+  radius = info->radius;
   const Eigen::VectorXd& a = model->a;
   const Eigen::MatrixXd& j = model->j;
   const std::vector<std::size_t>& near = model->near;

@@ -514,8 +514,10 @@ CampaignSummary RunCampaign(const Campaign& campaign, const CalibrationOptions& 
   SearchMethods(objective, cal.search_start, options.methods, method_options, log ? &*log : nullptr,
                 callbacks, &cal);
   MethodResult& best = cal.methods[static_cast<std::size_t>(cal.best)];
-  // The uncertainty of the joint values, whatever the method (ceres has it).
-  if (!best.uncertainty.computed)
+  // The uncertainty of the joint values from central differences, whatever
+  // the method (ceres has it; the NLopt methods' comes from their own
+  // evaluations).
+  if (!best.uncertainty.computed || best.uncertainty.from_search)
     best.uncertainty = JacobianUncertaintyAt(objective, best.best, best.best_misfit);
   cal.termination = best.termination;
 

@@ -308,6 +308,7 @@ TEST(LocalModelUncertainty, IsTheGaussNewtonCovarianceOfTheEvaluations) {
   EXPECT_NEAR(u.std_error[1], std::sqrt(cov(1, 1)) * 0.5, 1e-9);
   EXPECT_NEAR(u.correlation[0][1], cov(0, 1) / std::sqrt(cov(0, 0) * cov(1, 1)), 1e-9);
   EXPECT_THAT(u.message, HasSubstr("the 9 evaluations within"));
+  EXPECT_TRUE(u.from_search);
   // A parameter the residuals do not see is named as not identifiable.
   LinearResiduals blind;
   blind.a.col(1).setZero();

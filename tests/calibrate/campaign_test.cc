@@ -238,8 +238,10 @@ TEST(Campaign, OneSiteAloneIsThatSitesCalibration) {
   EXPECT_EQ(a.best, b.best);
   EXPECT_EQ(joint.calibration.misfit_before.value, alone.misfit_before.value);
   EXPECT_EQ(joint.calibration.misfit_after.value, alone.misfit_after.value);
-  // The campaign also has the uncertainty, whatever the method, and the site's fit.
+  // The campaign also has the uncertainty, whatever the method, from central
+  // differences at the joint values, and the site's fit.
   EXPECT_TRUE(a.uncertainty.computed);
+  EXPECT_FALSE(a.uncertainty.from_search);
   ASSERT_EQ(joint.sites.size(), 1u);
   EXPECT_EQ(joint.sites[0].calibrated, a.best);
   EXPECT_EQ(joint.sites[0].misfit_joint.value, alone.misfit_after.value);

@@ -121,6 +121,9 @@ struct Uncertainty {
   std::vector<double> std_error;                 // physical units
   std::vector<std::vector<double>> correlation;  // n x n
   std::vector<double> singular_values;           // of the Jacobian in the unit box
+  // From the search's own evaluations (LocalModelUncertainty), not from a
+  // Jacobian by central differences at the calibrated values.
+  bool from_search = false;
 };
 
 // The smoothed estimate of a method run (MethodOptions::estimate).
