@@ -295,9 +295,8 @@ class BudgetCallback final : public ceres::IterationCallback {
 // (J^T J)^-1 = V diag(1 / lambda) V^T in the unit box, scaled by the reduced
 // chi-square of `residuals` residuals at `misfit` when the fit is worse than
 // the stated uncertainties imply; returns that chi-square.
-double FillFromInverseGram(const Eigen::MatrixXd& v, const Eigen::VectorXd& lambda,
-                           long residuals, double misfit, const ParameterSpace& space,
-                           Uncertainty* u) {
+double FillFromInverseGram(const Eigen::MatrixXd& v, const Eigen::VectorXd& lambda, long residuals,
+                           double misfit, const ParameterSpace& space, Uncertainty* u) {
   const int n = static_cast<int>(lambda.size());
   const int dof = std::max<int>(1, static_cast<int>(residuals) - n);
   const double chi2 = std::max(1.0, 2.0 * misfit / dof);
@@ -616,8 +615,9 @@ std::optional<LocalResidualModel> FitLocalResidualModel(const std::vector<Evalua
   }
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(x);
   if (qr.rank() < n + 1) {
-    *why = "the evaluations nearby do not span every parameter (they lie on a "
-           "lower-dimensional set), so the model is undetermined";
+    *why =
+        "the evaluations nearby do not span every parameter (they lie on a "
+        "lower-dimensional set), so the model is undetermined";
     return std::nullopt;
   }
   const Eigen::MatrixXd coef = qr.solve(r);  // (n + 1) x m
@@ -638,9 +638,8 @@ std::optional<LocalResidualModel> FitLocalResidualModel(const std::vector<Evalua
 
 }  // namespace
 
-Uncertainty LocalModelUncertainty(const std::vector<Evaluation>& trace,
-                                  const ParameterSpace& space, const std::vector<double>& at,
-                                  double misfit, double radius) {
+Uncertainty LocalModelUncertainty(const std::vector<Evaluation>& trace, const ParameterSpace& space,
+                                  const std::vector<double>& at, double misfit, double radius) {
   if (at.empty()) return Uncertainty{};
   int points = 0;
   double used = 0.0;
@@ -703,8 +702,8 @@ std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluat
   const int n = space.size();
   const std::vector<double> centre = space.ToUnit(around);
   std::string why;
-  const std::optional<LocalResidualModel> model = FitLocalResidualModel(
-      trace, space, centre, radius, &info->points, &info->radius, &why);
+  const std::optional<LocalResidualModel> model =
+      FitLocalResidualModel(trace, space, centre, radius, &info->points, &info->radius, &why);
   if (!model) {
     info->message = why;
     return std::nullopt;

@@ -161,12 +161,14 @@ JointSpace::JointSpace(const Campaign& campaign) {
         const auto& [first_site, spacing] = first_spacing[static_cast<std::size_t>(it->second)];
         const double here = site.site.scene.grid.spacing;
         if (p.kind == ParameterKind::kRoughness && std::abs(here - spacing) > 1e-9 * spacing)
-          throw InputError(where, "class '" + cls + "' roughness is shared by sites whose virtual "
-                                  "spheres are spaced differently ('" + first_site + "' " +
-                                  FormatNumber(spacing) + " m, '" + site.name + "' " +
-                                  FormatNumber(here) + " m); a roughness means one ground only "
-                                  "at one sphere spacing: expected one surface.sphere_spacing "
-                                  "for these sites, or the class left out of \"shared\"");
+          throw InputError(where, "class '" + cls +
+                                      "' roughness is shared by sites whose virtual "
+                                      "spheres are spaced differently ('" +
+                                      first_site + "' " + FormatNumber(spacing) + " m, '" +
+                                      site.name + "' " + FormatNumber(here) +
+                                      " m); a roughness means one ground only "
+                                      "at one sphere spacing: expected one surface.sphere_spacing "
+                                      "for these sites, or the class left out of \"shared\"");
         q.lower = std::max(q.lower, p.lower);
         q.upper = std::min(q.upper, p.upper);
       }

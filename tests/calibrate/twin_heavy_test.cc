@@ -69,8 +69,8 @@ std::string Describe(const MethodResult& r, const ParameterSpace& space) {
 void ExpectTruthRecovered(const MethodResult& r, const Twin& twin) {
   ASSERT_TRUE(r.smoothed.used) << r.smoothed.message;
   for (int k = 0; k < twin.space.size(); ++k)
-    EXPECT_LT(RangeError(twin.space, r.best, k), 0.05)
-        << twin.space.parameters()[k].label() << "\n" << Describe(r, twin.space);
+    EXPECT_LT(RangeError(twin.space, r.best, k), 0.05) << twin.space.parameters()[k].label() << "\n"
+                                                       << Describe(r, twin.space);
   EXPECT_LT(r.best_misfit, twin.objective.Evaluate(kTruth).value * 1.5) << Describe(r, twin.space);
 }
 

@@ -290,8 +290,10 @@ TEST(HtmlReportTest, TheReportSaysWhichValuesTheObservationsDoNotDetermine) {
   u.std_error[0] = 0.4 * (ps[0].upper - ps[0].lower);
   u.correlation[0][1] = u.correlation[1][0] = -0.95;
   const std::string d = DeterminationSentence(record);
-  EXPECT_TRUE(has(d, "Not determined by the observations (standard error above a quarter "
-                     "of the range): " + ps[0].label()))
+  EXPECT_TRUE(has(d,
+                  "Not determined by the observations (standard error above a quarter "
+                  "of the range): " +
+                      ps[0].label()))
       << d;
   EXPECT_TRUE(has(d, "Determined only together (correlation of 0.9 or more in size): " +
                          ps[0].label() + " and " + ps[1].label() + " (-0.95)"))

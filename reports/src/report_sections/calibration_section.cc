@@ -22,7 +22,8 @@ std::string ParameterValue(const calibrate::Parameter& p, double v) {
     case calibrate::ParameterKind::kFriction:
       return FormatNumber(v, "%.3f");
     case calibrate::ParameterKind::kVegetation:
-      return Show(v * 1e-3) + " kPa (" + Show(v / sites::StressToSI(1.0, sites::Units::kUS)) + " lbf/ft²)";
+      return Show(v * 1e-3) + " kPa (" + Show(v / sites::StressToSI(1.0, sites::Units::kUS)) +
+             " lbf/ft²)";
   }
   return Show(v);
 }
@@ -137,8 +138,7 @@ std::string ParameterTable(const CalibrationSummary& rec) {
   s += "</tbody></table>";
   if (const std::string d = DeterminationSentence(rec); !d.empty())
     s += "<p><b>" + Escape(d) + "</b></p>";
-  if (have_se)
-    s += "<p class=\"note\">Standard errors: " + Escape(u.message) + ".</p>";
+  if (have_se) s += "<p class=\"note\">Standard errors: " + Escape(u.message) + ".</p>";
   return s;
 }
 

@@ -224,9 +224,8 @@ std::optional<std::vector<double>> FitSmoothedEstimate(const std::vector<Evaluat
 // the evaluations of `trace` around `at`: what the search's own evaluations
 // say of how well the data determine each value, at no extra simulation.
 // Not computed (Uncertainty::computed false) when the model cannot be fitted.
-Uncertainty LocalModelUncertainty(const std::vector<Evaluation>& trace,
-                                  const ParameterSpace& space, const std::vector<double>& at,
-                                  double misfit, double radius);
+Uncertainty LocalModelUncertainty(const std::vector<Evaluation>& trace, const ParameterSpace& space,
+                                  const std::vector<double>& at, double misfit, double radius);
 
 // Wall seconds at which a method's best misfit first came within `fraction`
 // of `target` (best_misfit <= target * (1 + fraction)); negative if never.
