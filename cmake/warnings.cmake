@@ -11,9 +11,17 @@ add_library(rockcal_sanitizers INTERFACE)
 if(ROCKCAL_SANITIZE)
   # GCC 12 reports false "maybe-uninitialized" warnings in std::optional and
   # std::vector moves once the address sanitizer instruments them at -O2.
+  #
+  # Only the code under test is instrumented: the libraries and rockcal, not the
+  # test executables' own code (targets with the property ROCKCAL_TEST_CODE),
+  # which still link the sanitizers' run-time, so every library call a test
+  # makes is checked. Instrumenting GoogleTest's macros too cost 2.5x their
+  # compile time (17 s against 6.5 s a test file), a third of CI's build.
+  set(test_code "$<BOOL:$<TARGET_PROPERTY:ROCKCAL_TEST_CODE>>")
   target_compile_options(rockcal_sanitizers INTERFACE
-    -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
-    -Wno-maybe-uninitialized)
+    $<$<NOT:${test_code}>:-fsanitize=address,undefined>
+    $<$<NOT:${test_code}>:-fno-sanitize-recover=all>
+    -fno-omit-frame-pointer -Wno-maybe-uninitialized)
   target_link_options(rockcal_sanitizers INTERFACE -fsanitize=address,undefined)
 endif()
 
