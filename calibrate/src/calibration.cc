@@ -408,6 +408,18 @@ Uncertainty CeresUncertainty(const MethodResult& result, const ObjectiveFunction
 int SmoothingEvaluations(int n) { return 2 * n + 2; }
 // The smallest budget that also leaves the search 2(n + 1) evaluations.
 int SmoothingBudget(int n) { return 2 * (n + 1) + SmoothingEvaluations(n); }
+// The smallest budget for the first stage alone: 2(n + 1) evaluations of
+// the search for its model (a local search's first 2n + 1 are a stencil
+// about its start: BOBYQA's initial model) and one for its estimate.
+int FirstStageBudget(int n) { return 2 * (n + 1) + 1; }
+
+// How much of the smoothed estimate a budget has room for.
+enum class Smoothing { kNone, kFirstStage, kBoth };
+Smoothing SmoothingFor(const MethodOptions& options, int n) {
+  if (options.estimate != "smoothed") return Smoothing::kNone;
+  if (options.max_evals >= SmoothingBudget(n)) return Smoothing::kBoth;
+  return options.max_evals >= FirstStageBudget(n) ? Smoothing::kFirstStage : Smoothing::kNone;
+}
 
 // Whether an estimate holds: the misfit evaluated there agrees with its
 // model (at most 3 standard deviations of the fitted evaluations' scatter
@@ -441,18 +453,19 @@ std::string Agreement(const SmoothedEstimate& s, double lowest) {
 // misfit there agrees with its model and is not visibly above the lowest. A
 // misfit far from linear residuals (few rocks, a curved valley) fails that;
 // the first stage's stencil is then centred on the lowest evaluation, and
-// after the second the lowest evaluation stands. Without `smoothed`, the
-// lowest evaluation.
-MethodResult Conclude(Evaluator* ev, Termination termination, bool smoothed,
+// after the second the lowest evaluation stands. A budget with room for the
+// first stage only (Smoothing::kFirstStage) ends after it. Without
+// `smoothing`, the lowest evaluation.
+MethodResult Conclude(Evaluator* ev, Termination termination, Smoothing smoothing,
                       const MethodOptions& options, const ObjectiveFunction& objective) {
   const ParameterSpace& space = objective.space();
   const int n = space.size();
-  if (!smoothed || ev->best().empty()) {
+  if (smoothing == Smoothing::kNone || ev->best().empty()) {
     MethodResult result = ev->Finish(std::move(termination));
     if (options.estimate == "smoothed")
       result.smoothed.message = "not used: a budget of " + std::to_string(options.max_evals) +
                                 " evaluations is too small for it (it needs " +
-                                std::to_string(SmoothingBudget(n)) + ")";
+                                std::to_string(FirstStageBudget(n)) + ")";
     return result;
   }
   ev->Reserve(0);
@@ -467,6 +480,25 @@ MethodResult Conclude(Evaluator* ev, Termination termination, bool smoothed,
     first.evaluated_misfit = ev->Evaluate(centre).misfit;
     first_holds = Holds(first, first_lowest);
     if (!first_holds) centre = space.ToUnit(ev->best());
+  }
+  if (smoothing == Smoothing::kFirstStage) {
+    std::ostringstream msg;
+    if (!first_unit)
+      msg << "the lowest evaluation (" << first.message << ")";
+    else
+      msg << "a " << first.message << " (" << Agreement(first, first_lowest) << ")"
+          << (first_holds ? "" : ", which did not hold, so the lowest evaluation");
+    msg << "; no stencil: a budget of " << options.max_evals << " evaluations leaves no room for it"
+        << " (it needs " << SmoothingBudget(n) << ")";
+    MethodResult result = ev->Finish(std::move(termination));
+    first.used = first_holds;
+    if (first_holds) {
+      result.best = space.ToPhysical(centre);
+      result.best_misfit = first.evaluated_misfit;
+    }
+    first.message = msg.str();
+    result.smoothed = first;
+    return result;
   }
   const std::vector<double> first_centre = centre;
   for (int k = 0; k < n; ++k)
@@ -962,8 +994,9 @@ MethodResult RunMethod(const std::string& method, const ObjectiveFunction& objec
   // The smoothed estimate keeps evaluations back from the search; a budget
   // too small for it goes to the search whole.
   const int n = objective.space().size();
-  const bool smoothed = options.estimate == "smoothed" && options.max_evals >= SmoothingBudget(n);
-  if (smoothed) ev.Reserve(SmoothingEvaluations(n));
+  const Smoothing smoothed = SmoothingFor(options, n);
+  if (smoothed == Smoothing::kBoth) ev.Reserve(SmoothingEvaluations(n));
+  if (smoothed == Smoothing::kFirstStage) ev.Reserve(1);
   const std::vector<double> unit = objective.space().ToUnit(start);
   if (info->ceres) {
     const Termination termination = RunCeres(unit, options, &ev);

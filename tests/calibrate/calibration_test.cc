@@ -408,11 +408,28 @@ TEST(Calibration, SmoothedEstimateIsEvaluatedAndReported) {
       EXPECT_GT(r.smoothed.evaluated_misfit, r.lowest_misfit) << method;
     }
   }
-  options.max_evals = 19;  // too small a budget: the lowest
+  // Room for the first stage only (11 to 19 evaluations): the search's own
+  // evaluations make the model, and one more evaluates its minimiser.
+  options.max_evals = 12;
   MethodResult r = RunMethod("nlopt:bobyqa", small.objective, small.space.Current(small.site.scene),
                              options, nullptr);
+  EXPECT_EQ(r.evaluations, 12);
+  EXPECT_THAT(r.smoothed.message, HasSubstr("no stencil: a budget of 12 evaluations leaves no "
+                                            "room for it (it needs 20)"));
+  EXPECT_GE(r.smoothed.points, 10) << r.smoothed.message;
+  if (r.smoothed.used) {
+    EXPECT_EQ(r.trace.back().parameters, r.best) << r.smoothed.message;
+    EXPECT_EQ(r.best_misfit, r.smoothed.evaluated_misfit);
+    EXPECT_LE(r.best_misfit, r.lowest_misfit + r.smoothed.scatter + 1e-9);
+  } else {
+    EXPECT_THAT(r.smoothed.message, HasSubstr("did not hold, so the lowest evaluation"));
+    EXPECT_EQ(r.best, r.lowest);
+  }
+  options.max_evals = 10;  // too small a budget: the lowest
+  r = RunMethod("nlopt:bobyqa", small.objective, small.space.Current(small.site.scene), options,
+                nullptr);
   EXPECT_FALSE(r.smoothed.used);
-  EXPECT_THAT(r.smoothed.message, HasSubstr("too small for it (it needs 20)"));
+  EXPECT_THAT(r.smoothed.message, HasSubstr("too small for it (it needs 11)"));
   EXPECT_EQ(r.best, r.lowest);
   options.max_evals = 20;
   options.estimate = "lowest";

@@ -94,9 +94,9 @@ struct MethodOptions {
   //    evaluations nearby, then evaluated; each stage is kept only where the
   //    misfit evaluated there agrees with its model and is not visibly worse than
   //    the lowest (see SmoothedEstimate). The search keeps 2n + 2
-  //    evaluations of max_evals back for this (of a budget below
-  //    4(n + 1), none: the lowest is taken); a time limit covers the search
-  //    only. A Monte Carlo misfit is rugged: its lowest evaluation sits in a
+  //    evaluations of max_evals back for this; of a budget below 4(n + 1),
+  //    one, for the first stage alone, and of one below 2(n + 1) + 1, none:
+  //    the lowest is taken. A time limit covers the search only. A Monte Carlo misfit is rugged: its lowest evaluation sits in a
   //    dip of the noise (the winner's curse), which the fit averages out;
   //  - "lowest" (the default): the evaluation with the lowest misfit.
   // The smoothed estimate pays where each evaluation has enough rocks for
