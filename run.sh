@@ -45,7 +45,7 @@ case "${1:-}" in
     mkdir -p "$(dirname "$out")"
     ./build/cli/rockcal calibrate sites/examples/authume/site.json \
       --observations sites/examples/authume/observations.json \
-      --method nlopt:bobyqa --max-evals 60 --out "$out" --force
+      --method nlopt:bobyqa --max-evals 63 --estimate smoothed --out "$out" --force
     echo "run.sh: results in $out/ (parameters.md, trace.csv, calibration.json, summary.json, ...)"
     ;;
   test)
