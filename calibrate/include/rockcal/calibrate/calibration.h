@@ -96,8 +96,9 @@ struct MethodOptions {
   //    the lowest (see SmoothedEstimate). The search keeps 2n + 2
   //    evaluations of max_evals back for this; of a budget below 4(n + 1),
   //    one, for the first stage alone, and of one below 2(n + 1) + 1, none:
-  //    the lowest is taken. A time limit covers the search only. A Monte Carlo misfit is rugged: its lowest evaluation sits in a
-  //    dip of the noise (the winner's curse), which the fit averages out;
+  //    the lowest is taken. A time limit covers the search only. A Monte
+  //    Carlo misfit is rugged: its lowest evaluation sits in a dip of the
+  //    noise (the winner's curse), which the fit averages out;
   //  - "lowest" (the default): the evaluation with the lowest misfit.
   // The smoothed estimate pays where each evaluation has enough rocks for
   // the misfit's trend to stand out of its noise (the twin experiment, 1000
