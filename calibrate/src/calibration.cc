@@ -442,7 +442,22 @@ std::string Agreement(const SmoothedEstimate& s, double lowest) {
   return out.str();
 }
 
-// The result of a method run. With `smoothed`, in two stages:
+// The method's result: the smoothed estimate `info`, with `message`, and
+// where it is used its values `estimate` and their misfit; the lowest
+// evaluation otherwise.
+MethodResult Concluded(Evaluator* ev, Termination termination, SmoothedEstimate info,
+                       std::string message, const std::vector<double>& estimate, double misfit) {
+  info.message = std::move(message);
+  MethodResult result = ev->Finish(std::move(termination));
+  if (info.used) {
+    result.best = estimate;
+    result.best_misfit = misfit;
+  }
+  result.smoothed = std::move(info);
+  return result;
+}
+
+// The result of a method run. With `smoothing`, in two stages:
 //  1. a first estimate fitted to the search's evaluations near the lowest (or
 //     the lowest itself when they cannot determine it);
 //  2. a stencil around it, its centre and half the smoothing radius either
@@ -490,15 +505,9 @@ MethodResult Conclude(Evaluator* ev, Termination termination, Smoothing smoothin
           << (first_holds ? "" : ", which did not hold, so the lowest evaluation");
     msg << "; no stencil: a budget of " << options.max_evals << " evaluations leaves no room for it"
         << " (it needs " << SmoothingBudget(n) << ")";
-    MethodResult result = ev->Finish(std::move(termination));
     first.used = first_holds;
-    if (first_holds) {
-      result.best = space.ToPhysical(centre);
-      result.best_misfit = first.evaluated_misfit;
-    }
-    first.message = msg.str();
-    result.smoothed = first;
-    return result;
+    return Concluded(ev, std::move(termination), first, msg.str(), space.ToPhysical(centre),
+                     first.evaluated_misfit);
   }
   const std::vector<double> first_centre = centre;
   for (int k = 0; k < n; ++k)
@@ -542,14 +551,7 @@ MethodResult Conclude(Evaluator* ev, Termination termination, Smoothing smoothin
     estimate = space.ToPhysical(first_centre);
     misfit = first.evaluated_misfit;
   }
-  info.message = msg.str();
-  MethodResult result = ev->Finish(std::move(termination));
-  if (info.used) {
-    result.best = estimate;
-    result.best_misfit = misfit;
-  }
-  result.smoothed = info;
-  return result;
+  return Concluded(ev, std::move(termination), info, msg.str(), estimate, misfit);
 }
 
 }  // namespace
