@@ -338,6 +338,21 @@ TEST(HtmlReportTest, CalibrationSectionsShowTheRecord) {
   }
 }
 
+// The stopped share is a fraction like a passing fraction: no metres, and
+// one value, not quantiles.
+TEST(HtmlReportTest, TheStoppedShareIsShownAsAFraction) {
+  const SimulatedSite run = Simulated("tutorial", 4);
+  CalibrationSummary record = MakeRecord(run.site, 1);
+  record.misfit_before.residuals.push_back(MakeResidual("runout stopped", "share", 0.85, 1.0));
+  record.misfit_after.residuals.push_back(MakeResidual("runout stopped", "share", 0.95, 1.0));
+  ReportInput in = Input(run);
+  in.calibration = &record;
+  const std::string text = FindSection(Render(in), "fit")->AllText();
+  EXPECT_NE(text.find("0.950"), std::string::npos) << text;
+  for (const char* wrong : {"0.95 m", "0.85 m", "runout stopped (quantiles"})
+    EXPECT_EQ(text.find(wrong), std::string::npos) << wrong;
+}
+
 TEST(HtmlReportTest, NoFitSectionWithoutResiduals) {
   const SimulatedSite run = Simulated("tutorial", 4);
   CalibrationSummary record = MakeRecord(run.site, 1);

@@ -8,6 +8,15 @@
 #include "sections.h"
 
 namespace rockcal::reports::sections {
+namespace {
+
+// A residual of a fraction (a passing fraction, the stopped share), not of a
+// distance or height: no unit, one value rather than quantiles.
+bool IsFraction(const observations::Residual& r) {
+  return r.quantity == "fraction" || r.quantity == "share";
+}
+
+}  // namespace
 
 std::string FitSection(const Context& c) {
   const CalibrationSummary& rec = *c.in.calibration;
@@ -45,7 +54,7 @@ std::string FitSection(const Context& c) {
     }
     const bool fraction = after.empty() ? false : [&] {
       for (const auto& r : after)
-        if (r.observation == label) return r.quantity == "fraction";
+        if (r.observation == label) return IsFraction(r);
       return false;
     }();
     const double pad = 0.05 * (hi - lo > 0 ? hi - lo : 1.0);
@@ -77,7 +86,7 @@ std::string FitSection(const Context& c) {
        Th("uncertainty") + Th("residual") + "</tr></thead><tbody>";
   for (std::size_t k = 0; k < after.size(); ++k) {
     const auto& r = after[k];
-    const bool fraction = r.quantity == "fraction";
+    const bool fraction = IsFraction(r);
     auto value = [&](double v) {
       if (fraction) return FormatNumber(v, "%.3f");
       return us ? Show(v) + " m (" + Show(v / kFoot) + " ft)" : Show(v) + " m";
