@@ -537,15 +537,21 @@ MethodResult Conclude(Evaluator* ev, Termination termination, Smoothing smoothin
     info.evaluated_misfit = misfit = ev->Evaluate(*unit).misfit;
     info.used = Holds(info, lowest);
     msg << info.message << " (" << Agreement(info, lowest) << ")";
-    if (!info.used)
-      msg << "; its minimiser did not hold, so the calibrated values are "
-          << (first_holds ? "the first estimate's" : "the lowest evaluation");
   } else {
-    msg << "model that could not be fitted: " << info.message << "; the calibrated values are "
-        << (first_holds ? "the first estimate's" : "the lowest evaluation");
+    msg << "model that could not be fitted: " << info.message;
   }
-  // A second stage that did not hold leaves the first, which did, standing.
-  if (!info.used && first_holds) {
+  // A second stage that did not hold leaves the first standing, if it still
+  // holds against the lowest evaluation, which the stencil may have lowered.
+  const bool first_stands = first_holds && Holds(first, ev->best_misfit());
+  if (!info.used) {
+    msg << (unit ? "; its minimiser did not hold, so the calibrated values are "
+                 : "; the calibrated values are ")
+        << (first_stands  ? "the first estimate's"
+            : first_holds ? "the lowest evaluation (the stencil went lower than the first estimate "
+                            "by more than its scatter)"
+                          : "the lowest evaluation");
+  }
+  if (!info.used && first_stands) {
     info = first;
     info.used = true;
     estimate = space.ToPhysical(first_centre);
