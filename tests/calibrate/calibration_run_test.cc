@@ -144,11 +144,30 @@ TEST(CalibrationRun, RefiningStartsFromTheRaceWinner) {
   for (const ReachPoint& p : points) below += !p.penalised && p.misfit < s.race[3].misfit_before;
   EXPECT_LE(below, 1);
   // The winner is the lowest at the refining rocks, and the refining
-  // search's first evaluation.
+  // search's first evaluation, except that BOBYQA moves a start lying within
+  // its first step (refine_step of the range) of a bound inward, by at most
+  // that step.
   ASSERT_GE(s.race_winner, 0);
   for (const auto& entry : s.race) EXPECT_LE(s.race[s.race_winner].misfit, entry.misfit);
-  EXPECT_EQ(s.methods[1].trace.front().parameters, s.race[s.race_winner].physical);
-  EXPECT_DOUBLE_EQ(s.methods[1].trace.front().misfit, s.race[s.race_winner].misfit);
+  const std::vector<double>& first = s.methods[1].trace.front().parameters;
+  const std::vector<double>& winner = s.race[s.race_winner].physical;
+  const ParameterSpace space = ParameterSpace::FromSite(site);
+  ASSERT_EQ(first.size(), winner.size());
+  bool moved = false;
+  for (std::size_t k = 0; k < first.size(); ++k) {
+    const Parameter& p = space.parameters()[k];
+    const double step = options.refine_step * (p.upper - p.lower);
+    if (first[k] == winner[k]) continue;
+    moved = true;
+    EXPECT_LE(std::abs(first[k] - winner[k]), step + 1e-12) << p.label();
+    EXPECT_LT(std::min(winner[k] - p.lower, p.upper - winner[k]), step) << p.label();
+    EXPECT_LT(std::abs(first[k] - 0.5 * (p.lower + p.upper)),
+              std::abs(winner[k] - 0.5 * (p.lower + p.upper)))
+        << p.label() << ": moved inward";
+  }
+  if (!moved) {
+    EXPECT_DOUBLE_EQ(s.methods[1].trace.front().misfit, s.race[s.race_winner].misfit);
+  }
   // No race: the first stage's best starts it, and nothing is raced.
   options.race_points = 0;
   const CalibrationSummary plain = Calibrate(site, obs, options);
