@@ -26,6 +26,8 @@ bool SimulationOptions::IsValid(std::string* error) const {
   if (gentle_steps_per_contact != 0 && gentle_steps_per_contact < 2)
     return fail("gentle_steps_per_contact", gentle_steps_per_contact, "must be 0 (off) or >= 2");
   if (!(safety > 0 && safety <= 1)) return fail("safety", safety, "must be in (0, 1]");
+  if (!(gentle_safety > 0 && gentle_safety <= 1))
+    return fail("gentle_safety", gentle_safety, "must be in (0, 1]");
   if (threads < 0) return fail("threads", threads, "must be >= 0 (0: all cores)");
   if (record.trajectories < 0)
     return fail("record.trajectories", record.trajectories, "must be >= 0");

@@ -29,11 +29,10 @@ constexpr double kPi = 3.14159265358979323846;
 // between nodes touches two virtual spheres); part of the stable-step bound.
 constexpr double kParallelContacts = 2.0;
 // Free flight near the terrain advances up to kFlightReach of the gap at a
-// time, and is worth it while it covers more than kMinFlight of a step.
+// time, and is worth it while it covers more than kMinFlight of a step: a
+// shorter one costs more than the contact step that covers it.
 constexpr double kFlightReach = 0.98;
-constexpr double kMinFlight = 0.05;
-// Look-ahead of the near-ground flight test, in contact steps.
-constexpr double kGapHorizonSteps = 16.0;
+constexpr double kMinFlight = 0.01;
 // Skin of the rock's neighbourhood list, in bounding radii: wider means
 // fewer rebuilds, each scanning more cells.
 constexpr double kSkin = 0.25;
@@ -80,6 +79,13 @@ class RockRun {
         recorder_(ctx.scene, ctx.terrain, body, kCluster, rec) {
     inv_inertia_ = body.inertia.cwiseInverse();
     inertia_min_ = body.inertia.minCoeff();
+    // Torque-free, |w| stays within |w0| sqrt(I_max / I_min) (energy and
+    // angular momentum are kept), |dw/dt| within (I_max / I_min) |w|^2, so
+    // an arm's acceleration |w' x r + w x (w x r)| is at most
+    // bend_ |w0|^2 |r|; an isotropic body keeps w (bend_ = 1).
+    const double ratio = body.inertia.maxCoeff() / inertia_min_;
+    spin_growth_ = std::sqrt(ratio);
+    bend_ = ratio > 1.0 + 1e-12 ? ratio * (1.0 + ratio) : 1.0;
     g_ = ctx.gravity.norm();
     found_.reserve(16);
     hits_.reserve(16);
@@ -255,23 +261,75 @@ class RockRun {
   // Longest time the rock can fly freely from s_ without touching anything
   // (flight.h).
   double FlightTime() {
-    const double rb = body_.bounding_radius;
-    const double tau = CeilingFlightTime(ctx_.terrain, s_, rb, g_);
+    const double tau = CeilingFlightTime(ctx_.terrain, s_, body_.bounding_radius, g_);
     if (tau > 4.0 * dt_) return tau;
-    // Close to the ground: the true gap of the bounding sphere bounds how far
-    // any point of the rock may move. Look ahead over a short horizon only.
-    double speed = s_.v.norm();
-    if constexpr (kCluster) speed += s_.w.norm() * rb;
-    const double horizon = kGapHorizonSteps * dt_;
-    const double reach = speed * horizon + 0.5 * g_ * horizon * horizon;
-    double gap = std::min(NearGap(reach), reach);
-    // A cluster's elements lie inside its bounding sphere, and their own gap
-    // is wider: fly on to it, so that a landing block is primed (its first
-    // contact step begins at its first touch, as a sphere's does) instead of
-    // closing the last of the bounding sphere's gap in contact steps.
-    if (!single_element_ && gap < reach) gap = ElementGap(reach, std::max(gap, 0.0));
-    if (!(gap > 0.0)) return tau;
-    return std::max(tau, GapFlightTime(kFlightReach * gap, speed, g_));
+    return std::max(tau, NearFlightTime());
+  }
+
+  // Close to the ground: the longest flight in which no element can reach
+  // anything of the neighbourhood, while the neighbourhood holds (the centre
+  // moves less than the skin). Each element's gap to each virtual sphere
+  // closes no faster than its own velocity along the line between them
+  // allows: the distance to a sphere is convex in the element's position,
+  // so it stays above its tangent, gap + n.(displacement), and the
+  // displacement is v t + g t^2 / 2 plus the turn of the element's arm, at
+  // first w x arm, bending by at most bend_ |w|^2 |arm| (torque-free
+  // rotation). An element leaving a sphere is not held back by it, as a
+  // bound from the rock's speed alone would (a tumbling block then crept
+  // away from each bump in dozens of ever longer flights). The floor (facets
+  // and catch surface), where it is within reach, is bounded by each
+  // element's speed. 0 when something already touches.
+  double NearFlightTime() {
+    const double moved = UpdateNeighbours();
+    const double rb = body_.bounding_radius;
+    const double v = s_.v.norm();
+    const double spin = kCluster ? s_.w.norm() : 0.0;
+    const double speed = v + spin * spin_growth_ * rb;  // of any point of the rock
+    double best = GapFlightTime(kFlightReach * (skin_ - moved), v, g_);
+    if constexpr (kCluster) ElementCentres(Rotation());
+    const double a = body_.element_radius;
+    const std::size_t ne = body_.elements.size();
+    auto centre = [&](std::size_t e) -> const Eigen::Vector3d& {
+      return kCluster ? centres_[e] : s_.x;
+    };
+    if (floor_clear_ < skin_) {
+      for (std::size_t e = 0; e < ne; ++e) {
+        const double arm = (centre(e) - s_.x).norm();
+        const double gap = ctx_.terrain.FloorGap(centre(e), a, skin_, skin_);
+        if (!(gap > 0.0)) return 0.0;
+        best = std::min(best, GapFlightTime(kFlightReach * gap, v + spin * spin_growth_ * arm, g_));
+      }
+    }
+    const double bend = bend_ * spin * spin;
+    for (int n : near_) {
+      const Eigen::Vector3d& c = ctx_.terrain.sphere_centre(n);
+      const double r = ctx_.terrain.sphere_radius(n);
+      // No element is nearer than the bounding sphere's gap.
+      const double bound = (s_.x - c).norm() - r - rb;
+      if (bound > 0.0 && !(GapFlightTime(bound, speed, g_) < best)) continue;
+      for (std::size_t e = 0; e < ne; ++e) {
+        const Eigen::Vector3d d = centre(e) - c;
+        const double dist = d.norm();
+        const double gap = dist - r - a;
+        if (!(gap > 0.0)) return 0.0;
+        const Eigen::Vector3d normal = d / dist;
+        const Eigen::Vector3d arm = centre(e) - s_.x;
+        const double rate = normal.dot(s_.v + s_.w.cross(arm));
+        const double pull = bend * arm.norm() - normal.dot(ctx_.gravity);
+        best = std::min(best, FirstReach(kFlightReach * gap, rate, pull));
+      }
+    }
+    return best;
+  }
+
+  // The first time t > 0 at which d + rate t - pull t^2 / 2 falls to 0
+  // (d > 0); infinite when it never does.
+  static double FirstReach(double d, double rate, double pull) {
+    const double disc = rate * rate + 2.0 * pull * d;
+    if (pull > 0.0) return (rate + std::sqrt(disc)) / pull;
+    if (rate >= 0.0) return kInf;
+    if (pull == 0.0) return d / -rate;
+    return disc >= 0.0 ? (rate + std::sqrt(disc)) / pull : kInf;
   }
 
   // centres_: the world centres of the elements at the current state.
@@ -279,44 +337,6 @@ class RockRun {
     centres_.resize(body_.elements.size());
     for (std::size_t e = 0; e < body_.elements.size(); ++e)
       centres_[e] = s_.x + rot * body_.elements[e];
-  }
-
-  // The smallest gap between any element and anything it may touch while
-  // the rock's centre moves by at most `reach` (and its elements by at most
-  // that, the speed bound of FlightTime covering the rotation), at least
-  // `floor` (the bounding sphere's gap, which it bounds from below). From
-  // the neighbourhood while it holds (NearGap has just brought it up to
-  // date): a sphere whose gap to the bounding sphere is already wider than
-  // the narrowest found is skipped for every element, and the floor only
-  // where the bounding sphere may reach it.
-  double ElementGap(double reach, double floor) {
-    const Eigen::Matrix3d rot = Rotation();
-    const double a = body_.element_radius;
-    const double moved = neighbours_ ? (s_.x - near_ref_).norm() : kInf;
-    double gap = reach;
-    if (!(moved + reach < skin_)) {
-      for (const Eigen::Vector3d& e : body_.elements) {
-        gap = std::min(gap, ctx_.terrain.Gap(s_.x + rot * e, a, reach));
-        if (!(gap > floor)) return floor;
-      }
-      return gap;
-    }
-    ElementCentres(rot);
-    const double rb = body_.bounding_radius;
-    for (int n : near_) {
-      const double bound = (s_.x - ctx_.terrain.sphere_centre(n)).norm() -
-                           ctx_.terrain.sphere_radius(n) - rb;
-      if (!(bound < gap)) continue;
-      for (const Eigen::Vector3d& c : centres_) gap = ctx_.terrain.SphereGap(c, a, n, gap);
-      if (!(gap > floor)) return floor;
-    }
-    if (!(floor_clear_ > moved + reach)) {
-      for (const Eigen::Vector3d& c : centres_) {
-        gap = std::min(gap, ctx_.terrain.FloorGap(c, a, reach, gap));
-        if (!(gap > floor)) return floor;
-      }
-    }
-    return gap;
   }
 
   // Exact ballistic advance by tau (free rotation for clusters).
@@ -370,11 +390,14 @@ class RockRun {
   // a skin of its bounding sphere, and the clearance of the floor surface,
   // measured at near_ref_. Every element stays inside the bounding sphere, so
   // while the centre has moved less than the skin no other sphere can be
-  // touched, and less than floor_clear_, not the floor. Rebuilt when needed.
-  double UpdateNeighbours() {
+  // touched, and less than floor_clear_, not the floor. Rebuilt when needed
+  // (the centre has moved `used` of the skin; a flight, which may go no
+  // further than the skin, rebuilds it at half). Returns how far the centre
+  // has moved since.
+  double UpdateNeighbours(double used = 1.0) {
     if (!neighbours_) return kInf;  // reference path: the floor tested every step
     const double moved = (s_.x - near_ref_).norm();
-    if (moved < skin_) return moved;
+    if (moved < used * skin_) return moved;
     const double rb = body_.bounding_radius;
     skin_ = kSkin * rb;
     ctx_.terrain.NearSpheres(s_.x, rb, skin_, &near_);
@@ -408,18 +431,6 @@ class RockRun {
   }
   // The bounding sphere clears the floor surface (as of the last neighbourhood).
   bool FloorClear() const { return neighbours_ && (s_.x - near_ref_).norm() < floor_clear_; }
-
-  // Lower bound of the gap between the bounding sphere and anything it may
-  // touch while its centre moves by at most `reach` (FlightTime).
-  double NearGap(double reach) {
-    const double moved = UpdateNeighbours();
-    const double rb = body_.bounding_radius;
-    if (!(moved + reach < skin_)) return ctx_.terrain.Gap(s_.x, rb, reach);
-    double gap = floor_clear_ > moved ? floor_clear_ - moved
-                                      : ctx_.terrain.FloorGap(s_.x, rb, reach);
-    for (int n : near_) gap = ctx_.terrain.SphereGap(s_.x, rb, n, gap);
-    return gap;
-  }
 
   // One central-difference (kick-drift-kick) contact step of dt. Sets
   // needed_dt_ to the step its contacts ask for: each its material's gentle
@@ -679,6 +690,7 @@ class RockRun {
   Eigen::Vector3d a_, alpha_;  // accelerations at the current state
   Eigen::Vector3d inv_inertia_;
   double inertia_min_ = 0.0;
+  double spin_growth_ = 1.0, bend_ = 1.0;  // flight bounds of the spin (NearFlightTime)
   double g_ = 0.0;
   double spring_energy_ = 0.0, energy_min_ = 0.0, ke_max_ = 0.0;
   // Since when the rock has been slow, and below the floor (-1: it is not).
@@ -775,8 +787,8 @@ int SimulationResult::count(Outcome o) const {
 
 namespace {
 
-// The stable step of `body` on `law`: opt.safety times the damped critical step.
-double StableTimeStep(const RockBody& body, const ContactLaw& law, const SimulationOptions& opt) {
+// The stable step of `body` on `law`: `safety` times the damped critical step.
+double StableTimeStep(const RockBody& body, const ContactLaw& law, double safety) {
   // An off-centre contact on a cluster acts on a smaller effective mass:
   // 1/m_eff = 1/m + l^2 / I_min for a lever arm l.
   double mass_ratio = 1.0;
@@ -789,7 +801,7 @@ double StableTimeStep(const RockBody& body, const ContactLaw& law, const Simulat
   const double omega = std::sqrt(law.stiffness_per_mass * mass_ratio * kParallelContacts);
   const double zeta = law.damping_ratio;
   const double critical = (2.0 / omega) * (std::sqrt(1.0 + zeta * zeta) - zeta);
-  return opt.safety * critical;
+  return safety * critical;
 }
 
 }  // namespace
@@ -797,14 +809,15 @@ double StableTimeStep(const RockBody& body, const ContactLaw& law, const Simulat
 double ContactTimeStep(const RockBody& body, const ContactLaw& law, const SimulationOptions& opt,
                        bool* shrunk) {
   const double by_contact = law.contact_time / opt.steps_per_contact;
-  const double stable = StableTimeStep(body, law, opt);
+  const double stable = StableTimeStep(body, law, opt.safety);
   if (shrunk) *shrunk = stable < by_contact;
   return std::min(by_contact, stable);
 }
 
 double GentleTimeStep(const RockBody& body, const ContactLaw& law, const SimulationOptions& opt) {
   if (opt.gentle_steps_per_contact <= 0 || opt.reference_path) return 0.0;
-  return std::min(law.contact_time / opt.gentle_steps_per_contact, StableTimeStep(body, law, opt));
+  return std::min(law.contact_time / opt.gentle_steps_per_contact,
+                  StableTimeStep(body, law, opt.gentle_safety));
 }
 
 Terrain BuildTerrain(const Scene& scene) {

@@ -105,6 +105,11 @@ struct SimulationOptions {
   // at dt. 0 turns it off (every contact step t_c / N_c).
   int gentle_steps_per_contact = 20;
   double safety = 0.2;           // fraction of the damped critical step
+  // The same for the gentle step, which needs stability only, not the
+  // resolution of an impact (a box landing flat on 16 elements rebounds 3 %
+  // short at safety 0.5): the stability suite passes on every example at
+  // gentle_safety 0.5 and 1.0; 0.5 keeps a factor of two.
+  double gentle_safety = 0.5;
   bool exact_flight = true;      // advance free flight exactly between contacts
   // Runs every rock on the general path with every lever off: spheres as
   // one-element clusters, every contact step t_c / N_c, no exact flight, no

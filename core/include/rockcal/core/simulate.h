@@ -83,8 +83,9 @@ double ContactTimeStep(const RockBody& body, const ContactLaw& law, const Simula
                        bool* shrunk = nullptr);
 
 // The step of gentle contact (every contact's normal speed below g t_c:
-// rolling, sliding, resting): t_c / gentle_steps_per_contact within the same
-// stability bound; 0 when SimulationOptions::gentle_steps_per_contact is 0.
+// rolling, sliding, resting): t_c / gentle_steps_per_contact within the
+// stability bound at SimulationOptions::gentle_safety of the critical step; 0
+// when SimulationOptions::gentle_steps_per_contact is 0.
 double GentleTimeStep(const RockBody& body, const ContactLaw& law, const SimulationOptions& opt);
 
 // Called after each rock with (rocks done, rocks in all), one call at a time.
