@@ -1,59 +1,123 @@
-// Wall time of the three example sites (tutorial, profile2d, authume) as the
-// command line runs them (the site's own rocks, seed and options), at 1 and at
-// 2 threads. Prints medians of several runs.
-//   examples_bench [runs=5] [sites_dir=sites/examples]
+// Throughput of the real scenes: the example sites (tutorial, profile2d,
+// authume) as the command line runs them (the site's own seed and options,
+// `rocks` rocks as `--rocks` sets them) and the tumbling blocks of
+// slope_scene.h, at 1 and at 2 threads (medians of `runs` runs): rocks per
+// second, contact steps and flights. Then the accuracy check of each: the
+// runout and bounce-height quantiles of `check_rocks` rocks against the
+// reference path's (SimulationOptions::reference_path: every lever off, N_c
+// the same), "ok" within two combined Monte Carlo errors. check_rocks 0
+// skips it.
+//   examples_bench [runs=3] [rocks=1000] [check_rocks=2000] [sites_dir=sites/examples]
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "rockcal/sites/site.h"
+#include "slope_scene.h"
 #include "timing.h"
 
+namespace {
+
+using namespace rockcal;
+
+struct Named {
+  std::string name;
+  core::Scene scene;
+};
+
+// The first partition's id, for the height rows; empty without one.
+std::string FirstPartition(const core::Scene& scene) {
+  return scene.partitions.empty() ? std::string() : scene.partitions.front().id;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  using namespace rockcal;
-  const int runs = argc > 1 ? std::atoi(argv[1]) : 5;
-  std::string dir = argc > 2 ? argv[2] : "sites/examples";
-  if (runs < 1) {
-    std::fprintf(stderr, "usage: examples_bench [runs=5] [sites_dir=sites/examples]\n");
+  const int runs = argc > 1 ? std::atoi(argv[1]) : 3;
+  const int rocks = argc > 2 ? std::atoi(argv[2]) : 1000;
+  const int check_rocks = argc > 3 ? std::atoi(argv[3]) : 2000;
+  std::string dir = argc > 4 ? argv[4] : "sites/examples";
+  if (runs < 1 || rocks < 1 || check_rocks < 0) {
+    std::fprintf(stderr,
+                 "usage: examples_bench [runs=3] [rocks=1000] [check_rocks=2000] "
+                 "[sites_dir=sites/examples]\n");
     return 2;
   }
   // Run from anywhere: without an explicit folder, fall back to the source tree's.
-  if (argc <= 2 && !std::filesystem::is_directory(dir)) dir = ROCKCAL_SOURCE_DIR "/sites/examples";
+  if (argc <= 4 && !std::filesystem::is_directory(dir)) dir = ROCKCAL_SOURCE_DIR "/sites/examples";
 
-  std::printf("examples_bench: example sites from %s, median of %d runs at 1 and 2 threads\n",
-              dir.c_str(), runs);
-  std::printf("%-10s %6s %8s %10s %12s %9s %14s %18s %9s\n", "site", "rocks", "threads", "wall_s",
-              "steps", "flights", "rock_steps/s", "fixed_dt_equiv/s", "speed-up");
+  std::vector<Named> scenes;
   for (const char* name : {"tutorial", "profile2d", "authume"}) {
     const std::string path = dir + "/" + name + "/site.json";
-    sites::Site site;
     try {
-      site = sites::LoadSite(path);
+      scenes.push_back({name, sites::LoadSite(path).scene});
     } catch (const std::exception& e) {
       std::fprintf(stderr, "examples_bench: %s\n", e.what());
       return 2;
     }
-    const core::Scene& scene = site.scene;
-    const core::Terrain terrain = core::BuildTerrain(scene);
+  }
+  scenes.push_back({"tumbling", bench::TumblingScene(rocks)});
+
+  std::printf("examples_bench: %d rocks a scene, median of %d runs at 1 and 2 threads\n", rocks,
+              runs);
+  std::printf("%-10s %6s %8s %9s %9s %12s %9s %11s %8s\n", "scene", "rocks", "threads", "wall_s",
+              "rocks/s", "steps", "flights", "identical", "speed-up");
+  for (Named& n : scenes) {
+    n.scene.SetTotalRocks(rocks);
+    const core::Terrain terrain = core::BuildTerrain(n.scene);
     double one = 0.0;
+    core::SimulationResult first;
     for (int threads : {1, 2}) {
-      const bench::TimedRuns timed = bench::TimeSimulation(scene, terrain, threads, runs);
+      const bench::TimedRuns timed = bench::TimeSimulation(n.scene, terrain, threads, runs);
       const double w = timed.median_wall;
       const core::SimulationResult& r = timed.result;
-      if (threads == 1) one = w;
-      char speedup[32] = "";
-      if (threads > 1) std::snprintf(speedup, sizeof speedup, "%.2fx", one / w);
-      std::printf("%-10s %6zu %8d %10.3f %12ld %9ld %14.3g %18.3g %9s\n", name, r.rocks.size(),
-                  threads, w, r.steps, r.flights, r.steps / w, bench::FixedStepRockSteps(r) / w,
-                  speedup);
+      char speedup[32] = "", same[8] = "";
+      if (threads == 1) {
+        one = w;
+        first = r;
+      } else {
+        std::snprintf(speedup, sizeof speedup, "%.2fx", one / w);
+        bool equal = first.rocks.size() == r.rocks.size();
+        for (std::size_t k = 0; equal && k < r.rocks.size(); ++k)
+          equal = first.rocks[k].stop == r.rocks[k].stop && first.rocks[k].time == r.rocks[k].time;
+        std::snprintf(same, sizeof same, "%s", equal ? "yes" : "NO");
+      }
+      std::printf("%-10s %6zu %8d %9.3f %9.1f %12ld %9ld %11s %8s\n", n.name.c_str(),
+                  r.rocks.size(), threads, w, static_cast<double>(r.rocks.size()) / w, r.steps,
+                  r.flights, same, speedup);
     }
     std::fflush(stdout);
   }
   std::printf(
-      "rock_steps/s: contact steps per wall second (free flights are advanced exactly, not in "
-      "steps);\nfixed_dt_equiv/s: the rock-steps a fixed-step engine would take for the same "
-      "simulated rock time, per wall second.\n");
+      "wall_s: the simulation alone (SimulationResult::wall_seconds, not building the terrain);\n"
+      "identical: the 2-thread run's rocks stop where and when the 1-thread run's do.\n");
+  if (check_rocks == 0) return 0;
+
+  std::printf(
+      "\naccuracy: %d rocks a scene at 2 threads, production against the reference path\n"
+      "(+- order-statistic standard error; ok: within two combined errors)\n",
+      check_rocks);
+  int failed = 0;
+  for (Named& n : scenes) {
+    n.scene.SetTotalRocks(check_rocks);
+    n.scene.options.threads = 2;
+    const core::Terrain terrain = core::BuildTerrain(n.scene);
+    const core::SimulationResult production = core::Simulate(n.scene, terrain);
+    core::Scene reference = n.scene;
+    reference.options.reference_path = true;
+    const core::SimulationResult ref = core::Simulate(reference, terrain);
+    std::printf("\n%s: production %.1f s, reference %.1f s (%.1fx); stopped %d and %d\n",
+                n.name.c_str(), production.wall_seconds, ref.wall_seconds,
+                ref.wall_seconds / production.wall_seconds,
+                production.count(core::Outcome::kStopped), ref.count(core::Outcome::kStopped));
+    failed += bench::PrintQuantileCheck({"production", "reference"},
+                                        {bench::Collect(production), bench::Collect(ref)},
+                                        FirstPartition(n.scene));
+    std::fflush(stdout);
+  }
+  std::printf("\n%d quantiles outside two combined errors of the reference path\n", failed);
   return 0;
 }

@@ -25,20 +25,6 @@ struct Config {
   void (*apply)(core::SimulationOptions*);
 };
 
-struct Samples {
-  std::vector<double> runout, heights;
-};
-
-Samples Collect(const core::SimulationResult& r) {
-  Samples s;
-  for (const core::RockRecord& rock : r.rocks) {
-    if (rock.outcome == core::Outcome::kStopped) s.runout.push_back(rock.stop.x());
-    if (!rock.crossings.empty() && rock.crossings[0].crossed)
-      s.heights.push_back(rock.crossings[0].height);
-  }
-  return s;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -61,13 +47,13 @@ int main(int argc, char** argv) {
               scene.name.c_str(), rocks, runs);
   std::printf("%-26s %8s %8s %11s %10s %9s\n", "path", "wall_s", "vs ref", "steps", "flights",
               "stopped");
-  std::vector<Samples> samples;
+  std::vector<bench::Samples> samples;
   std::vector<double> walls;
   for (const Config& c : configs) {
     core::Scene s = scene;
     c.apply(&s.options);
     const bench::TimedRuns t = bench::TimeSimulation(s, terrain, 1, runs);
-    samples.push_back(Collect(t.result));
+    samples.push_back(bench::Collect(t.result));
     walls.push_back(t.median_wall);
     std::printf("%-26s %8.3f %8s %11ld %10ld %9d\n", c.name, t.median_wall, "", t.result.steps,
                 t.result.flights, t.result.count(core::Outcome::kStopped));
@@ -78,25 +64,8 @@ int main(int argc, char** argv) {
                 k + 2 < configs.size() ? "," : "\n");
   std::printf("\nquantiles against the reference path (+- order-statistic standard error;\n"
               "ok: within two combined errors)\n");
-  std::printf("%-26s", "quantity");
-  for (const Config& c : configs) std::printf(" %22s", c.name);
-  std::printf("\n");
-  auto row = [&](const char* label, std::vector<double> Samples::*field, double p) {
-    std::printf("%-26s", label);
-    const bench::QuantileEstimate ref = bench::EstimateQuantile(samples.back().*field, p);
-    for (const Samples& s : samples) {
-      const bench::QuantileEstimate q = bench::EstimateQuantile(s.*field, p);
-      const bool ok = q.valid && ref.valid &&
-                      std::abs(q.value - ref.value) <= 2.0 * std::hypot(q.se, ref.se);
-      std::printf(" %9.2f +- %5.2f %-3s", q.value, q.se, &s == &samples.back() ? "" : ok ? "ok" : "NO");
-    }
-    std::printf("\n");
-  };
-  row("runout x p10 [m]", &Samples::runout, 0.1);
-  row("runout x p50 [m]", &Samples::runout, 0.5);
-  row("runout x p90 [m]", &Samples::runout, 0.9);
-  row("height at X60 p50 [m]", &Samples::heights, 0.5);
-  row("height at X60 p90 [m]", &Samples::heights, 0.9);
-  row("height at X60 p95 [m]", &Samples::heights, 0.95);
+  std::vector<std::string> names;
+  for (const Config& c : configs) names.push_back(c.name);
+  bench::PrintQuantileCheck(names, samples, "X60");
   return 0;
 }

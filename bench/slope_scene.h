@@ -68,6 +68,23 @@ inline core::Scene SlopeScene(int rocks, double spacing = 12 * core::kFoot) {
   return scene;
 }
 
+// The same slope with tumbling blocks instead of rolling spheres: half
+// cubes (8 elements), half cylinders (2 elements), 0.6-1.2 m, and an X
+// partition at 60 m on the slope. The scene of issue #15's throughput.
+inline core::Scene TumblingScene(int rocks) {
+  core::Scene scene = SlopeScene(rocks);
+  scene.name = "tumbling cubes and cylinders on the rough 35-degree slope";
+  core::RockGroup cubes = scene.groups.front();
+  cubes.shape = core::Shape::kCube;
+  cubes.count = rocks / 2;
+  core::RockGroup cylinders = cubes;
+  cylinders.shape = core::Shape::kCylinder;
+  cylinders.count = rocks - cubes.count;
+  scene.groups = {cubes, cylinders};
+  scene.partitions = {{"X60", core::Partition::Kind::kX, 60.0}};
+  return scene;
+}
+
 }  // namespace rockcal::bench
 
 #endif  // ROCKCAL_BENCH_SLOPE_SCENE_H_

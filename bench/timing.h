@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <vector>
 
 #include "rockcal/core/simulate.h"
@@ -67,6 +69,56 @@ inline QuantileEstimate EstimateQuantile(std::vector<double> v, double p) {
   q.se = 0.5 *
          (core::Quantile(v, std::min(p + half, 1.0)) - core::Quantile(v, std::max(p - half, 0.0)));
   return q;
+}
+
+// What the accuracy checks compare: the runout x of the stopped rocks and
+// the bounce heights at the scene's first partition.
+struct Samples {
+  std::vector<double> runout, heights;
+};
+
+inline Samples Collect(const core::SimulationResult& r) {
+  Samples s;
+  for (const core::RockRecord& rock : r.rocks) {
+    if (rock.outcome == core::Outcome::kStopped) s.runout.push_back(rock.stop.x());
+    if (!rock.crossings.empty() && rock.crossings[0].crossed)
+      s.heights.push_back(rock.crossings[0].height);
+  }
+  return s;
+}
+
+// Prints the runout (p10, p50, p90) and bounce-height (p50, p90, p95)
+// quantiles of each of `samples` (columns named by `names`) with their
+// errors, each marked "ok" when within two combined errors of the last
+// column's (the reference) and "NO" otherwise. Returns the count of NO.
+inline int PrintQuantileCheck(const std::vector<std::string>& names,
+                              const std::vector<Samples>& samples, const std::string& partition) {
+  int failed = 0;
+  std::printf("%-26s", "quantity");
+  for (const std::string& n : names) std::printf(" %22s", n.c_str());
+  std::printf("\n");
+  auto row = [&](const std::string& label, std::vector<double> Samples::*field, double p) {
+    std::printf("%-26s", label.c_str());
+    const QuantileEstimate ref = EstimateQuantile(samples.back().*field, p);
+    for (const Samples& s : samples) {
+      const QuantileEstimate q = EstimateQuantile(s.*field, p);
+      const bool ok =
+          q.valid && ref.valid && std::abs(q.value - ref.value) <= 2.0 * std::hypot(q.se, ref.se);
+      const bool last = &s == &samples.back();
+      failed += !last && !ok;
+      std::printf(" %9.2f +- %5.2f %-3s", q.value, q.se, last ? "" : ok ? "ok" : "NO");
+    }
+    std::printf("\n");
+  };
+  row("runout x p10 [m]", &Samples::runout, 0.1);
+  row("runout x p50 [m]", &Samples::runout, 0.5);
+  row("runout x p90 [m]", &Samples::runout, 0.9);
+  if (!partition.empty()) {
+    row("height at " + partition + " p50 [m]", &Samples::heights, 0.5);
+    row("height at " + partition + " p90 [m]", &Samples::heights, 0.9);
+    row("height at " + partition + " p95 [m]", &Samples::heights, 0.95);
+  }
+  return failed;
 }
 
 }  // namespace rockcal::bench
