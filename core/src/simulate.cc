@@ -29,9 +29,10 @@ constexpr double kPi = 3.14159265358979323846;
 // between nodes touches two virtual spheres); part of the stable-step bound.
 constexpr double kParallelContacts = 2.0;
 // Free flight near the terrain advances up to kFlightReach of the gap at a
-// time, and is worth it while it covers more than the rock's minimum flight
-// (RockRun::kMinFlight) of a step.
+// time, and is worth it while it covers more than kMinFlight of a step: a
+// shorter one costs more than the contact step that covers it.
 constexpr double kFlightReach = 0.98;
+constexpr double kMinFlight = 0.01;
 // Skin of the rock's neighbourhood list, in bounding radii: wider means
 // fewer rebuilds, each scanning more cells.
 constexpr double kSkin = 0.25;
@@ -69,17 +70,6 @@ struct StepSizes {
 // path (orientation, full inertia); spheres carry no orientation work.
 template <bool kCluster>
 class RockRun {
-  // A cluster lands within 1 % of a step of its first touch (at 5 %, a box
-  // landing flat on 16 elements rebounded 2.1 % short of its restitution).
-  // A sphere keeps the 5 % and the flight bound from its speed over a
-  // horizon of kSphereHorizon steps that rockcal had before the elements'
-  // own bound: with either the tighter landing or the directional bound,
-  // spheres on profile2d's narrow strip left 10 % more often and bounced
-  // higher than on the reference path (bench/README.md), for a reason not
-  // yet found.
-  static constexpr double kMinFlight = kCluster ? 0.01 : 0.05;
-  static constexpr double kSphereHorizon = 16.0;
-
  public:
   // steps: the rock's contact steps per material.
   RockRun(const SceneContext& ctx, const RockBody& body, const StepSizes& steps, RockRecord* rec)
@@ -288,8 +278,7 @@ class RockRun {
   // bound from the rock's speed alone would (a tumbling block then crept
   // away from each bump in dozens of ever longer flights). The floor (facets
   // and catch surface), where it is within reach, is bounded by each
-  // element's speed. A sphere keeps the bound of its speed alone, over
-  // kSphereHorizon steps at most. 0 when something already touches.
+  // element's speed. 0 when something already touches.
   double NearFlightTime() {
     const double moved = UpdateNeighbours();
     const double rb = body_.bounding_radius;
@@ -297,7 +286,6 @@ class RockRun {
     const double spin = kCluster ? s_.w.norm() : 0.0;
     const double speed = v + spin * spin_growth_ * rb;  // of any point of the rock
     double best = GapFlightTime(kFlightReach * (skin_ - moved), v, g_);
-    if constexpr (!kCluster) best = std::min(best, kSphereHorizon * dt_);
     if constexpr (kCluster) ElementCentres(Rotation());
     const double a = body_.element_radius;
     const std::size_t ne = body_.elements.size();
@@ -326,8 +314,8 @@ class RockRun {
         if (!(gap > 0.0)) return 0.0;
         const Eigen::Vector3d normal = d / dist;
         const Eigen::Vector3d arm = centre(e) - s_.x;
-        const double rate = kCluster ? normal.dot(s_.v + s_.w.cross(arm)) : -v;
-        const double pull = kCluster ? bend * arm.norm() - normal.dot(ctx_.gravity) : g_;
+        const double rate = normal.dot(s_.v + s_.w.cross(arm));
+        const double pull = bend * arm.norm() - normal.dot(ctx_.gravity);
         best = std::min(best, FirstReach(kFlightReach * gap, rate, pull));
       }
     }
