@@ -29,8 +29,9 @@ constexpr double kPi = 3.14159265358979323846;
 // between nodes touches two virtual spheres); part of the stable-step bound.
 constexpr double kParallelContacts = 2.0;
 // Free flight near the terrain advances up to kFlightReach of the gap at a
-// time, and is worth it while it covers more than kMinFlight of a step: a
-// shorter one costs more than the contact step that covers it.
+// time, and is worth it while it covers more than kMinFlight of a step, so a
+// landing starts within 1 % of a step of the touch (at 5 %, a box landing
+// flat on 16 elements rebounded 2.1 % short of its restitution).
 constexpr double kFlightReach = 0.98;
 constexpr double kMinFlight = 0.01;
 // Skin of the rock's neighbourhood list, in bounding radii: wider means
@@ -390,14 +391,11 @@ class RockRun {
   // a skin of its bounding sphere, and the clearance of the floor surface,
   // measured at near_ref_. Every element stays inside the bounding sphere, so
   // while the centre has moved less than the skin no other sphere can be
-  // touched, and less than floor_clear_, not the floor. Rebuilt when needed
-  // (the centre has moved `used` of the skin; a flight, which may go no
-  // further than the skin, rebuilds it at half). Returns how far the centre
-  // has moved since.
-  double UpdateNeighbours(double used = 1.0) {
+  // touched, and less than floor_clear_, not the floor. Rebuilt when needed.
+  double UpdateNeighbours() {
     if (!neighbours_) return kInf;  // reference path: the floor tested every step
     const double moved = (s_.x - near_ref_).norm();
-    if (moved < used * skin_) return moved;
+    if (moved < skin_) return moved;
     const double rb = body_.bounding_radius;
     skin_ = kSkin * rb;
     ctx_.terrain.NearSpheres(s_.x, rb, skin_, &near_);
