@@ -29,19 +29,23 @@ void FlyCentre(const Eigen::Vector3d& gravity, double tau, RockState* s);
 // Turns the orientation q by the constant angular velocity w for h.
 void Rotate(const Eigen::Vector3d& w, double h, Eigen::Quaterniond* q);
 
-// Sub-step of the torque-free rotation of non-isotropic clusters in flight [s].
-// The midpoint rule's energy error falls as its square: a tumbling box
-// flying 60 m down a cliff was off by 1.3e-6 of its energy at 1e-3 s, by
-// 3.5e-7 at 5e-4 s (Simulate.CrossingsInFlightKeepTheEnergyOfATumblingBlock).
-inline constexpr double kFlightRotationStep = 5e-4;
+// Largest turn [rad] of a sub-step of the torque-free rotation of
+// non-isotropic clusters in flight. The fourth-order splitting's error falls
+// as its fourth power: a box (1 x 0.7 x 0.4 m) turning at 9 rad/s for 1 s
+// ends 8e-7 rad from the exact orientation with its energy within 5e-8 at
+// 0.05 rad (the midpoint rule at 5e-4 s before it: 4.5e-6 rad, 1.6e-7, with
+// ten times the sub-steps).
+inline constexpr double kFlightRotationAngle = 0.05;
 
 // Torque-free rotation of a cluster for tau: its angular momentum stays
-// fixed in the world. An isotropic body keeps w; others follow
-// w = R I^-1 R^T L in midpoint sub-steps of at most `substep` (no energy is
-// pumped in, unlike explicit Euler equations). inv_inertia: the body's
-// principal moments inverted.
+// fixed in the world (exactly, but for rounding). An isotropic body keeps w;
+// others take sub-steps of at most `max_angle` of turn, each the symmetric
+// splitting of the kinetic energy into its three principal terms (each term's
+// flow is an exact turn about its principal axis) composed to fourth order,
+// so that the energy error stays bounded rather than drifting. inv_inertia:
+// the body's principal moments inverted.
 void RotateFree(const RockBody& body, const Eigen::Vector3d& inv_inertia, double tau,
-                double substep, RockState* s);
+                double max_angle, RockState* s);
 
 }  // namespace rockcal::core
 

@@ -72,7 +72,7 @@ void Recorder::Advance(const RockState& s0, const RockState& s, bool flew) {
   if (trajectory_) {
     while (next_sample_ <= s.t) {
       const double f = s.t > s0.t ? (next_sample_ - s0.t) / (s.t - s0.t) : 1.0;
-      Sample(Between(s0, s, std::clamp(f, 0.0, 1.0), flew));
+      Sample(Between(s0, s, std::clamp(f, 0.0, 1.0), flew, /*turn=*/true));
     }
   }
 }
@@ -141,14 +141,15 @@ void Recorder::Finish(const RockState& s) {
   if (trajectory_) Sample(s, /*force=*/true);
 }
 
-RockState Recorder::Between(const RockState& s0, const RockState& s1, double f, bool flew) const {
+RockState Recorder::Between(const RockState& s0, const RockState& s1, double f, bool flew,
+                            bool turn) const {
   RockState s = s0;
   const double tau = f * (s1.t - s0.t);
   s.t = s0.t + tau;
   if (flew) {  // the exact flight: a parabola, a torque-free turn
     s.x = s0.x + s0.v * tau + 0.5 * gravity_ * tau * tau;
     s.v = s0.v + gravity_ * tau;
-    if (cluster_) RotateFree(body_, inv_inertia_, tau, kFlightRotationStep, &s);
+    if (cluster_ && turn) RotateFree(body_, inv_inertia_, tau, kFlightRotationAngle, &s);
     return s;
   }
   s.x = s0.x + f * (s1.x - s0.x);

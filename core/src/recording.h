@@ -27,9 +27,12 @@ class Recorder final {
 
  private:
   // State at fraction f of the advance from s0 to s: after a flight the
-  // exact parabola and (a cluster) torque-free turn from s0; within a small
-  // step, linear.
-  RockState Between(const RockState& s0, const RockState& s, double f, bool flew) const;
+  // exact parabola and, with `turn`, a cluster's torque-free turn from s0
+  // (without it the spin and orientation stay s0's: the kinetic energy of
+  // the turn, all that a crossing or cell visit keeps of it, is the same all
+  // along a flight); within a small step, linear.
+  RockState Between(const RockState& s0, const RockState& s, double f, bool flew,
+                    bool turn = false) const;
   // The crossing in state s, reached within an advance that began at s0 (on
   // the slope, as every advance does).
   Crossing Record(const RockState& s0, const RockState& s) const;

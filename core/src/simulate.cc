@@ -343,7 +343,7 @@ class RockRun {
   // Exact ballistic advance by tau (free rotation for clusters).
   void Fly(double tau) {
     FlyCentre(ctx_.gravity, tau, &s_);
-    if constexpr (kCluster) RotateFree(body_, inv_inertia_, tau, kFlightRotationStep, &s_);
+    if constexpr (kCluster) RotateFree(body_, inv_inertia_, tau, kFlightRotationAngle, &s_);
     a_ = ctx_.gravity;
     alpha_.setZero();
   }
