@@ -28,6 +28,8 @@ bool SimulationOptions::IsValid(std::string* error) const {
   if (!(safety > 0 && safety <= 1)) return fail("safety", safety, "must be in (0, 1]");
   if (!(gentle_safety > 0 && gentle_safety <= 1))
     return fail("gentle_safety", gentle_safety, "must be in (0, 1]");
+  if (!(rest_window >= 0 && std::isfinite(rest_window)))
+    return fail("rest_window", rest_window, "must be >= 0 (0: off)");
   if (threads < 0) return fail("threads", threads, "must be >= 0 (0: all cores)");
   if (record.trajectories < 0)
     return fail("record.trajectories", record.trajectories, "must be >= 0");

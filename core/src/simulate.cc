@@ -37,6 +37,9 @@ constexpr double kMinFlight = 0.01;
 // Skin of the rock's neighbourhood list, in bounding radii: wider means
 // fewer rebuilds, each scanning more cells.
 constexpr double kSkin = 0.25;
+// A rock is still while every point of it is slower than this fraction of
+// the stop speed (SimulationOptions::rest_window).
+constexpr double kStillSpeed = 0.1;
 // A step is redone at most this many times with the shorter step its
 // contacts ask for.
 constexpr int kMaxRetries = 3;
@@ -74,9 +77,16 @@ class RockRun {
  public:
   // steps: the rock's contact steps per material.
   RockRun(const SceneContext& ctx, const RockBody& body, const StepSizes& steps, RockRecord* rec)
-      : ctx_(ctx), opt_(ctx.scene.options), body_(body), steps_(steps), dt_(steps.finest),
-        exact_flight_(opt_.exact_flight && !opt_.reference_path), neighbours_(!opt_.reference_path),
-        single_element_(body.elements.size() == 1), rec_(rec),
+      : ctx_(ctx),
+        opt_(ctx.scene.options),
+        body_(body),
+        steps_(steps),
+        dt_(steps.finest),
+        exact_flight_(opt_.exact_flight && !opt_.reference_path),
+        neighbours_(!opt_.reference_path),
+        single_element_(body.elements.size() == 1),
+        rest_window_(opt_.reference_path ? 0.0 : opt_.rest_window),
+        rec_(rec),
         recorder_(ctx.scene, ctx.terrain, body, kCluster, rec) {
     inv_inertia_ = body.inertia.cwiseInverse();
     inertia_min_ = body.inertia.minCoeff();
@@ -113,6 +123,11 @@ class RockRun {
       const int cell = ctx_.terrain.CellOf(s_.x.x(), s_.x.y());
       if (opt_.record.energy_check && !flew) CheckEnergy();
       if (Ended(cell, before.t, &outcome)) break;
+      if (AtRest(flew, before.t)) {
+        s_.t = slow_since_ + opt_.stop_duration;
+        outcome = Outcome::kStopped;
+        break;
+      }
     }
     Finish(outcome);
   }
@@ -215,6 +230,27 @@ class RockRun {
       slow_since_ = -1.0;
     }
     return false;
+  }
+
+  // After an advance that began at t0: true when the rock is at rest
+  // (SimulationOptions::rest_window), so it would stay slow until its slow
+  // spell reaches stop_duration, within max_time.
+  bool AtRest(bool flew, double t0) {
+    if (!(rest_window_ > 0.0)) return false;
+    const double speed = s_.v.norm() + s_.w.norm() * body_.bounding_radius;  // of any point
+    const double still = kStillSpeed * opt_.stop_speed;
+    if (flew || contacts_.empty() || sliding_ || !(speed < still)) {
+      still_since_ = -1.0;
+      return false;
+    }
+    if (still_since_ < 0) {
+      still_since_ = t0;
+      still_speed_ = speed;
+    }
+    // Slower than when it became still: not speeding up out of a balance
+    // (a block tipping over an edge it came to rest on).
+    return s_.t - still_since_ >= rest_window_ && speed < still_speed_ && slow_since_ >= 0 &&
+           slow_since_ + opt_.stop_duration <= opt_.max_time;
   }
 
   void Finish(Outcome outcome) {
@@ -436,6 +472,7 @@ class RockRun {
   // otherwise (the rock's shortest when there is none).
   void Step(double dt) {
     needed_dt_ = kInf;
+    sliding_ = false;
     const Eigen::Vector3d v_half = s_.v + 0.5 * dt * a_;
     const Eigen::Vector3d w_half = s_.w + 0.5 * dt * alpha_;
     s_.x += dt * v_half;
@@ -642,6 +679,8 @@ class RockRun {
     u += TangentialSlip(vc_half, c.normal, dt);
     const double ks = kn * law.tangential_ratio;
     const Eigen::Vector3d ft = TangentialForce({ks, law.friction}, fn, &u);
+    // At the Coulomb cap, or carrying no load: the contact does not hold the rock.
+    if (!(ft.norm() < law.friction * fn)) sliding_ = true;
     const Eigen::Vector3d f = fn * c.normal + ft;
     load->force += f;
     load->torque += arm.cross(f);
@@ -681,6 +720,7 @@ class RockRun {
   double dt_;
   const bool exact_flight_, neighbours_;  // off on the reference path
   const bool single_element_;              // a sphere (on either path)
+  const double rest_window_;  // SimulationOptions::rest_window; 0 on the reference path
   double needed_dt_ = 0.0;  // the step the last step's contacts ask for
   RockRecord* rec_;
   Recorder recorder_;  // what the record keeps of the path (recording.h)
@@ -693,6 +733,9 @@ class RockRun {
   double spring_energy_ = 0.0, energy_min_ = 0.0, ke_max_ = 0.0;
   // Since when the rock has been slow, and below the floor (-1: it is not).
   double slow_since_ = -1.0, below_since_ = -1.0;
+  // Since when the rock has been still (AtRest; -1: it is not), and its speed then.
+  double still_since_ = -1.0, still_speed_ = 0.0;
+  bool sliding_ = false;  // a contact of the last step slid or carried no load (Step)
   bool landing_ = false;  // the last advance was a flight
   // The neighbourhood (UpdateNeighbours): virtual spheres within skin_ of the
   // bounding sphere at near_ref_, and the floor's clearance there.

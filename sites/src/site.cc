@@ -134,7 +134,7 @@ void ReadCalibrateBounds(const JsonNode& node, const core::Material& mat,
 
 void ReadSimulation(const JsonNode& node, Units units, core::SimulationOptions* o) {
   node.Keys({"seed", "max_time", "stop_speed", "stop_duration", "steps_per_contact",
-             "gentle_steps_per_contact", "safety", "gentle_safety", "exact_flight",
+             "gentle_steps_per_contact", "safety", "gentle_safety", "rest_window", "exact_flight",
              "reference_path", "threads"});
   if (auto v = node.Find("seed")) o->seed = static_cast<std::uint64_t>(v->Integer(0, LONG_MAX));
   if (auto v = node.Find("max_time")) o->max_time = v->Positive();
@@ -154,6 +154,7 @@ void ReadSimulation(const JsonNode& node, Units units, core::SimulationOptions* 
     o->gentle_safety = v->Number(0.0, 1.0);
     if (!(o->gentle_safety > 0)) v->Fail("expected a number in (0, 1]");
   }
+  if (auto v = node.Find("rest_window")) o->rest_window = v->NonNegative();
   if (auto v = node.Find("exact_flight")) o->exact_flight = v->Bool();
   if (auto v = node.Find("reference_path")) o->reference_path = v->Bool();
   if (auto v = node.Find("threads")) o->threads = static_cast<int>(v->Integer(0, 4096));

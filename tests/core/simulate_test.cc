@@ -235,6 +235,34 @@ Scene RoughSlope(int rocks_per_group) {
   return scene;
 }
 
+// A rock at rest ends as the full wait of stop_duration would end it: the
+// same outcome, at the same time to within a step, and within the 1 cm a
+// still rock (every point below 0.01 m/s) can move in the rest of that
+// second; in fewer steps.
+TEST(Simulate, ARockAtRestEndsAsTheFullWaitWouldEndIt) {
+  Scene scene = RoughSlope(6);
+  Scene waiting = scene;
+  waiting.options.rest_window = 0.0;
+  ASSERT_GT(scene.options.rest_window, 0.0);
+  const SimulationResult ended = Simulate(scene), waited = Simulate(waiting);
+  // The slope's materials keep the default contact time.
+  const double longest_step = Material().contact_time_s / scene.options.gentle_steps_per_contact;
+  int stopped = 0;
+  for (std::size_t k = 0; k < ended.rocks.size(); ++k) {
+    const RockRecord &a = ended.rocks[k], &b = waited.rocks[k];
+    ASSERT_EQ(a.outcome, b.outcome) << "rock " << k;
+    if (a.outcome != Outcome::kStopped) continue;
+    ++stopped;
+    EXPECT_NEAR(a.time, b.time, longest_step) << "rock " << k;
+    EXPECT_LT((a.stop - b.stop).norm(),
+              0.1 * scene.options.stop_speed * scene.options.stop_duration)
+        << "rock " << k;
+    EXPECT_LE(a.steps, b.steps) << "rock " << k;
+  }
+  EXPECT_GE(stopped, 6);
+  EXPECT_LT(ended.steps, 0.9 * waited.steps);
+}
+
 TEST(Simulate, RoughSlopeEndsCleanlyWithoutEnergyGain) {
   const Scene scene = RoughSlope(4);
   const SimulationResult result = Simulate(scene);

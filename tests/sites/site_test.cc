@@ -628,6 +628,8 @@ TEST(LoadSite, TopLevelErrors) {
               HasSubstr("$.simulation.seed: expected a whole number"));
   EXPECT_THAT(LoadError([](Json& s) { s["simulation"]["gentle_safety"] = 0; }),
               HasSubstr("$.simulation.gentle_safety: expected a number in (0, 1]"));
+  EXPECT_THAT(LoadError([](Json& s) { s["simulation"]["rest_window"] = -0.1; }),
+              HasSubstr("$.simulation.rest_window: expected a number >= 0"));
 }
 
 TEST(LoadSite, RelativePathsFromTheSiteFolder) {
@@ -640,13 +642,14 @@ TEST(LoadSite, RelativePathsFromTheSiteFolder) {
                "release": {"point": [2, 10]}}],
     "simulation": {"seed": 2, "max_time": 20, "stop_speed": 0.2, "stop_duration": 2,
                    "steps_per_contact": 80, "safety": 0.5, "gentle_safety": 0.8,
-                   "exact_flight": false, "threads": 1}})");
+                   "rest_window": 0.25, "exact_flight": false, "threads": 1}})");
   const Site s = LoadSite(dir.Write("site/site.json", site.dump()));
   EXPECT_EQ(s.scene.grid.nx, 5);
   EXPECT_NEAR(s.scene.grid.z[s.scene.grid.index(2, 3)], 5.0, 1e-9);
   EXPECT_EQ(s.scene.options.steps_per_contact, 80);
   EXPECT_DOUBLE_EQ(s.scene.options.safety, 0.5);
   EXPECT_DOUBLE_EQ(s.scene.options.gentle_safety, 0.8);
+  EXPECT_DOUBLE_EQ(s.scene.options.rest_window, 0.25);
   EXPECT_FALSE(s.scene.options.exact_flight);
   EXPECT_EQ(s.scene.options.threads, 1);
   EXPECT_DOUBLE_EQ(s.scene.options.stop_speed, 0.2);

@@ -110,6 +110,13 @@ struct SimulationOptions {
   // short at safety 0.5): the stability suite passes on every example at
   // gentle_safety 0.5 and 1.0; 0.5 keeps a factor of two.
   double gentle_safety = 0.5;
+  // A rock at rest ends without waiting out stop_duration: once every point
+  // of it has stayed slower than a tenth of stop_speed for rest_window s,
+  // touching the slope with no contact sliding, and is now slower than a
+  // hundredth, it is taken to stay at rest, and it ends "stopped" at the time
+  // its slow spell reaches stop_duration, where it lies. 0 turns it off (as
+  // does the reference path).
+  double rest_window = 0.1;      // s
   bool exact_flight = true;      // advance free flight exactly between contacts
   // Runs every rock on the general path with every lever off: spheres as
   // one-element clusters, every contact step t_c / N_c, no exact flight, no
