@@ -100,8 +100,8 @@ void RotateFree(const RockBody& body, const Eigen::Vector3d& inv_inertia, double
     return;
   }
   Eigen::Vector3d m = body.inertia.cwiseProduct(s->q.conjugate() * s->w);  // body axes
-  // The spin never exceeds |M| / I_min.
-  const double spin = m.norm() * inv_inertia.maxCoeff();
+  // The spin never exceeds sqrt(2 E / I_min) (E = sum I_i w_i^2 / 2).
+  const double spin = std::sqrt(m.cwiseProduct(inv_inertia).dot(m) * inv_inertia.maxCoeff());
   const int n = std::max(1, static_cast<int>(std::ceil(spin * tau / max_angle)));
   const double h = tau / n;
   // Three symmetric steps with the weights that cancel the third-order error
