@@ -90,10 +90,13 @@ inline Samples Collect(const core::SimulationResult& r) {
 // Prints the runout (p10, p50, p90) and bounce-height (p50, p90, p95)
 // quantiles of each of `samples` (columns named by `names`) with their
 // errors, each marked "ok" when within two combined errors of the last
-// column's (the reference) and "NO" otherwise. Returns the count of NO.
+// column's (the reference) and "NO" otherwise. Returns the count of NO;
+// per_column (if given) gets each column's.
 inline int PrintQuantileCheck(const std::vector<std::string>& names,
-                              const std::vector<Samples>& samples, const std::string& partition) {
+                              const std::vector<Samples>& samples, const std::string& partition,
+                              std::vector<int>* per_column = nullptr) {
   int failed = 0;
+  if (per_column) per_column->assign(samples.size(), 0);
   std::printf("%-26s", "quantity");
   for (const std::string& n : names) std::printf(" %22s", n.c_str());
   std::printf("\n");
@@ -106,6 +109,8 @@ inline int PrintQuantileCheck(const std::vector<std::string>& names,
           q.valid && ref.valid && std::abs(q.value - ref.value) <= 2.0 * std::hypot(q.se, ref.se);
       const bool last = &s == &samples.back();
       failed += !last && !ok;
+      if (per_column && !last && !ok)
+        ++(*per_column)[static_cast<std::size_t>(&s - samples.data())];
       std::printf(" %9.2f +- %5.2f %-3s", q.value, q.se, last ? "" : ok ? "ok" : "NO");
     }
     std::printf("\n");
