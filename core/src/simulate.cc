@@ -867,7 +867,7 @@ Terrain BuildTerrain(const Scene& scene) {
   double max_radius = 0.0;
   for (const auto& g : scene.groups)
     max_radius = std::max(max_radius, GroupBodies(g, scene.gravity).max_element_radius);
-  return Terrain(scene.grid, roughness, max_radius);
+  return Terrain(scene.grid, roughness, max_radius, scene.options.threads);
 }
 
 namespace {

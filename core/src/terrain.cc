@@ -1,5 +1,7 @@
 #include "rockcal/core/terrain.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -97,13 +99,14 @@ bool HeightGrid::valid(int i, int j) const {
   return i >= 0 && j >= 0 && i < nx && j < ny && !std::isnan(z[index(i, j)]);
 }
 
-Terrain::Terrain(HeightGrid grid, const std::vector<double>& roughness_m, double max_element_radius)
+Terrain::Terrain(HeightGrid grid, const std::vector<double>& roughness_m, double max_element_radius,
+                 int threads)
     : grid_(std::move(grid)),
       inv_spacing_(1.0 / grid_.spacing),
       max_element_radius_(max_element_radius),
       roughness_(roughness_m) {
   BuildSpheres();
-  BuildCandidates();
+  BuildCandidates(threads > 0 ? threads : omp_get_max_threads());
 }
 
 void Terrain::BuildSpheres() {
@@ -185,7 +188,7 @@ struct Terrain::CellScratch {
   std::vector<double> tops, touch;
 };
 
-void Terrain::BuildCandidates() {
+void Terrain::BuildCandidates(int threads) {
   const int cx = std::max(grid_.nx - 1, 0), cy = std::max(grid_.ny - 1, 0);
   const double s = grid_.spacing, a = max_element_radius_;
   const std::size_t cells = static_cast<std::size_t>(cx) * cy;
@@ -198,18 +201,34 @@ void Terrain::BuildCandidates() {
     if (!std::isinf(r)) r_max = std::max(r_max, r);
   // Nodes whose sphere may reach a cell expanded by a: within r + offset + a.
   const int rings = static_cast<int>(std::ceil((r_max + max_offset_ + a) / s)) + 1;
-  CellScratch scratch;
-  for (int j = 0; j < cy; ++j) {
-    for (int i = 0; i < cx; ++i) {
-      const std::size_t cell = static_cast<std::size_t>(j) * cx + i;
-      cell_floor[cell] = BuildCellCandidates(i, j, rings, &scratch);
+  // Rows in parallel, each into its own list, joined in row order: the
+  // same lists at any thread count.
+  std::vector<std::vector<int>> rows(static_cast<std::size_t>(cy));
+  std::vector<int> counts(cells, 0);
+#pragma omp parallel num_threads(threads)
+  {
+    CellScratch scratch;
+#pragma omp for schedule(dynamic, 4)
+    for (int j = 0; j < cy; ++j) {
+      std::vector<int>& row = rows[static_cast<std::size_t>(j)];
+      for (int i = 0; i < cx; ++i) {
+        const std::size_t cell = static_cast<std::size_t>(j) * cx + i;
+        const std::size_t before = row.size();
+        cell_floor[cell] = BuildCellCandidates(i, j, rings, &scratch, &row);
+        counts[cell] = static_cast<int>(row.size() - before);
+      }
     }
   }
+  for (std::size_t cell = 0; cell < cells; ++cell)
+    list_start_[cell + 1] = list_start_[cell] + counts[cell];
+  list_.reserve(static_cast<std::size_t>(list_start_[cells]));
+  for (const std::vector<int>& row : rows) list_.insert(list_.end(), row.begin(), row.end());
   BuildCatchSurface(cell_floor);
   BuildFloorTops();
 }
 
-double Terrain::BuildCellCandidates(int i, int j, int rings, CellScratch* scratch) {
+double Terrain::BuildCellCandidates(int i, int j, int rings, CellScratch* scratch,
+                                    std::vector<int>* list) {
   const int cx = std::max(grid_.nx - 1, 0);
   const double a = max_element_radius_;
   const std::size_t cell = static_cast<std::size_t>(j) * cx + i;
@@ -265,10 +284,9 @@ double Terrain::BuildCellCandidates(int i, int j, int rings, CellScratch* scratc
   // sphere whose inflated top over the cell is below floor is buried.
   for (std::size_t k = 0; k < reach.size(); ++k) {
     if (touch[k] < floor) continue;
-    list_.push_back(reach[k]);
+    list->push_back(reach[k]);
     top = std::max(top, tops[k]);
   }
-  list_start_[cell + 1] = static_cast<int>(list_.size());
   ceiling_[cell] = top;
   // The catch surface closes holes of the sphere surface (R > 0.207 s,
   // sharp breaks). Over a rough cell it must stay below the envelope:

@@ -44,7 +44,9 @@ class Terrain final {
   Terrain() = default;
   // roughness_m[k] is the roughness of material k; max_element_radius bounds
   // the elements that will query this terrain (sizes the clearance ceiling).
-  Terrain(HeightGrid grid, const std::vector<double>& roughness_m, double max_element_radius);
+  // Built on `threads` threads (0: OpenMP's default), the same at any count.
+  Terrain(HeightGrid grid, const std::vector<double>& roughness_m, double max_element_radius,
+          int threads = 0);
 
   const HeightGrid& grid() const { return grid_; }
   // Interpolated ground elevation (the triangulated surface); false over a hole
@@ -157,12 +159,12 @@ class Terrain final {
   void BuildSpheres();
   // Per cell: the virtual spheres an element centred in it may touch (those
   // reaching the cell that are not buried under the others), and the ceiling.
-  void BuildCandidates();
+  void BuildCandidates(int threads);
   struct CellScratch;
-  // The candidates of cell (i, j) (appended to list_) and its ceiling, from
+  // The candidates of cell (i, j) (appended to *list) and its ceiling, from
   // the nodes within `rings` cells; returns the floor of its catch surface
   // (-inf: a smooth cell or a hole).
-  double BuildCellCandidates(int i, int j, int rings, CellScratch* scratch);
+  double BuildCellCandidates(int i, int j, int rings, CellScratch* scratch, std::vector<int>* list);
   // catch_z_ from the floors of the rough cells (BuildCellCandidates).
   void BuildCatchSurface(const std::vector<double>& cell_floor);
   // floor_top_ and floor_up_ per cell, and the ceilings raised by the floor
