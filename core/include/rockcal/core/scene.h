@@ -112,10 +112,11 @@ struct SimulationOptions {
   double gentle_safety = 0.5;
   // A rock at rest ends without waiting out stop_duration: once every point
   // of it has stayed slower than a tenth of stop_speed for rest_window s,
-  // touching the slope with no contact sliding, and is now slower than a
-  // hundredth, it is taken to stay at rest, and it ends "stopped" at the time
-  // its slow spell reaches stop_duration, where it lies. 0 turns it off (as
-  // does the reference path).
+  // touching the slope with no contact at its Coulomb cap, and is now slower
+  // than when it became so (not tipping out of a balance), it is taken to
+  // stay at rest, and it ends "stopped" at the time its slow spell reaches
+  // stop_duration, where it lies. 0 turns it off (as does the reference
+  // path).
   double rest_window = 0.1;      // s
   bool exact_flight = true;      // advance free flight exactly between contacts
   // Runs every rock on the general path with every lever off: spheres as
