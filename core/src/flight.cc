@@ -47,20 +47,6 @@ void SinCos(double x, double* sin_x, double* cos_x) {
   *cos_x = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0)));
 }
 
-}  // namespace
-
-void Rotate(const Eigen::Vector3d& w, double h, Eigen::Quaterniond* q) {
-  const double rate = w.norm();
-  if (!(rate * h > 0.0)) return;
-  double sin_half, cos_half;
-  SinCos(0.5 * rate * h, &sin_half, &cos_half);
-  const Eigen::Vector3d axis = (sin_half / rate) * w;
-  *q = Eigen::Quaterniond(cos_half, axis.x(), axis.y(), axis.z()) * *q;
-  q->normalize();
-}
-
-namespace {
-
 // The flow of one principal term M_i^2 / (2 I_i) of the kinetic energy for
 // h: the body turns about its principal axis i at M_i / I_i, and its angular
 // momentum in body axes m turns the other way about that axis.
@@ -89,6 +75,16 @@ void SplitStepInside(double h, const Eigen::Vector3d& inv_inertia, Eigen::Vector
 }
 
 }  // namespace
+
+void Rotate(const Eigen::Vector3d& w, double h, Eigen::Quaterniond* q) {
+  const double rate = w.norm();
+  if (!(rate * h > 0.0)) return;
+  double sin_half, cos_half;
+  SinCos(0.5 * rate * h, &sin_half, &cos_half);
+  const Eigen::Vector3d axis = (sin_half / rate) * w;
+  *q = Eigen::Quaterniond(cos_half, axis.x(), axis.y(), axis.z()) * *q;
+  q->normalize();
+}
 
 void RotateFree(const RockBody& body, const Eigen::Vector3d& inv_inertia, double tau,
                 double max_angle, RockState* s) {
