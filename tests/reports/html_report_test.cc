@@ -113,6 +113,8 @@ TEST(HtmlReportTest, TutorialHasEverySimulationSection) {
   EXPECT_TRUE(HasSection(p, "shapes")) << "spheres and cubes";
   EXPECT_NE(p.html.find("ft-tons"), std::string::npos);
   EXPECT_NE(p.html.find("2.7116 kJ"), std::string::npos) << "the ft-ton conversion is stated";
+  EXPECT_NE(p.html.find("for 0.1 s is taken to stay so"), std::string::npos)
+      << "the stopping rule says a still rock ends without waiting out its second";
 }
 
 TEST(HtmlReportTest, ProfileHasNoPlanNoShapesNoZPartition) {

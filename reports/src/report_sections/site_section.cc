@@ -22,9 +22,17 @@ std::string SiteSection(const Context& c) {
               " left the slope, " +
               RefSpan(Ref("summary.json", "/outcomes/timeout"), c.timeout, Int(c.timeout)) +
               " still moving at the time limit");
+  // The rest shortcut (SimulationOptions::rest_window) ends a still rock
+  // at the time the rule would; the reader is told it was not simulated.
+  const std::string rest =
+      opt.rest_window > 0 && !opt.reference_path
+          ? "; a rock still (every point slower than " + Label(0.1 * opt.stop_speed) +
+                " m/s, no contact sliding) for " + Label(opt.rest_window) +
+                " s is taken to stay so and ends then, at the time the rule would end it"
+          : std::string();
   s += Kv("Stopping rule",
           Escape("speed below " + Label(opt.stop_speed) + " m/s for " + Label(opt.stop_duration) +
-                 " s; time limit " + Label(opt.max_time) + " s per rock"));
+                 " s" + rest + "; time limit " + Label(opt.max_time) + " s per rock"));
   s += Kv("Contact time step",
           RefSpan(Ref("summary.json", "/dt_seconds"), r.dt_min, Label(r.dt_min, 3)) +
               (r.dt_max > r.dt_min ? " to " + Escape(Label(r.dt_max, 3)) : std::string()) +
