@@ -37,6 +37,9 @@ constexpr double kMinFlight = 0.01;
 // Skin of the rock's neighbourhood list, in bounding radii: wider means
 // fewer rebuilds, each scanning more cells.
 constexpr double kSkin = 0.25;
+// Skin of the element-sphere pair lists, in element radii: wider means fewer
+// rebuilds, each step testing more pairs (RockRun::UpdatePairs).
+constexpr double kPairSkin = 0.2;
 // A rock is still while every point of it is slower than this fraction of
 // the stop speed (SimulationOptions::rest_window).
 constexpr double kStillSpeed = 0.1;
@@ -100,7 +103,6 @@ class RockRun {
     g_ = ctx.gravity.norm();
     found_.reserve(16);
     hits_.reserve(16);
-    touching_.reserve(16);
     contacts_.reserve(16);
     next_.reserve(16);
   }
@@ -138,6 +140,7 @@ class RockRun {
     s_ = s;
     a_ = ctx_.gravity;
     alpha_.setZero();
+    pairs_valid_ = false;
     UpdateNeighbours();  // and the local contact step, before the first advance
     recorder_.Start(s_);
     const double scale_floor = body_.mass * g_ * body_.bounding_radius;
@@ -190,6 +193,7 @@ class RockRun {
       spring_energy_ = spring0;
       rec_->max_penetration = penetration0;
       contacts_.swap(next_);  // the contacts before the step
+      pairs_valid_ = false;   // made at the step's end
       ++rec_->retried_steps;
       dt = needed_dt_;
       Step(dt);
@@ -337,22 +341,40 @@ class RockRun {
         best = std::min(best, GapFlightTime(kFlightReach * gap, v + spin * spin_growth_ * arm, g_));
       }
     }
+    // Per element: its arm, its velocity and a bound on how fast its gap to
+    // anything can close (speed) and speed up (pull).
     const double bend = bend_ * spin * spin;
+    arms_.resize(ne);
+    for (std::size_t e = 0; e < ne; ++e) {
+      ElementMotion& m = arms_[e];
+      const Eigen::Vector3d arm = centre(e) - s_.x;
+      m.arm = arm.norm();
+      m.velocity = s_.v + s_.w.cross(arm);
+      m.speed = m.velocity.norm();
+      m.pull = bend * m.arm + g_;
+    }
+    // A pair whose gap stays open for `best` at the element's bounds cannot
+    // shorten the flight and is skipped before any square root: within t the
+    // gap closes by at most speed t + pull t^2 / 2. The same test on the
+    // bounding sphere skips a sphere whole.
     for (int n : near_) {
       const Eigen::Vector3d& c = ctx_.terrain.sphere_centre(n);
       const double r = ctx_.terrain.sphere_radius(n);
-      // No element is nearer than the bounding sphere's gap.
-      const double bound = (s_.x - c).norm() - r - rb;
-      if (bound > 0.0 && !(GapFlightTime(bound, speed, g_) < best)) continue;
+      const double closing = best * (speed + 0.5 * g_ * best);
+      const double clear = r + rb + closing;
+      if ((s_.x - c).squaredNorm() >= clear * clear) continue;
       for (std::size_t e = 0; e < ne; ++e) {
+        const ElementMotion& m = arms_[e];
         const Eigen::Vector3d d = centre(e) - c;
-        const double dist = d.norm();
+        const double reach = r + a + best * (m.speed + 0.5 * m.pull * best) / kFlightReach;
+        const double dist2 = d.squaredNorm();
+        if (dist2 >= reach * reach) continue;
+        const double dist = std::sqrt(dist2);
         const double gap = dist - r - a;
         if (!(gap > 0.0)) return 0.0;
         const Eigen::Vector3d normal = d / dist;
-        const Eigen::Vector3d arm = centre(e) - s_.x;
-        const double rate = normal.dot(s_.v + s_.w.cross(arm));
-        const double pull = bend * arm.norm() - normal.dot(ctx_.gravity);
+        const double rate = normal.dot(m.velocity);
+        const double pull = bend * m.arm - normal.dot(ctx_.gravity);
         best = std::min(best, FirstReach(kFlightReach * gap, rate, pull));
       }
     }
@@ -378,6 +400,7 @@ class RockRun {
 
   // Exact ballistic advance by tau (free rotation for clusters).
   void Fly(double tau) {
+    pairs_valid_ = false;
     FlyCentre(ctx_.gravity, tau, &s_);
     if constexpr (kCluster) RotateFree(body_, inv_inertia_, tau, kFlightRotationAngle, &s_);
     a_ = ctx_.gravity;
@@ -394,12 +417,13 @@ class RockRun {
     const Eigen::Matrix3d rot = Rotation();
     Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
     const double m = body_.mass;
+    // The flight kept the rock inside its neighbourhood (NearFlightTime).
+    const bool floor = UpdateNeighbours() + tol >= floor_clear_;
     hits_.clear();
     for (std::size_t e = 0; e < body_.elements.size(); ++e) {
       Eigen::Vector3d centre = s_.x;
       if constexpr (kCluster) centre += rot * body_.elements[e];
-      found_.clear();
-      ctx_.terrain.FindContacts(centre, body_.element_radius + tol, &found_);
+      FindElementContacts(centre, floor, body_.element_radius + tol);
       for (TerrainContact c : found_) {
         c.overlap = std::max(c.overlap - tol, 0.0);
         hits_.push_back({c, static_cast<int>(e)});
@@ -437,6 +461,7 @@ class RockRun {
     ctx_.terrain.NearSpheres(s_.x, rb, skin_, &near_);
     floor_clear_ = ctx_.terrain.FloorGap(s_.x, rb, skin_, skin_);
     near_ref_ = s_.x;
+    ++near_version_;
     dt_ = LocalStep();
     return 0.0;
   }
@@ -484,16 +509,24 @@ class RockRun {
     Load load;
     next_.clear();
     spring_energy_ = 0.0;
-    const bool floor = UpdateNeighbours() >= floor_clear_;
+    const double moved = UpdateNeighbours();
+    const bool floor = moved >= floor_clear_;
     if constexpr (kCluster) ElementCentres(rot);
-    const bool masked = MaskTouchingElements();
+    const double a = body_.element_radius;
+    const bool paired =
+        UpdatePairs(dt * (v_half.norm() + w_half.norm() * body_.bounding_radius), moved);
     hits_.clear();
     for (std::size_t e = 0; e < body_.elements.size(); ++e) {
       const Eigen::Vector3d& centre = kCluster ? centres_[e] : s_.x;
-      if (masked) {
-        MaskedElementContacts(centre, mask_[e], floor);
+      if (paired) {
+        found_.clear();
+        TerrainContact contact;
+        for (int k = pair_start_[e]; k < pair_start_[e + 1]; ++k)
+          if (ctx_.terrain.SphereContact(centre, a, pairs_[static_cast<std::size_t>(k)], &contact))
+            found_.push_back(contact);
+        if (floor && floor_near_[e]) ctx_.terrain.FloorContacts(centre, a, &found_);
       } else {
-        FindElementContacts(centre, floor);
+        FindElementContacts(centre, floor, a);
       }
       for (const TerrainContact& c : found_) hits_.push_back({c, static_cast<int>(e)});
     }
@@ -535,69 +568,53 @@ class RockRun {
     load->force -= (body_.mass * deceleration / speed) * v_half;
   }
 
-  // touching_: the spheres of the neighbourhood that the bounding sphere
-  // overlaps now, in the neighbourhood's order. Every element lies inside
-  // the bounding sphere, so no element touches any other one this step: the
-  // cull is exact (the same contacts in the same order), and a cluster's
-  // elements test only these. A sphere rock is its bounding sphere, so it
-  // tests the neighbourhood directly.
-  void CullNeighbours() {
-    touching_.clear();
-    if (!kCluster || !neighbours_) return;
-    const double rb = body_.bounding_radius;
-    for (int n : near_) {
-      const double reach = ctx_.terrain.sphere_radius(n) + rb;
-      if ((s_.x - ctx_.terrain.sphere_centre(n)).squaredNorm() < reach * reach)
-        touching_.push_back(n);
-    }
-  }
-
-  // A cluster's contact search in two passes: mask_[e] gets bit k when
-  // element e may touch sphere touching_[k] (a distance test over the
-  // element centres of ElementCentres, a little generous so that rounding
-  // never drops a contact), then MaskedElementContacts makes the contacts
-  // of the flagged pairs exactly as SphereContacts does, in the same order.
-  // False (no masks) for spheres, on the reference path, or with more
-  // touching spheres than a mask holds.
-  bool MaskTouchingElements() {
-    CullNeighbours();
-    if (!kCluster || !neighbours_ || touching_.size() > 64) return false;
+  // The element-sphere pairs of the neighbourhood that may touch (a Verlet
+  // list one level down): pairs_[pair_start_[e] .. pair_start_[e + 1]) are
+  // the spheres of near_ (in its order) within kPairSkin element radii of
+  // element e, and floor_near_[e] says whether the floor is. No point of the
+  // rock moves further in a step than its centre plus its turn at the
+  // bounding radius (`travel`), so while the travel summed since the lists
+  // were made stays below that skin, no other pair can touch and each step
+  // tests only these: the same contacts in the same order as testing them
+  // all. Made anew after a flight, a step taken back, or a new
+  // neighbourhood. False (no lists) on the reference path. moved: the
+  // centre's distance from the neighbourhood's centre (UpdateNeighbours).
+  bool UpdatePairs(double travel, double moved) {
+    if (!neighbours_) return false;
+    const double skin = kPairSkin * body_.element_radius;
+    pair_travel_ += travel;
+    if (pairs_valid_ && pair_near_ == near_version_ && pair_travel_ < skin) return true;
+    pairs_valid_ = true;
+    pair_near_ = near_version_;
+    pair_travel_ = 0.0;
     const std::size_t ne = body_.elements.size();
-    mask_.assign(ne, 0);
     const double a = body_.element_radius;
-    for (std::size_t k = 0; k < touching_.size(); ++k) {
-      const Eigen::Vector3d& c = ctx_.terrain.sphere_centre(touching_[k]);
-      const double limit = ctx_.terrain.sphere_radius(touching_[k]) + a;
-      const double reach2 = limit * limit * (1.0 + 1e-9);
-      for (std::size_t e = 0; e < ne; ++e) {
-        const Eigen::Vector3d& p = centres_[e];
-        const double dx = p.x() - c.x(), dy = p.y() - c.y(), dz = p.z() - c.z();
-        mask_[e] |= static_cast<std::uint64_t>(dx * dx + dy * dy + dz * dz < reach2) << k;
+    pairs_.clear();
+    pair_start_.resize(ne + 1);
+    floor_near_.assign(ne, 0);
+    // The floor is out of reach until the centre has moved floor_clear_.
+    const bool floor = moved + skin >= floor_clear_;
+    for (std::size_t e = 0; e < ne; ++e) {
+      const Eigen::Vector3d& p = kCluster ? centres_[e] : s_.x;
+      pair_start_[e] = static_cast<int>(pairs_.size());
+      for (int n : near_) {
+        const double reach = ctx_.terrain.sphere_radius(n) + a + skin;
+        if ((p - ctx_.terrain.sphere_centre(n)).squaredNorm() < reach * reach) pairs_.push_back(n);
       }
+      if (floor) floor_near_[e] = ctx_.terrain.FloorGap(p, a, skin, skin) < skin;
     }
+    pair_start_[ne] = static_cast<int>(pairs_.size());
     return true;
-  }
-  void MaskedElementContacts(const Eigen::Vector3d& centre, std::uint64_t mask, bool floor) {
-    found_.clear();
-    const double a = body_.element_radius;
-    TerrainContact contact;
-    for (; mask != 0; mask &= mask - 1) {
-      const int k = __builtin_ctzll(mask);
-      if (ctx_.terrain.SphereContact(centre, a, touching_[static_cast<std::size_t>(k)], &contact))
-        found_.push_back(contact);
-    }
-    if (floor) ctx_.terrain.FloorContacts(centre, a, &found_);
   }
 
   // found_: the contacts of an element centred at `centre`; the floor
   // (facets and catch surface) only where the rock may reach it.
-  void FindElementContacts(const Eigen::Vector3d& centre, bool floor) {
+  // `a`: the element's radius, or more for the landing's tolerance
+  // (PrimeLanding).
+  void FindElementContacts(const Eigen::Vector3d& centre, bool floor, double a) {
     found_.clear();
-    const double a = body_.element_radius;
     if (neighbours_) {
-      const std::vector<int>& spheres = kCluster ? touching_ : near_;
-      ctx_.terrain.SphereContacts(centre, a, spheres.data(), spheres.data() + spheres.size(),
-                                  &found_);
+      ctx_.terrain.SphereContacts(centre, a, near_.data(), near_.data() + near_.size(), &found_);
       if (floor) ctx_.terrain.FloorContacts(centre, a, &found_);
     } else {
       ctx_.terrain.FindContacts(centre, a, &found_);
@@ -742,9 +759,19 @@ class RockRun {
   Eigen::Vector3d near_ref_ = Eigen::Vector3d::Zero();
   double skin_ = 0.0, floor_clear_ = 0.0;
   std::vector<int> near_;
-  std::vector<int> touching_;  // of near_, those the bounding sphere overlaps (CullNeighbours)
   std::vector<Eigen::Vector3d> centres_;  // element centres (ElementCentres)
-  std::vector<std::uint64_t> mask_;   // per element, the touching_ spheres it may touch
+  struct ElementMotion {
+    double arm, speed, pull;
+    Eigen::Vector3d velocity;
+  };
+  std::vector<ElementMotion> arms_;  // per element, for NearFlightTime
+  // The pairs that may touch (UpdatePairs): valid while the travel since
+  // they were made stays below their skin, for neighbourhood pair_near_.
+  std::vector<int> pairs_, pair_start_;
+  std::vector<char> floor_near_;
+  bool pairs_valid_ = false;
+  double pair_travel_ = 0.0;
+  long near_version_ = 0, pair_near_ = -1;
   std::vector<TerrainContact> found_;
   struct Hit {
     TerrainContact contact;
