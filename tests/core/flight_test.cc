@@ -56,6 +56,40 @@ TEST(RotateFree, FollowsTheExactMotionOfASymmetricTop) {
   EXPECT_LT((AngularMomentum(body, s) - l).norm(), 1e-12 * l.norm());
 }
 
+// The exact orientation of the symmetric top of the test above after tau.
+Eigen::Quaterniond ExactTop(const RockState& s0, double tau) {
+  const Eigen::Vector3d l =
+      s0.q * Eigen::Vector3d(1.0, 1.0, 2.5).cwiseProduct(s0.q.conjugate() * s0.w);
+  const double l3 = (s0.q.conjugate() * l).z();
+  return Eigen::Quaterniond(Eigen::AngleAxisd(tau * l.norm(), l.normalized())) * s0.q *
+         Eigen::Quaterniond(
+             Eigen::AngleAxisd(tau * (1.0 / 2.5 - 1.0) * l3, Eigen::Vector3d::UnitZ()));
+}
+
+// A turn shorter than max_angle^(5/3) takes one symmetric step: it must err
+// no more than one fourth-order sub-step of max_angle does.
+TEST(RotateFree, AShortTurnErrsNoMoreThanAFullSubStep) {
+  const RockBody body = BodyWithInertia({1.0, 1.0, 2.5});
+  const Eigen::Vector3d inv = body.inertia.cwiseInverse();
+  const Eigen::Quaterniond q0(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, -2, 0.5).normalized()));
+  const RockState s0 = Spinning(q0, q0 * Eigen::Vector3d(2.0, -1.0, 6.0));
+  // The spin bound RotateFree counts its sub-steps from: sqrt(2 E / I_min).
+  const Eigen::Vector3d wb = q0.conjugate() * s0.w;
+  const double spin = std::sqrt(wb.dot(body.inertia.cwiseProduct(wb)) / 1.0);
+  auto error = [&](double angle) {
+    RockState s = s0;
+    RotateFree(body, inv, angle / spin, kFlightRotationAngle, &s);
+    return s.q.angularDistance(ExactTop(s0, angle / spin));
+  };
+  const double short_turn = 0.99 * std::pow(kFlightRotationAngle, 5.0 / 3.0);
+  const double full_step = error(kFlightRotationAngle);
+  EXPECT_GT(full_step, 0.0);
+  EXPECT_LE(error(short_turn), full_step);
+  // And it is the symmetric step: second order, its error falling eightfold
+  // (the cube of the turn) when the turn is halved.
+  EXPECT_GT(error(short_turn) / error(0.5 * short_turn), 6.0);
+}
+
 // A box (1 x 0.7 x 0.4 m): its angular momentum stays fixed in the world to
 // rounding, its energy within 1e-8 over 3 s of tumbling at 9 rad/s, and the
 // error falls as the fourth power of the sub-step.
