@@ -42,9 +42,13 @@ void SinCos(double x, double* sin_x, double* cos_x) {
     *cos_x = std::cos(x);
     return;
   }
+  // Multiplied by the reciprocals: a chain of divisions took longer than
+  // the rest of a contact step's turn.
+  constexpr double k6 = 1.0 / 6.0, k20 = 1.0 / 20.0, k42 = 1.0 / 42.0, k72 = 1.0 / 72.0;
+  constexpr double k12 = 1.0 / 12.0, k30 = 1.0 / 30.0, k56 = 1.0 / 56.0;
   const double x2 = x * x;
-  *sin_x = x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))));
-  *cos_x = 1.0 - x2 / 2.0 * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0)));
+  *sin_x = x * (1.0 - x2 * k6 * (1.0 - x2 * k20 * (1.0 - x2 * k42 * (1.0 - x2 * k72))));
+  *cos_x = 1.0 - 0.5 * x2 * (1.0 - x2 * k12 * (1.0 - x2 * k30 * (1.0 - x2 * k56)));
 }
 
 // The flow of one principal term M_i^2 / (2 I_i) of the kinetic energy for

@@ -101,6 +101,7 @@ class RockRun {
     spin_growth_ = std::sqrt(ratio);
     bend_ = ratio > 1.0 + 1e-12 ? ratio * (1.0 + ratio) : 1.0;
     g_ = ctx.gravity.norm();
+    for (const Eigen::Vector3d& e : body.elements) arm_length_.push_back(kCluster ? e.norm() : 0.0);
     found_.reserve(16);
     hits_.reserve(16);
     contacts_.reserve(16);
@@ -335,10 +336,10 @@ class RockRun {
     };
     if (floor_clear_ < skin_) {
       for (std::size_t e = 0; e < ne; ++e) {
-        const double arm = (centre(e) - s_.x).norm();
         const double gap = ctx_.terrain.FloorGap(centre(e), a, skin_, skin_);
         if (!(gap > 0.0)) return 0.0;
-        best = std::min(best, GapFlightTime(kFlightReach * gap, v + spin * spin_growth_ * arm, g_));
+        best = std::min(
+            best, GapFlightTime(kFlightReach * gap, v + spin * spin_growth_ * arm_length_[e], g_));
       }
     }
     // Per element: its arm, its velocity and a bound on how fast its gap to
@@ -347,10 +348,9 @@ class RockRun {
     arms_.resize(ne);
     for (std::size_t e = 0; e < ne; ++e) {
       ElementMotion& m = arms_[e];
-      const Eigen::Vector3d arm = centre(e) - s_.x;
-      m.arm = arm.norm();
-      m.velocity = s_.v + s_.w.cross(arm);
-      m.speed = m.velocity.norm();
+      m.arm = arm_length_[e];
+      m.velocity = s_.v + s_.w.cross(centre(e) - s_.x);
+      m.speed = v + spin * m.arm;  // at least |velocity|
       m.pull = bend * m.arm + g_;
     }
     // A pair whose gap stays open for `best` at the element's bounds cannot
@@ -765,6 +765,7 @@ class RockRun {
     Eigen::Vector3d velocity;
   };
   std::vector<ElementMotion> arms_;  // per element, for NearFlightTime
+  std::vector<double> arm_length_;   // per element, its centre's distance from the rock's
   // The pairs that may touch (UpdatePairs): valid while the travel since
   // they were made stays below their skin, for neighbourhood pair_near_.
   std::vector<int> pairs_, pair_start_;
