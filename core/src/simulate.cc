@@ -511,12 +511,19 @@ class RockRun {
     spring_energy_ = 0.0;
     const double moved = UpdateNeighbours();
     const bool floor = moved >= floor_clear_;
-    if constexpr (kCluster) ElementCentres(rot);
     const double a = body_.element_radius;
     const bool paired =
-        UpdatePairs(dt * (v_half.norm() + w_half.norm() * body_.bounding_radius), moved);
+        UpdatePairs(dt * (v_half.norm() + w_half.norm() * body_.bounding_radius), moved, rot);
+    if (kCluster && !paired) ElementCentres(rot);
     hits_.clear();
     for (std::size_t e = 0; e < body_.elements.size(); ++e) {
+      if (paired) {
+        // An element with no pair and no floor near cannot touch: its
+        // centre is not even needed.
+        const bool floor_near = floor && floor_near_[e];
+        if (pair_start_[e] == pair_start_[e + 1] && !floor_near) continue;
+        if constexpr (kCluster) centres_[e] = s_.x + rot * body_.elements[e];
+      }
       const Eigen::Vector3d& centre = kCluster ? centres_[e] : s_.x;
       if (paired) {
         found_.clear();
@@ -579,11 +586,13 @@ class RockRun {
   // all. Made anew after a flight, a step taken back, or a new
   // neighbourhood. False (no lists) on the reference path. moved: the
   // centre's distance from the neighbourhood's centre (UpdateNeighbours).
-  bool UpdatePairs(double travel, double moved) {
+  // rot: the rock's rotation, for the element centres of new lists.
+  bool UpdatePairs(double travel, double moved, const Eigen::Matrix3d& rot) {
     if (!neighbours_) return false;
     const double skin = kPairSkin * body_.element_radius;
     pair_travel_ += travel;
     if (pairs_valid_ && pair_near_ == near_version_ && pair_travel_ < skin) return true;
+    if constexpr (kCluster) ElementCentres(rot);
     pairs_valid_ = true;
     pair_near_ = near_version_;
     pair_travel_ = 0.0;
@@ -662,7 +671,7 @@ class RockRun {
       a += (0.5 * dt * damping) * c.normal * c.normal.transpose();
       b += (0.5 * dt * law.stiffness_per_mass * c.overlap) * c.normal;
     }
-    return a.ldlt().solve(b);
+    return a.llt().solve(b);  // symmetric positive definite: I plus dashpots
   }
 
   // The contact law (core/contact.h) on contact c of element e, with its
