@@ -34,21 +34,30 @@ void FlyCentre(const Eigen::Vector3d& gravity, double tau, RockState* s) {
 
 namespace {
 
-// sin x and cos x; by their series where |x| <= 0.1 (the terms left out are
-// below 1e-18 there), the half turns of contact steps and flight sub-steps.
+// sin(x) / x and cos(x) from x^2 by their series, for x^2 <= 0.01 (the
+// terms left out are below 1e-18 there): the half turns of contact steps and
+// flight sub-steps. Multiplied by the reciprocals: a chain of divisions took
+// longer than the rest of a contact step's turn.
+constexpr double kSeriesBound = 0.01;
+double SinOverX(double x2) {
+  constexpr double k6 = 1.0 / 6.0, k20 = 1.0 / 20.0, k42 = 1.0 / 42.0, k72 = 1.0 / 72.0;
+  return 1.0 - x2 * k6 * (1.0 - x2 * k20 * (1.0 - x2 * k42 * (1.0 - x2 * k72)));
+}
+double CosSeries(double x2) {
+  constexpr double k12 = 1.0 / 12.0, k30 = 1.0 / 30.0, k56 = 1.0 / 56.0;
+  return 1.0 - 0.5 * x2 * (1.0 - x2 * k12 * (1.0 - x2 * k30 * (1.0 - x2 * k56)));
+}
+
+// sin x and cos x, by the series where they hold.
 void SinCos(double x, double* sin_x, double* cos_x) {
-  if (std::abs(x) > 0.1) {
+  const double x2 = x * x;
+  if (x2 > kSeriesBound) {
     *sin_x = std::sin(x);
     *cos_x = std::cos(x);
     return;
   }
-  // Multiplied by the reciprocals: a chain of divisions took longer than
-  // the rest of a contact step's turn.
-  constexpr double k6 = 1.0 / 6.0, k20 = 1.0 / 20.0, k42 = 1.0 / 42.0, k72 = 1.0 / 72.0;
-  constexpr double k12 = 1.0 / 12.0, k30 = 1.0 / 30.0, k56 = 1.0 / 56.0;
-  const double x2 = x * x;
-  *sin_x = x * (1.0 - x2 * k6 * (1.0 - x2 * k20 * (1.0 - x2 * k42 * (1.0 - x2 * k72))));
-  *cos_x = 1.0 - 0.5 * x2 * (1.0 - x2 * k12 * (1.0 - x2 * k30 * (1.0 - x2 * k56)));
+  *sin_x = x * SinOverX(x2);
+  *cos_x = CosSeries(x2);
 }
 
 // The flow of one principal term M_i^2 / (2 I_i) of the kinetic energy for
@@ -85,13 +94,22 @@ void SplitStepInside(double h, const Eigen::Vector3d& inv_inertia, Eigen::Vector
 }  // namespace
 
 void Rotate(const Eigen::Vector3d& w, double h, Eigen::Quaterniond* q) {
-  const double rate = w.norm();
-  if (!(rate * h > 0.0)) return;
-  double sin_half, cos_half;
-  SinCos(0.5 * rate * h, &sin_half, &cos_half);
-  const Eigen::Vector3d axis = (sin_half / rate) * w;
+  const double x2 = 0.25 * h * h * w.squaredNorm();  // the half angle, squared
+  if (!(x2 > 0.0)) return;
+  double sin_half_over_rate, cos_half;
+  if (x2 <= kSeriesBound) {  // without a square root or a division
+    sin_half_over_rate = 0.5 * h * SinOverX(x2);
+    cos_half = CosSeries(x2);
+  } else {
+    const double rate = w.norm();
+    sin_half_over_rate = std::sin(0.5 * rate * h) / rate;
+    cos_half = std::cos(0.5 * rate * h);
+  }
+  const Eigen::Vector3d axis = sin_half_over_rate * w;
   *q = Eigen::Quaterniond(cos_half, axis.x(), axis.y(), axis.z()) * *q;
-  q->normalize();
+  // Both factors are unit to rounding: one Newton step towards 1 / |q|
+  // keeps q unit (to 1e-16 per step) without a square root.
+  q->coeffs() *= 0.5 * (3.0 - q->squaredNorm());
 }
 
 void RotateFree(const RockBody& body, const Eigen::Vector3d& inv_inertia, double tau,
