@@ -37,6 +37,9 @@ constexpr double kMinFlight = 0.01;
 // Skin of the rock's neighbourhood list, in bounding radii: wider means
 // fewer rebuilds, each scanning more cells.
 constexpr double kSkin = 0.25;
+// A flight starts from a new neighbourhood once the centre has moved this
+// fraction of the skin from where the last one was made (NearFlightTime).
+constexpr double kFlightKeep = 0.5;
 // Skin of the element-sphere pair lists, in element radii: wider means fewer
 // rebuilds, each step testing more pairs (RockRun::UpdatePairs).
 constexpr double kPairSkin = 0.2;
@@ -322,7 +325,10 @@ class RockRun {
   // and catch surface), where it is within reach, is bounded by each
   // element's speed. 0 when something already touches.
   double NearFlightTime() {
-    const double moved = UpdateNeighbours();
+    // A flight may not leave the neighbourhood: one that would start near
+    // its edge starts from a new one (else the flights near the ground came
+    // in ever shorter pieces towards the edge, each with its landing).
+    const double moved = UpdateNeighbours(kFlightKeep);
     const double rb = body_.bounding_radius;
     const double v = s_.v.norm();
     const double spin = kCluster ? s_.w.norm() : 0.0;
@@ -452,10 +458,12 @@ class RockRun {
   // measured at near_ref_. Every element stays inside the bounding sphere, so
   // while the centre has moved less than the skin no other sphere can be
   // touched, and less than floor_clear_, not the floor. Rebuilt when needed.
-  double UpdateNeighbours() {
+  // keep: the fraction of the skin the centre may have moved for the
+  // neighbourhood to be kept (less before a flight, UpdateNeighbours).
+  double UpdateNeighbours(double keep = 1.0) {
     if (!neighbours_) return kInf;  // reference path: the floor tested every step
     const double moved = (s_.x - near_ref_).norm();
-    if (moved < skin_) return moved;
+    if (moved < keep * skin_) return moved;
     const double rb = body_.bounding_radius;
     skin_ = kSkin * rb;
     ctx_.terrain.NearSpheres(s_.x, rb, skin_, &near_);
