@@ -57,9 +57,26 @@ std::string Describe(const MethodResult& r, const ParameterSpace& space) {
   return s;
 }
 
+// The misfit at x averaged over calibration seeds 2 to 6: one seed's misfit
+// scatters by about as much as the truth's misfit itself (BOBYQA's stencil
+// measured a scatter of 6.8 where the truth scored 3.4 at seed 2 and 10.1
+// with an earlier engine), so a single seed compares a noise dip with a
+// noise peak.
+double MeanMisfit(const Twin& twin, const std::vector<double>& x) {
+  double sum = 0.0;
+  const int seeds = 5;
+  for (int k = 0; k < seeds; ++k) {
+    core::Scene scene = twin.scene;
+    scene.options.seed = 2 + static_cast<std::uint64_t>(k);
+    sum += Objective{scene, twin.space, twin.obs, {}}.Evaluate(x).value;
+  }
+  return sum / seeds;
+}
+
 // Issue 12's criterion: every parameter within 5 % of its range of the
 // truth. And the optimiser reaches the noise floor: the misfit at the
-// calibrated values is at most 1.5 times the misfit at the truth.
+// calibrated values is at most 1.5 times the misfit at the truth, both
+// averaged over five seeds (MeanMisfit).
 //
 // The calibrated values are the smoothed estimate (MethodOptions::estimate).
 // The lowest evaluation alone misses the criterion: on this rugged misfit it
@@ -71,7 +88,10 @@ void ExpectTruthRecovered(const MethodResult& r, const Twin& twin) {
   for (int k = 0; k < twin.space.size(); ++k)
     EXPECT_LT(RangeError(twin.space, r.best, k), 0.05) << twin.space.parameters()[k].label() << "\n"
                                                        << Describe(r, twin.space);
-  EXPECT_LT(r.best_misfit, twin.objective.Evaluate(kTruth).value * 1.5) << Describe(r, twin.space);
+  const double calibrated = MeanMisfit(twin, r.best), truth = MeanMisfit(twin, kTruth);
+  std::printf("misfit over seeds 2-6: %g at the calibrated values, %g at the truth\n", calibrated,
+              truth);
+  EXPECT_LT(calibrated, truth * 1.5) << Describe(r, twin.space);
 }
 
 // Where a calibration's search starts: as Calibrate does with a reach check,
