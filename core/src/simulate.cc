@@ -423,7 +423,8 @@ class RockRun {
     const Eigen::Matrix3d rot = Rotation();
     Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
     const double m = body_.mass;
-    // The flight kept the rock inside its neighbourhood (NearFlightTime).
+    // The neighbourhood where the flight ended (a new one if it left the
+    // old one), and the floor where it is within the tolerance's reach.
     const bool floor = UpdateNeighbours() + tol >= floor_clear_;
     hits_.clear();
     for (std::size_t e = 0; e < body_.elements.size(); ++e) {
