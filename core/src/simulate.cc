@@ -348,16 +348,15 @@ class RockRun {
             best, GapFlightTime(kFlightReach * gap, v + spin * spin_growth_ * arm_length_[e], g_));
       }
     }
-    // Per element: its arm, its velocity and a bound on how fast its gap to
-    // anything can close (speed) and speed up (pull).
+    // Per element: its velocity and a bound on how fast its gap to anything
+    // can close (speed) and speed up (pull).
     const double bend = bend_ * spin * spin;
     arms_.resize(ne);
     for (std::size_t e = 0; e < ne; ++e) {
       ElementMotion& m = arms_[e];
-      m.arm = arm_length_[e];
       m.velocity = s_.v + s_.w.cross(centre(e) - s_.x);
-      m.speed = v + spin * m.arm;  // at least |velocity|
-      m.pull = bend * m.arm + g_;
+      m.speed = v + spin * arm_length_[e];  // at least |velocity|
+      m.pull = bend * arm_length_[e] + g_;
     }
     // A pair whose gap stays open for `best` at the element's bounds cannot
     // shorten the flight and is skipped before any square root: within t the
@@ -380,7 +379,7 @@ class RockRun {
         if (!(gap > 0.0)) return 0.0;
         const Eigen::Vector3d normal = d / dist;
         const double rate = normal.dot(m.velocity);
-        const double pull = bend * m.arm - normal.dot(ctx_.gravity);
+        const double pull = bend * arm_length_[e] - normal.dot(ctx_.gravity);
         best = std::min(best, FirstReach(kFlightReach * gap, rate, pull));
       }
     }
@@ -470,7 +469,7 @@ class RockRun {
     ctx_.terrain.NearSpheres(s_.x, rb, skin_, &near_);
     floor_clear_ = ctx_.terrain.FloorGap(s_.x, rb, skin_, skin_);
     near_ref_ = s_.x;
-    ++near_version_;
+    pairs_valid_ = false;  // made for the old neighbourhood
     dt_ = LocalStep();
     return 0.0;
   }
@@ -529,20 +528,17 @@ class RockRun {
       if (paired) {
         // An element with no pair and no floor near cannot touch: its
         // centre is not even needed.
+        const int* begin = pairs_.data() + pair_start_[e];
+        const int* end = pairs_.data() + pair_start_[e + 1];
         const bool floor_near = floor && floor_near_[e];
-        if (pair_start_[e] == pair_start_[e + 1] && !floor_near) continue;
+        if (begin == end && !floor_near) continue;
         if constexpr (kCluster) centres_[e] = s_.x + rot * body_.elements[e];
-      }
-      const Eigen::Vector3d& centre = kCluster ? centres_[e] : s_.x;
-      if (paired) {
+        const Eigen::Vector3d& centre = kCluster ? centres_[e] : s_.x;
         found_.clear();
-        TerrainContact contact;
-        for (int k = pair_start_[e]; k < pair_start_[e + 1]; ++k)
-          if (ctx_.terrain.SphereContact(centre, a, pairs_[static_cast<std::size_t>(k)], &contact))
-            found_.push_back(contact);
-        if (floor && floor_near_[e]) ctx_.terrain.FloorContacts(centre, a, &found_);
+        ctx_.terrain.SphereContacts(centre, a, begin, end, &found_);
+        if (floor_near) ctx_.terrain.FloorContacts(centre, a, &found_);
       } else {
-        FindElementContacts(centre, floor, a);
+        FindElementContacts(kCluster ? centres_[e] : s_.x, floor, a);
       }
       for (const TerrainContact& c : found_) hits_.push_back({c, static_cast<int>(e)});
     }
@@ -593,17 +589,16 @@ class RockRun {
   // were made stays below that skin, no other pair can touch and each step
   // tests only these: the same contacts in the same order as testing them
   // all. Made anew after a flight, a step taken back, or a new
-  // neighbourhood. False (no lists) on the reference path. moved: the
-  // centre's distance from the neighbourhood's centre (UpdateNeighbours).
-  // rot: the rock's rotation, for the element centres of new lists.
+  // neighbourhood (each sets pairs_valid_ false). False (no lists) on the reference path. moved:
+  // the centre's distance from the neighbourhood's centre (UpdateNeighbours). rot: the rock's
+  // rotation, for the element centres of new lists.
   bool UpdatePairs(double travel, double moved, const Eigen::Matrix3d& rot) {
     if (!neighbours_) return false;
     const double skin = kPairSkin * body_.element_radius;
     pair_travel_ += travel;
-    if (pairs_valid_ && pair_near_ == near_version_ && pair_travel_ < skin) return true;
+    if (pairs_valid_ && pair_travel_ < skin) return true;
     if constexpr (kCluster) ElementCentres(rot);
     pairs_valid_ = true;
-    pair_near_ = near_version_;
     pair_travel_ = 0.0;
     const std::size_t ne = body_.elements.size();
     const double a = body_.element_radius;
@@ -779,18 +774,17 @@ class RockRun {
   std::vector<int> near_;
   std::vector<Eigen::Vector3d> centres_;  // element centres (ElementCentres)
   struct ElementMotion {
-    double arm, speed, pull;
+    double speed, pull;
     Eigen::Vector3d velocity;
   };
   std::vector<ElementMotion> arms_;  // per element, for NearFlightTime
   std::vector<double> arm_length_;   // per element, its centre's distance from the rock's
   // The pairs that may touch (UpdatePairs): valid while the travel since
-  // they were made stays below their skin, for neighbourhood pair_near_.
+  // they were made stays below their skin, within one neighbourhood.
   std::vector<int> pairs_, pair_start_;
   std::vector<char> floor_near_;
   bool pairs_valid_ = false;
   double pair_travel_ = 0.0;
-  long near_version_ = 0, pair_near_ = -1;
   std::vector<TerrainContact> found_;
   struct Hit {
     TerrainContact contact;
