@@ -6,9 +6,10 @@
 // runout and bounce-height quantiles of `check_rocks` rocks against the
 // reference path's (SimulationOptions::reference_path: every lever off, at
 // the scene's N_c or at reference_nc steps per contact), "ok" within two
-// combined Monte Carlo errors, for the production path and for a longer
-// gentle step (t_c/10 within the whole critical step): error against run
-// time. check_rocks 0 skips it. reference "fine" checks against the
+// combined Monte Carlo errors, and the whole runout and height
+// distributions by the Kolmogorov-Smirnov test, for the production path and
+// for a longer gentle step (t_c/10 within the whole critical step): error
+// against run time. check_rocks 0 skips it. reference "fine" checks against the
 // production path itself with every step at t_c / reference_nc (default
 // 800; gentle step and rest shortcut off, flights exact) instead: on
 // Authume the reference path at N_c = 50 and 200 is still moving (runout
@@ -16,6 +17,7 @@
 // 200, 800), see bench/README.md.
 //   examples_bench [runs=3] [rocks=1000] [check_rocks=2000] [sites_dir=sites/examples]
 //                  [reference_nc=0 (the scene's)] [reference=path|fine]
+//                  [long_gentle_nc=10] [long_gentle_safety=1]
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -51,13 +53,15 @@ int main(int argc, char** argv) {
   const int nc = argc > 5 ? std::atoi(argv[5]) : 0;
   const std::string kind = argc > 6 ? argv[6] : "path";
   const bool fine = kind == "fine";
+  const int long_nc = argc > 7 ? std::atoi(argv[7]) : 10;
+  const double long_safety = argc > 8 ? std::atof(argv[8]) : 1.0;
   const int reference_nc = nc == 0 && fine ? 800 : nc;
   if (runs < 1 || rocks < 1 || check_rocks < 0 || (nc != 0 && nc < 4) ||
-      (kind != "path" && !fine)) {
+      (kind != "path" && !fine) || long_nc < 1 || !(long_safety > 0.0)) {
     std::fprintf(stderr,
                  "usage: examples_bench [runs=3] [rocks=1000] [check_rocks=2000] "
                  "[sites_dir=sites/examples] [reference_nc=0 (the scene's; 800 for fine) or >= 4] "
-                 "[reference=path|fine]\n");
+                 "[reference=path|fine] [long_gentle_nc=10] [long_gentle_safety=1]\n");
     return 2;
   }
   // Run from anywhere: without an explicit folder, fall back to the source tree's.
@@ -113,18 +117,19 @@ int main(int argc, char** argv) {
   std::printf(
       "\naccuracy: %d rocks a scene at 2 threads against %s%s\n"
       "(+- order-statistic standard error; ok: within two combined errors); long gentle:\n"
-      "gentle_steps_per_contact 10, gentle_safety 1\n",
+      "gentle_steps_per_contact %d, gentle_safety %g\n",
       check_rocks, fine ? "the production path's fine steps" : "the reference path",
-      reference_nc > 0 ? (" at N_c = " + std::to_string(reference_nc)).c_str() : "");
-  int failed = 0;
+      reference_nc > 0 ? (" at N_c = " + std::to_string(reference_nc)).c_str() : "", long_nc,
+      long_safety);
+  int failed = 0, differing = 0;
   for (Named& n : scenes) {
     n.scene.SetTotalRocks(check_rocks);
     n.scene.options.threads = 2;
     const core::Terrain terrain = core::BuildTerrain(n.scene);
     const core::SimulationResult production = core::Simulate(n.scene, terrain);
     core::Scene gentle = n.scene;
-    gentle.options.gentle_steps_per_contact = 10;
-    gentle.options.gentle_safety = 1.0;
+    gentle.options.gentle_steps_per_contact = long_nc;
+    gentle.options.gentle_safety = long_safety;
     const core::SimulationResult longer = core::Simulate(gentle, terrain);
     core::Scene reference = n.scene;
     if (fine) {
@@ -138,15 +143,20 @@ int main(int argc, char** argv) {
     std::printf("\n%s: stopped %d, %d and %d\n", n.name.c_str(),
                 production.count(core::Outcome::kStopped), longer.count(core::Outcome::kStopped),
                 ref.count(core::Outcome::kStopped));
-    std::vector<int> fails;
+    std::vector<int> fails, differ;
     failed += bench::PrintQuantileCheck(
         {"production", "long gentle", "reference"},
         {bench::Collect(production), bench::Collect(longer), bench::Collect(ref)},
-        FirstPartition(n.scene), &fails);
+        FirstPartition(n.scene), &fails, &differ);
+    differing += differ[0] + differ[1];
     std::printf("%-26s %9.1f s %2d NO      %9.1f s %2d NO      %9.1f s\n", "wall, outside 2 errors",
                 production.wall_seconds, fails[0], longer.wall_seconds, fails[1], ref.wall_seconds);
+    std::printf("%-26s %12d differ %15d differ\n", "whole distributions (KS)", differ[0],
+                differ[1]);
     std::fflush(stdout);
   }
   std::printf("\n%d quantiles outside two combined errors of the reference (both paths)\n", failed);
+  std::printf("%d whole distributions differ from the reference's (KS p < %.2f, both paths)\n",
+              differing, bench::kKsLevel);
   return 0;
 }

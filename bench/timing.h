@@ -77,6 +77,10 @@ struct Samples {
   std::vector<double> runout, heights;
 };
 
+// Below this p value of the Kolmogorov-Smirnov test two samples' whole
+// distributions are said to differ (PrintQuantileCheck).
+constexpr double kKsLevel = 0.01;
+
 inline Samples Collect(const core::SimulationResult& r) {
   Samples s;
   for (const core::RockRecord& rock : r.rocks) {
@@ -90,12 +94,18 @@ inline Samples Collect(const core::SimulationResult& r) {
 // Prints the runout (p10, p50, p90) and bounce-height (p50, p90, p95)
 // quantiles of each of `samples` (columns named by `names`) with their
 // errors, each marked "ok" when within two combined errors of the last
-// column's (the reference) and "NO" otherwise. Returns the count of NO;
-// per_column (if given) gets each column's.
+// column's (the reference) and "NO" otherwise; then each whole
+// distribution against the reference's by the two-sample Kolmogorov-Smirnov
+// test (core::TwoSampleKs: distance D and its p value, "differs" below
+// kKsLevel), which sees a change of shape that three quantiles can miss.
+// Returns the count of NO; per_column (if given) gets each column's, and
+// ks_differ (if given) each column's count of distributions that differ.
 inline int PrintQuantileCheck(const std::vector<std::string>& names,
                               const std::vector<Samples>& samples, const std::string& partition,
-                              std::vector<int>* per_column = nullptr) {
+                              std::vector<int>* per_column = nullptr,
+                              std::vector<int>* ks_differ = nullptr) {
   int failed = 0;
+  if (ks_differ) ks_differ->assign(samples.size(), 0);
   if (per_column) per_column->assign(samples.size(), 0);
   std::printf("%-26s", "quantity");
   for (const std::string& n : names) std::printf(" %22s", n.c_str());
@@ -123,6 +133,19 @@ inline int PrintQuantileCheck(const std::vector<std::string>& names,
     row("height at " + partition + " p90 [m]", &Samples::heights, 0.9);
     row("height at " + partition + " p95 [m]", &Samples::heights, 0.95);
   }
+  auto ks = [&](const std::string& label, std::vector<double> Samples::*field) {
+    std::printf("%-26s", label.c_str());
+    for (const Samples& s : samples) {
+      if (&s == &samples.back()) break;
+      const core::KsTest t = core::TwoSampleKs(s.*field, samples.back().*field);
+      const bool differs = t.p_value < kKsLevel;
+      if (ks_differ && differs) ++(*ks_differ)[static_cast<std::size_t>(&s - samples.data())];
+      std::printf("   D %.3f p %.3f %-7s", t.distance, t.p_value, differs ? "differs" : "");
+    }
+    std::printf("\n");
+  };
+  ks("runout x, whole (KS)", &Samples::runout);
+  if (!partition.empty()) ks("height, whole (KS)", &Samples::heights);
   return failed;
 }
 

@@ -43,5 +43,49 @@ TEST(Statistics, SampleStandardDeviation) {
   EXPECT_DOUBLE_EQ(SampleStandardDeviation({1, 3}), std::sqrt(2.0));
 }
 
+TEST(Statistics, KolmogorovTailKnownValues) {
+  // The series summed to convergence; 1.3581 and 1.6276 are the familiar 5 %
+  // and 1 % critical values.
+  EXPECT_NEAR(KolmogorovTail(0.5), 0.96394524366, 1e-10);
+  EXPECT_NEAR(KolmogorovTail(1.0), 0.26999967168, 1e-10);
+  EXPECT_NEAR(KolmogorovTail(1.3581), 0.05, 1e-6);
+  EXPECT_NEAR(KolmogorovTail(1.6276), 0.01, 1e-5);
+  EXPECT_EQ(KolmogorovTail(0.0), 1.0);
+  EXPECT_LT(KolmogorovTail(5.0), 1e-20);
+}
+
+TEST(Statistics, KsDistanceOfKnownSamples) {
+  // {1,2,3,4} against {3,4,5,6}: the distribution functions part by 1/2
+  // from 2 on (0.5 / 0, 0.75 / 0.25, 1 / 0.5).
+  EXPECT_DOUBLE_EQ(TwoSampleKs({4, 3, 2, 1}, {3, 4, 5, 6}).distance, 0.5);
+  EXPECT_DOUBLE_EQ(TwoSampleKs({1, 2}, {3, 4}).distance, 1.0);
+  // Ties count once: equal samples are no distance apart.
+  const KsTest same = TwoSampleKs({1, 2, 2, 3}, {3, 2, 1, 2});
+  EXPECT_EQ(same.distance, 0.0);
+  EXPECT_EQ(same.p_value, 1.0);
+  EXPECT_EQ(TwoSampleKs({}, {1.0}).p_value, 1.0);
+}
+
+TEST(Statistics, KsPValueHoldsItsLevel) {
+  // Two samples of one distribution fall below p = 0.05 about 5 % of the
+  // time; a shift of a fifth of the range is found every time.
+  RandomStream rng(11, 0);
+  auto uniform = [&](int n, double shift) {
+    std::vector<double> v;
+    for (int i = 0; i < n; ++i) v.push_back(rng.Uniform() + shift);
+    return v;
+  };
+  int rejected = 0, found = 0;
+  const int trials = 400;
+  for (int t = 0; t < trials; ++t) {
+    rejected += TwoSampleKs(uniform(300, 0.0), uniform(200, 0.0)).p_value < 0.05;
+    found += TwoSampleKs(uniform(300, 0.0), uniform(200, 0.2)).p_value < 0.05;
+  }
+  // Binomial(400, 0.05): mean 20, standard deviation 4.4.
+  EXPECT_GE(rejected, 8);
+  EXPECT_LE(rejected, 34);
+  EXPECT_EQ(found, trials);
+}
+
 }  // namespace
 }  // namespace rockcal::core

@@ -19,6 +19,23 @@ double SampleStandardDeviation(const std::vector<double>& values);
 // Summary of `values` (any order); all zero when empty.
 Stats Summarize(std::vector<double> values);
 
+// The two-sample Kolmogorov-Smirnov test of whether two samples come from
+// one distribution: the largest distance between their empirical
+// distribution functions, and the chance of a distance at least that large
+// between two samples of one continuous distribution (asymptotic, with
+// Stephens' small-sample correction: Press et al., Numerical Recipes, 3rd
+// ed., 14.3.3). A whole distribution where a quantile check compares three
+// points of it.
+struct KsTest {
+  double distance = 0.0;  // D in [0, 1]
+  double p_value = 1.0;
+};
+// Samples in any order; D = 0 and p = 1 when either is empty.
+KsTest TwoSampleKs(std::vector<double> a, std::vector<double> b);
+// The Kolmogorov distribution's tail Q(lambda) = 2 sum_{k>=1} (-1)^(k-1)
+// exp(-2 k^2 lambda^2): 1 at lambda <= 0, falling to 0.
+double KolmogorovTail(double lambda);
+
 }  // namespace rockcal::core
 
 #endif  // ROCKCAL_CORE_STATISTICS_H_
