@@ -177,15 +177,11 @@ class RockRun {
   }
 
   // The step the last one's contacts asked for (their materials, gentle or
-  // not), or the local contact step without contacts. A step whose contacts
-  // ask for a shorter one is taken back and redone with that (none can ask
-  // for less than the scene's finest).
+  // not, and how many touch at once), or the local contact step without
+  // contacts. A step whose contacts ask for a shorter one is taken back and
+  // redone with that.
   void ContactStep() {
     double dt = contacts_.empty() ? dt_ : needed_dt_;
-    if (!(dt > steps_.finest)) {
-      Step(dt);
-      return;
-    }
     const RockState s0 = s_;
     const Eigen::Vector3d a0 = a_, alpha0 = alpha_;
     const double spring0 = spring_energy_, penetration0 = rec_->max_penetration;
@@ -543,11 +539,17 @@ class RockRun {
       for (const TerrainContact& c : found_) hits_.push_back({c, static_cast<int>(e)});
     }
     const double norm = OverlapNorm();
-    const bool joint = !single_element_ && hits_.size() > 1;
-    const Eigen::Vector3d v_end = joint ? JointEndVelocity(v_half, dt, norm) : v_half;
+    // n contacts at once meet the rock with up to n times the stiffness, so
+    // their impact lasts down to t_c / sqrt(n): it takes N_c steps of that.
+    impact_scale_ = hits_.size() > 1 ? 1.0 / std::sqrt(static_cast<double>(hits_.size())) : 1.0;
+    // The dashpots of all the step's contacts implicit together
+    // (JointEndMotion); one contact solves its own (AddContactForce).
+    const bool joint = hits_.size() > 1;
+    const Motion end =
+        joint ? JointEndMotion(v_half, w_half, dt, norm, rot) : Motion{v_half, w_half};
     for (const Hit& h : hits_)
-      AddContactForce(h.contact, h.element, DampingShare(h.contact.overlap, norm), v_half,
-                      w_half, dt, joint ? &v_end : nullptr, &load);
+      AddContactForce(h.contact, h.element, DampingShare(h.contact.overlap, norm), v_half, w_half,
+                      dt, joint ? &end : nullptr, rot, &load);
     const Eigen::Vector3d torque =
         load.torque + LimitRollingTorque(load.rolling, inertia_min_, w_half.norm(), dt);
     AddVegetationForce(v_half, dt, &load);
@@ -658,35 +660,97 @@ class RockRun {
     return norm > 0.0 ? overlap / norm : 1.0 / std::sqrt(static_cast<double>(hits_.size()));
   }
 
-  // The centre's velocity at the end of a step of dt with several contacts:
-  // every contact's spring and its share of the damping act on the rock
-  // together, the dashpots implicit (trapezoidal), the rock taken as a mass
-  // (I + dt/2 sum c_i n_i n_i^T / m) v = v_half + dt/2 (g + sum k d_i n_i / m).
-  // Each contact solving its dashpot as if it alone stopped the rock let n
-  // contacts overshoot, as an explicit dashpot does (the coupled scheme's
-  // stable step falls with the damping: bench/README.md).
-  Eigen::Vector3d JointEndVelocity(const Eigen::Vector3d& v_half, double dt, double norm) const {
-    Eigen::Matrix3d a = Eigen::Matrix3d::Identity();
-    Eigen::Vector3d b = v_half + 0.5 * dt * ctx_.gravity;
-    for (const Hit& h : hits_) {
-      const TerrainContact& c = h.contact;
-      const ContactLaw& law = ctx_.laws[static_cast<std::size_t>(c.material)];
-      const double damping = law.damping_per_mass * DampingShare(c.overlap, norm);
-      a += (0.5 * dt * damping) * c.normal * c.normal.transpose();
-      b += (0.5 * dt * law.stiffness_per_mass * c.overlap) * c.normal;
+  // The rock's velocity and spin at the end of a step of dt with its
+  // contacts: every contact's spring and its share of the damping act on the
+  // rock together, the dashpots implicit (trapezoidal), for its spin as for
+  // its centre. Per unit mass, with the generalised velocity u = (v, w),
+  // the mass matrix M = diag(I, J / m) (J the inertia in world axes) and
+  // each contact's row g_i = (n_i, r_i x n_i) (its normal velocity g_i u):
+  //   (M + dt/2 sum c_i g_i g_i^T) u = M u_half + dt/2 (g + sum k d_i g_i).
+  // So an off-centre contact meets its dashpot with the rock's effective
+  // mass there, and several contacts meet theirs together. Solved for the
+  // centre alone (spin explicit), n contacts of a cluster overshot as an
+  // explicit dashpot does, and the stable step had to fall with the damping
+  // (bench/README.md, "The step"). A sphere's contacts act through its
+  // centre: its spin is left out.
+  struct Motion {
+    Eigen::Vector3d v, w;
+  };
+  Motion JointEndMotion(const Eigen::Vector3d& v_half, const Eigen::Vector3d& w_half, double dt,
+                        double norm, const Eigen::Matrix3d& rot) {
+    constexpr int kDof = kCluster ? 6 : 3;
+    using Vector = Eigen::Matrix<double, kDof, 1>;
+    using Matrix = Eigen::Matrix<double, kDof, kDof>;
+    Matrix a = Matrix::Identity();
+    Vector b;
+    b.template head<3>() = v_half + 0.5 * dt * ctx_.gravity;
+    if constexpr (kCluster) {
+      const Eigen::Matrix3d inertia =
+          rot * (body_.inertia / body_.mass).asDiagonal() * rot.transpose();
+      a.template bottomRightCorner<3, 3>() = inertia;
+      b.template tail<3>() = inertia * w_half;
     }
-    return a.llt().solve(b);  // symmetric positive definite: I plus dashpots
+    // Each contact's row, dashpot (dt/2 c_i) and spring (dt/2 k d_i) terms.
+    const std::size_t n = hits_.size();
+    rows_.resize(n);
+    joint_terms_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const TerrainContact& c = hits_[i].contact;
+      const ContactLaw& law = ctx_.laws[static_cast<std::size_t>(c.material)];
+      rows_[i].template head<3>() = c.normal;
+      if constexpr (kCluster) {
+        rows_[i].template tail<3>() = (c.point - s_.x).cross(c.normal);
+      } else {
+        rows_[i].template tail<3>().setZero();
+      }
+      joint_terms_[i] = {0.5 * dt * law.damping_per_mass * DampingShare(c.overlap, norm),
+                         0.5 * dt * law.stiffness_per_mass * c.overlap};
+    }
+    // A contact's force k d - c v_n is compressive only: one that would pull
+    // at the solved motion (separating faster than k d / c) takes no part,
+    // and the others are solved again without it.
+    pulling_.assign(n, 0);
+    const Matrix mass = a;
+    const Vector momentum = b;
+    Vector u;
+    for (std::size_t pass = 0; pass <= n; ++pass) {
+      a = mass;
+      b = momentum;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (pulling_[i]) continue;
+        const Vector row = rows_[i].template head<kDof>();
+        a.template selfadjointView<Eigen::Lower>().rankUpdate(row, joint_terms_[i].damping);
+        b += joint_terms_[i].spring * row;
+      }
+      u = a.template selfadjointView<Eigen::Lower>().llt().solve(b);  // M plus dashpots: SPD
+      bool changed = false;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (pulling_[i]) continue;
+        const double vn = rows_[i].template head<kDof>().dot(u);
+        if (joint_terms_[i].spring - joint_terms_[i].damping * vn < 0.0) {
+          pulling_[i] = 1;
+          changed = true;
+        }
+      }
+      if (!changed) break;
+    }
+    if constexpr (kCluster) {
+      return {u.template head<3>(), u.template tail<3>()};
+    } else {
+      return {u, w_half};
+    }
   }
 
   // The contact law (core/contact.h) on contact c of element e, with its
   // share of the rock's damping (DampingShare), over a step of dt from the
   // half-step velocities: adds its force and torques to *load, keeps its
   // spring in next_ and its energy in spring_energy_, and lowers needed_dt_
-  // to the step it asks for. v_end: the centre's velocity at the step's end
-  // from JointEndVelocity, or null to solve this contact's dashpot alone.
+  // to the step it asks for. end: the rock's motion at the step's end from
+  // JointEndMotion, or null to solve this contact's dashpot alone (the rock's
+  // only contact).
   void AddContactForce(const TerrainContact& c, int e, double damping_share,
                        const Eigen::Vector3d& v_half, const Eigen::Vector3d& w_half, double dt,
-                       const Eigen::Vector3d* v_end, Load* load) {
+                       const Motion* end, const Eigen::Matrix3d& rot, Load* load) {
     const ContactLaw& law = ctx_.laws[static_cast<std::size_t>(c.material)];
     const double m = body_.mass;
     const Eigen::Vector3d arm = c.point - s_.x;
@@ -695,14 +759,25 @@ class RockRun {
     const double damping_per_mass = law.damping_per_mass * damping_share;
     // Normal velocity at the end of the step, with the dashpot taken
     // implicitly (trapezoidal): v_n = v_n,half + dt/2 (k d / m - c v_n + g_n).
-    const double vn =
-        v_end ? (*v_end + w_half.cross(arm)).dot(c.normal)
-              : (vc_half.dot(c.normal) +
-                 0.5 * dt * (law.stiffness_per_mass * c.overlap + ctx_.gravity.dot(c.normal))) /
-                    (1.0 + 0.5 * dt * damping_per_mass);
+    // Alone, the contact's own row of JointEndMotion's system: the rock
+    // meets it with its effective mass there, m / s.
+    double vn;
+    if (end) {
+      vn = (end->v + end->w.cross(arm)).dot(c.normal);
+    } else {
+      double s = 1.0;
+      if constexpr (kCluster) {
+        const Eigen::Vector3d lever = rot.transpose() * arm.cross(c.normal);  // body axes
+        s += m * lever.cwiseAbs2().dot(inv_inertia_);
+      }
+      vn = (vc_half.dot(c.normal) +
+            0.5 * dt * (s * law.stiffness_per_mass * c.overlap + ctx_.gravity.dot(c.normal))) /
+           (1.0 + 0.5 * dt * s * damping_per_mass);
+    }
     const double fn = NormalForce({kn, m * damping_per_mass}, c.overlap, vn);
     const MaterialSteps& ms = steps_.material[static_cast<std::size_t>(c.material)];
-    needed_dt_ = std::min(needed_dt_, std::abs(vn) < ms.gentle_speed ? ms.gentle : ms.contact);
+    needed_dt_ = std::min(needed_dt_,
+                          std::abs(vn) < ms.gentle_speed ? ms.gentle : ms.contact * impact_scale_);
     // Tangential spring: carry the displacement over, rotated into the
     // current tangent plane, and add this step's sliding.
     Eigen::Vector3d u = CarriedDisplacement(c.key, e, c.normal);
@@ -791,6 +866,14 @@ class RockRun {
     int element;
   };
   std::vector<Hit> hits_;  // a step's contacts, every element's (Step)
+  // JointEndMotion's per hit: its row, its terms, whether its force would pull.
+  struct JointTerms {
+    double damping, spring;  // dt/2 c_i and dt/2 k d_i, per unit mass
+  };
+  std::vector<Eigen::Matrix<double, 6, 1>> rows_;
+  std::vector<JointTerms> joint_terms_;
+  std::vector<char> pulling_;
+  double impact_scale_ = 1.0;  // the impact step's share for the step's contacts (Step)
   std::vector<ContactState> contacts_, next_;
 };
 
@@ -868,7 +951,12 @@ int SimulationResult::count(Outcome o) const {
 
 namespace {
 
-// The stable step of `body` on `law`: `safety` times the damped critical step.
+// The stable step of `body` on `law`: `safety` times the critical step
+// 2 / omega of its stiffest contact. The damping ratio does not shorten it:
+// every dashpot is implicit, for the rock's spin as for its centre, and
+// together with the step's other contacts (RockRun::JointEndMotion), and the
+// central-difference step with implicit dashpots is stable up to
+// omega dt = 2 whatever the damping (bench/README.md, "The step").
 double StableTimeStep(const RockBody& body, const ContactLaw& law, double safety) {
   // An off-centre contact on a cluster acts on a smaller effective mass:
   // 1/m_eff = 1/m + l^2 / I_min for a lever arm l.
@@ -880,9 +968,7 @@ double StableTimeStep(const RockBody& body, const ContactLaw& law, double safety
     mass_ratio += body.mass * arm * arm / body.inertia.minCoeff();
   }
   const double omega = std::sqrt(law.stiffness_per_mass * mass_ratio * kParallelContacts);
-  const double zeta = law.damping_ratio;
-  const double critical = (2.0 / omega) * (std::sqrt(1.0 + zeta * zeta) - zeta);
-  return safety * critical;
+  return safety * 2.0 / omega;
 }
 
 }  // namespace

@@ -104,7 +104,7 @@ struct SimulationOptions {
   // long step that meets a contact that is not gentle is taken back and redone
   // at dt. 0 turns it off (every contact step t_c / N_c).
   int gentle_steps_per_contact = 20;
-  double safety = 0.2;           // fraction of the damped critical step
+  double safety = 0.2;  // fraction of the critical step 2 / omega
   // The same for the gentle step, which needs stability only, not the
   // resolution of an impact (a box landing flat on 16 elements rebounds 3 %
   // short at safety 0.5): the stability suite passes on every example at
