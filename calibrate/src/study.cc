@@ -682,7 +682,7 @@ std::vector<RunData> RunConvergenceGrid(const core::Scene& base, const core::Ter
     for (int nc : ncs) {
       scene.options.steps_per_contact = nc;
       // The gentle-contact step is refined with the impact step, in the
-      // site's ratio N_g / N_c (20 / 50 by default; 0 stays off).
+      // site's ratio N_g / N_c (10 / 50 by default; 0 stays off).
       const int ng = base.options.gentle_steps_per_contact;
       if (ng > 0)
         scene.options.gentle_steps_per_contact = std::max(
