@@ -539,9 +539,6 @@ class RockRun {
       for (const TerrainContact& c : found_) hits_.push_back({c, static_cast<int>(e)});
     }
     const double norm = OverlapNorm();
-    // n contacts at once meet the rock with up to n times the stiffness, so
-    // their impact lasts down to t_c / sqrt(n): it takes N_c steps of that.
-    impact_scale_ = hits_.size() > 1 ? 1.0 / std::sqrt(static_cast<double>(hits_.size())) : 1.0;
     // The dashpots of all the step's contacts implicit together
     // (JointEndMotion); one contact solves its own (AddContactForce).
     const bool joint = hits_.size() > 1;
@@ -776,8 +773,12 @@ class RockRun {
     }
     const double fn = NormalForce({kn, m * damping_per_mass}, c.overlap, vn);
     const MaterialSteps& ms = steps_.material[static_cast<std::size_t>(c.material)];
-    needed_dt_ = std::min(needed_dt_,
-                          std::abs(vn) < ms.gentle_speed ? ms.gentle : ms.contact * impact_scale_);
+    // n contacts at once meet the rock with up to n times the stiffness, so
+    // their impact lasts down to t_c / sqrt(n): it takes N_c steps of that.
+    needed_dt_ =
+        std::min(needed_dt_, std::abs(vn) < ms.gentle_speed
+                                 ? ms.gentle
+                                 : ms.contact / std::sqrt(static_cast<double>(hits_.size())));
     // Tangential spring: carry the displacement over, rotated into the
     // current tangent plane, and add this step's sliding.
     Eigen::Vector3d u = CarriedDisplacement(c.key, e, c.normal);
@@ -873,7 +874,6 @@ class RockRun {
   std::vector<Eigen::Matrix<double, 6, 1>> rows_;
   std::vector<JointTerms> joint_terms_;
   std::vector<char> pulling_;
-  double impact_scale_ = 1.0;  // the impact step's share for the step's contacts (Step)
   std::vector<ContactState> contacts_, next_;
 };
 
