@@ -43,9 +43,7 @@ void Recorder::Advance(const RockState& s0, const RockState& s, bool flew) {
         f1 = s.x.x() - part.value;
       } else {
         double z0, z1;
-        if (!terrain_.Elevation(s0.x.x(), s0.x.y(), &z0) ||
-            !terrain_.Elevation(s.x.x(), s.x.y(), &z1))
-          continue;
+        if (!ElevationAt(s0.x, &z0) || !ElevationAt(s.x, &z1)) continue;
         f0 = z0 - part.value;
         f1 = z1 - part.value;
       }
@@ -77,6 +75,17 @@ void Recorder::Advance(const RockState& s0, const RockState& s, bool flew) {
   }
 }
 
+bool Recorder::ElevationAt(const Eigen::Vector3d& x, double* z) {
+  if (x.x() == elevation_at_.x() && x.y() == elevation_at_.y()) {
+    *z = elevation_;
+    return true;
+  }
+  if (!terrain_.Elevation(x.x(), x.y(), z)) return false;
+  elevation_at_ = x.head<2>();
+  elevation_ = *z;
+  return true;
+}
+
 void Recorder::Visit(const RockState& s0, const RockState& s, bool flew) {
   // Quarter cells along the advance's plan path (a small step: none).
   const double quarter = 0.25 * scene_.grid.spacing;
@@ -92,6 +101,13 @@ void Recorder::Visit(const RockState& s0, const RockState& s, bool flew) {
 
 void Recorder::VisitAt(const RockState& s0, const RockState& s, bool every) {
   const HeightGrid& g = scene_.grid;
+  const double eighth2 = 0.015625 * g.spacing * g.spacing;
+  // Over the last kept sample's cell (well inside it) and within an eighth
+  // of a cell of that sample: skipped, as below, without finding the cell.
+  if (!every && s.x.x() > last_cell_low_.x() && s.x.x() < last_cell_high_.x() &&
+      s.x.y() > last_cell_low_.y() && s.x.y() < last_cell_high_.y() &&
+      (s.x.head<2>() - last_visit_).squaredNorm() < eighth2)
+    return;
   const double fi = std::round((s.x.x() - g.x0) / g.spacing);
   const double fj = std::round((s.x.y() - g.y0) / g.spacing);
   if (!(fi >= 0.0 && fj >= 0.0 && fi < g.nx && fj < g.ny)) return;  // off the grid
@@ -108,10 +124,15 @@ void Recorder::VisitAt(const RockState& s0, const RockState& s, bool every) {
       break;
     }
   }
-  if (at >= 0 && !every &&
-      (s.x.head<2>() - last_visit_).squaredNorm() < 0.015625 * g.spacing * g.spacing)
+  if (at >= 0 && !every && (s.x.head<2>() - last_visit_).squaredNorm() < eighth2)
     return;  // within an eighth of a cell of the last sample kept
   last_visit_ = s.x.head<2>();
+  // The cell's extent, a millionth of a cell inside its borders, where
+  // rounding cannot place a point in another cell.
+  const Eigen::Vector2d centre(g.x(static_cast<int>(fi)), g.y(static_cast<int>(fj)));
+  const double half = 0.5 * (1.0 - 1e-6) * g.spacing;
+  last_cell_low_ = centre.array() - half;
+  last_cell_high_ = centre.array() + half;
   const Crossing c = Record(s0, s);
   if (at < 0) {
     cells.push_back({cell, c.height, c.energy});

@@ -4,6 +4,8 @@
 #ifndef ROCKCAL_CORE_SRC_RECORDING_H_
 #define ROCKCAL_CORE_SRC_RECORDING_H_
 
+#include <limits>
+
 #include "rock_state.h"
 #include "rockcal/core/scene.h"
 #include "rockcal/core/simulate.h"
@@ -49,6 +51,9 @@ class Recorder final {
   // Keeps state s (reached from s0) in the record of the cell it is over;
   // unless `every`, not within an eighth of a cell of the last sample kept.
   void VisitAt(const RockState& s0, const RockState& s, bool every);
+  // Terrain::Elevation at x's plan position; the last one found is kept (an
+  // advance starts where the last one ended).
+  bool ElevationAt(const Eigen::Vector3d& x, double* z);
 
   const Scene& scene_;
   const RecordOptions& opt_;
@@ -61,6 +66,13 @@ class Recorder final {
   bool trajectory_ = false;
   double next_sample_ = 0.0;
   Eigen::Vector2d last_visit_ = Eigen::Vector2d::Zero();  // plan position of the last cell sample
+  // The extent of that sample's cell (VisitAt); empty before the first.
+  Eigen::Vector2d last_cell_low_ = Eigen::Vector2d::Constant(1.0),
+                  last_cell_high_ = Eigen::Vector2d::Constant(-1.0);
+  // The last elevation found (ElevationAt) and where; NaN: none yet.
+  Eigen::Vector2d elevation_at_ =
+      Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  double elevation_ = 0.0;
 };
 
 }  // namespace rockcal::core
