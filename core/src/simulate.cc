@@ -711,15 +711,12 @@ class RockRun {
     constexpr int kDof = kCluster ? 6 : 3;
     using Vector = Eigen::Matrix<double, kDof, 1>;
     using Matrix = Eigen::Matrix<double, kDof, kDof>;
-    // The free motion M^-1 (M u_half + dt/2 g), M and M^-1 per unit mass.
+    // The free motion M^-1 (M u_half + dt/2 g), and M^-1 per unit mass.
     Vector free;
     free.template head<3>() = v_half + 0.5 * dt * ctx_.gravity;
-    Matrix mass = Matrix::Identity();
     Eigen::Matrix3d inverse_inertia;
     if constexpr (kCluster) {
       free.template tail<3>() = w_half;
-      mass.template bottomRightCorner<3, 3>() =
-          rot * (body_.inertia / body_.mass).asDiagonal() * rot.transpose();
       inverse_inertia = rot * (body_.mass * inv_inertia_).asDiagonal() * rot.transpose();
     }
     // Each contact's row g_i, M^-1 g_i, dashpot (dt/2 c_i) and spring (dt/2 k d_i) terms.
@@ -748,6 +745,11 @@ class RockRun {
     Vector u;
     for (std::size_t pass = 0; pass <= n; ++pass) {
       if (!(kCluster && SolveInContacts(free, n, &u))) {
+        // M per unit mass, only where the 6 x 6 (or a sphere's 3 x 3) is solved.
+        Matrix mass = Matrix::Identity();
+        if constexpr (kCluster)
+          mass.template bottomRightCorner<3, 3>() =
+              rot * (body_.inertia / body_.mass).asDiagonal() * rot.transpose();
         Vector b = mass * free;
         double a[kDof][kDof];
         for (int r = 0; r < kDof; ++r)
