@@ -1,8 +1,9 @@
 // Throughput of the real scenes: the example sites (tutorial, profile2d,
 // authume) as the command line runs them (the site's own seed and options,
 // `rocks` rocks as `--rocks` sets them) and the tumbling blocks of
-// slope_scene.h, at 1 and at 2 threads (medians of `runs` runs): rocks per
-// second, contact steps and flights. Then the accuracy check of each: the
+// slope_scene.h, at 1 and at 2 threads (`runs` pairs of runs, medians): rocks
+// per second, contact steps and flights, the 2-thread speed-up and the
+// schedule's balance. Then the accuracy check of each: the
 // runout and bounce-height quantiles of `check_rocks` rocks against the
 // reference path's (SimulationOptions::reference_path: every lever off, at
 // the scene's N_c or at reference_nc steps per contact), "ok" within two
@@ -79,39 +80,42 @@ int main(int argc, char** argv) {
   }
   scenes.push_back({"tumbling", bench::TumblingScene(rocks)});
 
-  std::printf("examples_bench: %d rocks a scene, median of %d runs at 1 and 2 threads\n", rocks,
-              runs);
-  std::printf("%-10s %6s %8s %9s %9s %12s %9s %11s %8s\n", "scene", "rocks", "threads", "wall_s",
-              "rocks/s", "steps", "flights", "identical", "speed-up");
+  std::printf(
+      "examples_bench: %d rocks a scene, %d pairs of runs (1 thread, then 2 threads): medians\n",
+      rocks, runs);
+  std::printf("%-10s %6s %8s %9s %9s %12s %9s %11s %8s %8s\n", "scene", "rocks", "threads",
+              "wall_s", "rocks/s", "steps", "flights", "identical", "speed-up", "balance");
   for (Named& n : scenes) {
     n.scene.SetTotalRocks(rocks);
     const core::Terrain terrain = core::BuildTerrain(n.scene);
-    double one = 0.0;
-    core::SimulationResult first;
+    const bench::ScalingRuns timed = bench::TimeScaling(n.scene, terrain, runs);
+    const core::SimulationResult& first = timed.one.result;
+    const core::SimulationResult& second = timed.two.result;
+    bool equal = first.rocks.size() == second.rocks.size();
+    for (std::size_t k = 0; equal && k < second.rocks.size(); ++k)
+      equal = first.rocks[k].stop == second.rocks[k].stop &&
+              first.rocks[k].time == second.rocks[k].time;
     for (int threads : {1, 2}) {
-      const bench::TimedRuns timed = bench::TimeSimulation(n.scene, terrain, threads, runs);
-      const double w = timed.median_wall;
-      const core::SimulationResult& r = timed.result;
-      char speedup[32] = "", same[8] = "";
-      if (threads == 1) {
-        one = w;
-        first = r;
-      } else {
-        std::snprintf(speedup, sizeof speedup, "%.2fx", one / w);
-        bool equal = first.rocks.size() == r.rocks.size();
-        for (std::size_t k = 0; equal && k < r.rocks.size(); ++k)
-          equal = first.rocks[k].stop == r.rocks[k].stop && first.rocks[k].time == r.rocks[k].time;
+      const bench::TimedRuns& t = threads == 1 ? timed.one : timed.two;
+      const double w = t.median_wall;
+      char speedup[32] = "", same[8] = "", balance[16] = "";
+      if (threads == 2) {
+        std::snprintf(speedup, sizeof speedup, "%.2fx", timed.speedup);
         std::snprintf(same, sizeof same, "%s", equal ? "yes" : "NO");
+        std::snprintf(balance, sizeof balance, "%.3f", timed.balance);
       }
-      std::printf("%-10s %6zu %8d %9.3f %9.1f %12ld %9ld %11s %8s\n", n.name.c_str(),
-                  r.rocks.size(), threads, w, static_cast<double>(r.rocks.size()) / w, r.steps,
-                  r.flights, same, speedup);
+      std::printf("%-10s %6zu %8d %9.3f %9.1f %12ld %9ld %11s %8s %8s\n", n.name.c_str(),
+                  t.result.rocks.size(), threads, w, static_cast<double>(t.result.rocks.size()) / w,
+                  t.result.steps, t.result.flights, same, speedup, balance);
     }
     std::fflush(stdout);
   }
   std::printf(
       "wall_s: the simulation alone (SimulationResult::wall_seconds, not building the terrain);\n"
-      "identical: the 2-thread run's rocks stop where and when the 1-thread run's do.\n");
+      "identical: the 2-thread run's rocks stop where and when the 1-thread run's do;\n"
+      "speed-up: the median of the pairs' ratios; balance: the share of the 2-thread run in\n"
+      "which both threads were inside rocks (busy_seconds / (2 wall_s)): what the schedule loses\n"
+      "is 1 - balance, the rest of a speed-up below 2x is the machine (both threads slower).\n");
   if (check_rocks == 0) return 0;
 
   std::printf(

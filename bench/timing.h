@@ -41,6 +41,39 @@ inline TimedRuns TimeSimulation(core::Scene scene, const core::Terrain& terrain,
   return timed;
 }
 
+// 1- and 2-thread runs of `scene` taken in pairs (one of each, `runs`
+// times), so that the shared machine's drift in speed falls on both sides of
+// a pair; the speed-up is the median of the pairs' ratios.
+struct ScalingRuns {
+  TimedRuns one, two;    // at 1 and at 2 threads
+  double speedup = 0.0;  // median over pairs of wall(1 thread) / wall(2 threads)
+  // Median over the 2-thread runs of busy_seconds / (2 wall_seconds): 1 when
+  // neither thread waited for the other (the schedule's part of the speed-up).
+  double balance = 0.0;
+};
+
+inline ScalingRuns TimeScaling(const core::Scene& scene, const core::Terrain& terrain, int runs) {
+  ScalingRuns s;
+  std::vector<double> ratios, balances;
+  for (int r = 0; r < runs; ++r) {
+    const TimedRuns one = TimeSimulation(scene, terrain, 1, 1);
+    const TimedRuns two = TimeSimulation(scene, terrain, 2, 1);
+    s.one.walls.push_back(one.median_wall);
+    s.two.walls.push_back(two.median_wall);
+    ratios.push_back(one.median_wall / two.median_wall);
+    balances.push_back(two.result.busy_seconds / (2.0 * two.median_wall));
+    if (r + 1 == runs) {
+      s.one.result = one.result;
+      s.two.result = two.result;
+    }
+  }
+  s.one.median_wall = Median(s.one.walls);
+  s.two.median_wall = Median(s.two.walls);
+  s.speedup = Median(ratios);
+  s.balance = Median(balances);
+  return s;
+}
+
 // The rock-steps a fixed-step engine would take for the same simulated rock
 // lives: the sum over rocks of (simulated time / the rock's contact step).
 inline double FixedStepRockSteps(const core::SimulationResult& result) {

@@ -1162,8 +1162,10 @@ SimulationResult SimulateRocks(const Scene& scene, const Terrain& terrain, int f
   const int threads = scene.options.threads > 0 ? scene.options.threads : omp_get_max_threads();
   const long n = static_cast<long>(jobs.size());
   int done = 0;
+  std::vector<double> busy(jobs.size(), 0.0);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
   for (long k = 0; k < n; ++k) {
+    const auto rock_start = std::chrono::steady_clock::now();
     const Job& job = jobs[static_cast<std::size_t>(k)];
     const RockGroup& group = scene.groups[static_cast<std::size_t>(job.group)];
     // Keyed by the group and the index within it, so adding rocks to one
@@ -1201,12 +1203,15 @@ SimulationResult SimulateRocks(const Scene& scene, const Terrain& terrain, int f
     } else {
       RockRun<false>(ctx, body, steps, &rec).Run(s0);
     }
+    busy[static_cast<std::size_t>(k)] =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - rock_start).count();
     if (progress) {
 #pragma omp critical(rockcal_progress)
       progress(++done, static_cast<int>(n));
     }
   }
   AddUpRocks(shrunk, &result);
+  for (double b : busy) result.busy_seconds += b;
   result.cells_recorded = scene.options.record.passages;
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -1218,6 +1223,7 @@ SimulationResult JoinRockBlocks(std::vector<SimulationResult> blocks) {
   bool any = false;
   for (SimulationResult& b : blocks) {
     out.wall_seconds = std::max(out.wall_seconds, b.wall_seconds);
+    out.busy_seconds += b.busy_seconds;
     out.cells_recorded = out.cells_recorded || b.cells_recorded;
     if (b.rocks.empty()) continue;
     out.steps += b.steps;

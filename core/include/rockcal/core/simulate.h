@@ -67,6 +67,10 @@ struct SimulationResult {
   long steps = 0, flights = 0;
   long gentle_steps = 0, retried_steps = 0;  // see RockRecord
   double wall_seconds = 0.0;
+  // Wall time the threads spent inside rocks, summed over rocks: at T
+  // threads busy_seconds / (T wall_seconds) is the share of the run the
+  // schedule kept every thread busy (1: no thread waited for another).
+  double busy_seconds = 0.0;
   double dt_min = 0.0, dt_max = 0.0;  // contact steps used
   int dt_shrunk = 0;   // rocks whose step was cut below t_c/N_c for stability
   double max_relative_energy_gain = 0.0;
