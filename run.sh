@@ -10,7 +10,8 @@ cd "$(dirname "$0")"
 # libopenmpi-dev: the MPI engine (mpirun -np N rockcal ...); rockcal also
 # builds without it (then single-process only).
 PACKAGES=(build-essential cmake libeigen3-dev libnlopt-cxx-dev libceres-dev
-          nlohmann-json3-dev libgtest-dev libgmock-dev libgdal-dev libopenmpi-dev)
+          nlohmann-json3-dev libgtest-dev libgmock-dev libgdal-dev libqhull-dev
+          libopenmpi-dev)
 JOBS=$(nproc 2>/dev/null || echo 2)
 
 install_missing() {

@@ -1,8 +1,7 @@
 #include "rockcal/reports/raster_outputs.h"
 
 #include <cpl_error.h>
-#include <cpl_string.h>
-#include <gdal_priv.h>
+#include <gdal.h>
 #include <unistd.h>
 
 #include <array>
@@ -15,6 +14,7 @@
 #include <stdexcept>
 #include <string>
 #include <system_error>
+#include <utility>
 #include <vector>
 
 #include "rockcal/core/format.h"
@@ -29,9 +29,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-GDALDriver* Driver(const char* name) {
+GDALDriverH Driver(const char* name) {
   sites::gdal::Init();
-  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(name);
+  GDALDriverH driver = GDALGetDriverByName(name);
   if (driver == nullptr)
     throw std::runtime_error(std::string("GDAL has no ") + name +
                              " driver; cannot write the rasters");
@@ -92,7 +92,24 @@ std::vector<float> NorthFirst(const core::RasterSet& r, const core::RasterBand& 
   return out;
 }
 
-using Dataset = std::unique_ptr<GDALDataset, GDALDatasetUniquePtrDeleter>;
+using Dataset = sites::gdal::Dataset;
+
+// GDAL's creation options: NAME=VALUE strings and the null-terminated list
+// of them that GDAL takes.
+class Options final {
+ public:
+  explicit Options(std::vector<std::string> items) : items_(std::move(items)) {
+    for (const std::string& i : items_) list_.push_back(i.c_str());
+    list_.push_back(nullptr);
+  }
+  Options(const Options&) = delete;
+  Options& operator=(const Options&) = delete;
+  CSLConstList list() const { return list_.data(); }
+
+ private:
+  std::vector<std::string> items_;
+  std::vector<const char*> list_;
+};
 
 // An in-memory dataset of the bands `first` .. `last` - 1 with the frame's
 // geotransform and CRS; `described`: with each band's description and unit
@@ -100,25 +117,25 @@ using Dataset = std::unique_ptr<GDALDataset, GDALDatasetUniquePtrDeleter>;
 Dataset MemoryDataset(const core::RasterSet& r, std::vector<std::vector<float>>& values,
                       std::size_t first, std::size_t last, const RasterFrame& frame, bool described,
                       const sites::gdal::ErrorCapture& errors) {
-  Dataset ds(
-      Driver("MEM")->Create("", r.nx, r.ny, static_cast<int>(last - first), GDT_Float32, nullptr));
+  Dataset ds(GDALCreate(Driver("MEM"), "", r.nx, r.ny, static_cast<int>(last - first), GDT_Float32,
+                        nullptr));
   if (!ds)
     throw std::runtime_error("cannot build the rasters in memory: " +
                              errors.Cause("GDAL's MEM driver failed"));
   std::array<double, 6> transform = RasterGeoTransform(r, frame.units);
-  ds->SetGeoTransform(transform.data());
-  if (!frame.crs_wkt.empty() && ds->SetProjection(frame.crs_wkt.c_str()) != CE_None)
+  GDALSetGeoTransform(ds.get(), transform.data());
+  if (!frame.crs_wkt.empty() && GDALSetProjection(ds.get(), frame.crs_wkt.c_str()) != CE_None)
     throw std::runtime_error("cannot use the site's CRS for the rasters: " +
                              errors.Cause("GDAL does not read its WKT"));
   for (std::size_t k = first; k < last; ++k) {
-    GDALRasterBand* band = ds->GetRasterBand(static_cast<int>(k - first) + 1);
-    band->SetNoDataValue(kRasterNodata);
+    GDALRasterBandH band = GDALGetRasterBand(ds.get(), static_cast<int>(k - first) + 1);
+    GDALSetRasterNoDataValue(band, kRasterNodata);
     if (described) {
-      band->SetDescription(RasterBandDescription(r.bands[k]).c_str());
-      band->SetUnitType(r.bands[k].unit.c_str());
+      GDALSetDescription(band, RasterBandDescription(r.bands[k]).c_str());
+      GDALSetRasterUnitType(band, r.bands[k].unit.c_str());
     }
-    if (band->RasterIO(GF_Write, 0, 0, r.nx, r.ny, values[k].data(), r.nx, r.ny, GDT_Float32, 0, 0,
-                       nullptr) != CE_None)
+    if (GDALRasterIO(band, GF_Write, 0, 0, r.nx, r.ny, values[k].data(), r.nx, r.ny, GDT_Float32, 0,
+                     0) != CE_None)
       throw std::runtime_error("cannot build the rasters in memory: " +
                                errors.Cause("writing band " + r.bands[k].name + " failed"));
   }
@@ -127,11 +144,11 @@ Dataset MemoryDataset(const core::RasterSet& r, std::vector<std::vector<float>>&
 
 // Copies `source` to `path` with `driver` and closes it; throws naming
 // `shown` and GDAL's cause.
-void CopyTo(const char* driver, GDALDataset* source, const std::string& path,
-            const CPLStringList& options, const std::string& shown) {
+void CopyTo(const char* driver, GDALDatasetH source, const std::string& path,
+            const Options& options, const std::string& shown) {
   sites::gdal::ErrorCapture errors;
-  Dataset copy(
-      Driver(driver)->CreateCopy(path.c_str(), source, FALSE, options.List(), nullptr, nullptr));
+  Dataset copy(GDALCreateCopy(Driver(driver), path.c_str(), source, FALSE, options.list(), nullptr,
+                              nullptr));
   if (copy) copy.reset();  // closing writes the last blocks: failures land in `errors`
   if (!errors.failed() && std::filesystem::exists(path)) return;
   throw std::runtime_error("cannot write " + shown + ": " + errors.Cause("GDAL failed"));
@@ -182,12 +199,10 @@ void WriteRasterFiles(const std::string& folder, const core::RasterSet& rasters,
     {
       sites::gdal::ErrorCapture errors;
       Dataset all = MemoryDataset(rasters, values, 0, rasters.bands.size(), frame, true, errors);
-      all->SetMetadataItem("ROCKS_RELEASED", std::to_string(rasters.released).c_str());
-      all->SetMetadataItem("TIFFTAG_SOFTWARE", "rockcal " ROCKCAL_VERSION);
-      CPLStringList options;
-      options.SetNameValue("COMPRESS", "DEFLATE");
-      options.SetNameValue("INTERLEAVE", "BAND");
-      options.SetNameValue("BIGTIFF", "IF_SAFER");
+      GDALSetMetadataItem(all.get(), "ROCKS_RELEASED", std::to_string(rasters.released).c_str(),
+                          nullptr);
+      GDALSetMetadataItem(all.get(), "TIFFTAG_SOFTWARE", "rockcal " ROCKCAL_VERSION, nullptr);
+      const Options options({"COMPRESS=DEFLATE", "INTERLEAVE=BAND", "BIGTIFF=IF_SAFER"});
       CopyTo("GTiff", all.get(), tif_temp, options, tif);
     }
     fs::remove_all(asc_temp, ec);
@@ -197,8 +212,7 @@ void WriteRasterFiles(const std::string& folder, const core::RasterSet& rasters,
     for (std::size_t k = 0; k < rasters.bands.size(); ++k) {
       sites::gdal::ErrorCapture errors;
       Dataset one = MemoryDataset(rasters, values, k, k + 1, frame, false, errors);
-      CPLStringList options;
-      options.SetNameValue("SIGNIFICANT_DIGITS", "7");
+      const Options options({"SIGNIFICANT_DIGITS=7"});
       const std::string name = rasters.bands[k].name + ".asc";
       CopyTo("AAIGrid", one.get(), asc_temp + "/" + name, options, asc + "/" + name);
     }

@@ -1,24 +1,17 @@
 #include "rockcal/sites/gridding.h"
 
-#include <gdal_alg.h>
-
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
-#include <memory>
 
+#include "delaunay.h"
 #include "rockcal/core/format.h"
-#include "rockcal/sites/gdal_util.h"
 
 namespace rockcal::sites {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-struct TriangulationFree {
-  void operator()(GDALTriangulation* t) const { GDALTriangulationFree(t); }
-};
-using Triangulation = std::unique_ptr<GDALTriangulation, TriangulationFree>;
 
 // The points with every run of equal plan positions replaced by one point at
 // their mean elevation, sorted by x then y.
@@ -102,8 +95,8 @@ bool GridPoints(const std::vector<Eigen::Vector3d>& points, const GriddingOption
     ymax = std::max(ymax, q.y());
   }
   // Triangulated in coordinates relative to (xmin, ymin) in units of the
-  // data spacing d, so that GDAL's fixed threshold for a degenerate triangle
-  // (twice the area below 1e-5) means a sliver whatever the units and the
+  // data spacing d, so that the fixed threshold for a degenerate triangle
+  // (Delaunay::kDegenerateArea2) means a sliver whatever the units and the
   // distance from the origin.
   const double d = std::sqrt((xmax - xmin) * (ymax - ymin) / static_cast<double>(p.size()));
   std::vector<double> u(p.size()), v(p.size());
@@ -111,29 +104,24 @@ bool GridPoints(const std::vector<Eigen::Vector3d>& points, const GriddingOption
     u[k] = (p[k].x() - xmin) / d;
     v[k] = (p[k].y() - ymin) / d;
   }
-  gdal::ErrorCapture errors;
-  Triangulation dt(GDALTriangulationCreateDelaunay(static_cast<int>(p.size()), u.data(), v.data()));
-  if (!dt || !GDALTriangulationComputeBarycentricCoefficients(dt.get(), u.data(), v.data()) ||
-      dt->nFacets < 1) {
+  Delaunay dt;
+  std::string why;
+  if (!dt.Build(u, v, &why)) {
     *error = "the Delaunay triangulation of the " + std::to_string(p.size()) +
-             " surface points failed (GDAL: " + errors.message() +
-             "); expected points spanning an area";
+             " surface points failed (" + why + "); expected points spanning an area";
     return false;
   }
-  rep.triangles = dt->nFacets;
+  rep.triangles = dt.size();
 
-  // A triangle is usable unless it is degenerate (GDAL gives it no
-  // coefficients) or has an edge longer than max_edge.
-  std::vector<char> usable(static_cast<std::size_t>(dt->nFacets));
-  for (int f = 0; f < dt->nFacets; ++f) {
-    const int* vi = dt->pasFacets[f].anVertexIdx;
-    const GDALTriBarycentricCoefficients& c = dt->pasFacetCoefficients[f];
-    const bool degenerate =
-        c.dfMul1X == 0.0 && c.dfMul1Y == 0.0 && c.dfMul2X == 0.0 && c.dfMul2Y == 0.0;
+  // A triangle is usable unless it is degenerate or has an edge longer than
+  // max_edge.
+  std::vector<char> usable(static_cast<std::size_t>(dt.size()));
+  for (int f = 0; f < dt.size(); ++f) {
+    const std::array<int, 3>& vi = dt.vertices(f);
     double longest = 0.0;
     for (int k = 0; k < 3; ++k)
       longest = std::max(longest, (p[vi[k]].head<2>() - p[vi[(k + 1) % 3]].head<2>()).norm());
-    usable[f] = !degenerate && longest <= options.max_edge;
+    usable[f] = !dt.degenerate(f) && longest <= options.max_edge;
   }
 
   core::HeightGrid& g = *grid;
@@ -150,7 +138,7 @@ bool GridPoints(const std::vector<Eigen::Vector3d>& points, const GriddingOption
   // How far outside triangle f the plan point with barycentric coordinates
   // l lies [m] (0 inside).
   auto distance_outside = [&](int f, const double* l) {
-    const int* vi = dt->pasFacets[f].anVertexIdx;
+    const std::array<int, 3>& vi = dt.vertices(f);
     const Eigen::Vector2d a = p[vi[0]].head<2>(), b = p[vi[1]].head<2>(), c = p[vi[2]].head<2>();
     const double area2 = std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
     const double opposite[3] = {(c - b).norm(), (a - c).norm(), (b - a).norm()};
@@ -159,9 +147,6 @@ bool GridPoints(const std::vector<Eigen::Vector3d>& points, const GriddingOption
       if (l[k] < 0.0) out = std::max(out, -l[k] * area2 / opposite[k]);
     return out;
   };
-  auto barycentric = [&](int f, double x, double y, double* l) {
-    GDALTriangulationComputeBarycentricCoordinates(dt.get(), f, x, y, &l[0], &l[1], &l[2]);
-  };
 
   int start = 0;
   for (int j = 0; j < g.ny; ++j) {
@@ -169,13 +154,13 @@ bool GridPoints(const std::vector<Eigen::Vector3d>& points, const GriddingOption
       const double x = i * s / d, y = j * s / d;
       int f = -1;
       double l[3];
-      const bool inside = GDALTriangulationFindFacetDirected(dt.get(), start, x, y, &f);
+      const bool inside = dt.Locate(start, x, y, &f);
       if (f < 0) {
         ++rep.outside_hull;
         continue;
       }
       start = f;
-      barycentric(f, x, y, l);
+      dt.Barycentric(f, x, y, l);
       if (!inside && distance_outside(f, l) > 1e-6 * s) {
         ++rep.outside_hull;
         continue;
@@ -184,7 +169,7 @@ bool GridPoints(const std::vector<Eigen::Vector3d>& points, const GriddingOption
         // On an edge (or a corner) shared with a usable triangle: take that one.
         int other = -1;
         for (int k = 0; k < 3 && other < 0; ++k) {
-          const int n = dt->pasFacets[f].anNeighborIdx[k];
+          const int n = dt.neighbour(f, k);
           if (std::abs(l[k]) <= 1e-9 && n >= 0 && usable[n]) other = n;
         }
         if (other < 0) {
@@ -192,9 +177,9 @@ bool GridPoints(const std::vector<Eigen::Vector3d>& points, const GriddingOption
           continue;
         }
         f = other;
-        barycentric(f, x, y, l);
+        dt.Barycentric(f, x, y, l);
       }
-      const int* vi = dt->pasFacets[f].anVertexIdx;
+      const std::array<int, 3>& vi = dt.vertices(f);
       g.z[g.index(i, j)] = l[0] * p[vi[0]].z() + l[1] * p[vi[1]].z() + l[2] * p[vi[2]].z();
       ++rep.nodes;
     }

@@ -2,7 +2,7 @@
 // rasters/<band>.asc on the grid of the DEM the site was read from, with its
 // CRS, read back with GDAL as a GIS reads them; the passages checked against
 // the partition crossings of rocks.csv on a scene where they must agree.
-#include <gdal_priv.h>
+#include <gdal.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -50,16 +50,17 @@ double RowY(int r) { return kNorth - r - 0.5; }
 
 void WriteDem(const std::string& path) {
   GDALAllRegister();
-  GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+  GDALDriverH gtiff = GDALGetDriverByName("GTiff");
   ASSERT_NE(gtiff, nullptr);
-  std::unique_ptr<GDALDataset, GDALDatasetUniquePtrDeleter> ds(
-      gtiff->Create(path.c_str(), kCols, kRows, 1, GDT_Float32, nullptr));
-  ASSERT_TRUE(ds);
+  const sites::gdal::Dataset dataset(
+      GDALCreate(gtiff, path.c_str(), kCols, kRows, 1, GDT_Float32, nullptr));
+  ASSERT_TRUE(dataset);
+  const auto ds = static_cast<GDALDatasetH>(dataset.get());
   double transform[6] = {kWest, 1.0, 0.0, kNorth, 0.0, -1.0};
-  ds->SetGeoTransform(transform);
-  ds->SetProjection(EpsgWkt(2154).c_str());
-  GDALRasterBand* band = ds->GetRasterBand(1);
-  band->SetNoDataValue(kNodata);
+  GDALSetGeoTransform(ds, transform);
+  GDALSetProjection(ds, EpsgWkt(2154).c_str());
+  GDALRasterBandH band = GDALGetRasterBand(ds, 1);
+  GDALSetRasterNoDataValue(band, kNodata);
   std::vector<float> z(static_cast<std::size_t>(kCols) * kRows);
   const double fall = std::tan(std::acos(-1.0) / 6.0);  // 30 degrees
   for (int r = 0; r < kRows; ++r)
@@ -68,9 +69,9 @@ void WriteDem(const std::string& path) {
       z[static_cast<std::size_t>(r) * kCols + c] =
           border ? static_cast<float>(kNodata) : static_cast<float>(100.0 - fall * (c + 0.5));
     }
-  ASSERT_EQ(band->RasterIO(GF_Write, 0, 0, kCols, kRows, z.data(), kCols, kRows, GDT_Float32, 0, 0,
-                           nullptr),
-            CE_None);
+  ASSERT_EQ(
+      GDALRasterIO(band, GF_Write, 0, 0, kCols, kRows, z.data(), kCols, kRows, GDT_Float32, 0, 0),
+      CE_None);
 }
 
 // Spheres released at rest at the centres of DEM cells, on a smooth plane

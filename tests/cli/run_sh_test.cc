@@ -39,7 +39,8 @@ const std::map<std::string, std::string>& HeaderPackages() {
       {"Eigen", "libeigen3-dev"},        {"ceres", "libceres-dev"},
       {"nlopt.hpp", "libnlopt-cxx-dev"}, {"nlohmann", "nlohmann-json3-dev"},
       {"gtest", "libgtest-dev"},         {"gmock", "libgmock-dev"},
-      {"omp.h", "build-essential"},      {"mpi.h", "libopenmpi-dev"}};
+      {"omp.h", "build-essential"},      {"mpi.h", "libopenmpi-dev"},
+      {"libqhull_r", "libqhull-dev"}};
   return packages;
 }
 
@@ -51,8 +52,8 @@ bool IsGdalHeader(const std::string& header) {
 }
 
 bool IsSystemHeader(const std::string& header) {
-  static const std::set<std::string> posix = {"unistd.h", "stdlib.h", "signal.h", "fcntl.h",
-                                              "errno.h"};
+  static const std::set<std::string> posix = {"unistd.h", "stdlib.h", "signal.h",
+                                              "fcntl.h",  "errno.h",  "dlfcn.h"};
   if (posix.count(header) || header.rfind("sys/", 0) == 0) return true;
   // The C++ standard headers have no extension and no folder.
   return header.find('.') == std::string::npos && header.find('/') == std::string::npos;

@@ -3,15 +3,18 @@
 #ifndef ROCKCAL_TESTS_REPORTS_RASTER_CHECK_H_
 #define ROCKCAL_TESTS_REPORTS_RASTER_CHECK_H_
 
-#include <gdal_priv.h>
+#include <cpl_conv.h>
+#include <gdal.h>
 #include <gtest/gtest.h>
-#include <ogr_spatialref.h>
+#include <ogr_srs_api.h>
 
 #include <array>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "rockcal/sites/gdal_util.h"
 
 namespace rockcal::testing {
 
@@ -39,40 +42,42 @@ struct ReadRaster {
 inline ReadRaster OpenRaster(const std::string& path) {
   GDALAllRegister();
   ReadRaster out;
-  std::unique_ptr<GDALDataset, GDALDatasetUniquePtrDeleter> ds(
-      GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
-  if (!ds) return out;
+  const sites::gdal::Dataset dataset(
+      GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr));
+  if (!dataset) return out;
+  const auto ds = static_cast<GDALDatasetH>(dataset.get());
   out.opened = true;
-  out.driver = ds->GetDriver()->GetDescription();
-  out.nx = ds->GetRasterXSize();
-  out.ny = ds->GetRasterYSize();
-  out.has_transform = ds->GetGeoTransform(out.transform.data()) == CE_None;
-  if (const OGRSpatialReference* srs = ds->GetSpatialRef()) {
+  out.driver = GDALGetDescription(GDALGetDatasetDriver(ds));
+  out.nx = GDALGetRasterXSize(ds);
+  out.ny = GDALGetRasterYSize(ds);
+  out.has_transform = GDALGetGeoTransform(ds, out.transform.data()) == CE_None;
+  if (OGRSpatialReferenceH srs = GDALGetSpatialRef(ds)) {
     char* wkt = nullptr;
-    srs->exportToWkt(&wkt);
+    OSRExportToWkt(srs, &wkt);
     out.wkt = wkt ? wkt : "";
     CPLFree(wkt);
   }
-  if (const char* c = ds->GetMetadataItem("COMPRESSION", "IMAGE_STRUCTURE")) out.compression = c;
-  if (char** md = ds->GetMetadata()) {
+  if (const char* c = GDALGetMetadataItem(ds, "COMPRESSION", "IMAGE_STRUCTURE"))
+    out.compression = c;
+  if (char** md = GDALGetMetadata(ds, nullptr)) {
     for (char** item = md; *item != nullptr; ++item) {
       const std::string kv = *item;
       const std::size_t eq = kv.find('=');
       if (eq != std::string::npos) out.metadata[kv.substr(0, eq)] = kv.substr(eq + 1);
     }
   }
-  for (int b = 1; b <= ds->GetRasterCount(); ++b) {
-    GDALRasterBand* band = ds->GetRasterBand(b);
+  for (int b = 1; b <= GDALGetRasterCount(ds); ++b) {
+    GDALRasterBandH band = GDALGetRasterBand(ds, b);
     ReadBand r;
-    r.description = band->GetDescription();
-    r.unit = band->GetUnitType();
+    r.description = GDALGetDescription(band);
+    r.unit = GDALGetRasterUnitType(band);
     int has = 0;
-    r.nodata = band->GetNoDataValue(&has);
+    r.nodata = GDALGetRasterNoDataValue(band, &has);
     r.has_nodata = has != 0;
-    r.type = band->GetRasterDataType();
+    r.type = GDALGetRasterDataType(band);
     r.values.resize(static_cast<std::size_t>(out.nx) * static_cast<std::size_t>(out.ny));
-    EXPECT_EQ(band->RasterIO(GF_Read, 0, 0, out.nx, out.ny, r.values.data(), out.nx, out.ny,
-                             GDT_Float64, 0, 0, nullptr),
+    EXPECT_EQ(GDALRasterIO(band, GF_Read, 0, 0, out.nx, out.ny, r.values.data(), out.nx, out.ny,
+                           GDT_Float64, 0, 0),
               CE_None);
     out.bands.push_back(std::move(r));
   }
@@ -82,20 +87,21 @@ inline ReadRaster OpenRaster(const std::string& path) {
 // Whether the CRS of WKT `a` and `b` are the same (both empty: the same).
 inline bool SameCrs(const std::string& a, const std::string& b) {
   if (a.empty() || b.empty()) return a.empty() && b.empty();
-  OGRSpatialReference sa, sb;
-  if (sa.importFromWkt(a.c_str()) != OGRERR_NONE || sb.importFromWkt(b.c_str()) != OGRERR_NONE)
-    return false;
+  const sites::gdal::Srs sa = sites::gdal::SrsFromWkt(a), sb = sites::gdal::SrsFromWkt(b);
+  if (!sa || !sb) return false;
   const char* options[] = {"IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES", "CRITERION=EQUIVALENT",
                            nullptr};
-  return sa.IsSame(&sb, options) != 0;
+  return OSRIsSameEx(static_cast<OGRSpatialReferenceH>(sa.get()),
+                     static_cast<OGRSpatialReferenceH>(sb.get()), options) != 0;
 }
 
 // The WKT of "EPSG:<code>".
 inline std::string EpsgWkt(int code) {
-  OGRSpatialReference srs;
-  EXPECT_EQ(srs.importFromEPSG(code), OGRERR_NONE);
+  const sites::gdal::Srs srs(OSRNewSpatialReference(nullptr));
+  const auto h = static_cast<OGRSpatialReferenceH>(srs.get());
+  EXPECT_EQ(OSRImportFromEPSG(h, code), OGRERR_NONE);
   char* wkt = nullptr;
-  srs.exportToWkt(&wkt);
+  OSRExportToWkt(h, &wkt);
   const std::string out = wkt ? wkt : "";
   CPLFree(wkt);
   return out;

@@ -45,8 +45,8 @@ struct GriddingReport {
 // Grids scattered points (SI). The grid spans the plan bounding box of the
 // points: origin (min x, min y), NodeCount() nodes per axis. Points at the
 // same plan position (x and y equal) become one point at their mean
-// elevation. The rest are triangulated (Delaunay in plan, GDAL's
-// GDALTriangulationCreateDelaunay) and every node inside the convex hull
+// elevation. The rest are triangulated (Delaunay in plan, by Qhull as GDAL
+// does it; GDAL itself is not loaded) and every node inside the convex hull
 // takes the linear interpolation of the three corners of its triangle
 // (nodes on an edge or a corner belong to either triangle: the values
 // agree). Nodes outside the hull are holes (NaN), except that a node within
