@@ -26,8 +26,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "rockcal/sites/gdal_util.h"
-
 namespace rockcal::sites::gdal {
 namespace {
 
@@ -42,8 +40,7 @@ void* OpenLibrary() {
   return library;
 }
 
-}  // namespace
-
+// The function `name` of GDAL's library, which the first call loads.
 void* LibrarySymbol(const char* name) {
   static void* const library = OpenLibrary();
   void* symbol = dlsym(library, name);
@@ -52,6 +49,7 @@ void* LibrarySymbol(const char* name) {
   return symbol;
 }
 
+}  // namespace
 }  // namespace rockcal::sites::gdal
 
 // Defines GDAL's function `name` (return type `ret`, parameters `params`,

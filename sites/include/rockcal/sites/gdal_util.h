@@ -1,8 +1,10 @@
 // Helpers around the GDAL C API for the libraries that read and write GIS
 // files (sites, reports): drivers registered once, owning handles, and
 // GDAL's error messages caught (never printed) so that each failure becomes
-// one error naming the file. GDAL's library is loaded at the first call of
-// any of its functions (LibrarySymbol).
+// one error naming the file. rockcal does not link GDAL: its library is
+// loaded at the first call of any of its functions (gdal_library.cc), so a
+// run that reads and writes no GIS file never loads it. A call throws
+// std::runtime_error when the library cannot be loaded.
 #ifndef ROCKCAL_SITES_GDAL_UTIL_H_
 #define ROCKCAL_SITES_GDAL_UTIL_H_
 
@@ -20,12 +22,6 @@ namespace rockcal::sites::gdal {
 
 // Registers GDAL's drivers (once per process).
 void Init();
-
-// The function `name` of GDAL's library, which the first call loads (see
-// gdal_library.cc: rockcal does not link GDAL, so that a run reading no GIS
-// file never loads it). Throws std::runtime_error when the library cannot be
-// loaded or lacks the function.
-void* LibrarySymbol(const char* name);
 
 // While alive, GDAL's error messages go to this object instead of stderr;
 // message() is the first failure (or warning when there was no failure).
