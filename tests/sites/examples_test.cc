@@ -9,13 +9,10 @@
 
 #include "rockcal/sites/geometry.h"
 #include "rockcal/sites/site.h"
+#include "test_files.h"
 
 namespace rockcal::sites {
 namespace {
-
-std::string Example(const std::string& name) {
-  return std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/" + name + "/site.json";
-}
 
 std::vector<int> NodesPerMaterial(const core::Scene& s) {
   std::vector<int> n(s.materials.size(), 0);
@@ -25,7 +22,7 @@ std::vector<int> NodesPerMaterial(const core::Scene& s) {
 }
 
 TEST(Examples, TutorialLoads) {
-  const Site site = LoadSite(Example("tutorial"));
+  const Site site = LoadSite(testing::ExampleSite("tutorial"));
   const core::Scene& s = site.scene;
   EXPECT_EQ(site.units, Units::kUS);
   EXPECT_DOUBLE_EQ(s.grid.spacing, 3.6576);
@@ -53,7 +50,7 @@ TEST(Examples, TutorialLoads) {
 }
 
 TEST(Examples, Profile2dIsOneCellWide) {
-  const Site site = LoadSite(Example("profile2d"));
+  const Site site = LoadSite(testing::ExampleSite("profile2d"));
   const core::Scene& s = site.scene;
   EXPECT_EQ(site.units, Units::kSI);
   EXPECT_EQ(s.grid.ny, 2);
@@ -66,7 +63,7 @@ TEST(Examples, Profile2dIsOneCellWide) {
 }
 
 TEST(Examples, AuthumeMatchesItsFieldData) {
-  const Site site = LoadSite(Example("authume"));
+  const Site site = LoadSite(testing::ExampleSite("authume"));
   const core::Scene& s = site.scene;
   EXPECT_EQ(site.units, Units::kSI);
   EXPECT_LT(s.grid.nx * s.grid.ny, 50000);

@@ -8,13 +8,10 @@
 #include <string>
 
 #include "rockcal/sites/site.h"
+#include "test_files.h"
 
 namespace rockcal::sites {
 namespace {
-
-std::string Example(const std::string& name) {
-  return std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/" + name + "/site.json";
-}
 
 // True when GDAL's library is in the process (RTLD_NOLOAD: never loads it).
 bool GdalLoaded() {
@@ -25,14 +22,14 @@ bool GdalLoaded() {
 
 TEST(GdalNotLoaded, ByASiteOfScatteredPoints) {
   ASSERT_FALSE(GdalLoaded()) << "GDAL is loaded before any site: linked, not loaded at first use";
-  const Site site = LoadSite(Example("tutorial"));
+  const Site site = LoadSite(testing::ExampleSite("tutorial"));
   EXPECT_GT(site.scene.grid.nx, 0);
   EXPECT_FALSE(GdalLoaded());
 }
 
 TEST(GdalLoadedAtFirstUse, ByARasterSite) {
   ASSERT_FALSE(GdalLoaded());
-  const Site site = LoadSite(Example("authume_gis"));
+  const Site site = LoadSite(testing::ExampleSite("authume_gis"));
   EXPECT_GT(site.scene.grid.nx, 0);
   EXPECT_TRUE(GdalLoaded());
 }

@@ -1,5 +1,5 @@
 // Helpers of the sites tests: a private temporary folder for files written
-// by a test, and catching the message of an InputError.
+// by a test, catching the message of an InputError, and the example sites.
 #ifndef ROCKCAL_TESTS_SITES_TEST_FILES_H_
 #define ROCKCAL_TESTS_SITES_TEST_FILES_H_
 
@@ -61,6 +61,11 @@ inline std::string ErrorOf(const std::function<void()>& f) {
   }
   ADD_FAILURE() << "expected an InputError";
   return "";
+}
+
+// The site file of the example `name` under sites/examples/.
+inline std::string ExampleSite(const std::string& name) {
+  return std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/" + name + "/site.json";
 }
 
 }  // namespace rockcal::sites::testing
