@@ -1006,7 +1006,7 @@ RockState ReleaseRock(const SceneContext& ctx, const RockGroup& group, const Roc
   if (rel.velocity_spread.any()) {
     for (int k = 0; k < 3; ++k) s.v[k] += rel.velocity_spread[k] * rng->Normal();
   }
-  s.w.setZero();
+  s.w = rel.angular_velocity;
   s.t = 0.0;
   return s;
 }

@@ -37,6 +37,9 @@ struct Release {
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // m/s, mean
   // m/s, one-sigma spread of each velocity component (normal draws); 0: none.
   Eigen::Vector3d velocity_spread = Eigen::Vector3d::Zero();
+  // rad/s, angular velocity at release (world axes). Not a site file key:
+  // code only (the oblique-impact tests release spinning rocks).
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
   // Orientation of a cluster at release (body axes to world); unset: uniformly
   // random. Its draws are made either way, so setting it moves no other draw.
   std::optional<Eigen::Quaterniond> orientation;
