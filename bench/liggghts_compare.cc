@@ -48,15 +48,29 @@ constexpr double kFrozenDensity =
 constexpr double kSkin = 0.2;      // m, LIGGGHTS neighbour skin
 constexpr double kLongRun = 30.0;  // s: LIGGGHTS runs longer than this are repeated 3 times at most
 constexpr double kVeryLongRun = 300.0;  // s: ... and longer than this only once
+// m past the partition where a gate-only run takes a rock out: beyond the
+// reach of any virtual sphere (radius 6 m) a rock before the partition can
+// touch, so the spheres there go too.
+constexpr double kGateMargin = 15.0;
 
 // What the comparison needs from either engine.
 struct EngineResult {
   std::vector<double> runout;   // stop x of the stopped rocks [m]
   std::vector<double> heights;  // bounce heights at the partition [m]
-  std::vector<double> speeds;   // speeds there [m/s] (LIGGGHTS: over the frame that crosses)
+  std::vector<double> speeds;   // speeds there [m/s] (LIGGGHTS: interpolated between frames)
+  // Gate clearance at the partition: the normal distance of the rock's
+  // lowest point above the plane through the slope's nodes (issue 36) [m].
+  std::vector<double> clearances;
   int stopped = 0, left = 0,
       moving = 0;  // moving: rockcal's timeout; LIGGGHTS: still fast at the end
 };
+
+// The normal clearance of a sphere of radius a centred at c above the plane
+// through the slope's nodes (slope_scene.h: z = (toe - x) tan theta).
+double Clearance(const Eigen::Vector3d& c, double a) {
+  const double th = bench::kSlopeDegrees * M_PI / 180.0;
+  return (c.x() - bench::kSlopeToeX) * std::sin(th) + c.z() * std::cos(th) - a;
+}
 
 EngineResult FromRockcal(const core::SimulationResult& result) {
   EngineResult out;
@@ -64,6 +78,7 @@ EngineResult FromRockcal(const core::SimulationResult& result) {
     if (!r.crossings.empty() && r.crossings[0].crossed) {
       out.heights.push_back(r.crossings[0].height);
       out.speeds.push_back(r.crossings[0].speed);
+      out.clearances.push_back(Clearance(r.crossings[0].point, 0.5 * r.size));
     }
     switch (r.outcome) {
       case core::Outcome::kStopped:
@@ -106,7 +121,11 @@ struct Deck {
   int chunk_steps = 0;
   double dt = 0.0;
   double time_limit = 0.0;  // s simulated at most
-  double kn_median = 0.0;   // N/m, normal stiffness of the median rock
+  // Gate only (issue 36): a rock is taken out of the run once it is
+  // kGateMargin past the partition, and the run ends when none is left:
+  // only the partition's figures are compared, at a fraction of the cost.
+  bool gate_only = false;
+  double kn_median = 0.0;  // N/m, normal stiffness of the median rock
 };
 
 // Atom types: 1 = the virtual spheres, 2 = the catch surface mesh, 3 + k = rock
@@ -305,14 +324,19 @@ void WriteInput(const Deck& deck, const core::Scene& scene, const core::Terrain&
     << "thermo " << deck.chunk_steps << "\n"
     << "thermo_modify lost ignore norm no\n"
     << "dump trajectories rocks custom " << std::lround(kSampleSeconds / deck.dt)
-    << " traj.dump id x y z\n"
+    << " traj.dump id x y z vx vy vz\n"
     // Runs in chunks; stops early once every rock is slower than the stop
     // speed at two chunk ends in a row (rockcal: 1 s below it).
     << "variable slow equal 0\n"
+    << "region beyond block " << kPartitionX + kGateMargin << " INF INF INF INF INF units box\n"
+    << "variable nrocks equal count(rocks)\n"
     << "variable chunk loop " << deck.chunks << "\n"
     << "label next_chunk\n"
-    << "run " << deck.chunk_steps << "\n"
-    << "if \"${vmax} < " << scene.options.stop_speed
+    << "run " << deck.chunk_steps << "\n";
+  if (deck.gate_only)
+    f << "delete_atoms region beyond compress no\n"
+      << "if \"${nrocks} == 0\" then \"jump SELF finish\"\n";
+  f << "if \"${vmax} < " << scene.options.stop_speed
     << "\" then \"variable slow equal ${slow}+1\" else \"variable slow equal 0\"\n"
     << "if \"${slow} >= 2\" then \"jump SELF finish\"\n"
     << "next chunk\n"
@@ -368,10 +392,11 @@ LiggghtsRun RunLiggghts(const std::string& exe, const Deck& deck) {
 // rockcal's crossings measure it) where the path between two frames first
 // crosses it.
 EngineResult ReadLiggghtsResult(const Deck& deck, const core::Scene& scene,
-                                const core::Terrain& terrain) {
+                                const core::Terrain& terrain,
+                                const core::SimulationResult& result) {
   struct Track {
     bool seen = false, left = false, crossed = false;
-    Eigen::Vector3d last = Eigen::Vector3d::Zero();
+    Eigen::Vector3d last = Eigen::Vector3d::Zero(), last_v = Eigen::Vector3d::Zero();
   };
   std::map<long, Track> tracks;
   std::ifstream traj(deck.dir + "/traj.dump");
@@ -391,10 +416,12 @@ EngineResult ReadLiggghtsResult(const Deck& deck, const core::Scene& scene,
     }
     if (!atoms || skip) continue;
     long id = 0;
-    double x, y, z;
-    if (std::sscanf(line.c_str(), "%ld %lf %lf %lf", &id, &x, &y, &z) != 4) continue;
+    double x, y, z, vx, vy, vz;
+    if (std::sscanf(line.c_str(), "%ld %lf %lf %lf %lf %lf %lf", &id, &x, &y, &z, &vx, &vy, &vz) !=
+        7)
+      continue;
     Track& t = tracks[id];
-    const Eigen::Vector3d p(x, y, z);
+    const Eigen::Vector3d p(x, y, z), v(vx, vy, vz);
     if (t.left) continue;
     if (!terrain.OnSlope(x, y)) {
       t.left = true;
@@ -406,11 +433,16 @@ EngineResult ReadLiggghtsResult(const Deck& deck, const core::Scene& scene,
       double ground = c.z();
       terrain.GroundHeight(c.x(), c.y(), &ground);
       out.heights.push_back(c.z() - ground);
-      out.speeds.push_back((p - t.last).norm() / kSampleSeconds);
+      out.speeds.push_back((t.last_v + f * (v - t.last_v)).norm());
+      const long k = id - deck.terrain_atoms - 1;
+      if (k >= 0 && k < static_cast<long>(result.rocks.size()))
+        out.clearances.push_back(
+            Clearance(c, 0.5 * result.rocks[static_cast<std::size_t>(k)].size));
       t.crossed = true;
     }
     t.seen = true;
     t.last = p;
+    t.last_v = v;
   }
   std::map<long, Eigen::Vector3d> final_x, final_v;
   std::ifstream fin(deck.dir + "/final.dump");
@@ -508,7 +540,7 @@ RockcalRuns RunRockcal(const core::Scene& scene, const core::Terrain& terrain, i
 // folder; false when the folder cannot be made.
 bool MakeDeck(const core::Scene& scene, const core::Terrain& terrain,
               const core::SimulationResult& result, const core::ContactLaw& law, double max_time,
-              int dt_divisor, Deck* deck) {
+              int dt_divisor, bool gate_only, Deck* deck) {
   const std::string dir_name =
       (std::filesystem::temp_directory_path() / "rockcal_liggghts_XXXXXX").string();
   std::vector<char> dir_buffer(dir_name.begin(), dir_name.end());
@@ -517,6 +549,7 @@ bool MakeDeck(const core::Scene& scene, const core::Terrain& terrain,
   if (made == nullptr) return false;
   deck->dir = made;
   deck->terrain_atoms = scene.grid.nx * scene.grid.ny;
+  deck->gate_only = gate_only;
   deck->rock_atoms = static_cast<int>(result.rocks.size());
   deck->dt = result.dt_max / dt_divisor;  // t_c / N_c for every rock of this scene, / K
   deck->chunk_steps = static_cast<int>(std::lround(kCheckSeconds / deck->dt));
@@ -588,6 +621,9 @@ void PrintSideBySide(const EngineResult& ours, const EngineResult& theirs) {
   PrintComparisonRow("runout x p10 [m]", ours.runout, theirs.runout, 0.10);
   PrintComparisonRow("runout x p50 [m]", ours.runout, theirs.runout, 0.50);
   PrintComparisonRow("runout x p90 [m]", ours.runout, theirs.runout, 0.90);
+  PrintComparisonRow("clearance p10 [m]", ours.clearances, theirs.clearances, 0.10);
+  PrintComparisonRow("clearance p50 [m]", ours.clearances, theirs.clearances, 0.50);
+  PrintComparisonRow("clearance p90 [m]", ours.clearances, theirs.clearances, 0.90);
   PrintComparisonRow("height p50 [m]", ours.heights, theirs.heights, 0.50);
   PrintComparisonRow("height p90 [m]", ours.heights, theirs.heights, 0.90);
   PrintComparisonRow("height p95 [m]", ours.heights, theirs.heights, 0.95);
@@ -610,12 +646,14 @@ int main(int argc, char** argv) {
   const int liggghts_divisor = argc > 7 ? std::atoi(argv[7]) : 1;
   const double max_time = argc > 8 ? std::atof(argv[8]) : 60.0;
   const bool reference_path = argc > 9 && std::string(argv[9]) == "reference";
+  const double restitution = argc > 10 ? std::atof(argv[10]) : -1.0;
+  const bool gate_only = argc > 11 && std::string(argv[11]) == "gate";
   if (rocks < 2 || runs < 1 || !(spacing > 0.5) || steps_per_contact < 10 || liggghts_divisor < 1 ||
       !(max_time > 0)) {
     std::fprintf(stderr,
                  "usage: liggghts_compare [rocks=200] [runs=5] [spacing_m=3.6576] "
                  "[friction=model] [rolling_resistance=model] [N_c=50] [liggghts_dt_divisor=1] "
-                 "[max_time_s=60] [production|reference]\n"
+                 "[max_time_s=60] [production|reference] [restitution=model] [all|gate]\n"
                  "(rocks >= 2, runs >= 1, spacing > 0.5, N_c >= 10, divisor >= 1, max_time > 0; "
                  "a negative friction or rolling resistance keeps the hardness model's)\n");
     return 2;
@@ -623,6 +661,7 @@ int main(int argc, char** argv) {
   core::Scene scene = bench::SlopeScene(rocks, spacing);
   if (friction >= 0) scene.materials[0].friction = friction;
   if (rolling >= 0) scene.materials[0].rolling_resistance = rolling;
+  if (restitution > 0) scene.materials[0].restitution = restitution;
   scene.options.steps_per_contact = steps_per_contact;
   scene.options.max_time = max_time;
   scene.options.reference_path = reference_path;
@@ -654,7 +693,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   Deck deck;
-  if (!MakeDeck(scene, terrain, result, law, rockcal.max_time, liggghts_divisor, &deck)) {
+  if (!MakeDeck(scene, terrain, result, law, rockcal.max_time, liggghts_divisor, gate_only,
+                &deck)) {
     std::fprintf(stderr, "liggghts_compare: cannot create a temporary folder\n");
     return 1;
   }
@@ -663,22 +703,32 @@ int main(int argc, char** argv) {
     std::printf("liggghts failed (see %s/log.liggghts): no comparison.\n", deck.dir.c_str());
     return 1;
   }
-  const EngineResult theirs = ReadLiggghtsResult(deck, scene, terrain);
+  const EngineResult theirs = ReadLiggghtsResult(deck, scene, terrain, result);
   std::filesystem::remove(deck.dir + "/traj.dump");
   if (lig.planned < runs)
     std::printf(
         "LIGGGHTS runs: %d instead of %d (the first took %.1f s; more than %.0f s gives "
         "at most 3 runs, more than %.0f s one)\n",
         lig.planned, runs, lig.first.wall, kLongRun, kVeryLongRun);
-  std::printf(
-      "LIGGGHTS (1 core, median of %d runs): wall %.2f s (Loop time %.2f s), %ld steps "
-      "(%.2f s simulated) x rock atoms = %.4g rock-steps, %.3g rock-steps/s\n",
-      lig.planned, lig.wall, lig.loop, lig.first.steps, lig.first.steps * deck.dt,
-      lig.first.rock_steps, lig.first.rock_steps / lig.wall);
-  std::printf(
-      "simulated rock time: rockcal %.0f rock-s (each rock until it stops or leaves), "
-      "LIGGGHTS %.0f rock-s (every rock for the whole run)\n",
-      rockcal.rock_seconds, lig.first.rock_steps * deck.dt);
+  if (deck.gate_only) {
+    // Terrain atoms are deleted with the rocks: the atom count no longer
+    // tells the rocks left.
+    std::printf(
+        "LIGGGHTS (1 core, median of %d runs, gate only): wall %.2f s (Loop time %.2f s), %ld "
+        "steps (%.2f s simulated)\n",
+        lig.planned, lig.wall, lig.loop, lig.first.steps, lig.first.steps * deck.dt);
+  } else {
+    std::printf(
+        "LIGGGHTS (1 core, median of %d runs): wall %.2f s (Loop time %.2f s), %ld steps "
+        "(%.2f s simulated) x rock atoms = %.4g rock-steps, %.3g rock-steps/s\n",
+        lig.planned, lig.wall, lig.loop, lig.first.steps, lig.first.steps * deck.dt,
+        lig.first.rock_steps, lig.first.rock_steps / lig.wall);
+  }
+  if (!deck.gate_only)
+    std::printf(
+        "simulated rock time: rockcal %.0f rock-s (each rock until it stops or leaves), "
+        "LIGGGHTS %.0f rock-s (every rock for the whole run)\n",
+        rockcal.rock_seconds, lig.first.rock_steps * deck.dt);
   std::printf("wall-time ratio LIGGGHTS / rockcal: %.1fx at 1 thread, %.1fx at 2 threads\n\n",
               lig.wall / rockcal.timed[0].median_wall, lig.wall / rockcal.timed[1].median_wall);
   PrintSideBySide(ours, theirs);
