@@ -43,6 +43,7 @@ struct Case {
 
 struct Errors {
   double vn = 0.0, vt = 0.0, spin = 0.0;  // largest |LIGGGHTS - exact| / V
+  double rebound = 0.0;  // (LIGGGHTS - exact) / exact normal rebound, at 5 degrees without spin
 };
 
 // Runs one deck (all the cases at one e and f) and returns the largest errors.
@@ -142,6 +143,7 @@ Errors RunDeck(double e, double f, int divisor, const std::vector<Case>& cases) 
     const double vx_exact = vt + end.impulse;
     const double wy_exact = w0 - 2.5 * end.impulse / kRadius;
     worst.vn = std::max(worst.vn, std::abs(vz - vz_exact) / kSpeed);
+    if (id == 1) worst.rebound = (vz - vz_exact) / vz_exact;
     worst.vt = std::max(worst.vt, std::abs(vx - vx_exact) / kSpeed);
     worst.spin = std::max(worst.spin, std::abs(kRadius * (wy - wy_exact)) / kSpeed);
   }
@@ -163,15 +165,16 @@ int main(int argc, char** argv) {
       "0 / rolling / backspin), a sphere of radius %.1f m at %.0f m/s, t_c %.2g s; largest "
       "|LIGGGHTS - exact| / impact speed\n",
       cases.size(), kRadius, kSpeed, kContactTime);
-  std::printf("%-8s %5s %5s %10s %10s %10s\n", "step", "e", "f", "normal", "tangential", "spin a");
+  std::printf("%-8s %5s %5s %10s %10s %10s %14s\n", "step", "e", "f", "normal", "tangential",
+              "spin a", "rebound 5 deg");
   for (int divisor : divisors)
     for (double e : {0.3, 0.5, 0.8})
       for (double f : {0.1, 0.5}) {
         const Errors err = RunDeck(e, f, divisor, cases);
         char step[32];
         std::snprintf(step, sizeof step, "t_c/%d", 50 * divisor);
-        std::printf("%-8s %5.1f %5.1f %10.2e %10.2e %10.2e\n", step, e, f, err.vn, err.vt,
-                    err.spin);
+        std::printf("%-8s %5.1f %5.1f %10.2e %10.2e %10.2e %+13.2f%%\n", step, e, f, err.vn, err.vt,
+                    err.spin, 100.0 * err.rebound);
         std::fflush(stdout);
       }
   return 0;
