@@ -10,7 +10,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <string>
 
 #include "rockcal/core/material.h"
@@ -65,24 +64,24 @@ struct Compared {
 Compared RunImpact(const Impact& k) {
   Material m = SmoothMaterial(k.e, kContactTime, k.friction);
   Scene scene;
-  Eigen::Vector3d n(0, 0, 1), centre_of_ground;
+  Eigen::Vector3d n(0, 0, 1), contact_point;
   if (k.ground.sphere) {
     m.roughness_m = 10.0;  // r = (R^2 + (s/2)^2) / (2 R) = 10 m at s = 20 m
     scene = GridScene(
         3, 3, 20.0, [](double, double) { return 0.0; }, m);
     n = Eigen::Vector3d(std::sin(k.ground.tilt), 0, std::cos(k.ground.tilt));
-    centre_of_ground = Eigen::Vector3d(20, 20, -10) + 10.0 * n;  // the contact point
+    contact_point = Eigen::Vector3d(20, 20, -10) + 10.0 * n;
   } else {
     scene = GridScene(
         21, 21, 1.0, [](double, double) { return 0.0; }, m);
-    centre_of_ground = Eigen::Vector3d(10, 10, 0);
+    contact_point = Eigen::Vector3d(10, 10, 0);
   }
   const Eigen::Vector3d t(n.z(), 0, -n.x()), axis = n.cross(t);  // axis = +y
   const double g = scene.gravity;
   const Eigen::Vector3d gravity(0, 0, -g);
   const double vn = kSpeed * std::cos(k.incidence), vt = kSpeed * std::sin(k.incidence);
   const Eigen::Vector3d v_touch = -vn * n + vt * t;
-  const Eigen::Vector3d x_touch = centre_of_ground + kRadius * n;
+  const Eigen::Vector3d x_touch = contact_point + kRadius * n;
   // Released `lead` before the touch on the parabola through it, while it
   // was still falling onto the plane (above it).
   const double lead = k.ground.sphere ? kLead : std::min(kLead, vn / g);
