@@ -14,6 +14,7 @@
 #include "rockcal/core/error.h"
 #include "rockcal/core/limits.h"
 #include "rockcal/core/statistics.h"
+#include "rockcal/observations/file_keys.h"
 #include "rockcal/sites/text_reader.h"
 
 namespace rockcal::observations {
@@ -252,7 +253,7 @@ std::vector<double> Loader::ReadHeights(const JsonNode& node) const {
 }
 
 Tree Loader::ReadTree(const JsonNode& node) const {
-  node.Keys({"x", "y", "radius", "heights", "heights_file"});
+  node.Keys(ObservationsKeysAt("$.tree_scars[].trees[]"));
   Tree tree;
   tree.x = sites::CoordinateToSI(node.Get("x"), units_);
   tree.y = sites::CoordinateToSI(node.Get("y"), units_);
@@ -292,7 +293,7 @@ std::vector<Tree> Loader::ReadTreesFile(const JsonNode& ref) const {
 }
 
 ScarSet Loader::ReadScarSet(const JsonNode& node, std::size_t index) const {
-  node.Keys({"partition", "heights", "heights_file", "trees", "trees_file"});
+  node.Keys(ObservationsKeysAt("$.tree_scars[]"));
   ScarSet set;
   const std::string label = "tree_scars[" + std::to_string(index) + "]";
   const std::string form = OneOf(node, {"partition", "trees", "trees_file"});
@@ -361,8 +362,7 @@ Runout Loader::ReadRunout(const JsonNode& node, std::vector<std::string>* notes)
 }
 
 Runout Loader::ReadRunoutPositions(const JsonNode& node, std::vector<std::string>* notes) const {
-  node.Keys({"stop_points", "stop_points_file", "distances", "distances_file", "from", "direction",
-             "masses", "mass_classes", "stopped_fraction", "observed_rocks"});
+  node.Keys(ObservationsKeysAt("$.runout"));
   const std::string form =
       OneOf(node, {"stop_points", "stop_points_file", "distances", "distances_file"});
   std::optional<Eigen::Vector2d> from, direction;
@@ -452,7 +452,7 @@ Runout Loader::ReadRunoutPositions(const JsonNode& node, std::vector<std::string
 std::vector<Passing> Loader::ReadPassing(const JsonNode& node) const {
   std::vector<Passing> out;
   for (const JsonNode& e : node.Array(1)) {
-    e.Keys({"partition", "fraction"});
+    e.Keys(ObservationsKeysAt("$.passing[]"));
     Passing p;
     p.partition = FindPartition(e.Get("partition"));
     p.fraction = e.Get("fraction").Number(0.0, 1.0);
@@ -488,7 +488,7 @@ std::vector<Passing> Loader::ReadPassingFile(const JsonNode& ref) const {
 Observations Loader::Load() {
   const nlohmann::json doc = sites::ReadJsonFile(path_);
   const JsonNode root(&doc, path_, "$");
-  root.Keys({"units", "tree_scars", "runout", "passing", "passing_file", "error"});
+  root.Keys(ObservationsKeysAt("$"));
 
   Observations obs;
   obs.path = path_;
@@ -526,7 +526,7 @@ Observations Loader::Load() {
   const auto error = root.Find("error");
   bool has_height = false, has_runout = false;
   if (error) {
-    error->Keys({"height", "runout", "passing"});
+    error->Keys(ObservationsKeysAt("$.error"));
     if (const auto h = error->Find("height")) {
       obs.error.height =
           sites::NumberInRange(*h, Length(h->Positive()), 0.0, core::kMaxObservationError,

@@ -10,6 +10,7 @@
 #include "rockcal/core/error.h"
 #include "rockcal/core/limits.h"
 #include "rockcal/core/material_field.h"
+#include "rockcal/sites/file_keys.h"
 #include "rockcal/sites/geometry.h"
 #include "rockcal/sites/inventory.h"
 #include "rockcal/sites/surface.h"
@@ -101,9 +102,7 @@ ParameterBound ReadBound(const JsonNode& node, const std::string& material,
 void ReadCalibrateBounds(const JsonNode& node, const core::Material& mat,
                          const std::string& mat_class, Units units, double min_roughness_m,
                          double max_roughness_m, Site* site) {
-  std::vector<const char*> names;
-  for (const core::MaterialFieldInfo& f : core::MaterialFields()) names.push_back(f.name);
-  node.Keys(names);
+  node.Keys(SiteKeysAt("$.materials[].calibrate"));
   const double to_si = LengthToSI(1.0, units);
   for (const core::MaterialFieldInfo& f : core::MaterialFields()) {
     auto b = node.Find(f.name);
@@ -133,9 +132,7 @@ void ReadCalibrateBounds(const JsonNode& node, const core::Material& mat,
 }
 
 void ReadSimulation(const JsonNode& node, Units units, core::SimulationOptions* o) {
-  node.Keys({"seed", "max_time", "stop_speed", "stop_duration", "steps_per_contact",
-             "gentle_steps_per_contact", "safety", "gentle_safety", "rest_window", "exact_flight",
-             "reference_path", "threads"});
+  node.Keys(SiteKeysAt("$.simulation"));
   if (auto v = node.Find("seed")) o->seed = static_cast<std::uint64_t>(v->Integer(0, LONG_MAX));
   if (auto v = node.Find("max_time")) o->max_time = v->Positive();
   if (auto v = node.Find("stop_speed")) o->stop_speed = LengthToSI(v->Positive(), units);
@@ -164,7 +161,7 @@ void ReadSimulation(const JsonNode& node, Units units, core::SimulationOptions* 
 
 core::Release ReadRelease(const JsonNode& node, Units units, const core::HeightGrid& grid,
                           std::string* note) {
-  node.Keys({"zone", "point", "height", "elevation", "velocity", "velocity_spread"});
+  node.Keys(SiteKeysAt("$.rocks[].release"));
   core::Release r;
   if (node.Has("height") && node.Has("elevation"))
     node.Fail("expected 'height' (above the ground) or 'elevation' (absolute), not both");
@@ -249,7 +246,7 @@ core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightG
   if (node.Has("inventory")) {
     // The blocks of a field inventory; count (default one rock per block)
     // repeats them in turn.
-    node.Keys({"count", "inventory", "release"});
+    node.Keys(SiteKeysAt("$.rocks[] (inventory)"));
     const JsonNode inv = node.Get("inventory");
     const std::string file = ResolvePath(base_dir, inv.String());
     g.inventory = ReadInventory(file, units);
@@ -266,7 +263,7 @@ core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightG
             " kg), release " + release_note;
     return g;
   }
-  node.Keys({"count", "shape", "size", "box", "unit_weight", "release"});
+  node.Keys(SiteKeysAt("$.rocks[]"));
   g.count = static_cast<int>(node.Get("count").Integer(1, core::kMaxRocks));
   const JsonNode shape = node.Get("shape");
   if (!core::ParseShape(shape.String(), &g.shape))
@@ -324,8 +321,7 @@ std::vector<PendingMaterial> ReadMaterials(const JsonNode& node, Units units, Si
   const std::vector<JsonNode> materials = node.Array(1);
   for (std::size_t k = 0; k < materials.size(); ++k) {
     const JsonNode& m = materials[k];
-    m.Keys({"id", "hardness", "roughness", "contact_time", "restitution", "friction",
-            "rolling_resistance", "vegetation", "class", "zone", "calibrate"});
+    m.Keys(SiteKeysAt("$.materials[]"));
     core::Material mat;
     const JsonNode id = m.Get("id");
     mat.id = ReadId(id);
@@ -457,7 +453,7 @@ void ReadPartitions(const JsonNode& parts, Units units, double zmin, double zmax
   const double to_file = 1.0 / LengthToSI(1.0, units);
   std::vector<std::string> part_ids;
   for (const JsonNode& p : parts.Array()) {
-    p.Keys({"id", "x", "z"});
+    p.Keys(SiteKeysAt("$.partitions[]"));
     core::Partition part;
     const JsonNode id = p.Get("id");
     part.id = ReadId(id);
@@ -494,8 +490,7 @@ void ReadPartitions(const JsonNode& parts, Units units, double zmin, double zmax
 Site LoadSite(const std::string& path) {
   const nlohmann::json json = ReadJsonFile(path);
   const JsonNode root(&json, path, "$");
-  root.Keys({"name", "description", "units", "surface", "zones", "materials", "partitions",
-             "rocks", "simulation", "report"});
+  root.Keys(SiteKeysAt("$"));
   Site site;
   site.path = path;
   site.units = ReadUnits(root.Get("units"));
@@ -574,7 +569,7 @@ Site LoadSite(const std::string& path) {
   if (auto report = root.Find("report")) {
     // The barrier a designer checks: a fence height (site length units) and
     // its energy capacity (kJ).
-    report->Keys({"barrier_height", "barrier_energy_kj"});
+    report->Keys(SiteKeysAt("$.report"));
     if (auto h = report->Find("barrier_height"))
       site.barrier_height_m = LengthToSI(h->Positive(), units);
     if (auto e = report->Find("barrier_energy_kj")) site.barrier_energy_j = e->Positive() * 1e3;

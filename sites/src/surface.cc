@@ -13,6 +13,7 @@
 #include "rockcal/core/limits.h"
 #include "rockcal/sites/crs.h"
 #include "rockcal/sites/esri_grid.h"
+#include "rockcal/sites/file_keys.h"
 #include "rockcal/sites/gridding.h"
 #include "rockcal/sites/point_files.h"
 #include "rockcal/sites/raster.h"
@@ -155,8 +156,7 @@ void RasterInto(const RasterGrid& raster, const JsonNode& where, bool has_resolu
 
 Surface ReadSurface(const JsonNode& surface, Units units, const std::string& base_dir,
                     const std::vector<std::string>& material_ids) {
-  surface.Keys({"resolution", "sphere_spacing", "crs", "max_edge", "points", "points_file", "lidar",
-                "grid_file", "raster", "stl"});
+  surface.Keys(SiteKeysAt("$.surface"));
   std::vector<const char*> present;
   for (const char* k : kSources)
     if (surface.Has(k)) present.push_back(k);
@@ -218,7 +218,7 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
     out.notes.push_back("surface: " + std::to_string(points.size()) + " points from " + file);
     GridInto(ToSI(std::move(points), units), where, src, gridding, to_file, &out);
   } else if (out.source == "lidar") {
-    src.Keys({"file", "offset", "spin_deg"});
+    src.Keys(SiteKeysAt("$.surface.lidar"));
     const std::string file = DataFile(src.Get("file"), base_dir, &out);
     LidarTransform transform;
     if (const std::optional<JsonNode> offset = src.Find("offset")) {
@@ -256,7 +256,7 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
     int band = 1;
     JsonNode file_node = src;
     if (src.is_object()) {
-      src.Keys({"file", "band"});
+      src.Keys(SiteKeysAt("$.surface.raster"));
       file_node = src.Get("file");
       if (const std::optional<JsonNode> b = src.Find("band"))
         band = static_cast<int>(b->Integer(1, 1'000'000));
@@ -282,7 +282,7 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
                "raster " + file + " (" + raster.driver + ", band " + std::to_string(band) + ")",
                &out);
   } else {  // stl
-    src.Keys({"files", "axes"});
+    src.Keys(SiteKeysAt("$.surface.stl"));
     StlAxes axes = StlAxes::kXYZ;
     if (const std::optional<JsonNode> a = src.Find("axes")) {
       if (!ParseStlAxes(a->String(), &axes)) a->Fail("unknown axes (allowed: xyz, xzy)");
@@ -290,7 +290,7 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
     std::vector<TriangleSet> sets;
     Box box;
     for (const JsonNode& f : src.Get("files").Array(1)) {
-      f.Keys({"file", "material"});
+      f.Keys(SiteKeysAt("$.surface.stl.files[]"));
       const JsonNode m = f.Get("material");
       const std::string id = m.String();
       const auto it = std::find(material_ids.begin(), material_ids.end(), id);

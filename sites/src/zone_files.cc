@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "rockcal/sites/crs.h"
+#include "rockcal/sites/file_keys.h"
 #include "rockcal/sites/gdal_util.h"
 #include "rockcal/sites/surface.h"
 #include "rockcal/sites/text_reader.h"
@@ -293,7 +294,7 @@ Claims FromClasses(const JsonNode& zones, const std::string& file, GDALDatasetH 
 }  // namespace
 
 void ApplyZoneFile(const JsonNode& zones, const std::string& base_dir, Site* site) {
-  zones.Keys({"file", "field", "layer", "classes"});
+  zones.Keys(SiteKeysAt("$.zones"));
   const bool vector = zones.Has("field");
   if (vector == zones.Has("classes")) {
     zones.Fail(

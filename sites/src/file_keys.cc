@@ -1,0 +1,59 @@
+#include "rockcal/sites/file_keys.h"
+
+#include <stdexcept>
+
+#include "rockcal/core/material_field.h"
+
+namespace rockcal::sites {
+namespace {
+
+std::vector<const char*> MaterialFieldKeys() {
+  std::vector<const char*> names;
+  for (const core::MaterialFieldInfo& f : core::MaterialFields()) names.push_back(f.name);
+  return names;
+}
+
+}  // namespace
+
+const std::vector<FileObjectKeys>& SiteFileKeys() {
+  static const std::vector<FileObjectKeys> objects = {
+      {"$",
+       {"name", "description", "units", "surface", "zones", "materials", "partitions", "rocks",
+        "simulation", "report"}},
+      {"$.surface",
+       {"resolution", "sphere_spacing", "crs", "max_edge", "points", "points_file", "lidar",
+        "grid_file", "raster", "stl"}},
+      {"$.surface.lidar", {"file", "offset", "spin_deg"}},
+      {"$.surface.raster", {"file", "band"}},
+      {"$.surface.stl", {"files", "axes"}},
+      {"$.surface.stl.files[]", {"file", "material"}},
+      {"$.zones", {"file", "field", "layer", "classes"}},
+      {"$.materials[]",
+       {"id", "hardness", "roughness", "contact_time", "restitution", "friction",
+        "rolling_resistance", "vegetation", "class", "zone", "calibrate"}},
+      {"$.materials[].calibrate", MaterialFieldKeys()},
+      {"$.partitions[]", {"id", "x", "z"}},
+      {"$.rocks[]", {"count", "shape", "size", "box", "unit_weight", "release"}},
+      {"$.rocks[] (inventory)", {"count", "inventory", "release"}},
+      {"$.rocks[].release", {"zone", "point", "height", "elevation", "velocity", "velocity_spread"}},
+      {"$.simulation",
+       {"seed", "max_time", "stop_speed", "stop_duration", "steps_per_contact",
+        "gentle_steps_per_contact", "safety", "gentle_safety", "rest_window", "exact_flight",
+        "reference_path", "threads"}},
+      {"$.report", {"barrier_height", "barrier_energy_kj"}},
+  };
+  return objects;
+}
+
+const std::vector<const char*>& KeysAt(const std::vector<FileObjectKeys>& objects,
+                                       const std::string& path) {
+  for (const FileObjectKeys& o : objects)
+    if (o.path == path) return o.keys;
+  throw std::logic_error("no key list for the file object '" + path + "'");
+}
+
+const std::vector<const char*>& SiteKeysAt(const std::string& path) {
+  return KeysAt(SiteFileKeys(), path);
+}
+
+}  // namespace rockcal::sites
