@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "command_flags.h"
+
 namespace rockcal::cli {
 
 class Args final {
@@ -15,6 +17,9 @@ class Args final {
   // `flags` take no value; `options` take one (and may repeat when listed in `multi`).
   Args(const std::vector<std::string>& argv, const std::set<std::string>& flags,
        const std::set<std::string>& options, const std::set<std::string>& multi = {});
+  // What `accepted` (a command's entry of command_flags.h) lists.
+  Args(const std::vector<std::string>& argv, const CommandFlags& accepted)
+      : Args(argv, accepted.flags, accepted.options, accepted.multi) {}
 
   const std::vector<std::string>& positionals() const { return positionals_; }
   // The one positional argument, named `what` in the error when not exactly one.

@@ -243,10 +243,7 @@ void PrintCalibration(const std::string& out, const calibrate::CalibrationSummar
 
 int Calibrate(const std::vector<std::string>& argv) {
   const auto start_time = std::chrono::steady_clock::now();
-  const Args args(argv, {"force", "quiet", "resume", "rasters"},
-                  {"observations", "method", "methods", "max-evals", "max-seconds", "rocks",
-                   "refine", "race", "seed", "threads", "loss", "estimate", "holdout", "reach",
-                   "out"});
+  const Args args(argv, FlagsOf("calibrate"));
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   const std::string obs_path = args.Get("observations");

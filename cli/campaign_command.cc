@@ -64,9 +64,7 @@ void PrintCampaign(const std::string& out, const calibrate::CampaignSummary& sum
 
 int Campaign(const std::vector<std::string>& argv) {
   const auto start_time = std::chrono::steady_clock::now();
-  const Args args(argv, {"force", "quiet", "resume"},
-                  {"method", "methods", "max-evals", "max-seconds", "rocks", "seed", "threads",
-                   "loss", "estimate", "out"});
+  const Args args(argv, FlagsOf("campaign"));
   const std::string path = args.OnlyPositional("CAMPAIGN.json");
   const std::string out = args.Get("out");
   const std::vector<std::string> methods = MethodsFromArgs(args);

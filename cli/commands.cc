@@ -75,10 +75,7 @@ void RankOutputDir::Commit() {
 // ---- simulate --------------------------------------------------------------
 
 int Simulate(const std::vector<std::string>& argv) {
-  const Args args(
-      argv, {"force", "quiet", "rasters"},
-      {"rocks", "seed", "set", "parameters", "trajectories", "sample-seconds", "threads", "out"},
-      {"set"});
+  const Args args(argv, FlagsOf("simulate"));
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   sites::Site site = sites::LoadSite(site_path);
@@ -139,7 +136,7 @@ int Simulate(const std::vector<std::string>& argv) {
 // ---- validate --------------------------------------------------------------
 
 int Validate(const std::vector<std::string>& argv) {
-  const Args args(argv, {}, {"observations"});
+  const Args args(argv, FlagsOf("validate"));
   const std::string site_path = args.OnlyPositional("SITE.json");
   const sites::Site site = sites::LoadSite(site_path);
   const core::Scene& scene = site.scene;

@@ -18,8 +18,7 @@
 namespace rockcal::cli {
 
 int Score(const std::vector<std::string>& argv) {
-  const Args args(argv, {"force", "quiet"},
-                  {"observations", "parameters", "rocks", "seed", "threads", "out"});
+  const Args args(argv, FlagsOf("score"));
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   const sites::Site site = sites::LoadSite(site_path);

@@ -21,9 +21,7 @@
 namespace rockcal::cli {
 
 int Sensitivity(const std::vector<std::string>& argv) {
-  const Args args(argv, {"force", "quiet"},
-                  {"method", "samples", "observations", "rocks", "seed", "set", "threads", "out"},
-                  {"set"});
+  const Args args(argv, FlagsOf("sensitivity"));
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   calibrate::SensitivityOptions opt;

@@ -236,10 +236,7 @@ int Reach(const Args& args, sites::Site* site, const std::string& out) {
 }  // namespace
 
 int Study(const std::vector<std::string>& argv) {
-  const Args args(argv, {"force", "quiet"},
-                  {"rocks", "seed", "set", "cases", "steps-per-contact", "rock-counts", "target",
-                   "bootstrap", "threads", "observations", "points", "design", "out"},
-                  {"set"});
+  const Args args(argv, FlagsOf("study"));
   const auto& pos = args.positionals();
   if (pos.empty() || (pos[0] != "stability" && pos[0] != "convergence" && pos[0] != "reach"))
     throw InputError("arguments", "expected the study (" + std::string(kStudies) + ")" +

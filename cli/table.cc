@@ -34,7 +34,7 @@ void CheckComplete(const std::string& dir) {
 }  // namespace
 
 int Table(const std::vector<std::string>& argv) {
-  const Args args(argv, {"force", "include-at-bound", "quiet"}, {"bound-tolerance", "out"});
+  const Args args(argv, FlagsOf("table"));
   const std::vector<std::string>& dirs = args.positionals();
   if (dirs.empty())
     throw InputError("arguments",
