@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Renders the reach_probability band of a rockcal rasters.tif over a
 hillshade of the DEM as a PNG, zoomed to
-where the rocks went: the picture in README.md ("GIS workflow").
+where the rocks went: the picture in README.md (docs/validation.md, Figures).
 
 usage: docs/reach_picture.py DEM.tif RUN_DIR/rasters.tif OUT.png [SCALE]
 
