@@ -185,8 +185,15 @@ void WriteData(const Deck& deck, const core::Scene& scene, const core::Terrain& 
 int WriteCatchStl(const Deck& deck, const core::Terrain& terrain) {
   const core::HeightGrid& g = terrain.grid();
   std::vector<double> h(static_cast<std::size_t>(g.nx) * g.ny);
+  // The last row and column are queried a nanometre inside the grid: at
+  // their exact coordinates (x - x0) / spacing may round above nx - 1 (at
+  // 2.4575 m, 34 * s / s > 34), which Terrain takes for off the slope
+  // (-inf). The facets are planar, so the height moves by about 1e-9 m.
+  constexpr double kInside = 1e-9;  // m
   for (int j = 0; j < g.ny; ++j)
-    for (int i = 0; i < g.nx; ++i) h[g.index(i, j)] = terrain.FloorHeight(g.x(i), g.y(j));
+    for (int i = 0; i < g.nx; ++i)
+      h[g.index(i, j)] = terrain.FloorHeight(g.x(i) - (i == g.nx - 1 ? kInside : 0.0),
+                                             g.y(j) - (j == g.ny - 1 ? kInside : 0.0));
   constexpr double kTolerance = 1e-9;  // m
   bool profile = true;
   for (int j = 1; j < g.ny && profile; ++j)
@@ -685,6 +692,11 @@ int main(int argc, char** argv) {
     if (q.valid)
       std::printf("rockcal height p%.0f at X60: %.2f +- %.2f m (%zu rocks crossed)\n", 100 * p,
                   q.value, q.se, ours.heights.size());
+  }
+  for (const double p : {0.1, 0.5, 0.9}) {
+    const bench::QuantileEstimate q = bench::EstimateQuantile(ours.clearances, p);
+    if (q.valid)
+      std::printf("rockcal clearance p%.0f at X60: %.2f +- %.2f m\n", 100 * p, q.value, q.se);
   }
 
   std::string exe;
