@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "damping.h"
 #include "flight.h"
 #include "recording.h"
 #include "rock_state.h"
@@ -78,32 +79,6 @@ struct StepSizes {
   std::vector<MaterialSteps> material;  // Scene::materials order
   double finest = 0.0;                  // the shortest contact step
 };
-
-// Solves a x = b for a small symmetric positive definite a (n x n, its
-// lower triangle), by Cholesky in place: b becomes x. For the few contacts
-// of a step, where a general solver's loops cost more than the arithmetic.
-template <int kMax>
-void SolveSmallSpd(int n, double (&a)[kMax][kMax], double (&b)[kMax]) {
-  for (int j = 0; j < n; ++j) {
-    double d = a[j][j];
-    for (int k = 0; k < j; ++k) d -= a[j][k] * a[j][k];
-    d = std::sqrt(d);
-    a[j][j] = d;
-    for (int i = j + 1; i < n; ++i) {
-      double x = a[i][j];
-      for (int k = 0; k < j; ++k) x -= a[i][k] * a[j][k];
-      a[i][j] = x / d;
-    }
-  }
-  for (int i = 0; i < n; ++i) {  // L y = b
-    for (int k = 0; k < i; ++k) b[i] -= a[i][k] * b[k];
-    b[i] /= a[i][i];
-  }
-  for (int i = n - 1; i >= 0; --i) {  // L^T x = y
-    for (int k = i + 1; k < n; ++k) b[i] -= a[k][i] * b[k];
-    b[i] /= a[i][i];
-  }
-}
 
 // One rock, from release to its outcome. kCluster selects the rigid-cluster
 // path (orientation, full inertia); spheres carry no orientation work.
@@ -662,55 +637,27 @@ class RockRun {
     }
   }
 
-  // A rock's restitution is the rock's, not each element's. With n of a
-  // cluster's elements touching at once, each takes the whole spring (the
-  // springs stay conservative: energy never rises), so the rock meets n k
-  // and its contact is sqrt(n) times shorter; for its damping ratio, and so
-  // its restitution, to stay the material's, the dashpots share sqrt(n) c
-  // between them. Contact i takes c d_i / |d| (d: the contacts' overlaps;
-  // |d| their Euclidean norm): n equal contacts each c / sqrt(n), one
-  // contact all of c, and a contact's share grows from 0 with its overlap,
-  // so nothing jumps as contacts come and go. A shared dashpot only ever
-  // dissipates. A sphere, and a cluster with one contact, takes the whole
-  // law. (Sharing the springs as well would keep the contact time but is
-  // not conservative: a hardness-1 block gained 4 % of its energy.)
+  // The Euclidean norm of the step's contacts' overlaps, for their
+  // damping shares (damping.h, DampingShare).
   double OverlapNorm() const {
     double sum = 0.0;
     for (const Hit& h : hits_) sum += h.contact.overlap * h.contact.overlap;
     return std::sqrt(sum);
   }
-  // Contacts that all touch without overlap (a landing's first instant,
-  // PrimeLanding) share equally.
   double DampingShare(double overlap, double norm) const {
-    if (single_element_ || hits_.size() < 2) return 1.0;
-    return norm > 0.0 ? overlap / norm : 1.0 / std::sqrt(static_cast<double>(hits_.size()));
+    return core::DampingShare(overlap, norm, hits_.size(), single_element_);
   }
 
-  // The rock's velocity and spin at the end of a step of dt with its
-  // contacts: every contact's spring and its share of the damping act on the
-  // rock together, the dashpots implicit (trapezoidal), for its spin as for
-  // its centre. Per unit mass, with the generalised velocity u = (v, w),
-  // the mass matrix M = diag(I, J / m) (J the inertia in world axes) and
-  // each contact's row g_i = (n_i, r_i x n_i) (its normal velocity g_i u):
-  //   (M + dt/2 sum c_i g_i g_i^T) u = M u_half + dt/2 (g + sum k d_i g_i).
-  // So an off-centre contact meets its dashpot with the rock's effective
-  // mass there, and several contacts meet theirs together. Solved for the
-  // centre alone (spin explicit), n contacts of a cluster overshot as an
-  // explicit dashpot does, and the stable step had to fall with the damping
-  // (bench/README.md, "The step"). A sphere's contacts act through its
-  // centre: its spin is left out.
+  // The rock's velocity and spin at the end of a step of dt with all its
+  // contacts' dashpots implicit together (damping.h, JointDashpots).
   struct Motion {
     Eigen::Vector3d v, w;
   };
-  // A cluster with fewer contacts than 6 solves it in the contacts' space
-  // (SolveInContacts); both forms by a Cholesky of their own (SolveSmallSpd).
-  // Together 8 % fewer instructions a step for the tutorial's blocks, 5 %
-  // for Authume's, than a 6 x 6 Eigen LLT every time.
+  using Dashpots = JointDashpots<kCluster ? 6 : 3>;
   Motion JointEndMotion(const Eigen::Vector3d& v_half, const Eigen::Vector3d& w_half, double dt,
                         double norm, const Eigen::Matrix3d& rot) {
-    constexpr int kDof = kCluster ? 6 : 3;
-    using Vector = Eigen::Matrix<double, kDof, 1>;
-    using Matrix = Eigen::Matrix<double, kDof, kDof>;
+    using Vector = typename Dashpots::Vector;
+    using Matrix = typename Dashpots::Matrix;
     // The free motion M^-1 (M u_half + dt/2 g), and M^-1 per unit mass.
     Vector free;
     free.template head<3>() = v_half + 0.5 * dt * ctx_.gravity;
@@ -721,102 +668,35 @@ class RockRun {
     }
     // Each contact's row g_i, M^-1 g_i, dashpot (dt/2 c_i) and spring (dt/2 k d_i) terms.
     const std::size_t n = hits_.size();
-    rows_.resize(n);
-    if constexpr (kCluster) reach_.resize(n);
-    joint_terms_.resize(n);
+    dashpots_.Resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       const TerrainContact& c = hits_[i].contact;
       const ContactLaw& law = ctx_.laws[static_cast<std::size_t>(c.material)];
-      rows_[i].template head<3>() = c.normal;
+      auto& row = dashpots_.row(i);
+      row.template head<3>() = c.normal;
       if constexpr (kCluster) {
-        rows_[i].template tail<3>() = (c.point - s_.x).cross(c.normal);
-        reach_[i].template head<3>() = c.normal;
-        reach_[i].template tail<3>() = inverse_inertia * rows_[i].template tail<3>();
+        row.template tail<3>() = (c.point - s_.x).cross(c.normal);
+        auto& reach = dashpots_.reach(i);
+        reach.template head<3>() = c.normal;
+        reach.template tail<3>() = inverse_inertia * row.template tail<3>();
       } else {
-        rows_[i].template tail<3>().setZero();
+        row.template tail<3>().setZero();
       }
-      joint_terms_[i] = {0.5 * dt * law.damping_per_mass * DampingShare(c.overlap, norm),
-                         0.5 * dt * law.stiffness_per_mass * c.overlap};
+      dashpots_.terms(i) = {0.5 * dt * law.damping_per_mass * DampingShare(c.overlap, norm),
+                            0.5 * dt * law.stiffness_per_mass * c.overlap};
     }
-    // A contact's force k d - c v_n is compressive only: one that would pull
-    // at the solved motion (separating faster than k d / c) takes no part,
-    // and the others are solved again without it.
-    pulling_.assign(n, 0);
-    Vector u;
-    for (std::size_t pass = 0; pass <= n; ++pass) {
-      if (!(kCluster && SolveInContacts(free, n, &u))) {
-        // M per unit mass, only where the 6 x 6 (or a sphere's 3 x 3) is solved.
-        Matrix mass = Matrix::Identity();
-        if constexpr (kCluster)
-          mass.template bottomRightCorner<3, 3>() =
-              rot * (body_.inertia / body_.mass).asDiagonal() * rot.transpose();
-        Vector b = mass * free;
-        double a[kDof][kDof];
-        for (int r = 0; r < kDof; ++r)
-          for (int c = 0; c <= r; ++c) a[r][c] = mass(r, c);
-        for (std::size_t i = 0; i < n; ++i) {
-          if (pulling_[i]) continue;
-          const Vector row = rows_[i].template head<kDof>();
-          const double damping = joint_terms_[i].damping;
-          for (int r = 0; r < kDof; ++r)
-            for (int c = 0; c <= r; ++c) a[r][c] += damping * row[r] * row[c];
-          b += joint_terms_[i].spring * row;
-        }
-        double x[kDof];
-        for (int r = 0; r < kDof; ++r) x[r] = b[r];
-        SolveSmallSpd<kDof>(kDof, a, x);  // M plus dashpots: SPD
-        for (int r = 0; r < kDof; ++r) u[r] = x[r];
-      }
-      bool changed = false;
-      for (std::size_t i = 0; i < n; ++i) {
-        if (pulling_[i]) continue;
-        const double vn = rows_[i].template head<kDof>().dot(u);
-        if (joint_terms_[i].spring - joint_terms_[i].damping * vn < 0.0) {
-          pulling_[i] = 1;
-          changed = true;
-        }
-      }
-      if (!changed) break;
-    }
+    // M per unit mass, only where the 6 x 6 (or a sphere's 3 x 3) is solved.
+    const Vector u = dashpots_.Solve(free, [&] {
+      Matrix mass = Matrix::Identity();
+      if constexpr (kCluster)
+        mass.template bottomRightCorner<3, 3>() =
+            rot * (body_.inertia / body_.mass).asDiagonal() * rot.transpose();
+      return mass;
+    });
     if constexpr (kCluster) {
       return {u.template head<3>(), u.template tail<3>()};
     } else {
       return {u, w_half};
-    }
-  }
-
-  // JointEndMotion's system in the contacts' space, for a cluster with
-  // fewer than 6 contacts solved for (not pulling): with u_s = M^-1 (M u_half
-  // + dt/2 (g + sum k d_i g_i)) and C the dashpot terms (Woodbury),
-  //   u = u_s - M^-1 G C^1/2 (I + C^1/2 G^T M^-1 G C^1/2)^-1 C^1/2 G^T u_s,
-  // a k x k system for the 6 x 6 one. free: M^-1 (M u_half + dt/2 g); false
-  // (u untouched) with 6 or more.
-  template <typename Vector>
-  bool SolveInContacts(const Vector& free, std::size_t n, Vector* u) const {
-    constexpr int kDof = Vector::RowsAtCompileTime;
-    if constexpr (kDof != 6) {
-      return false;
-    } else {
-      std::size_t active[kDof];
-      int k = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        if (pulling_[i]) continue;
-        if (k == kDof) return false;
-        active[k++] = i;
-      }
-      *u = free;
-      for (int j = 0; j < k; ++j) *u += joint_terms_[active[j]].spring * reach_[active[j]];
-      double system[kDof][kDof], root[kDof], rhs[kDof];
-      for (int j = 0; j < k; ++j) root[j] = std::sqrt(joint_terms_[active[j]].damping);
-      for (int j = 0; j < k; ++j) {
-        const Vector& row = rows_[active[j]];
-        rhs[j] = root[j] * row.dot(*u);
-        for (int l = 0; l <= j; ++l) system[j][l] = root[j] * root[l] * row.dot(reach_[active[l]]);
-        system[j][j] += 1.0;
-      }
-      SolveSmallSpd<kDof>(k, system, rhs);  // I plus a Gram matrix: SPD
-      for (int j = 0; j < k; ++j) *u -= root[j] * rhs[j] * reach_[active[j]];
-      return true;
     }
   }
 
@@ -849,9 +729,8 @@ class RockRun {
         const Eigen::Vector3d lever = rot.transpose() * arm.cross(c.normal);  // body axes
         s += m * lever.cwiseAbs2().dot(inv_inertia_);
       }
-      vn = (vc_half.dot(c.normal) +
-            0.5 * dt * (s * law.stiffness_per_mass * c.overlap + ctx_.gravity.dot(c.normal))) /
-           (1.0 + 0.5 * dt * s * damping_per_mass);
+      vn = ImplicitNormalSpeed(vc_half.dot(c.normal), dt, s, law.stiffness_per_mass, c.overlap,
+                               ctx_.gravity.dot(c.normal), damping_per_mass);
     }
     const double fn = NormalForce({kn, m * damping_per_mass}, c.overlap, vn);
     const MaterialSteps& ms = steps_.material[static_cast<std::size_t>(c.material)];
@@ -949,13 +828,7 @@ class RockRun {
     int element;
   };
   std::vector<Hit> hits_;  // a step's contacts, every element's (Step)
-  // JointEndMotion's per hit: its row, its terms, whether its force would pull.
-  struct JointTerms {
-    double damping, spring;  // dt/2 c_i and dt/2 k d_i, per unit mass
-  };
-  std::vector<Eigen::Matrix<double, 6, 1>> rows_, reach_;  // g_i and M^-1 g_i
-  std::vector<JointTerms> joint_terms_;
-  std::vector<char> pulling_;
+  Dashpots dashpots_;  // JointEndMotion's system (damping.h)
   std::vector<ContactState> contacts_, next_;
 };
 
