@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "contact_search.h"
 #include "damping.h"
 #include "flight.h"
 #include "recording.h"
@@ -34,19 +35,9 @@ constexpr double kParallelContacts = 2.0;
 // flat on 16 elements rebounded 2.1 % short of its restitution).
 constexpr double kFlightReach = 0.98;
 constexpr double kMinFlight = 0.01;
-// Skin of the rock's neighbourhood list, in bounding radii: wider means
-// fewer rebuilds, each scanning more cells, and a flight's look-ahead
-// testing more spheres, each once per element: a sphere's is wider than a
-// cluster's (the tutorial's spheres: 15 % fewer instructions at 1 than at
-// 0.25, a third of the flights; Authume's blocks 6 % slower at 0.5).
-constexpr double kSkin = 0.25;
-constexpr double kSphereSkin = 1.0;
 // A flight starts from a new neighbourhood once the centre has moved this
 // fraction of the skin from where the last one was made (NearFlightTime).
 constexpr double kFlightKeep = 0.5;
-// Skin of the element-sphere pair lists, in element radii: wider means fewer
-// rebuilds, each step testing more pairs (RockRun::UpdatePairs).
-constexpr double kPairSkin = 0.2;
 // A rock is still while every point of it is slower than this fraction of
 // the stop speed (SimulationOptions::rest_window).
 constexpr double kStillSpeed = 0.1;
@@ -93,11 +84,11 @@ class RockRun {
         steps_(steps),
         dt_(steps.finest),
         exact_flight_(opt_.exact_flight && !opt_.reference_path),
-        neighbours_(!opt_.reference_path),
         single_element_(body.elements.size() == 1),
         rest_window_(opt_.reference_path ? 0.0 : opt_.rest_window),
         rec_(rec),
-        recorder_(ctx.scene, ctx.terrain, body, kCluster, rec) {
+        recorder_(ctx.scene, ctx.terrain, body, kCluster, rec),
+        search_(ctx.terrain, body, !opt_.reference_path) {
     inv_inertia_ = body.inertia.cwiseInverse();
     inertia_min_ = body.inertia.minCoeff();
     // Torque-free, |w| stays within |w0| sqrt(I_max / I_min) (energy and
@@ -109,7 +100,6 @@ class RockRun {
     bend_ = ratio > 1.0 + 1e-12 ? ratio * (1.0 + ratio) : 1.0;
     g_ = ctx.gravity.norm();
     for (const Eigen::Vector3d& e : body.elements) arm_length_.push_back(kCluster ? e.norm() : 0.0);
-    found_.reserve(16);
     hits_.reserve(16);
     contacts_.reserve(16);
     next_.reserve(16);
@@ -148,7 +138,7 @@ class RockRun {
     s_ = s;
     a_ = ctx_.gravity;
     alpha_.setZero();
-    pairs_valid_ = false;
+    search_.InvalidatePairs();
     UpdateNeighbours();  // and the local contact step, before the first advance
     recorder_.Start(s_);
     const double scale_floor = body_.mass * g_ * body_.bounding_radius;
@@ -196,8 +186,8 @@ class RockRun {
       alpha_ = alpha0;
       spring_energy_ = spring0;
       rec_->max_penetration = penetration0;
-      contacts_.swap(next_);  // the contacts before the step
-      pairs_valid_ = false;   // made at the step's end
+      contacts_.swap(next_);      // the contacts before the step
+      search_.InvalidatePairs();  // made at the step's end
       ++rec_->retried_steps;
       dt = needed_dt_;
       Step(dt);
@@ -217,7 +207,7 @@ class RockRun {
     // rock overlaps for less than a contact time (about v t_c / pi deep,
     // whatever its size); a rock still there after two has gone through.
     // A rock whose bounding sphere is known to clear the floor is not below it.
-    if (!FloorClear() &&
+    if (!search_.FloorClear(s_.x) &&
         ctx_.terrain.FloorHeight(s_.x.x(), s_.x.y()) - s_.x.z() > body_.bounding_radius) {
       if (below_since_ < 0) below_since_ = t0;
       if (s_.t - below_since_ > 2.0 * ctx_.max_contact_time) {
@@ -333,16 +323,17 @@ class RockRun {
     const double v = s_.v.norm();
     const double spin = kCluster ? s_.w.norm() : 0.0;
     const double speed = v + spin * spin_growth_ * rb;  // of any point of the rock
-    double best = GapFlightTime(kFlightReach * (skin_ - moved), v, g_);
-    if constexpr (kCluster) ElementCentres(Rotation());
+    const double skin = search_.skin();
+    double best = GapFlightTime(kFlightReach * (skin - moved), v, g_);
+    if constexpr (kCluster) search_.ElementCentres(s_.x, Rotation());
     const double a = body_.element_radius;
     const std::size_t ne = body_.elements.size();
     auto centre = [&](std::size_t e) -> const Eigen::Vector3d& {
-      return kCluster ? centres_[e] : s_.x;
+      return kCluster ? search_.centre(e) : s_.x;
     };
-    if (floor_clear_ < skin_) {
+    if (search_.floor_clear() < skin) {
       for (std::size_t e = 0; e < ne; ++e) {
-        const double gap = ctx_.terrain.FloorGap(centre(e), a, skin_, skin_);
+        const double gap = ctx_.terrain.FloorGap(centre(e), a, skin, skin);
         if (!(gap > 0.0)) return 0.0;
         best = std::min(
             best, GapFlightTime(kFlightReach * gap, v + spin * spin_growth_ * arm_length_[e], g_));
@@ -362,7 +353,7 @@ class RockRun {
     // shorten the flight and is skipped before any square root: within t the
     // gap closes by at most speed t + pull t^2 / 2. The same test on the
     // bounding sphere skips a sphere whole.
-    for (int n : near_) {
+    for (int n : search_.near()) {
       const Eigen::Vector3d& c = ctx_.terrain.sphere_centre(n);
       const double r = ctx_.terrain.sphere_radius(n);
       const double closing = best * (speed + 0.5 * g_ * best);
@@ -396,16 +387,9 @@ class RockRun {
     return disc >= 0.0 ? (rate + std::sqrt(disc)) / pull : kInf;
   }
 
-  // centres_: the world centres of the elements at the current state.
-  void ElementCentres(const Eigen::Matrix3d& rot) {
-    centres_.resize(body_.elements.size());
-    for (std::size_t e = 0; e < body_.elements.size(); ++e)
-      centres_[e] = s_.x + rot * body_.elements[e];
-  }
-
   // Exact ballistic advance by tau (free rotation for clusters).
   void Fly(double tau) {
-    pairs_valid_ = false;
+    search_.InvalidatePairs();
     FlyCentre(ctx_.gravity, tau, &s_);
     if constexpr (kCluster) RotateFree(body_, inv_inertia_, tau, kFlightRotationAngle, &s_);
     a_ = ctx_.gravity;
@@ -424,13 +408,13 @@ class RockRun {
     const double m = body_.mass;
     // The neighbourhood where the flight ended (a new one if it left the
     // old one), and the floor where it is within the tolerance's reach.
-    const bool floor = UpdateNeighbours() + tol >= floor_clear_;
+    const bool floor = UpdateNeighbours() + tol >= search_.floor_clear();
     hits_.clear();
     for (std::size_t e = 0; e < body_.elements.size(); ++e) {
       Eigen::Vector3d centre = s_.x;
       if constexpr (kCluster) centre += rot * body_.elements[e];
-      FindElementContacts(centre, floor, body_.element_radius + tol);
-      for (TerrainContact c : found_) {
+      for (TerrainContact c :
+           search_.FindElementContacts(centre, floor, body_.element_radius + tol)) {
         c.overlap = std::max(c.overlap - tol, 0.0);
         hits_.push_back({c, static_cast<int>(e)});
       }
@@ -453,25 +437,14 @@ class RockRun {
     alpha_ = AngularAcceleration(torque, s_.w, rot);
   }
 
-  // The neighbourhood of the rock (a Verlet list): the virtual spheres within
-  // a skin of its bounding sphere, and the clearance of the floor surface,
-  // measured at near_ref_. Every element stays inside the bounding sphere, so
-  // while the centre has moved less than the skin no other sphere can be
-  // touched, and less than floor_clear_, not the floor. Rebuilt when needed.
-  // keep: the fraction of the skin the centre may have moved for the
-  // neighbourhood to be kept (less before a flight, UpdateNeighbours).
+  // The rock's neighbourhood where it is (ContactSearch::UpdateNeighbours),
+  // and its local contact step when it is made anew. Returns the centre's
+  // distance from where it was made (infinite on the reference path).
   double UpdateNeighbours(double keep = 1.0) {
-    if (!neighbours_) return kInf;  // reference path: the floor tested every step
-    const double moved = (s_.x - near_ref_).norm();
-    if (moved < keep * skin_) return moved;
-    const double rb = body_.bounding_radius;
-    skin_ = (single_element_ ? kSphereSkin : kSkin) * rb;
-    ctx_.terrain.NearSpheres(s_.x, rb, skin_, &near_);
-    floor_clear_ = ctx_.terrain.FloorGap(s_.x, rb, skin_, skin_);
-    near_ref_ = s_.x;
-    pairs_valid_ = false;  // made for the old neighbourhood
-    dt_ = LocalStep();
-    return 0.0;
+    bool rebuilt = false;
+    const double moved = search_.UpdateNeighbours(s_.x, keep, &rebuilt);
+    if (rebuilt) dt_ = LocalStep();
+    return moved;
   }
   // The shortest contact step of the materials the rock may touch before its
   // neighbourhood is rebuilt: those of its candidate spheres and of the grid
@@ -486,8 +459,8 @@ class RockRun {
       const int material = g.material[static_cast<std::size_t>(node)];
       dt = std::min(dt, steps_.material[static_cast<std::size_t>(material)].contact);
     };
-    for (int n : near_) take(n);
-    const double w = body_.bounding_radius + skin_;
+    for (int n : search_.near()) take(n);
+    const double w = body_.bounding_radius + search_.skin();
     const int i0 = std::max(0, static_cast<int>(std::floor((s_.x.x() - w - g.x0) / g.spacing)));
     const int i1 = std::min(g.nx - 1, static_cast<int>(std::ceil((s_.x.x() + w - g.x0) / g.spacing)));
     const int j0 = std::max(0, static_cast<int>(std::floor((s_.x.y() - w - g.y0) / g.spacing)));
@@ -496,8 +469,6 @@ class RockRun {
       for (int i = i0; i <= i1; ++i) take(g.index(i, j));
     return std::isfinite(dt) ? dt : steps_.finest;
   }
-  // The bounding sphere clears the floor surface (as of the last neighbourhood).
-  bool FloorClear() const { return neighbours_ && (s_.x - near_ref_).norm() < floor_clear_; }
 
   // One central-difference (kick-drift-kick) contact step of dt. Sets
   // needed_dt_ to the step its contacts ask for: each its material's gentle
@@ -518,29 +489,15 @@ class RockRun {
     next_.clear();
     spring_energy_ = 0.0;
     const double moved = UpdateNeighbours();
-    const bool floor = moved >= floor_clear_;
-    const double a = body_.element_radius;
-    const bool paired =
-        UpdatePairs(dt * (v_half.norm() + w_half.norm() * body_.bounding_radius), moved, rot);
-    if (kCluster && !paired) ElementCentres(rot);
+    const bool floor = moved >= search_.floor_clear();
+    const bool paired = search_.UpdatePairs(
+        s_.x, dt * (v_half.norm() + w_half.norm() * body_.bounding_radius), moved, rot);
+    if (kCluster && !paired) search_.ElementCentres(s_.x, rot);
     hits_.clear();
     for (std::size_t e = 0; e < body_.elements.size(); ++e) {
-      if (paired) {
-        // An element with no pair and no floor near cannot touch: its
-        // centre is not even needed.
-        const int* begin = pairs_.data() + pair_start_[e];
-        const int* end = pairs_.data() + pair_start_[e + 1];
-        const bool floor_near = floor && floor_near_[e];
-        if (begin == end && !floor_near) continue;
-        if constexpr (kCluster) centres_[e] = s_.x + rot * body_.elements[e];
-        const Eigen::Vector3d& centre = kCluster ? centres_[e] : s_.x;
-        found_.clear();
-        ctx_.terrain.SphereContacts(centre, a, begin, end, &found_);
-        if (floor_near) ctx_.terrain.FloorContacts(centre, a, &found_);
-      } else {
-        FindElementContacts(kCluster ? centres_[e] : s_.x, floor, a);
-      }
-      for (const TerrainContact& c : found_) hits_.push_back({c, static_cast<int>(e)});
+      const std::vector<TerrainContact>* found = search_.StepContacts(e, s_.x, rot, paired, floor);
+      if (!found) continue;
+      for (const TerrainContact& c : *found) hits_.push_back({c, static_cast<int>(e)});
     }
     const double norm = OverlapNorm();
     // The dashpots of all the step's contacts implicit together
@@ -581,60 +538,6 @@ class RockRun {
     if (!(stress > 0.0) || !(speed > 0.0)) return;
     const double deceleration = std::min(stress * body_.frontal_area / body_.mass, speed / dt);
     load->force -= (body_.mass * deceleration / speed) * v_half;
-  }
-
-  // The element-sphere pairs of the neighbourhood that may touch (a Verlet
-  // list one level down): pairs_[pair_start_[e] .. pair_start_[e + 1]) are
-  // the spheres of near_ (in its order) within kPairSkin element radii of
-  // element e, and floor_near_[e] says whether the floor is. No point of the
-  // rock moves further in a step than its centre plus its turn at the
-  // bounding radius (`travel`), so while the travel summed since the lists
-  // were made stays below that skin, no other pair can touch and each step
-  // tests only these: the same contacts in the same order as testing them
-  // all. Made anew after a flight, a step taken back, or a new
-  // neighbourhood (each sets pairs_valid_ false). False (no lists) on the reference path. moved:
-  // the centre's distance from the neighbourhood's centre (UpdateNeighbours). rot: the rock's
-  // rotation, for the element centres of new lists.
-  bool UpdatePairs(double travel, double moved, const Eigen::Matrix3d& rot) {
-    if (!neighbours_) return false;
-    const double skin = kPairSkin * body_.element_radius;
-    pair_travel_ += travel;
-    if (pairs_valid_ && pair_travel_ < skin) return true;
-    if constexpr (kCluster) ElementCentres(rot);
-    pairs_valid_ = true;
-    pair_travel_ = 0.0;
-    const std::size_t ne = body_.elements.size();
-    const double a = body_.element_radius;
-    pairs_.clear();
-    pair_start_.resize(ne + 1);
-    floor_near_.assign(ne, 0);
-    // The floor is out of reach until the centre has moved floor_clear_.
-    const bool floor = moved + skin >= floor_clear_;
-    for (std::size_t e = 0; e < ne; ++e) {
-      const Eigen::Vector3d& p = kCluster ? centres_[e] : s_.x;
-      pair_start_[e] = static_cast<int>(pairs_.size());
-      for (int n : near_) {
-        const double reach = ctx_.terrain.sphere_radius(n) + a + skin;
-        if ((p - ctx_.terrain.sphere_centre(n)).squaredNorm() < reach * reach) pairs_.push_back(n);
-      }
-      if (floor) floor_near_[e] = ctx_.terrain.FloorGap(p, a, skin, skin) < skin;
-    }
-    pair_start_[ne] = static_cast<int>(pairs_.size());
-    return true;
-  }
-
-  // found_: the contacts of an element centred at `centre`; the floor
-  // (facets and catch surface) only where the rock may reach it.
-  // `a`: the element's radius, or more for the landing's tolerance
-  // (PrimeLanding).
-  void FindElementContacts(const Eigen::Vector3d& centre, bool floor, double a) {
-    found_.clear();
-    if (neighbours_) {
-      ctx_.terrain.SphereContacts(centre, a, near_.data(), near_.data() + near_.size(), &found_);
-      if (floor) ctx_.terrain.FloorContacts(centre, a, &found_);
-    } else {
-      ctx_.terrain.FindContacts(centre, a, &found_);
-    }
   }
 
   // The Euclidean norm of the step's contacts' overlaps, for their
@@ -785,7 +688,7 @@ class RockRun {
   // advances, the flight look-ahead and the landing. The scene's finest until
   // the first neighbourhood, and always on the reference path.
   double dt_;
-  const bool exact_flight_, neighbours_;  // off on the reference path
+  const bool exact_flight_;                // off on the reference path
   const bool single_element_;              // a sphere (on either path)
   const double rest_window_;  // SimulationOptions::rest_window; 0 on the reference path
   double needed_dt_ = 0.0;  // the step the last step's contacts ask for
@@ -804,25 +707,13 @@ class RockRun {
   double still_since_ = -1.0, still_speed_ = 0.0;
   bool sliding_ = false;  // a contact of the last step slid or carried no load (Step)
   bool landing_ = false;  // the last advance was a flight
-  // The neighbourhood (UpdateNeighbours): virtual spheres within skin_ of the
-  // bounding sphere at near_ref_, and the floor's clearance there.
-  Eigen::Vector3d near_ref_ = Eigen::Vector3d::Zero();
-  double skin_ = 0.0, floor_clear_ = 0.0;
-  std::vector<int> near_;
-  std::vector<Eigen::Vector3d> centres_;  // element centres (ElementCentres)
   struct ElementMotion {
     double speed, pull;
     Eigen::Vector3d velocity;
   };
   std::vector<ElementMotion> arms_;  // per element, for NearFlightTime
   std::vector<double> arm_length_;   // per element, its centre's distance from the rock's
-  // The pairs that may touch (UpdatePairs): valid while the travel since
-  // they were made stays below their skin, within one neighbourhood.
-  std::vector<int> pairs_, pair_start_;
-  std::vector<char> floor_near_;
-  bool pairs_valid_ = false;
-  double pair_travel_ = 0.0;
-  std::vector<TerrainContact> found_;
+  ContactSearch<kCluster> search_;  // neighbour lists and contact detection (contact_search.h)
   struct Hit {
     TerrainContact contact;
     int element;
