@@ -16,6 +16,7 @@
 #include "damping.h"
 #include "flight.h"
 #include "recording.h"
+#include "rest.h"
 #include "rock_state.h"
 #include "rockcal/core/contact.h"
 #include "rockcal/core/polygon.h"
@@ -38,9 +39,6 @@ constexpr double kMinFlight = 0.01;
 // A flight starts from a new neighbourhood once the centre has moved this
 // fraction of the skin from where the last one was made (NearFlightTime).
 constexpr double kFlightKeep = 0.5;
-// A rock is still while every point of it is slower than this fraction of
-// the stop speed (SimulationOptions::rest_window).
-constexpr double kStillSpeed = 0.1;
 // A step is redone at most this many times with the shorter step its
 // contacts ask for.
 constexpr int kMaxRetries = 3;
@@ -85,9 +83,10 @@ class RockRun {
         dt_(steps.finest),
         exact_flight_(opt_.exact_flight && !opt_.reference_path),
         single_element_(body.elements.size() == 1),
-        rest_window_(opt_.reference_path ? 0.0 : opt_.rest_window),
         rec_(rec),
         recorder_(ctx.scene, ctx.terrain, body, kCluster, rec),
+        ends_(opt_, ctx.terrain, body, opt_.reference_path ? 0.0 : opt_.rest_window,
+              ctx.max_contact_time),
         search_(ctx.terrain, body, !opt_.reference_path) {
     inv_inertia_ = body.inertia.cwiseInverse();
     inertia_min_ = body.inertia.minCoeff();
@@ -122,9 +121,9 @@ class RockRun {
       recorder_.Advance(before, s_, flew);
       const int cell = ctx_.terrain.CellOf(s_.x.x(), s_.x.y());
       if (opt_.record.energy_check && !flew) CheckEnergy();
-      if (Ended(cell, before.t, &outcome)) break;
-      if (AtRest(flew, before.t)) {
-        s_.t = slow_since_ + opt_.stop_duration;
+      if (ends_.Ended(s_, cell, before.t, search_.FloorClear(s_.x), &outcome, rec_)) break;
+      if (ends_.AtRest(s_, flew, !contacts_.empty(), sliding_, before.t)) {
+        s_.t = ends_.slow_since() + opt_.stop_duration;
         outcome = Outcome::kStopped;
         break;
       }
@@ -142,10 +141,7 @@ class RockRun {
     UpdateNeighbours();  // and the local contact step, before the first advance
     recorder_.Start(s_);
     const double scale_floor = body_.mass * g_ * body_.bounding_radius;
-    energy_min_ = Energy();
-    ke_max_ = scale_floor;
-    slow_since_ = -1.0;
-    below_since_ = -1.0;
+    ends_.Start(Energy(), scale_floor);
   }
 
   // One advance: an exact flight up to the next possible contact when
@@ -195,62 +191,6 @@ class RockRun {
     if (dt > dt_) ++rec_->gentle_steps;
   }
 
-  // After an advance that began at t0 and ended over grid cell `cell`: sets
-  // *outcome and returns true when the rock has left the slope, gone
-  // through it, or stopped.
-  bool Ended(int cell, double t0, Outcome* outcome) {
-    if (!ctx_.terrain.CellOnSlope(cell)) {
-      *outcome = Outcome::kLeft;
-      return true;
-    }
-    // Below the floor by more than its radius: a hard impact of a small
-    // rock overlaps for less than a contact time (about v t_c / pi deep,
-    // whatever its size); a rock still there after two has gone through.
-    // A rock whose bounding sphere is known to clear the floor is not below it.
-    if (!search_.FloorClear(s_.x) &&
-        ctx_.terrain.FloorHeight(s_.x.x(), s_.x.y()) - s_.x.z() > body_.bounding_radius) {
-      if (below_since_ < 0) below_since_ = t0;
-      if (s_.t - below_since_ > 2.0 * ctx_.max_contact_time) {
-        rec_->tunneled = true;
-        *outcome = Outcome::kLeft;
-        return true;
-      }
-    } else {
-      below_since_ = -1.0;
-    }
-    if (s_.v.norm() < opt_.stop_speed) {
-      if (slow_since_ < 0) slow_since_ = t0;
-      if (s_.t - slow_since_ >= opt_.stop_duration) {
-        *outcome = Outcome::kStopped;
-        return true;
-      }
-    } else {
-      slow_since_ = -1.0;
-    }
-    return false;
-  }
-
-  // After an advance that began at t0: true when the rock is at rest
-  // (SimulationOptions::rest_window), so it would stay slow until its slow
-  // spell reaches stop_duration, within max_time.
-  bool AtRest(bool flew, double t0) {
-    if (!(rest_window_ > 0.0)) return false;
-    const double speed = s_.v.norm() + s_.w.norm() * body_.bounding_radius;  // of any point
-    const double still = kStillSpeed * opt_.stop_speed;
-    if (flew || contacts_.empty() || sliding_ || !(speed < still)) {
-      still_since_ = -1.0;
-      return false;
-    }
-    if (still_since_ < 0) {
-      still_since_ = t0;
-      still_speed_ = speed;
-    }
-    // Slower than when it became still: not speeding up out of a balance
-    // (a block tipping over an edge it came to rest on).
-    return s_.t - still_since_ >= rest_window_ && speed < still_speed_ && slow_since_ >= 0 &&
-           slow_since_ + opt_.stop_duration <= opt_.max_time;
-  }
-
   void Finish(Outcome outcome) {
     rec_->outcome = outcome;
     rec_->stop = s_.x;
@@ -284,13 +224,7 @@ class RockRun {
 
   void CheckEnergy() {
     const double e = Energy();
-    ke_max_ = std::max(ke_max_, KineticEnergy(s_));
-    if (e < energy_min_) {
-      energy_min_ = e;
-    } else {
-      rec_->max_relative_energy_gain =
-          std::max(rec_->max_relative_energy_gain, (e - energy_min_) / ke_max_);
-    }
+    ends_.CheckEnergy(e, KineticEnergy(s_), rec_);
   }
 
   // Longest time the rock can fly freely from s_ without touching anything
@@ -690,21 +624,17 @@ class RockRun {
   double dt_;
   const bool exact_flight_;                // off on the reference path
   const bool single_element_;              // a sphere (on either path)
-  const double rest_window_;  // SimulationOptions::rest_window; 0 on the reference path
   double needed_dt_ = 0.0;  // the step the last step's contacts ask for
   RockRecord* rec_;
   Recorder recorder_;  // what the record keeps of the path (recording.h)
+  RockEnds ends_;      // rest, the run's ends and the energy check (rest.h)
   RockState s_;
   Eigen::Vector3d a_, alpha_;  // accelerations at the current state
   Eigen::Vector3d inv_inertia_;
   double inertia_min_ = 0.0;
   double spin_growth_ = 1.0, bend_ = 1.0;  // flight bounds of the spin (NearFlightTime)
   double g_ = 0.0;
-  double spring_energy_ = 0.0, energy_min_ = 0.0, ke_max_ = 0.0;
-  // Since when the rock has been slow, and below the floor (-1: it is not).
-  double slow_since_ = -1.0, below_since_ = -1.0;
-  // Since when the rock has been still (AtRest; -1: it is not), and its speed then.
-  double still_since_ = -1.0, still_speed_ = 0.0;
+  double spring_energy_ = 0.0;
   bool sliding_ = false;  // a contact of the last step slid or carried no load (Step)
   bool landing_ = false;  // the last advance was a flight
   struct ElementMotion {
