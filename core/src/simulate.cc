@@ -15,6 +15,7 @@
 #include "contact_search.h"
 #include "damping.h"
 #include "flight.h"
+#include "look_ahead.h"
 #include "recording.h"
 #include "rest.h"
 #include "rock_state.h"
@@ -30,11 +31,10 @@ constexpr double kPi = 3.14159265358979323846;
 // Stiff contacts that may act on one body at once (rough terrain: a rock
 // between nodes touches two virtual spheres); part of the stable-step bound.
 constexpr double kParallelContacts = 2.0;
-// Free flight near the terrain advances up to kFlightReach of the gap at a
-// time, and is worth it while it covers more than kMinFlight of a step, so a
-// landing starts within 1 % of a step of the touch (at 5 %, a box landing
-// flat on 16 elements rebounded 2.1 % short of its restitution).
-constexpr double kFlightReach = 0.98;
+// Free flight near the terrain advances up to kFlightReach (look_ahead.h) of
+// the gap at a time, and is worth it while it covers more than kMinFlight of
+// a step, so a landing starts within 1 % of a step of the touch (at 5 %, a
+// box landing flat on 16 elements rebounded 2.1 % short of its restitution).
 constexpr double kMinFlight = 0.01;
 // A flight starts from a new neighbourhood once the centre has moved this
 // fraction of the skin from where the last one was made (NearFlightTime).
@@ -87,18 +87,11 @@ class RockRun {
         recorder_(ctx.scene, ctx.terrain, body, kCluster, rec),
         ends_(opt_, ctx.terrain, body, opt_.reference_path ? 0.0 : opt_.rest_window,
               ctx.max_contact_time),
-        search_(ctx.terrain, body, !opt_.reference_path) {
+        search_(ctx.terrain, body, !opt_.reference_path),
+        look_ahead_(ctx.terrain, body, ctx.gravity) {
     inv_inertia_ = body.inertia.cwiseInverse();
     inertia_min_ = body.inertia.minCoeff();
-    // Torque-free, |w| stays within |w0| sqrt(I_max / I_min) (energy and
-    // angular momentum are kept), |dw/dt| within (I_max / I_min) |w|^2, so
-    // an arm's acceleration |w' x r + w x (w x r)| is at most
-    // bend_ |w0|^2 |r|; an isotropic body keeps w (bend_ = 1).
-    const double ratio = body.inertia.maxCoeff() / inertia_min_;
-    spin_growth_ = std::sqrt(ratio);
-    bend_ = ratio > 1.0 + 1e-12 ? ratio * (1.0 + ratio) : 1.0;
     g_ = ctx.gravity.norm();
-    for (const Eigen::Vector3d& e : body.elements) arm_length_.push_back(kCluster ? e.norm() : 0.0);
     hits_.reserve(16);
     contacts_.reserve(16);
     next_.reserve(16);
@@ -235,90 +228,14 @@ class RockRun {
     return std::max(tau, NearFlightTime());
   }
 
-  // Close to the ground: the longest flight in which no element can reach
-  // anything of the neighbourhood, while the neighbourhood holds (the centre
-  // moves less than the skin). Each element's gap to each virtual sphere
-  // closes no faster than its own velocity along the line between them
-  // allows: the distance to a sphere is convex in the element's position,
-  // so it stays above its tangent, gap + n.(displacement), and the
-  // displacement is v t + g t^2 / 2 plus the turn of the element's arm, at
-  // first w x arm, bending by at most bend_ |w|^2 |arm| (torque-free
-  // rotation). An element leaving a sphere is not held back by it, as a
-  // bound from the rock's speed alone would (a tumbling block then crept
-  // away from each bump in dozens of ever longer flights). The floor (facets
-  // and catch surface), where it is within reach, is bounded by each
-  // element's speed. 0 when something already touches.
+  // Close to the ground (look_ahead.h): the longest flight in which no
+  // element can reach anything of the neighbourhood, while it holds. A
+  // flight may not leave the neighbourhood: one that would start near its
+  // edge starts from a new one (else the flights near the ground came in
+  // ever shorter pieces towards the edge, each with its landing).
   double NearFlightTime() {
-    // A flight may not leave the neighbourhood: one that would start near
-    // its edge starts from a new one (else the flights near the ground came
-    // in ever shorter pieces towards the edge, each with its landing).
     const double moved = UpdateNeighbours(kFlightKeep);
-    const double rb = body_.bounding_radius;
-    const double v = s_.v.norm();
-    const double spin = kCluster ? s_.w.norm() : 0.0;
-    const double speed = v + spin * spin_growth_ * rb;  // of any point of the rock
-    const double skin = search_.skin();
-    double best = GapFlightTime(kFlightReach * (skin - moved), v, g_);
-    if constexpr (kCluster) search_.ElementCentres(s_.x, Rotation());
-    const double a = body_.element_radius;
-    const std::size_t ne = body_.elements.size();
-    auto centre = [&](std::size_t e) -> const Eigen::Vector3d& {
-      return kCluster ? search_.centre(e) : s_.x;
-    };
-    if (search_.floor_clear() < skin) {
-      for (std::size_t e = 0; e < ne; ++e) {
-        const double gap = ctx_.terrain.FloorGap(centre(e), a, skin, skin);
-        if (!(gap > 0.0)) return 0.0;
-        best = std::min(
-            best, GapFlightTime(kFlightReach * gap, v + spin * spin_growth_ * arm_length_[e], g_));
-      }
-    }
-    // Per element: its velocity and a bound on how fast its gap to anything
-    // can close (speed) and speed up (pull).
-    const double bend = bend_ * spin * spin;
-    arms_.resize(ne);
-    for (std::size_t e = 0; e < ne; ++e) {
-      ElementMotion& m = arms_[e];
-      m.velocity = s_.v + s_.w.cross(centre(e) - s_.x);
-      m.speed = v + spin * arm_length_[e];  // at least |velocity|
-      m.pull = bend * arm_length_[e] + g_;
-    }
-    // A pair whose gap stays open for `best` at the element's bounds cannot
-    // shorten the flight and is skipped before any square root: within t the
-    // gap closes by at most speed t + pull t^2 / 2. The same test on the
-    // bounding sphere skips a sphere whole.
-    for (int n : search_.near()) {
-      const Eigen::Vector3d& c = ctx_.terrain.sphere_centre(n);
-      const double r = ctx_.terrain.sphere_radius(n);
-      const double closing = best * (speed + 0.5 * g_ * best);
-      const double clear = r + rb + closing;
-      if ((s_.x - c).squaredNorm() >= clear * clear) continue;
-      for (std::size_t e = 0; e < ne; ++e) {
-        const ElementMotion& m = arms_[e];
-        const Eigen::Vector3d d = centre(e) - c;
-        const double reach = r + a + best * (m.speed + 0.5 * m.pull * best) / kFlightReach;
-        const double dist2 = d.squaredNorm();
-        if (dist2 >= reach * reach) continue;
-        const double dist = std::sqrt(dist2);
-        const double gap = dist - r - a;
-        if (!(gap > 0.0)) return 0.0;
-        const Eigen::Vector3d normal = d / dist;
-        const double rate = normal.dot(m.velocity);
-        const double pull = bend * arm_length_[e] - normal.dot(ctx_.gravity);
-        best = std::min(best, FirstReach(kFlightReach * gap, rate, pull));
-      }
-    }
-    return best;
-  }
-
-  // The first time t > 0 at which d + rate t - pull t^2 / 2 falls to 0
-  // (d > 0); infinite when it never does.
-  static double FirstReach(double d, double rate, double pull) {
-    const double disc = rate * rate + 2.0 * pull * d;
-    if (pull > 0.0) return (rate + std::sqrt(disc)) / pull;
-    if (rate >= 0.0) return kInf;
-    if (pull == 0.0) return d / -rate;
-    return disc >= 0.0 ? (rate + std::sqrt(disc)) / pull : kInf;
+    return look_ahead_.NearFlightTime(s_, moved, &search_);
   }
 
   // Exact ballistic advance by tau (free rotation for clusters).
@@ -632,18 +549,12 @@ class RockRun {
   Eigen::Vector3d a_, alpha_;  // accelerations at the current state
   Eigen::Vector3d inv_inertia_;
   double inertia_min_ = 0.0;
-  double spin_growth_ = 1.0, bend_ = 1.0;  // flight bounds of the spin (NearFlightTime)
   double g_ = 0.0;
   double spring_energy_ = 0.0;
   bool sliding_ = false;  // a contact of the last step slid or carried no load (Step)
   bool landing_ = false;  // the last advance was a flight
-  struct ElementMotion {
-    double speed, pull;
-    Eigen::Vector3d velocity;
-  };
-  std::vector<ElementMotion> arms_;  // per element, for NearFlightTime
-  std::vector<double> arm_length_;   // per element, its centre's distance from the rock's
   ContactSearch<kCluster> search_;  // neighbour lists and contact detection (contact_search.h)
+  FlightLookAhead<kCluster> look_ahead_;  // the flight near the ground (look_ahead.h)
   struct Hit {
     TerrainContact contact;
     int element;
