@@ -163,6 +163,8 @@ core::Release ReadRelease(const JsonNode& node, Units units, const core::HeightG
                           std::string* note) {
   node.Keys(SiteKeysAt("$.rocks[].release"));
   core::Release r;
+  if (node.Has("position_spread") && !node.Has("point"))
+    node.Get("position_spread").Fail("goes with a release 'point' only (a zone is already spread)");
   if (node.Has("height") && node.Has("elevation"))
     node.Fail("expected 'height' (above the ground) or 'elevation' (absolute), not both");
   const bool has_zone = node.Has("zone"), has_point = node.Has("point");
@@ -200,6 +202,26 @@ core::Release ReadRelease(const JsonNode& node, Units units, const core::HeightG
     }
     centre = r.point;
     *note = "point (" + FormatNumber(r.point.x()) + ", " + FormatNumber(r.point.y()) + ") m";
+    if (const auto spread = node.Find("position_spread")) {
+      // A tracked release is known within an error: each rock starts at a
+      // point drawn uniformly from the disc of this radius about the point
+      // (a polygon of kSpreadVertices vertices, released as a zone).
+      const double radius =
+          NumberInRange(*spread, LengthToSI(spread->NonNegative(), units), 0, 1000.0,
+                        "release position spread", Quantity::kLength, units);
+      if (radius > 0) {
+        constexpr int kSpreadVertices = 24;
+        for (int k = 0; k < kSpreadVertices; ++k) {
+          const double a = 2.0 * 3.14159265358979323846 * k / kSpreadVertices;
+          r.zone.push_back(r.point + radius * Eigen::Vector2d(std::cos(a), std::sin(a)));
+        }
+        if (auto off = FindOffTerrain(grid, r.zone, grid.spacing / 4))
+          spread->Fail("the disc of this radius about the release point reaches " +
+                       where_text(*off) + ", off the terrain (" + grid_text +
+                       "); expected a disc on the terrain");
+        *note += " within " + FormatNumber(radius) + " m (uniform in the disc)";
+      }
+    }
   }
   if (const std::optional<double> z = ElevationAt(grid, centre.x(), centre.y()))
     *note += ", ground " + FormatNumber(*z) + " m";
@@ -243,6 +265,10 @@ core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightG
                           const std::string& base_dir, std::vector<std::string>* inputs,
                           std::string* note) {
   core::RockGroup g;
+  if (const auto id = node.Find("id")) {
+    g.id = id->String();
+    if (g.id.empty()) id->Fail("expected a non-empty group id");
+  }
   if (node.Has("inventory")) {
     // The blocks of a field inventory; count (default one rock per block)
     // repeats them in turn.
@@ -562,7 +588,13 @@ Site LoadSite(const std::string& path) {
   for (std::size_t k = 0; k < rocks.size(); ++k) {
     std::string note;
     scene.groups.push_back(ReadGroup(rocks[k], units, grid, base_dir, &site.inputs, &note));
-    site.notes.push_back("rock group " + std::to_string(k + 1) + ": " + note);
+    const std::string& id = scene.groups.back().id;
+    for (std::size_t j = 0; j + 1 < scene.groups.size() && !id.empty(); ++j)
+      if (scene.groups[j].id == id)
+        rocks[k].Get("id").Fail("group id '" + id + "' is also rocks[" + std::to_string(j) +
+                                "]'s; expected ids unique within the site");
+    site.notes.push_back("rock group " + std::to_string(k + 1) +
+                         (id.empty() ? "" : " '" + id + "'") + ": " + note);
   }
 
   if (auto sim = root.Find("simulation")) ReadSimulation(*sim, units, &scene.options);
@@ -662,6 +694,26 @@ MaterialValueFault SetMaterialValue(const std::string& id, const std::string& fi
   }
   core::SetFieldValue(&*it, f->field, value);
   return MaterialValueFault::kNone;
+}
+
+std::vector<std::string> IdenticalCopyWarnings(const core::Scene& scene) {
+  std::vector<std::string> out;
+  for (std::size_t k = 0; k < scene.groups.size(); ++k) {
+    const core::RockGroup& g = scene.groups[k];
+    if (g.count < 2 || !g.release.zone.empty() || g.release.velocity_spread.any()) continue;
+    // The same body every time: one size, and one block (or none) ...
+    bool same_body = g.inventory.empty() ? g.size_min == g.size_max : g.inventory.size() == 1;
+    // ... whose orientation is fixed or does not matter (a sphere).
+    const core::Shape shape = g.inventory.empty() ? g.shape : g.inventory.front().shape;
+    same_body = same_body && (shape == core::Shape::kSphere || g.release.orientation.has_value());
+    if (!same_body) continue;
+    out.push_back("rock group " + std::to_string(k + 1) + (g.id.empty() ? "" : " '" + g.id + "'") +
+                  ": its " + std::to_string(g.count) +
+                  " rocks are identical copies (one point, one velocity, one body whose "
+                  "orientation does not matter): the Monte Carlo adds nothing; give the release "
+                  "a 'position_spread' or a 'velocity_spread', or the block as a box");
+  }
+  return out;
 }
 
 }  // namespace rockcal::sites

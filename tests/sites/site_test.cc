@@ -785,6 +785,46 @@ TEST(LoadSite, ReleaseAtAnElevationWithAVelocitySpread) {
               HasSubstr("$.rocks[1].box: 'box' goes with \"shape\": \"box\" only"));
 }
 
+// Issue 38: a tracked release known within an error, group ids, and the
+// warning for groups whose rocks are identical copies.
+TEST(LoadSite, ReleasePositionSpreadGroupIdsAndIdenticalCopies) {
+  TempDir dir;
+  Json json = BaseSite();
+  json["rocks"][1]["id"] = "v004";
+  json["rocks"][1]["release"]["position_spread"] = 2;  // ft
+  Site site = LoadSite(WriteSite(dir, json));
+  const core::Release& rel = site.scene.groups[1].release;
+  EXPECT_EQ(site.scene.groups[1].id, "v004");
+  ASSERT_EQ(rel.zone.size(), 24u);
+  for (const Eigen::Vector2d& v : rel.zone)
+    EXPECT_NEAR((v - rel.point).norm(), 2 * 0.3048, 1e-12) << v.transpose();
+  // The disc is centred on the point (the runout's origin stays there).
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& v : rel.zone) mean += v / 24.0;
+  EXPECT_NEAR((mean - rel.point).norm(), 0.0, 1e-12);
+  // Cubes at a point without spread: random orientations, so not copies; a
+  // sphere of one size at a point without spread is.
+  EXPECT_TRUE(IdenticalCopyWarnings(site.scene).empty());
+  json["rocks"][1]["release"].erase("position_spread");
+  json["rocks"][1]["shape"] = "sphere";
+  site = LoadSite(WriteSite(dir, json));
+  const std::vector<std::string> warnings = IdenticalCopyWarnings(site.scene);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], HasSubstr("rock group 2 'v004': its 5 rocks are identical copies"));
+  json["rocks"][1]["release"]["velocity_spread"] = {0.1, 0.1, 0};
+  EXPECT_TRUE(IdenticalCopyWarnings(LoadSite(WriteSite(dir, json)).scene).empty());
+
+  EXPECT_THAT(LoadError([](Json& s) { s["rocks"][0]["release"]["position_spread"] = 1; }),
+              HasSubstr("$.rocks[0].release.position_spread: goes with a release 'point' only"));
+  EXPECT_THAT(LoadError([](Json& s) { s["rocks"][1]["release"]["position_spread"] = 30; }),
+              HasSubstr("off the terrain"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["rocks"][0]["id"] = "a";
+                s["rocks"][1]["id"] = "a";
+              }),
+              HasSubstr("$.rocks[1].id: group id 'a' is also rocks[0]'s"));
+}
+
 TEST(LoadSite, RollingResistanceIsCalibrated) {
   TempDir dir;
   Json json = BaseSite();

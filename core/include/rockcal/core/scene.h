@@ -54,6 +54,9 @@ struct Block {
 };
 
 struct RockGroup {
+  // The group's name in the site file ("id"; empty when not given): what a
+  // per-run observation names to tie its stop point to this release.
+  std::string id;
   int count = 1;
   Shape shape = Shape::kSphere;
   double size_min = 1.0, size_max = 1.0;  // m, uniform in range

@@ -51,6 +51,13 @@ struct Site {
 // file, the JSON path (or line), the value and what was expected.
 Site LoadSite(const std::string& path);
 
+// One warning per rock group whose rocks are identical copies of one
+// another (count > 1, a release point with no position or velocity spread,
+// and one body whose orientation does not matter: a sphere of one size, or
+// a fixed orientation): each of its rocks follows the same path, so the
+// group's Monte Carlo adds nothing. Empty when there is none.
+std::vector<std::string> IdenticalCopyWarnings(const core::Scene& scene);
+
 // Applies one --set override "material.<id>.<hardness|roughness|contact_time>=VALUE"
 // (VALUE in the site's units) to site->scene. Throws InputError on a bad key or value.
 void ApplySetting(const std::string& key_value, Site* site);
