@@ -172,6 +172,62 @@ void Comparer::Fraction(const std::string& observation, int crossed, int release
 // (stopped_fraction < 1), the observed distances are those of the rocks that
 // stopped, and the simulated ones are compared in kind: the stopped rocks'
 // (the runout given stopping), with the share compared on its own.
+// Per-run observations: run i's runout (from its own release) against the
+// runouts of its group's rocks from the same release, pooled over the runs
+// into one distribution compared by quantiles as above (each run adds its
+// group's rocks, so the pooled simulated sample is the mixture of the runs'
+// predictions); a rock that did not stop is censored as above (at or beyond
+// every distance). Each run's fit goes to misfit->runs.
+void CompareRuns(const Runout& runout, double error, const core::SimulationResult& result,
+                 const Comparer& compare, Misfit* misfit) {
+  std::vector<std::vector<const core::RockRecord*>> by_group;
+  for (const core::RockRecord& rock : result.rocks) {
+    const std::size_t g = static_cast<std::size_t>(rock.group);
+    if (by_group.size() <= g) by_group.resize(g + 1);
+    by_group[g].push_back(&rock);
+  }
+  double farthest = *std::max_element(runout.distances.begin(), runout.distances.end());
+  for (std::size_t i = 0; i < runout.run_groups.size(); ++i) {
+    const std::size_t g = static_cast<std::size_t>(runout.run_groups[i]);
+    if (g >= by_group.size()) continue;
+    for (const core::RockRecord* rock : by_group[g])
+      farthest = std::max(farthest, (rock->stop.head<2>() - runout.run_origins[i]).norm());
+  }
+  std::vector<double> pooled;
+  int stopped = 0, released = 0;
+  for (std::size_t i = 0; i < runout.run_groups.size(); ++i) {
+    const std::size_t g = static_cast<std::size_t>(runout.run_groups[i]);
+    RunFit fit;
+    fit.id = runout.run_ids[i];
+    fit.group = runout.run_groups[i];
+    fit.observed = runout.distances[i];
+    std::vector<double> run;
+    if (g < by_group.size()) {
+      for (const core::RockRecord* rock : by_group[g]) {
+        const double d = (rock->stop.head<2>() - runout.run_origins[i]).norm();
+        const bool stop = rock->outcome == core::Outcome::kStopped;
+        run.push_back(stop ? d : farthest);
+        fit.stopped += stop ? 1 : 0;
+        const double moved = (rock->stop.head<2>() - rock->start.head<2>()).norm();
+        if (moved < RunFit::kStuckDistance && fit.observed > RunFit::kStuckDistance) ++fit.stuck;
+      }
+    }
+    fit.rocks = static_cast<int>(run.size());
+    if (!run.empty()) {
+      std::sort(run.begin(), run.end());
+      fit.simulated = core::Quantile(run, 0.5);
+    }
+    stopped += fit.stopped;
+    released += fit.rocks;
+    pooled.insert(pooled.end(), run.begin(), run.end());
+    misfit->runs.push_back(fit);
+  }
+  compare.Distributions("runout distance", std::move(pooled), runout.distances, error);
+  const int observed_rocks =
+      runout.observed_rocks > 0 ? runout.observed_rocks : static_cast<int>(runout.distances.size());
+  compare.Share("runout stopped", stopped, released, runout.stopped_fraction, observed_rocks);
+}
+
 void CompareRunout(const Runout& runout, double error, const core::SimulationResult& result,
                    const Comparer& compare) {
   struct Rock {
@@ -270,6 +326,19 @@ std::string Misfit::Report() const {
   out << "misfit " << value << (penalised ? " (penalised)" : "") << "\n";
   if (!message.empty()) out << message << "\n";
   return out.str();
+}
+
+double Misfit::MeanRunError() const {
+  if (runs.empty()) return 0.0;
+  double sum = 0.0;
+  for (const RunFit& r : runs) sum += std::abs(r.simulated - r.observed);
+  return sum / static_cast<double>(runs.size());
+}
+
+int Misfit::StuckRocks() const {
+  int n = 0;
+  for (const RunFit& r : runs) n += r.stuck;
+  return n;
 }
 
 std::string FitVerdict::Sentence() const {
@@ -399,7 +468,9 @@ Misfit ComputeMisfit(const Observations& observations, const core::Scene& scene,
                           observations.error.height);
   }
 
-  if (observations.runout)
+  if (observations.runout && observations.runout->has_runs())
+    CompareRuns(*observations.runout, observations.error.runout, result, compare, &misfit);
+  else if (observations.runout)
     CompareRunout(*observations.runout, observations.error.runout, result, compare);
 
   const int released = static_cast<int>(result.rocks.size());

@@ -15,6 +15,7 @@
 #include "rockcal/core/limits.h"
 #include "rockcal/core/statistics.h"
 #include "rockcal/observations/file_keys.h"
+#include "rockcal/sites/geometry.h"
 #include "rockcal/sites/text_reader.h"
 
 namespace rockcal::observations {
@@ -165,6 +166,15 @@ class Loader final {
   std::vector<Tree> ReadTreesFile(const JsonNode& ref) const;
   Runout ReadRunout(const JsonNode& node, std::vector<std::string>* notes) const;
   Runout ReadRunoutPositions(const JsonNode& node, std::vector<std::string>* notes) const;
+  // Per-run observations: the "runs" array or the "runs_file" CSV.
+  Runout ReadRuns(const JsonNode& node, std::vector<std::string>* notes) const;
+  Runout ReadRunsFile(const JsonNode& ref, std::vector<std::string>* notes) const;
+  // Adds run `id` tied to group `group` (its id) stopped at `stop` (SI) to
+  // `runout`; `where` names the JSON path or the CSV file and line of the
+  // run for the errors (no such group, a stop off the terrain, a repeated id).
+  void AddRun(const std::string& where, const std::string& id, const std::string& group,
+              const Eigen::Vector2d& stop, Runout* runout) const;
+  void NoteRuns(const Runout& runout, std::vector<std::string>* notes) const;
   std::vector<Passing> ReadPassing(const JsonNode& node) const;
   std::vector<Passing> ReadPassingFile(const JsonNode& ref) const;
 
@@ -449,6 +459,119 @@ Runout Loader::ReadRunoutPositions(const JsonNode& node, std::vector<std::string
   return runout;
 }
 
+void Loader::AddRun(const std::string& where, const std::string& id, const std::string& group,
+                    const Eigen::Vector2d& stop, Runout* runout) const {
+  if (id.empty()) throw InputError(where, "expected a non-empty run id");
+  for (const std::string& other : runout->run_ids)
+    if (other == id) throw InputError(where, "run id '" + id + "' is given twice; expected each run once");
+  int index = -1;
+  for (std::size_t g = 0; g < scene_.groups.size(); ++g)
+    if (scene_.groups[g].id == group) index = static_cast<int>(g);
+  if (index < 0) {
+    std::string ids;
+    int shown = 0;
+    for (const core::RockGroup& g : scene_.groups)
+      if (!g.id.empty() && shown++ < 8) ids += (ids.empty() ? "" : ", ") + g.id;
+    throw InputError(where, "run '" + id + "': no rock group of the site has the id '" + group +
+                                "' (expected the 'id' of the rock group released as this run " +
+                                "was; " + (ids.empty() ? "the site's groups have no ids" : "ids: " + ids +
+                                (shown > 8 ? ", ..." : "")) + ")");
+  }
+  if (!sites::OnTerrain(scene_.grid, stop.x(), stop.y()))
+    throw InputError(where, "run '" + id + "': stop point " + FormatPoint(stop) +
+                                " m is off the terrain (outside the grid or over a hole); "
+                                "expected a stop point on the terrain");
+  const Eigen::Vector2d origin = ReleaseCentroid(scene_.groups[static_cast<std::size_t>(index)].release);
+  runout->run_ids.push_back(id);
+  runout->run_groups.push_back(index);
+  runout->run_origins.push_back(origin);
+  runout->stop_points.push_back(stop);
+  runout->distances.push_back((stop - origin).norm());
+}
+
+void Loader::NoteRuns(const Runout& runout, std::vector<std::string>* notes) const {
+  const std::vector<double>& d = runout.distances;
+  notes->push_back("runout: " + std::to_string(d.size()) +
+                   " tracked runs, each measured from its own rock group's release (runout " +
+                   FormatNumber(*std::min_element(d.begin(), d.end()), "%.4g") + "-" +
+                   FormatNumber(*std::max_element(d.begin(), d.end()), "%.4g") +
+                   " m) and compared with that group's rocks only");
+}
+
+Runout Loader::ReadRuns(const JsonNode& node, std::vector<std::string>* notes) const {
+  Runout runout;
+  for (const JsonNode& run : node.Array(1)) {
+    run.Keys(ObservationsKeysAt("$.runs[]"));
+    const std::string id = run.Get("id").String();
+    const std::string group = run.Has("group") ? run.Get("group").String() : id;
+    const std::vector<double> v = sites::CoordinatesToSI(run.Get("stop"), 2, units_);
+    AddRun(run.where(), id, group, Eigen::Vector2d(v[0], v[1]), &runout);
+  }
+  NoteRuns(runout, notes);
+  return runout;
+}
+
+Runout Loader::ReadRunsFile(const JsonNode& ref, std::vector<std::string>* notes) const {
+  // A table with a header naming its columns: the run's id ("id" or
+  // "run"), its rock group ("group", default the run's id) and its stop
+  // point ("stop_x", "stop_y", or with the suffix "_m" or "_ft"); other
+  // columns (a tracked campaign's release state, masses...) are ignored.
+  const std::string name = ref.String();
+  if (name.empty()) ref.Fail("expected a CSV file name");
+  const std::string file = Resolve(name);
+  if (!std::filesystem::is_regular_file(file)) ref.Fail("cannot open CSV file '" + file + "'");
+  csv_files_.push_back(file);
+  const CsvTable table{file, {}};
+  sites::LineReader in(file);
+  std::string line;
+  std::vector<std::string> header;
+  int id_col = -1, group_col = -1, x_col = -1, y_col = -1;
+  Runout runout;
+  while (in.Next(&line)) {
+    if (in.line() == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
+    if (sites::IsBlank(line)) continue;
+    const std::string text = line.substr(line.find_first_not_of(" \t"));
+    if (text[0] == '#') continue;
+    CsvRow row{in.line(), SplitFields(text)};
+    for (std::string& f : row.fields)
+      if (f.size() >= 2 && f.front() == '"' && f.back() == '"') f = f.substr(1, f.size() - 2);
+    if (header.empty()) {
+      header = row.fields;
+      auto find = [&](std::initializer_list<const char*> names) {
+        for (std::size_t c = 0; c < header.size(); ++c)
+          for (const char* n : names)
+            if (header[c] == n) return static_cast<int>(c);
+        return -1;
+      };
+      id_col = find({"id", "run"});
+      group_col = find({"group"});
+      x_col = find({"stop_x", "stop_x_m", "stop_x_ft"});
+      y_col = find({"stop_y", "stop_y_m", "stop_y_ft"});
+      if (id_col < 0 || x_col < 0 || y_col < 0)
+        CsvFail(table, row,
+                "expected a header naming the columns 'id' (or 'run'), 'stop_x' and 'stop_y' "
+                "(optionally 'group'; found " + sites::Excerpt(text) + ")");
+      continue;
+    }
+    if (row.fields.size() != header.size())
+      CsvFail(table, row,
+              "expected " + std::to_string(header.size()) + " values per row (as the header), "
+              "found " + std::to_string(row.fields.size()) + " in " + sites::Excerpt(text));
+    const std::size_t xi = static_cast<std::size_t>(x_col), yi = static_cast<std::size_t>(y_col);
+    const Eigen::Vector2d stop(Length(CsvNumber(table, row, xi, "stop_x")),
+                               Length(CsvNumber(table, row, yi, "stop_y")));
+    const std::string id = row.fields[static_cast<std::size_t>(id_col)];
+    const std::string group =
+        group_col >= 0 ? row.fields[static_cast<std::size_t>(group_col)] : id;
+    AddRun(file + ":" + std::to_string(row.line), id, group, stop, &runout);
+  }
+  if (runout.distances.empty())
+    throw InputError(file, "no data rows (expected a header and one row per run; referenced at " +
+                               ref.where() + ")");
+  NoteRuns(runout, notes);
+  return runout;
+}
+
 std::vector<Passing> Loader::ReadPassing(const JsonNode& node) const {
   std::vector<Passing> out;
   for (const JsonNode& e : node.Array(1)) {
@@ -509,7 +632,16 @@ Observations Loader::Load() {
                                                     " tree" + (set.trees.size() == 1 ? "" : "s")));
     }
   }
+  {
+    const int forms = root.Has("runout") + root.Has("runs") + root.Has("runs_file");
+    if (forms > 1)
+      throw InputError(root.where(), "expected at most one of 'runout' (stop points pooled about "
+                                     "one origin), 'runs' and 'runs_file' (tracked runs)");
+  }
   if (const auto runout = root.Find("runout")) obs.runout = ReadRunout(*runout, &obs.notes);
+  if (const auto runs = root.Find("runs")) obs.runout = ReadRuns(*runs, &obs.notes);
+  if (const auto runs = root.Find("runs_file")) obs.runout = ReadRunsFile(*runs, &obs.notes);
+  if (obs.runout && obs.runout->has_runs()) obs.runout->observed_rocks = static_cast<int>(obs.runout->distances.size());
   if (root.Has("passing") && root.Has("passing_file")) {
     throw InputError(root.where(),
                      "keys 'passing' and 'passing_file' both given (expected at most one)");
@@ -695,12 +827,20 @@ Observations Subset(const Observations& observations, const Fold& fold, bool hel
     kept.stop_points.clear();
     kept.lateral.clear();
     kept.masses.clear();
+    kept.run_ids.clear();
+    kept.run_groups.clear();
+    kept.run_origins.clear();
     for (std::size_t i = 0; i < r.distances.size(); ++i) {
       if (!Keep(fold.runout, i, held_out)) continue;
       kept.distances.push_back(r.distances[i]);
       if (i < r.stop_points.size()) kept.stop_points.push_back(r.stop_points[i]);
       if (i < r.lateral.size()) kept.lateral.push_back(r.lateral[i]);
       if (i < r.masses.size()) kept.masses.push_back(r.masses[i]);
+      if (i < r.run_ids.size()) {
+        kept.run_ids.push_back(r.run_ids[i]);
+        kept.run_groups.push_back(r.run_groups[i]);
+        kept.run_origins.push_back(r.run_origins[i]);
+      }
     }
     // The observed share stands for the kept rocks as for all of them; the
     // mass classes keep at least four blocks each (none below two classes).

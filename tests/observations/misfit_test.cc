@@ -385,6 +385,54 @@ TEST(MisfitTest, RunoutGivenAsDistancesHasNoLateralResiduals) {
   EXPECT_EQ(m.value, 0.0);
 }
 
+// Two tracked runs released 40 m apart: each run's runout is measured from
+// its own release and compared with its own group's rocks only.
+TEST(MisfitTest, RunsAreMeasuredFromTheirOwnRelease) {
+  core::Scene scene = TwoPartitionScene();
+  core::RockGroup a, b;
+  a.id = "a";
+  a.release.point = Eigen::Vector2d(0, 0);
+  b.id = "b";
+  b.release.point = Eigen::Vector2d(0, 40);
+  scene.groups = {a, b};
+  Observations obs;
+  Runout r;
+  r.run_ids = {"a", "b"};
+  r.run_groups = {0, 1};
+  r.run_origins = {a.release.point, b.release.point};
+  r.stop_points = {Eigen::Vector2d(30, 0), Eigen::Vector2d(0, 90)};
+  r.distances = {30, 50};
+  obs.runout = r;
+  obs.error.runout = 1.0;
+  auto rock = [](int index, int group, double x, double y, double sx, double sy) {
+    core::RockRecord rec = StoppedRock(index, x, y);
+    rec.group = group;
+    rec.start = Eigen::Vector3d(sx, sy, 0);
+    return rec;
+  };
+  core::SimulationResult result;
+  // Run a's rock stops 30 m from (0, 0), run b's 50 m from (0, 40): every
+  // quantile matches, though from the first release b's is 90 m off.
+  result.rocks = {rock(0, 0, 30, 0, 0, 0), rock(1, 1, 0, 90, 0, 40)};
+  Misfit m = ComputeMisfit(obs, scene, result);
+  EXPECT_NEAR(m.value, 0.0, 1e-12) << m.Report();
+  ASSERT_EQ(m.runs.size(), 2u);
+  EXPECT_EQ(m.runs[1].id, "b");
+  EXPECT_DOUBLE_EQ(m.runs[1].simulated, 50.0);
+  EXPECT_DOUBLE_EQ(m.MeanRunError(), 0.0);
+  EXPECT_EQ(m.StuckRocks(), 0);
+  // Run b's rocks stuck at its release: counted, and the runout short.
+  result.rocks[1] = rock(1, 1, 0.2, 40, 0, 40);
+  result.rocks.push_back(rock(2, 1, 0, 40.5, 0, 40));
+  m = ComputeMisfit(obs, scene, result);
+  EXPECT_EQ(m.runs[1].stuck, 2);
+  EXPECT_EQ(m.runs[1].rocks, 2);
+  EXPECT_EQ(m.StuckRocks(), 2);
+  EXPECT_NEAR(m.runs[1].simulated, 0.35, 1e-9);
+  EXPECT_NEAR(m.MeanRunError(), (50 - 0.35) / 2, 1e-9);
+  EXPECT_GT(m.value, 10.0) << m.Report();
+}
+
 TEST(MisfitTest, PassingFractionWithBinomialError) {
   const core::Scene scene = TwoPartitionScene();
   core::SimulationResult result = CrossingAt(1, std::vector<double>(4, 1.0));

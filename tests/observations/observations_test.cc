@@ -15,6 +15,7 @@
 namespace rockcal::observations {
 namespace {
 
+using ::testing::AllOf;
 using ::testing::HasSubstr;
 
 constexpr double kFt = 0.3048;
@@ -628,6 +629,93 @@ TEST(Folds, EveryValueIsHeldOutOnceAndTrainedOnOtherwise) {
   EXPECT_EQ(held_distances, obs.runout->distances);
   // The same seed deals the same folds; another seed another order.
   EXPECT_EQ(MakeFolds(obs, 3, 7)[1].runout, folds[1].runout);
+}
+
+// A 100 m x 100 m terrain, two rock groups "a" (released at (10, 90)) and
+// "b" (at (50, 90)).
+core::Scene RunsScene() {
+  core::Scene scene;
+  scene.grid.spacing = 10.0;
+  scene.grid.nx = scene.grid.ny = 11;
+  scene.grid.z.assign(121, 0.0);
+  scene.grid.material.assign(121, 0);
+  core::RockGroup a, b;
+  a.id = "a";
+  a.release.point = Eigen::Vector2d(10, 90);
+  b.id = "b";
+  b.release.point = Eigen::Vector2d(50, 90);
+  scene.groups = {a, b};
+  return scene;
+}
+
+TEST_F(ObservationsFileTest, RunsTieEachStopToItsOwnRelease) {
+  scene_ = RunsScene();
+  const Observations obs = LoadObservations(
+      Write("obs.json", R"({"units": "si", "error": {"runout": 2},
+        "runs": [{"id": "a", "stop": [10, 60]}, {"id": "r2", "group": "b", "stop": [90, 60]}]})"),
+      scene_);
+  ASSERT_TRUE(obs.runout && obs.runout->has_runs());
+  EXPECT_EQ(obs.runout->run_groups, (std::vector<int>{0, 1}));
+  EXPECT_DOUBLE_EQ(obs.runout->distances[0], 30.0);
+  EXPECT_DOUBLE_EQ(obs.runout->distances[1], 50.0);
+  EXPECT_THAT(obs.notes.back(), HasSubstr("2 tracked runs, each measured from its own"));
+  // The CSV form: a header names the columns, other columns are ignored.
+  Write("runs.csv", "run,block_id,stop_x_m,stop_y_m\na,1,10,60\nb,2,90,60\n");
+  const Observations csv = LoadObservations(
+      Write("obs.json", R"({"units": "si", "error": {"runout": 2}, "runs_file": "runs.csv"})"),
+      scene_);
+  EXPECT_EQ(csv.runout->distances, obs.runout->distances);
+  EXPECT_EQ(csv.runout->run_ids, (std::vector<std::string>{"a", "b"}));
+}
+
+TEST_F(ObservationsFileTest, BadRunsNameTheFileAndRow) {
+  scene_ = RunsScene();
+  EXPECT_THAT(LoadError(R"({"units": "si", "error": {"runout": 2},
+        "runs": [{"id": "a", "stop": [10, 60]}, {"id": "c", "stop": [10, 60]}]})"),
+              AllOf(HasSubstr("$.runs[1]"), HasSubstr("no rock group of the site has the id 'c'"),
+                    HasSubstr("ids: a, b")));
+  EXPECT_THAT(LoadError(R"({"units": "si", "error": {"runout": 2},
+        "runs": [{"id": "a", "stop": [10, 160]}]})"),
+              AllOf(HasSubstr("$.runs[0]"), HasSubstr("stop point (10, 160) m is off the terrain")));
+  Write("runs.csv", "id,stop_x,stop_y\na,10,60\nb,90,-5\n");
+  EXPECT_THAT(LoadError(R"({"units": "si", "error": {"runout": 2}, "runs_file": "runs.csv"})"),
+              AllOf(HasSubstr("runs.csv:3"), HasSubstr("off the terrain")));
+  Write("runs.csv", "id,stop_x,stop_y\na,10,60\nd,90,50\n");
+  EXPECT_THAT(LoadError(R"({"units": "si", "error": {"runout": 2}, "runs_file": "runs.csv"})"),
+              AllOf(HasSubstr("runs.csv:3"), HasSubstr("run 'd'")));
+  Write("runs.csv", "x,y\n10,60\n");
+  EXPECT_THAT(LoadError(R"({"units": "si", "error": {"runout": 2}, "runs_file": "runs.csv"})"),
+              AllOf(HasSubstr("runs.csv:1"), HasSubstr("'stop_x'")));
+  EXPECT_THAT(LoadError(R"({"units": "si", "error": {"runout": 2}, "runs_file": "runs.csv",
+        "runout": {"stop_points": [[1, 2]]}})"),
+              HasSubstr("at most one of 'runout'"));
+}
+
+TEST_F(ObservationsFileTest, FoldsOverRunsKeepEachRunWithItsRelease) {
+  scene_ = RunsScene();
+  const Observations obs = LoadObservations(
+      Write("obs.json", R"({"units": "si", "error": {"runout": 2}, "runs": [
+        {"id": "r1", "group": "a", "stop": [10, 60]}, {"id": "r2", "group": "b", "stop": [90, 60]},
+        {"id": "r3", "group": "a", "stop": [10, 40]}, {"id": "r4", "group": "b", "stop": [50, 20]}]})"),
+      scene_);
+  const std::vector<Fold> folds = MakeFolds(obs, 2, 3);
+  std::vector<std::string> held;
+  for (const Fold& f : folds) {
+    const Observations test = Subset(obs, f, true), train = Subset(obs, f, false);
+    ASSERT_EQ(test.runout->run_ids.size(), 2u);
+    ASSERT_EQ(train.runout->run_ids.size(), 2u);
+    for (std::size_t i = 0; i < 2; ++i) {
+      const auto& r = *test.runout;
+      const std::size_t k = static_cast<std::size_t>(
+          std::find(obs.runout->run_ids.begin(), obs.runout->run_ids.end(), r.run_ids[i]) -
+          obs.runout->run_ids.begin());
+      EXPECT_EQ(r.run_groups[i], obs.runout->run_groups[k]);
+      EXPECT_EQ(r.distances[i], obs.runout->distances[k]);
+      held.push_back(r.run_ids[i]);
+    }
+  }
+  std::sort(held.begin(), held.end());
+  EXPECT_EQ(held, (std::vector<std::string>{"r1", "r2", "r3", "r4"}));
 }
 
 TEST(Folds, TooFewValuesOrFoldsAreRefused) {

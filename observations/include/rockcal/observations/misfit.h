@@ -42,8 +42,27 @@ struct Residual {
   double value = 0.0;       // (simulated - observed) / sigma
 };
 
+// How the simulations of one tracked run (Runout::has_runs) compare with it.
+struct RunFit {
+  std::string id;
+  int group = 0;               // index into core::Scene::groups
+  double observed = 0.0;       // m, the run's runout from its release
+  double simulated = 0.0;      // m, the median runout of its group's rocks (censored ones at the far end)
+  int rocks = 0;               // simulated rocks of its group
+  int stopped = 0;             // of which stopped
+  // Simulated rocks whose centre ended within kStuckDistance of where it
+  // started (in plan) while the run itself moved farther than that.
+  int stuck = 0;
+  static constexpr double kStuckDistance = 1.0;  // m
+};
+
 struct Misfit {
   std::vector<Residual> residuals;  // empty when the result was non-finite
+  // Per-run observations only: each run's fit, in the observations' order.
+  std::vector<RunFit> runs;
+  // Mean over the runs of |simulated - observed| runout [m] (0 without runs).
+  double MeanRunError() const;
+  int StuckRocks() const;  // summed over the runs
   double value = 0.0;               // 0.5 * sum of residual values squared
   // True when a penalty entered the value: a non-finite result (value =
   // penalty, no residuals) or a distribution with fewer than 2 simulated

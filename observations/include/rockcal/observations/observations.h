@@ -74,6 +74,18 @@ struct Runout {
   // The lower mass bounds (kg) of classes 2 .. mass_classes: the observed
   // masses' quantiles k / mass_classes. Empty without mass classes.
   std::vector<double> MassClassBounds() const;
+
+  // Per-run observations (the file's "runs" or "runs_file"): each stop point
+  // is one tracked run's, tied to the rock group released as that run was.
+  // distances[i] is then run i's runout, the horizontal distance from its
+  // own release (run_origins[i], the group's release point) to its stop
+  // point, and the simulated counterpart is the distance from the same
+  // origin of each rock of that group only (no lateral offsets). Parallel
+  // to distances; empty for the pooled forms above.
+  std::vector<std::string> run_ids;
+  std::vector<int> run_groups;                // index into core::Scene::groups
+  std::vector<Eigen::Vector2d> run_origins;   // m
+  bool has_runs() const { return !run_groups.empty(); }
 };
 
 // Share of released rocks that cross a partition.
