@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -119,6 +120,8 @@ calibrate::CalibrationOptions OptionsFromArgs(const Args& args, const std::strin
   options.refine_factor =
       static_cast<int>(args.Integer("refine", args.Has("rocks") ? 1 : 4, 1, 1000));
   options.noise_seeds = 3;
+  // The noise check before the search: the start at 3 more seeds.
+  options.noise_check_seeds = 3;
   return options;
 }
 
@@ -140,6 +143,12 @@ calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
       std::printf("  The box cannot produce these statistics: the calibration gives a best "
                   "compromise, not a fit (widen the box, change the model, or check the "
                   "observations).\n");
+  };
+  callbacks.noise_checked = [quiet](const calibrate::CalibrationSummary& s) {
+    if (s.noise_check.noise_dominates)
+      std::printf("NOISE: %s\n", s.noise_check.message.c_str());
+    else if (!quiet)
+      std::printf("%s\n", s.noise_check.message.c_str());
   };
   callbacks.method_started = [quiet, progress](const std::string& method) {
     progress->emplace("calibrate " + method, quiet);
@@ -190,6 +199,32 @@ void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
   reports::WriteFileAtomically(out + "/parameters.md", reports::ParametersMarkdown(summary));
   reports::WriteFileAtomically(out + "/trace.csv", reports::TraceCsv(summary));
   nlohmann::json calibration = reports::CalibrationJson(summary);
+  if (summary.noise_check.done) {
+    const auto& c = summary.noise_check;
+    calibration["noise_check"] = {{"start_misfits", c.start_misfits},
+                                  {"start_sd", c.start_sd},
+                                  {"design_spread", c.design_spread},
+                                  {"ratio", std::isfinite(c.ratio) ? nlohmann::json(c.ratio)
+                                                                   : nlohmann::json(nullptr)},
+                                  {"noise_dominates", c.noise_dominates},
+                                  {"rocks", summary.rocks},
+                                  {"rocks_needed", c.rocks_needed},
+                                  {"message", c.message}};
+  }
+  if (!summary.misfit_after.runs.empty()) {
+    // Tracked runs: each run's runout against the median of its group's rocks.
+    nlohmann::json runs = nlohmann::json::array();
+    for (const observations::RunFit& r : summary.misfit_after.runs)
+      runs.push_back({{"id", r.id},
+                      {"observed_m", r.observed},
+                      {"simulated_median_m", r.simulated},
+                      {"rocks", r.rocks},
+                      {"stopped", r.stopped},
+                      {"stuck_at_release", r.stuck}});
+    calibration["runs"] = {{"mean_abs_error_m", summary.misfit_after.MeanRunError()},
+                           {"stuck_at_release", summary.misfit_after.StuckRocks()},
+                           {"per_run", runs}};
+  }
   if (holdout) {
     calibration["holdout"] = reports::HoldoutJson(*holdout, summary);
     reports::WriteFileAtomically(out + "/holdout.json",
@@ -229,6 +264,13 @@ void PrintCalibration(const std::string& out, const calibrate::CalibrationSummar
               sim.count(core::Outcome::kStopped), sim.rocks.size(),
               sim.count(core::Outcome::kLeft), sim.count(core::Outcome::kTimeout),
               observations::AssessFit(summary.misfit_after).Sentence().c_str());
+  if (!summary.misfit_after.runs.empty())
+    std::printf("tracked runs: %zu, mean |median simulated - observed| runout %.3g m, %d simulated "
+                "rocks stuck at their release\n",
+                summary.misfit_after.runs.size(), summary.misfit_after.MeanRunError(),
+                summary.misfit_after.StuckRocks());
+  if (summary.noise_check.done && summary.noise_check.noise_dominates)
+    std::printf("NOISE: %s\n", summary.noise_check.message.c_str());
   std::printf("\n%s", reports::ParametersMarkdown(summary).c_str());
   if (summary.methods.size() > 1)
     std::printf("\n%s", reports::ComparisonMarkdown(summary).c_str());
@@ -255,10 +297,15 @@ int Calibrate(const std::vector<std::string>& argv) {
   calibrate::CalibrationOptions options = OptionsFromArgs(args, out);
   options.methods = methods;
   const observations::Observations obs = observations::LoadObservations(obs_path, site.scene);
-  // Reach before fit: 4 (n + 1) design points by default, 0 for none.
+  for (const std::string& w : sites::IdenticalCopyWarnings(site.scene))
+    std::printf("WARNING: %s\n", w.c_str());
+  // Reach before fit, the global stage: 4 (n + 1) design points or half
+  // the evaluation budget, whichever is more, by default; 0 for none.
   const int parameters = calibrate::ParameterSpace::FromSite(site).size();
-  options.reach_points = static_cast<int>(
-      args.Integer("reach", 4 * (parameters + 1), 0, 100000));
+  options.reach_points = static_cast<int>(args.Integer(
+      "reach",
+      calibrate::CalibrationOptions::DefaultReachPoints(parameters, options.method.max_evals), 0,
+      100000));
   if (options.reach_points == 1)
     throw InputError("argument --reach", "1: expected 0 (no reach check) or at least 2 points");
   // With a refining stage, a race of its possible starts: the first stage's

@@ -179,6 +179,8 @@ int Validate(const std::vector<std::string>& argv) {
                 lo.mass, hi.mass, dt,
                 shrunk ? " (shrunk for stability)" : "");
   }
+  for (const std::string& w : sites::IdenticalCopyWarnings(scene))
+    std::printf("WARNING: %s\n", w.c_str());
   if (args.Has("observations")) {
     const observations::Observations obs =
         observations::LoadObservations(args.Get("observations"), scene);

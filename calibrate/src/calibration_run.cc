@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -31,6 +32,10 @@ bool CalibrationOptions::IsValid(std::string* error) const {
     s << "refine_share = " << refine_share << ": must be in (0, 1)";
   } else if (!(refine_step > 0.0 && refine_step <= 1.0)) {
     s << "refine_step = " << refine_step << ": must be in (0, 1]";
+  } else if (noise_check_seeds < 0) {
+    s << "noise_check_seeds = " << noise_check_seeds << ": must be >= 0 (0: no check)";
+  } else if (!(noise_check_ratio > 0.0 && noise_check_ratio <= 1.0)) {
+    s << "noise_check_ratio = " << noise_check_ratio << ": must be in (0, 1]";
   } else if (race_points < 0) {
     s << "race_points = " << race_points << ": must be >= 0 (0: no race)";
   } else if (noise_seeds < 0) {
@@ -210,7 +215,67 @@ void MeasureMisfitNoise(const sites::Site& site, const observations::Observation
   summary->misfit_noise_sd = core::SampleStandardDeviation(all);
 }
 
+// CalibrationOptions::noise_check_seeds: the misfit at the start at other
+// seeds against the spread of the reach design's misfits.
+void CheckNoise(const sites::Site& site, const observations::Observations& obs,
+                const CalibrationOptions& options, const ParameterSpace& space,
+                CalibrationSummary* summary) {
+  if (options.noise_check_seeds <= 0 || !summary->reach) return;
+  CalibrationSummary::NoiseCheck& check = summary->noise_check;
+  check.start_misfits = {summary->misfit_before.value};
+  const std::vector<std::string> misfits = parallel::Map(options.noise_check_seeds, [&](int k) {
+    const std::uint64_t seed = summary->seed + static_cast<std::uint64_t>(k + 1);
+    const core::Scene scene = RunScene(site, summary->rocks, seed, options.threads);
+    parallel::Writer w;
+    w.Double(Objective(scene, space, obs, options.misfit).Evaluate(summary->start).value);
+    return w.bytes();
+  });
+  for (const std::string& m : misfits) check.start_misfits.push_back(parallel::Reader(m).Double());
+  check.start_sd = core::SampleStandardDeviation(check.start_misfits);
+  std::vector<double> design;
+  for (const ReachPoint& p : summary->reach->points)
+    if (!p.penalised) design.push_back(p.misfit);
+  if (design.size() >= 2) {
+    std::sort(design.begin(), design.end());
+    const double median = core::Quantile(design, 0.5);
+    std::vector<double> dev;
+    for (double m : design) dev.push_back(std::abs(m - median));
+    std::sort(dev.begin(), dev.end());
+    check.design_spread = 1.4826 * core::Quantile(dev, 0.5);
+  }
+  check.ratio = check.design_spread > 0 ? check.start_sd / check.design_spread
+                                        : std::numeric_limits<double>::infinity();
+  check.noise_dominates = check.ratio > options.noise_check_ratio;
+  check.rocks_needed = summary->rocks;
+  char line[400];
+  if (check.noise_dominates) {
+    const double factor = std::isfinite(check.ratio)
+                              ? std::pow(check.ratio / options.noise_check_ratio, 2.0)
+                              : 100.0;
+    check.rocks_needed = static_cast<int>(std::ceil(summary->rocks * std::min(factor, 100.0)));
+    std::snprintf(line, sizeof line,
+                  "noise dominates: the misfit at the start varies by %.3g (sd over %zu seeds) "
+                  "against a spread of %.3g over the design (ratio %.2f > %.2f); about %d rocks "
+                  "per evaluation (--rocks %d) would bring the ratio to %.2f",
+                  check.start_sd, check.start_misfits.size(), check.design_spread, check.ratio,
+                  options.noise_check_ratio, check.rocks_needed, check.rocks_needed,
+                  options.noise_check_ratio);
+  } else {
+    std::snprintf(line, sizeof line,
+                  "noise small: the misfit at the start varies by %.3g (sd over %zu seeds) "
+                  "against a spread of %.3g over the design (ratio %.2f <= %.2f)",
+                  check.start_sd, check.start_misfits.size(), check.design_spread, check.ratio,
+                  options.noise_check_ratio);
+  }
+  check.message = line;
+  check.done = true;
+}
+
 }  // namespace
+
+int CalibrationOptions::DefaultReachPoints(int parameters, int max_evals) {
+  return std::max(4 * (parameters + 1), max_evals / 2);
+}
 
 Fingerprint CalibrationFingerprint(const sites::Site& site, const observations::Observations& obs,
                                    const CalibrationOptions& options) {
@@ -330,6 +395,8 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
         summary.search_start = best_point.physical;
     }
     if (callbacks.reach_done) callbacks.reach_done(r);
+    CheckNoise(site, obs, options, space, &summary);
+    if (summary.noise_check.done && callbacks.noise_checked) callbacks.noise_checked(summary);
   }
   SearchMethods(objective, summary.search_start, options.methods, method_options,
                 log ? &*log : nullptr, callbacks, &summary);
@@ -391,7 +458,14 @@ HoldoutSummary CrossValidate(const sites::Site& site, const observations::Observ
     r.calibrated = cal.best_method().best;
     r.termination = cal.termination;
     std::vector<double> gaps;
+    if (!score.misfit.runs.empty()) {
+      // Tracked runs: the mean over the held-out runs of |median simulated
+      // runout of the run's group - the run's runout|.
+      r.runout_error_m = score.misfit.MeanRunError();
+      errors.push_back(*r.runout_error_m);
+    }
     for (const observations::Residual& res : score.misfit.residuals)
+      if (score.misfit.runs.empty())
       if (res.observation == "runout distance" && res.quantity != "max")
         gaps.push_back(std::abs(res.simulated - res.observed));
     if (!gaps.empty()) {

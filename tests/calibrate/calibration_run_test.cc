@@ -298,3 +298,27 @@ TEST(Objective, ResidualCountComesFromTheObservations) {
 
 }  // namespace
 }  // namespace rockcal::calibrate
+
+namespace rockcal::calibrate {
+namespace {
+
+// Issue 38: the reach design, the global stage, grows with the evaluation
+// budget: 4 (n + 1) points or half of max_evals, whichever is more.
+TEST(CalibrationOptions, DefaultReachDesignGrowsWithTheBudget) {
+  EXPECT_EQ(CalibrationOptions::DefaultReachPoints(2, 10), 12);
+  EXPECT_EQ(CalibrationOptions::DefaultReachPoints(2, 60), 30);
+  EXPECT_EQ(CalibrationOptions::DefaultReachPoints(2, 100), 50);
+  EXPECT_EQ(CalibrationOptions::DefaultReachPoints(9, 63), 40);  // the Authume main job, as before
+  CalibrationOptions o;
+  std::string error;
+  o.noise_check_seeds = -1;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("noise_check_seeds = -1"), std::string::npos) << error;
+  o.noise_check_seeds = 3;
+  o.noise_check_ratio = 0;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("noise_check_ratio = 0"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace rockcal::calibrate

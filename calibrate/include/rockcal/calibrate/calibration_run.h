@@ -76,6 +76,19 @@ struct CalibrationOptions {
   // values simulated again at this many other seeds (seed + 1, seed + 2, ...)
   // with the final rock count; 0: none [0], >= 0.
   int noise_seeds = 0;
+  // The noise check before the search (NoiseCheck): the misfit at the start
+  // at this many other seeds (seed + 1, ...), its spread against the spread
+  // of the reach design's misfits (needs reach_points); 0: none [0], >= 0.
+  int noise_check_seeds = 0;
+  // Noise dominates when the start's spread over seeds is more than this
+  // share of the design's spread [0.25], (0, 1].
+  double noise_check_ratio = 0.25;
+
+  // The reach design a calibration with `parameters` calibrated values and
+  // `max_evals` evaluations gets by default: 4 (n + 1) points, or half the
+  // evaluation budget when that is more (a global stage that grows with the
+  // budget: a rugged misfit has basins a small design does not see).
+  static int DefaultReachPoints(int parameters, int max_evals);
 
   // Checks each field (the methods' names, the method options, the misfit
   // options); on failure sets *error naming the field, its value and the rule.
@@ -91,6 +104,8 @@ struct CalibrationCallbacks {
   std::function<void(const CalibrationSummary&)> started;
   // After the reach check (CalibrationOptions::reach_points), before the search.
   std::function<void(const ReachResult&)> reach_done;
+  // After the noise check (CalibrationOptions::noise_check_seeds), before the search.
+  std::function<void(const CalibrationSummary&)> noise_checked;
   std::function<void(const std::string& method)> method_started;
   CalibrationProgress evaluated;  // after every evaluation
   std::function<void(const MethodResult&)> method_finished;
@@ -139,6 +154,24 @@ struct CalibrationSummary {
   std::vector<std::uint64_t> noise_seeds;
   std::vector<double> noise_misfits;
   double misfit_noise_sd = 0.0;
+  // CalibrationOptions::noise_check_seeds: is the misfit's Monte Carlo noise
+  // small against what the search ranks by? Set before the search.
+  struct NoiseCheck {
+    bool done = false;
+    std::vector<double> start_misfits;  // at the start, the run's seed first, then the others
+    double start_sd = 0.0;   // their sample standard deviation
+    // The design's misfits' spread: 1.4826 x their median absolute
+    // deviation (unpenalised points), robust to a few far points.
+    double design_spread = 0.0;
+    double ratio = 0.0;      // start_sd / design_spread (inf when the design has no spread)
+    bool noise_dominates = false;  // ratio > noise_check_ratio
+    // The rocks per evaluation at which the ratio would fall to
+    // noise_check_ratio (the noise's standard deviation as 1 / sqrt(rocks)),
+    // or the rocks as they are when the noise does not dominate.
+    int rocks_needed = 0;
+    std::string message;  // one plain sentence
+  };
+  NoiseCheck noise_check;
   // The site's scene at the calibrated values, recording what the files of
   // a simulation need (summary.json, rocks.csv, the misfit); no trajectories.
   core::Scene calibrated;
