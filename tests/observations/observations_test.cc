@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rockcal/core/error.h"
+#include "rockcal/sites/site.h"
 
 namespace rockcal::observations {
 namespace {
@@ -716,6 +717,30 @@ TEST_F(ObservationsFileTest, FoldsOverRunsKeepEachRunWithItsRelease) {
   }
   std::sort(held.begin(), held.end());
   EXPECT_EQ(held, (std::vector<std::string>{"r1", "r2", "r3", "r4"}));
+}
+
+// The bundled Tschamut 2014 example: each of its 62 runs is measured from
+// its own rock group's release, and that distance is the campaign's own
+// runout_m (runs.csv, horizontal distance from release to stop; the site
+// gives the release points to the millimetre).
+TEST(TschamutExample, EachRunIsMeasuredFromItsOwnRelease) {
+  const std::string dir = std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/tschamut/";
+  const sites::Site site = sites::LoadSite(dir + "site.json");
+  EXPECT_TRUE(sites::IdenticalCopyWarnings(site.scene).empty());
+  const Observations obs = LoadObservations(dir + "observations.json", site.scene);
+  ASSERT_TRUE(obs.runout && obs.runout->has_runs());
+  const Runout& r = *obs.runout;
+  ASSERT_EQ(r.run_ids.size(), 62u);
+  std::ifstream csv(dir + "data/runs.csv");
+  std::string line;
+  std::getline(csv, line);  // header; runout_m is the last column
+  for (std::size_t i = 0; std::getline(csv, line); ++i) {
+    ASSERT_LT(i, r.run_ids.size());
+    EXPECT_EQ(line.substr(0, line.find(',')), r.run_ids[i]);
+    EXPECT_EQ(site.scene.groups[static_cast<std::size_t>(r.run_groups[i])].id, r.run_ids[i]);
+    const double runout_m = std::stod(line.substr(line.rfind(',') + 1));
+    EXPECT_NEAR(r.distances[i], runout_m, 1e-3) << r.run_ids[i];
+  }
 }
 
 TEST(Folds, TooFewValuesOrFoldsAreRefused) {
