@@ -114,6 +114,10 @@ def main():
         truth = [float(v) for v in text.split(",")]
         tdir = os.path.join(a.out, "truth%d" % (t + 1))
         site, obs = make_twin(tdir, a.runs, truth, rockcal, a.threads)
+        with open(obs) as f:
+            if not json.load(f)["runs"]:
+                print("truth %s: no run stopped on the terrain at the truth; skipped" % text)
+                continue
         yard = None
         if a.reach_yardstick > 0:
             rdir = os.path.join(tdir, "reach")

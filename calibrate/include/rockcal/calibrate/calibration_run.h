@@ -201,8 +201,10 @@ struct FoldResult {
   double in_sample_misfit = 0.0;  // the fold's calibration against its training values
   double held_out_misfit = 0.0;   // its calibrated values against the held-out values
   // The median over p10 ... p90 of |simulated - observed| runout distance,
-  // the observed quantiles those of the held-out stop points [m]; unset
-  // without runout observations.
+  // the observed quantiles those of the held-out stop points [m]; with
+  // tracked runs (observations::Runout::has_runs), the mean over the
+  // held-out runs of |median simulated - observed| runout (Misfit::
+  // MeanRunError); unset without runout observations.
   std::optional<double> runout_error_m;
   std::vector<double> calibrated;  // the fold's calibrated values (physical)
   Termination termination;
