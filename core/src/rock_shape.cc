@@ -17,7 +17,8 @@ constexpr ShapeInfo kShapes[] = {{Shape::kSphere, "sphere"},
                                  {Shape::kDisc, "disc"},
                                  {Shape::kTetrahedron, "tetrahedron"},
                                  {Shape::kCube, "cube"},
-                                 {Shape::kBox, "box"}};
+                                 {Shape::kBox, "box"},
+                                 {Shape::kScanned, "scanned"}};
 
 }  // namespace
 
@@ -29,7 +30,7 @@ const char* ShapeName(Shape shape) {
 
 bool ParseShape(const std::string& name, Shape* shape) {
   for (const auto& s : kShapes) {
-    if (name == s.name) {
+    if (s.shape != Shape::kScanned && name == s.name) {
       *shape = s.shape;
       return true;
     }
@@ -73,6 +74,8 @@ double NominalVolume(Shape shape, double size, const Eigen::Vector3d& box) {
       return s3;
     case Shape::kBox:
       return BoxSides(size, box).prod();
+    case Shape::kScanned:
+      return 0.0;
   }
   return 0.0;
 }
@@ -96,6 +99,8 @@ double NominalSurface(Shape shape, double size, const Eigen::Vector3d& box) {
       const Eigen::Vector3d d = BoxSides(size, box);
       return 2.0 * (d.x() * d.y() + d.y() * d.z() + d.z() * d.x());
     }
+    case Shape::kScanned:
+      return 0.0;
   }
   return 0.0;
 }
@@ -177,6 +182,7 @@ RockBody MakeRockBody(Shape shape, double size, double unit_weight, double gravi
         body.elements.emplace_back((i & 1) ? q : -q, (i & 2) ? q : -q, (i & 4) ? q : -q);
       break;
     case Shape::kBox:  // handled above
+    case Shape::kScanned:  // ScannedBody (clump.h)
       break;
   }
   Finish(&body);

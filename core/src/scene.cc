@@ -90,10 +90,16 @@ RockBody GroupRockBody(const RockGroup& group, int index, double u, double gravi
   if (!group.inventory.empty()) {
     const Block& b = group.inventory[static_cast<std::size_t>(index) % group.inventory.size()];
     if (b.shape == Shape::kBox) return MakeBoxBody(b.sides, b.mass);
+    if (b.shape == Shape::kScanned && b.scanned) return ScannedBody(*b.scanned, 1.0, b.mass);
     // A named shape of size L1 at the block's mass.
     return WithMass(MakeRockBody(b.shape, b.sides.x(), 1.0, 1.0), b.mass);
   }
   const double size = group.size_min + u * (group.size_max - group.size_min);
+  if (group.shape == Shape::kScanned && group.scanned) {
+    const double scale = size / group.scanned->clump.hull_sides.x();
+    const double volume = group.scanned->mass.volume * scale * scale * scale;
+    return ScannedBody(*group.scanned, scale, group.unit_weight * volume / gravity);
+  }
   return MakeRockBody(group.shape, size, group.unit_weight, gravity, group.box);
 }
 
@@ -107,6 +113,35 @@ GroupExtent GroupBodies(const RockGroup& group, double gravity) {
     extent.max_element_radius = std::max(extent.max_element_radius, b.element_radius);
   }
   return extent;
+}
+
+std::vector<ShapeUse> Scene::ScannedShapes() const {
+  std::vector<ShapeUse> uses;
+  auto add = [&](const ScannedShape& s) {
+    auto it = std::lower_bound(uses.begin(), uses.end(), s.name,
+                               [](const ShapeUse& u, const std::string& n) { return u.name < n; });
+    if (it == uses.end() || it->name != s.name) {
+      ShapeUse u;
+      u.name = s.name;
+      u.file = s.file;
+      u.first = &s;
+      u.spheres = static_cast<int>(s.clump.centres.size());
+      u.min_volume = u.max_volume = s.mass.volume;
+      it = uses.insert(it, u);
+    }
+    ++it->uses;
+    it->volume_error = std::max(it->volume_error, std::abs(s.clump.volume_error));
+    it->moment_error = std::max(it->moment_error, s.clump.moment_error);
+    it->side_error = std::max(it->side_error, s.clump.side_error);
+    it->min_volume = std::min(it->min_volume, s.mass.volume);
+    it->max_volume = std::max(it->max_volume, s.mass.volume);
+  };
+  for (const RockGroup& g : groups) {
+    if (g.scanned) add(*g.scanned);
+    for (const Block& b : g.inventory)
+      if (b.scanned) add(*b.scanned);
+  }
+  return uses;
 }
 
 int Scene::total_rocks() const {

@@ -78,6 +78,8 @@ std::vector<ReportSection> Sections(const Context& c) {
   if (!c.scene.partitions.empty()) add("barrier", "Barrier check", sections::BarrierSection);
   if (c.stopped > 0) add("runout", "Runout", sections::RunoutSection);
   if (c.several_shapes) add("shapes", "Rock shapes", sections::ShapesSection);
+  if (sections::HasScannedShapes(c.scene))
+    add("scanned", "Scanned shapes", sections::ScannedShapesSection);
   if (c.in.calibration && !c.in.calibration->methods.empty()) {
     const CalibrationSummary& rec = *c.in.calibration;
     if (rec.reach)

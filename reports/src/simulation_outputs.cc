@@ -73,7 +73,7 @@ nlohmann::json SummaryJson(const core::Scene& scene, const core::SimulationResul
 }
 
 nlohmann::json DiagnosticsJson(const core::Scene& scene, const core::SimulationResult& result) {
-  return {{"dt_min_seconds", result.dt_min},
+  nlohmann::json j = {{"dt_min_seconds", result.dt_min},
           {"dt_max_seconds", result.dt_max},
           {"steps_per_contact", scene.options.steps_per_contact},
           {"rocks_with_step_shrunk_for_stability", result.dt_shrunk},
@@ -86,6 +86,21 @@ nlohmann::json DiagnosticsJson(const core::Scene& scene, const core::SimulationR
           {"max_relative_energy_gain", result.max_relative_energy_gain},
           {"non_finite_rocks", result.non_finite},
           {"tunneled_rocks", result.tunneled}};
+  // Scanned shapes (docs/rock-shapes.md): each clump's worst fit to its hull.
+  const std::vector<core::ShapeUse> shapes = scene.ScannedShapes();
+  if (!shapes.empty()) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const core::ShapeUse& u : shapes)
+      list.push_back({{"name", u.name},
+                      {"file", u.file},
+                      {"bodies", u.uses},
+                      {"spheres", u.spheres},
+                      {"max_volume_error", u.volume_error},
+                      {"max_moment_error", u.moment_error},
+                      {"max_side_error", u.side_error}});
+    j["scanned_shapes"] = list;
+  }
+  return j;
 }
 
 std::string RocksCsv(const core::Scene& scene, const core::SimulationResult& result) {

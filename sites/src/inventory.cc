@@ -27,7 +27,8 @@ bool Comment(const std::string& line) {
 
 }  // namespace
 
-std::vector<core::Block> ReadInventory(const std::string& path, Units units) {
+std::vector<core::Block> ReadInventory(const std::string& path, Units units,
+                                       std::vector<std::string>* shape_files) {
   LineReader in(path);
   std::string line;
   // The header: the first row that is neither blank nor a comment.
@@ -92,12 +93,20 @@ std::vector<core::Block> ReadInventory(const std::string& path, Units units) {
     }
     std::sort(sides.begin(), sides.end(), std::greater<double>());
     b.sides = Eigen::Vector3d(sides[0], sides[1], sides[2]);
+    std::string file;
     if (shape_column >= 0) {
-      const std::string name = Lower(fields[static_cast<std::size_t>(shape_column)]);
-      if (!core::ParseShape(name, &b.shape)) {
-        in.Fail("shape '" + name.substr(0, 40) + "': expected one of " + core::ShapeNames());
+      const std::string& field = fields[static_cast<std::size_t>(shape_column)];
+      const std::string name = Lower(field);
+      const bool is_file = field.find_first_of("./") != std::string::npos;
+      if (is_file && shape_files) {
+        b.shape = core::Shape::kScanned;
+        file = field;
+      } else if (!core::ParseShape(name, &b.shape)) {
+        in.Fail("shape '" + name.substr(0, 40) + "': expected one of " + core::ShapeNames() +
+                (shape_files ? " or a shape file (a name with an extension, e.g. SP1A.xyz)" : ""));
       }
     }
+    if (shape_files) shape_files->push_back(file);
     blocks.push_back(b);
   }
   if (blocks.empty()) in.Fail("no blocks after the header (expected one block per row)");

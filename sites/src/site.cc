@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <map>
+#include <memory>
 #include <optional>
 
 #include "rockcal/core/error.h"
@@ -13,6 +16,7 @@
 #include "rockcal/sites/file_keys.h"
 #include "rockcal/sites/geometry.h"
 #include "rockcal/sites/inventory.h"
+#include "rockcal/sites/shape_file.h"
 #include "rockcal/sites/surface.h"
 #include "rockcal/sites/text_reader.h"
 #include "rockcal/sites/zone_files.h"
@@ -261,6 +265,42 @@ core::Release ReadRelease(const JsonNode& node, Units units, const core::HeightG
   return r;
 }
 
+// The clump options of a rock group: its "spheres" (the budget), if any.
+core::ClumpOptions ReadClumpOptions(const JsonNode& node) {
+  core::ClumpOptions options;
+  if (auto n = node.Find("spheres")) options.spheres = static_cast<int>(n->Integer(1, 64));
+  return options;
+}
+
+// A shape file named in a site: loaded once per resolved path.
+std::shared_ptr<const core::ScannedShape> LoadShapeOnce(
+    const std::string& file, Units units, const core::ClumpOptions& options,
+    std::map<std::string, std::shared_ptr<const core::ScannedShape>>* cache,
+    std::vector<std::string>* inputs) {
+  auto it = cache->find(file);
+  if (it != cache->end()) return it->second;
+  auto shape = LoadScannedShape(file, LengthToSI(1.0, units), options);
+  inputs->push_back(file);
+  cache->emplace(file, shape);
+  return shape;
+}
+
+// How an inventory's scanned shapes take each block's size.
+enum class ShapeScale { kSides, kMass };
+constexpr std::pair<ShapeScale, const char*> kShapeScales[] = {{ShapeScale::kSides, "sides"},
+                                                               {ShapeScale::kMass, "mass"}};
+
+std::string FitSummary(const core::ScannedShape& s) {
+  const core::Clump& c = s.clump;
+  char text[200];
+  std::snprintf(text, sizeof text,
+                ": %zu spheres, union volume %+.2f %%, moments within %.2f %%, sides within "
+                "%.1f %% of the hull's",
+                c.centres.size(), 100.0 * c.volume_error, 100.0 * c.moment_error,
+                100.0 * c.side_error);
+  return s.name + text;
+}
+
 core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightGrid& grid,
                           const std::string& base_dir, std::vector<std::string>* inputs,
                           std::string* note) {
@@ -269,14 +309,71 @@ core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightG
     g.id = id->String();
     if (g.id.empty()) id->Fail("expected a non-empty group id");
   }
+  std::map<std::string, std::shared_ptr<const core::ScannedShape>> cache;
   if (node.Has("inventory")) {
     // The blocks of a field inventory; count (default one rock per block)
     // repeats them in turn.
     node.Keys(SiteKeysAt("$.rocks[] (inventory)"));
     const JsonNode inv = node.Get("inventory");
     const std::string file = ResolvePath(base_dir, inv.String());
-    g.inventory = ReadInventory(file, units);
+    std::vector<std::string> shape_files;
+    g.inventory = ReadInventory(file, units, &shape_files);
     inputs->push_back(file);
+    // Scanned shapes: from the library folder ("shapes", relative to the
+    // site file) or else beside the site file.
+    std::string library = base_dir;
+    if (auto lib = node.Find("shapes")) {
+      library = ResolvePath(base_dir, lib->String());
+      if (!std::filesystem::is_directory(library))
+        lib->Fail("shape library '" + library + "' is not a folder");
+    }
+    const core::ClumpOptions clump = ReadClumpOptions(node);
+    ShapeScale scale = ShapeScale::kSides;
+    if (auto sc = node.Find("shape_scale")) {
+      const std::string name = sc->String();
+      bool found = false;
+      for (const auto& [value, label] : kShapeScales)
+        if (name == label) scale = value, found = true;
+      if (!found) sc->Fail("unknown shape_scale '" + name + "' (allowed: sides, mass)");
+    }
+    double unit_weight = 0.0;
+    if (auto uw = node.Find("unit_weight")) {
+      if (scale != ShapeScale::kMass)
+        uw->Fail("an inventory's blocks have their measured masses: 'unit_weight' goes with "
+                 "\"shape_scale\": \"mass\" only");
+      unit_weight = NumberInRange(*uw, UnitWeightToSI(uw->Positive(), units), core::kMinUnitWeight,
+                                  core::kMaxUnitWeight, "unit weight", Quantity::kUnitWeight,
+                                  units);
+    }
+    bool any_scanned = false;
+    // Shape name -> its worst fit over the blocks (error, summary), for the note.
+    std::map<std::string, std::pair<double, std::string>> fits;
+    for (std::size_t k = 0; k < g.inventory.size(); ++k) {
+      core::Block& b = g.inventory[k];
+      if (shape_files[k].empty()) continue;
+      any_scanned = true;
+      const auto shape =
+          LoadShapeOnce(ResolvePath(library, shape_files[k]), units, clump, &cache, inputs);
+      if (scale == ShapeScale::kSides) {
+        b.scanned = ShapeAtSides(*shape, b.sides, clump);
+      } else {
+        if (!(unit_weight > 0))
+          node.Fail("\"shape_scale\": \"mass\" needs the rocks' \"unit_weight\"");
+        const double volume = b.mass * core::kStandardGravity / unit_weight;
+        b.scanned = std::make_shared<const core::ScannedShape>(
+            core::ScaleShape(*shape, std::cbrt(volume / shape->mass.volume)));
+      }
+      const double worst = std::max({std::abs(b.scanned->clump.volume_error),
+                                     b.scanned->clump.moment_error});
+      auto it = fits.find(shape->name);
+      if (it == fits.end() || worst > it->second.first)
+        fits[shape->name] = {worst, FitSummary(*b.scanned)};
+    }
+    if (!any_scanned) {
+      for (const char* key : {"shapes", "spheres", "shape_scale", "unit_weight"})
+        if (auto n = node.Find(key))
+          n->Fail(std::string("'") + key + "' goes with shape files in the inventory's shape column");
+    }
     g.shape = g.inventory.front().shape;
     g.count = node.Has("count") ? static_cast<int>(node.Get("count").Integer(1, core::kMaxRocks))
                                 : static_cast<int>(g.inventory.size());
@@ -287,13 +384,23 @@ core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightG
             std::to_string(g.inventory.size()) + " blocks, " +
             FormatNumber(extent.lightest.mass) + "-" + FormatNumber(extent.heaviest.mass) +
             " kg), release " + release_note;
+    for (const auto& [name, fit] : fits)
+      *note += "; worst fit of " + fit.second;
     return g;
   }
   node.Keys(SiteKeysAt("$.rocks[]"));
   g.count = static_cast<int>(node.Get("count").Integer(1, core::kMaxRocks));
-  const JsonNode shape = node.Get("shape");
-  if (!core::ParseShape(shape.String(), &g.shape))
-    shape.Fail(std::string("unknown shape (allowed: ") + core::ShapeNames() + ")");
+  if (auto sf = node.Find("shape_file")) {
+    if (node.Has("shape")) sf->Fail("give \"shape\" or \"shape_file\", not both");
+    g.shape = core::Shape::kScanned;
+    g.scanned = LoadShapeOnce(ResolvePath(base_dir, sf->String()), units, ReadClumpOptions(node),
+                              &cache, inputs);
+  } else {
+    if (auto sp = node.Find("spheres")) sp->Fail("'spheres' goes with \"shape_file\" only");
+    const JsonNode shape = node.Get("shape");
+    if (!core::ParseShape(shape.String(), &g.shape))
+      shape.Fail(std::string("unknown shape (allowed: ") + core::ShapeNames() + ")");
+  }
   const JsonNode size = node.Get("size");
   if (size.is_array()) {
     const std::vector<double> s = size.Numbers(2);
@@ -318,7 +425,9 @@ core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightG
       core::kMinUnitWeight, core::kMaxUnitWeight, "unit weight", Quantity::kUnitWeight, units);
   std::string release_note;
   g.release = ReadRelease(node.Get("release"), units, grid, &release_note);
-  *note = std::to_string(g.count) + " " + core::ShapeName(g.shape) + ", size " +
+  *note = std::to_string(g.count) + " " +
+          (g.scanned ? "of the shape " + FitSummary(*g.scanned) : core::ShapeName(g.shape)) +
+          ", size " +
           FormatNumber(g.size_min) +
           (g.size_max > g.size_min ? "-" + FormatNumber(g.size_max) : "") + " m, unit weight " +
           FormatNumber(g.unit_weight / 1000.0) + " kN/m^3, release " + release_note;

@@ -104,6 +104,9 @@ std::string PartitionSection(const Context& c, int p);  // partition_section.cc
 std::string BarrierSection(const Context& c);           // barrier_section.cc
 std::string RunoutSection(const Context& c);            // runout_section.cc
 std::string ShapesSection(const Context& c);            // shapes_section.cc
+// True when a rock group or an inventory block has a scanned shape.
+bool HasScannedShapes(const core::Scene& scene);                // scanned_shapes_section.cc
+std::string ScannedShapesSection(const Context& c);     // scanned_shapes_section.cc
 std::string CalibrationSection(const Context& c);       // calibration_section.cc
 std::string TraceSection(const Context& c);             // trace_section.cc
 std::string FitSection(const Context& c);               // fit_section.cc

@@ -8,10 +8,13 @@
 
 namespace rockcal::core {
 
-enum class Shape { kSphere, kCylinder, kDisc, kTetrahedron, kCube, kBox };
+// kScanned: a clump fitted to a scanned shape's hull (clump.h); never parsed
+// by name (a site names the shape's file instead).
+enum class Shape { kSphere, kCylinder, kDisc, kTetrahedron, kCube, kBox, kScanned };
 
 const char* ShapeName(Shape shape);
-// Parses "sphere", "cylinder", "disc", "tetrahedron", "cube", "box"; false otherwise.
+// Parses "sphere", "cylinder", "disc", "tetrahedron", "cube", "box"; false
+// otherwise (also for "scanned").
 bool ParseShape(const std::string& name, Shape* shape);
 // The names ParseShape accepts, comma separated (for error messages).
 const char* ShapeNames();
@@ -32,7 +35,7 @@ struct RockBody {
   double frontal_area = 0.0;
 };
 
-// Nominal volume of `shape` at `size` (m^3). A box's size is its longest
+// Nominal volume of `shape` at `size` (m^3); 0 for kScanned (its hull's). A box's size is its longest
 // side L1, its other sides in `box` proportions (L1 : L2 : L3, any scale).
 double NominalVolume(Shape shape, double size,
                      const Eigen::Vector3d& box = Eigen::Vector3d::Ones());

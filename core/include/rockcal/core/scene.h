@@ -5,10 +5,12 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "rockcal/core/clump.h"
 #include "rockcal/core/material.h"
 #include "rockcal/core/rock_shape.h"
 #include "rockcal/core/terrain.h"
@@ -51,6 +53,9 @@ struct Block {
   Shape shape = Shape::kBox;
   Eigen::Vector3d sides = Eigen::Vector3d::Ones();  // m, L1 >= L2 >= L3
   double mass = 0.0;                                // kg
+  // Shape::kScanned: the shape, already fitted at the block's size (its
+  // body is ScannedBody(*scanned, 1, mass)).
+  std::shared_ptr<const ScannedShape> scanned = nullptr;
 };
 
 struct RockGroup {
@@ -68,6 +73,9 @@ struct RockGroup {
   // count equal to the inventory's size releases each block once, and a
   // multiple of it each block as often.
   std::vector<Block> inventory;
+  // Shape::kScanned without an inventory: the shape at scale 1; a rock of
+  // size s (its L1) is the shape scaled by s / its L1, mass from unit_weight.
+  std::shared_ptr<const ScannedShape> scanned = nullptr;
   Release release;
 };
 
@@ -81,6 +89,17 @@ struct GroupExtent {
 };
 GroupExtent GroupBodies(const RockGroup& group, double gravity);
 
+// The scanned shapes of a scene, one entry per shape name (file stem), in
+// name order: how many rocks' bodies use it (a group of a size range
+// counts once) and the worst fit of its clumps.
+struct ShapeUse {
+  std::string name, file;
+  const ScannedShape* first = nullptr;  // the first fit met (for drawings)
+  int uses = 0;
+  int spheres = 0;
+  double volume_error = 0.0, moment_error = 0.0, side_error = 0.0;  // worst (absolute)
+  double min_volume = 0.0, max_volume = 0.0;                        // hull volumes, m^3
+};
 // A tree (vertical trunk) where scar heights were measured: a rock whose
 // bounding sphere first reaches the trunk records its height there.
 struct TreeProbe {
@@ -150,6 +169,8 @@ struct Scene {
   double gravity = kStandardGravity;
 
   int total_rocks() const;
+  // The scanned shapes of the groups (empty without any).
+  std::vector<ShapeUse> ScannedShapes() const;
   // An upper estimate of the steps of a run: every rock in contact for
   // max_time at the shortest contact step of the scene's materials.
   double EstimatedSteps() const;

@@ -18,8 +18,11 @@ namespace rockcal::sites {
 // the sides are sorted so that L1 >= L2 >= L3. `shape` is one of
 // core::ShapeNames() (default "box": a box of the measured sides; a named
 // shape takes L1 as its size). Every error names "file:LINE", the value and
-// what was expected; an empty inventory is an error.
-std::vector<core::Block> ReadInventory(const std::string& path, Units units);
+// what was expected; an empty inventory is an error. With `shape_files`,
+// a `shape` holding a '.' or a '/' is a shape file's name (core::Shape::kScanned,
+// the name in (*shape_files)[row], "" for the other rows), for the caller to load.
+std::vector<core::Block> ReadInventory(const std::string& path, Units units,
+                                       std::vector<std::string>* shape_files = nullptr);
 
 }  // namespace rockcal::sites
 
