@@ -10,6 +10,7 @@
 
 #include "rockcal/core/error.h"
 #include "rockcal/core/material_field.h"
+#include "rockcal/sites/input_file.h"
 #include "rockcal/sites/json_reader.h"
 
 namespace rockcal::calibrate {
@@ -146,6 +147,7 @@ CalibratedSite ReadParametersFile(const std::string& path) {
   std::error_code ec;
   out.file = fs::is_directory(path, ec) ? (fs::path(path) / "parameters.json").string() : path;
   out.result_dir = fs::path(out.file).parent_path().string();
+  sites::CheckInputFile(out.file);  // a FIFO, socket or device: named as such
   if (!fs::is_regular_file(out.file, ec))
     throw InputError(out.file,
                      "no such file; expected the parameters.json that rockcal "

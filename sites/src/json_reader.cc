@@ -8,6 +8,8 @@
 #include <sstream>
 
 #include "rockcal/core/limits.h"
+#include "rockcal/sites/input_file.h"
+#include "rockcal/sites/text_reader.h"
 
 namespace rockcal::sites {
 namespace {
@@ -101,6 +103,7 @@ class PathTracker final {
 }  // namespace
 
 nlohmann::json ReadJsonFile(const std::string& path) {
+  CheckInputFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open file");
   // The largest JSON file read: a site or observation file is far smaller.
@@ -113,6 +116,7 @@ nlohmann::json ReadJsonFile(const std::string& path) {
       throw InputError(path, "larger than " + std::to_string(kMaxJsonBytes) +
                                  " bytes (expected a JSON site or observation file)");
   }
+  CheckJsonDepth(text, path);
   PathTracker tracker(path);
   try {
     return nlohmann::json::parse(text, std::ref(tracker));
@@ -121,10 +125,16 @@ nlohmann::json ReadJsonFile(const std::string& path) {
     LineColumn(text, e.byte > 0 ? e.byte - 1 : 0, &line, &col);
     throw InputError(path + ":" + std::to_string(line) + ":" + std::to_string(col),
                      "invalid JSON (expected a well-formed JSON document)");
-  } catch (const nlohmann::json::out_of_range&) {
-    // nlohmann's number overflow (e.g. 1e400): the value after the last one parsed.
+  } catch (const nlohmann::json::out_of_range& e) {
+    // nlohmann's number overflow (e.g. 1e400): the value after the last one
+    // parsed; its text is quoted in nlohmann's message.
+    const std::string said = e.what();
+    const std::size_t open = said.find('\''), close = said.rfind('\'');
+    const std::string value =
+        open != std::string::npos && close > open ? said.substr(open + 1, close - open - 1) : "";
     throw InputError(path + ": " + tracker.NextPath(),
-                     "number out of range (expected a finite number, at most about 1.8e308)");
+                     "number " + (value.empty() ? std::string() : Excerpt(value) + " ") +
+                         "out of range (expected a finite number, at most about 1.8e308)");
   }
 }
 

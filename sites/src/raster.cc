@@ -8,6 +8,7 @@
 #include "rockcal/core/format.h"
 #include "rockcal/sites/gdal_util.h"
 #include "rockcal/sites/gridding.h"
+#include "rockcal/sites/input_file.h"
 
 namespace rockcal::sites {
 namespace {
@@ -32,6 +33,7 @@ core::HeightGrid RasterToHeightGrid(const RasterGrid& grid, double length_scale,
 }
 
 RasterFile ReadRaster(const std::string& path, int band_index) {
+  if (path.rfind("/vsi", 0) != 0) CheckInputFile(path);  // GDAL's virtual paths excepted
   gdal::Init();
   gdal::ErrorCapture errors;
   auto gdal_said = [&] {

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "rockcal/core/error.h"
+#include "rockcal/sites/input_file.h"
 #include "rockcal/sites/text_reader.h"
 
 namespace rockcal::sites {
@@ -31,6 +32,7 @@ std::string Lower(std::string s) {
 constexpr std::size_t kMaxStlBytes = 84 + 50 * std::size_t{20'000'000};
 
 std::string ReadAll(const std::string& path) {
+  CheckInputFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open file");
   std::string data;

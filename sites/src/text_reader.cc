@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "rockcal/sites/input_file.h"
+
 namespace rockcal::sites {
 namespace {
 
@@ -104,7 +106,9 @@ bool IsBlank(const std::string& line) {
   return true;
 }
 
-LineReader::LineReader(std::string path) : path_(std::move(path)), in_(path_, std::ios::binary) {
+LineReader::LineReader(std::string path) : path_(std::move(path)) {
+  CheckInputFile(path_);
+  in_.open(path_, std::ios::binary);
   if (!in_) throw InputError(path_, "cannot open file");
 }
 

@@ -14,6 +14,7 @@
 #include "rockcal/sites/crs.h"
 #include "rockcal/sites/file_keys.h"
 #include "rockcal/sites/gdal_util.h"
+#include "rockcal/sites/input_file.h"
 #include "rockcal/sites/surface.h"
 #include "rockcal/sites/text_reader.h"
 
@@ -306,6 +307,7 @@ void ApplyZoneFile(const JsonNode& zones, const std::string& base_dir, Site* sit
     zones.Get("layer").Fail("'layer' goes with a vector file ('field') only");
   const JsonNode file_node = zones.Get("file");
   const std::string file = ResolveDataFile(file_node, base_dir);
+  if (file.rfind("/vsi", 0) != 0) CheckInputFile(file);  // GDAL's virtual paths excepted
   gdal::Init();
   gdal::Dataset ds;
   {

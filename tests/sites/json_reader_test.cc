@@ -2,7 +2,10 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
+#include "rockcal/sites/input_file.h"
+#include "rockcal/sites/text_reader.h"
 #include "test_files.h"
 
 namespace rockcal::sites {
@@ -31,9 +34,42 @@ TEST(ReadJsonFile, NumberOverflowNamesFileAndPath) {
   const std::string path = dir.Write("big.json", R"({"rocks": [{"size": [1, 1e400]}]})");
   const std::string msg = ErrorOf([&] { ReadJsonFile(path); });
   EXPECT_THAT(msg, HasSubstr(path + ": $.rocks[0].size[1]"));
-  EXPECT_THAT(msg, HasSubstr("number out of range"));
+  EXPECT_THAT(msg, HasSubstr("number '1e400' out of range"));
   const std::string top = dir.Write("top.json", R"({"a": {"b": -1e999}})");
-  EXPECT_THAT(ErrorOf([&] { ReadJsonFile(top); }), HasSubstr(top + ": $.a.b"));
+  EXPECT_THAT(ErrorOf([&] { ReadJsonFile(top); }), HasSubstr(top + ": $.a.b: number '-1e999'"));
+}
+
+// 100,000 nested arrays crashed the reader (its stack); the depth is bounded
+// before parsing and named.
+TEST(ReadJsonFile, DeepNestingIsRefusedNamingTheDepth) {
+  TempDir dir;
+  const std::string deep =
+      dir.Write("deep.json", std::string(100000, '[') + std::string(100000, ']'));
+  const std::string msg = ErrorOf([&] { ReadJsonFile(deep); });
+  EXPECT_THAT(msg, HasSubstr(deep + ": JSON nested 100000 levels deep"));
+  EXPECT_THAT(msg, HasSubstr("at most 64"));
+  // The limit itself passes; brackets inside strings do not count.
+  const std::string at_limit =
+      dir.Write("limit.json", std::string(kMaxJsonDepth, '[') + std::string(kMaxJsonDepth, ']'));
+  EXPECT_NO_THROW(ReadJsonFile(at_limit));
+  const std::string quoted =
+      dir.Write("quoted.json", "{\"a\": \"" + std::string(1000, '[') + "\\\"\"}");
+  EXPECT_NO_THROW(ReadJsonFile(quoted));
+  EXPECT_EQ(JsonDepth("[[1], {\"a\": [\"]]]\"]}]"), 3);
+}
+
+// A FIFO blocked the reader for ever; a folder was "invalid JSON" at 1:1.
+TEST(ReadJsonFile, SpecialFilesAndFoldersAreRefusedWithoutOpening) {
+  TempDir dir;
+  const std::string fifo = dir.path() + "/fifo.json";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_THAT(ErrorOf([&] { ReadJsonFile(fifo); }),
+              HasSubstr(fifo + ": is a FIFO (named pipe), expected a regular file"));
+  EXPECT_THAT(ErrorOf([&] { LineReader reader(fifo); }), HasSubstr(fifo + ": is a FIFO"));
+  EXPECT_THAT(ErrorOf([&] { ReadJsonFile("/dev/null"); }),
+              HasSubstr("/dev/null: is a character device"));
+  EXPECT_THAT(ErrorOf([&] { ReadJsonFile(dir.path()); }),
+              HasSubstr(dir.path() + ": is a folder, expected a file"));
 }
 
 TEST(ReadJsonFile, DuplicateKeyNamesFileAndPath) {

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "gis_files.h"
+#include "rockcal/sites/text_reader.h"
 #include "test_files.h"
 
 namespace rockcal::sites {
@@ -346,11 +347,16 @@ TEST(ReadSurface, ErrorsNameFileAndJsonPath) {
               HasSubstr(site + "$.surface.grid_file: '" + dir.path() + "/.' is a folder"));
 }
 
-// Issue 14: /dev/zero as a points file read for ever.
+// Issue 14: /dev/zero as a points file read for ever. Issue 40: a device is
+// refused before it is opened; a regular file of one endless line still
+// fails at its first line.
 TEST(ReadSurface, AFileOfOneEndlessLineFailsFast) {
   TempDir dir;
   EXPECT_THAT(ReadError(R"({"points_file": "/dev/zero"})", dir),
-              HasSubstr("/dev/zero:1: line 1 longer than 1048576 bytes"));
+              HasSubstr("/dev/zero: is a character device, expected a regular file"));
+  const std::string line = dir.Write("line.csv", std::string(kMaxLineBytes + 10, '1'));
+  EXPECT_THAT(ReadError(R"({"points_file": "line.csv"})", dir),
+              HasSubstr(line + ":1: line 1 longer than 1048576 bytes"));
 }
 
 TEST(ReadSurface, DataFileErrorsNameTheDataFileAndLine) {
