@@ -13,6 +13,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <memory>
 #include <optional>
 #include <nlohmann/json.hpp>
@@ -21,6 +22,7 @@
 
 #include "rockcal/core/error.h"
 #include "rockcal/parallel/parallel.h"
+#include "rockcal/sites/input_file.h"
 
 namespace rockcal::calibrate {
 namespace {
@@ -859,6 +861,7 @@ std::vector<std::string> Fingerprint::Differences(const Fingerprint& logged) con
 }
 
 std::string HashFile(const std::string& path) {
+  sites::CheckInputFile(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot read the file to fingerprint it");
   std::uint64_t h = 14695981039346656037ull;
@@ -879,15 +882,22 @@ EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace
     : path_(std::move(path)), seed_(seed), rocks_(rocks), fingerprint_(std::move(fingerprint)) {
   for (const auto& p : space.parameters()) names_.push_back(p.label());
   if (resume) {
+    sites::CheckInputFile(path_);
     std::ifstream in(path_);
     if (!in) throw InputError(path_, "cannot resume: no evaluation log here");
     std::string line;
     int number = 0;
     bool header = false;
+    // Per method, the last evaluation logged and its line: a run appends its
+    // evaluations in order, and a resumed run only after the last, so an
+    // evaluation logged again or out of order is the line of another run
+    // (two runs writing the same folder at once).
+    std::map<std::string, std::pair<int, int>> last;
     while (std::getline(in, line)) {
       ++number;
       if (line.empty()) continue;
       const std::string where = path_ + ":" + std::to_string(number);
+      sites::CheckJsonDepth(line, where);
       if (!header) {
         // The header: the fingerprint of the inputs the log was made with.
         nlohmann::json h = nlohmann::json::parse(line, nullptr, false);
@@ -928,6 +938,16 @@ EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace
         e.penalised = j.at("penalised").get<bool>();
         e.seconds = j.at("seconds").get<double>();
         e.elapsed = j.at("elapsed").get<double>();
+        auto [before, inserted] = last.try_emplace(e.method, e.index, number);
+        if (!inserted && e.index <= before->second.first)
+          throw InputError(where, e.method + " evaluation " + std::to_string(e.index) +
+                                      " after its evaluation " +
+                                      std::to_string(before->second.first) + " (line " +
+                                      std::to_string(before->second.second) +
+                                      "): the log holds the lines of two runs that wrote this "
+                                      "folder at once, so it cannot be resumed; start afresh "
+                                      "with --force instead of --resume");
+        before->second = {e.index, number};
         records_.push_back(std::move(e));
       } catch (const nlohmann::json::exception&) {
         // A line cut short by a killed run is the only damage expected: the
@@ -944,8 +964,8 @@ EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace
   {
     std::ofstream out(temp, std::ios::trunc);
     if (!out)
-      throw InputError(path_, "cannot write the evaluation log (its temporary " + temp +
-                                  "): " + std::strerror(errno));
+      throw std::runtime_error("cannot write the evaluation log " + path_ + " (its temporary " +
+                               temp + "): " + std::strerror(errno));
     nlohmann::json parts = nlohmann::json::object();
     for (const auto& [name, value] : fingerprint_.parts) parts[name] = value;
     out << nlohmann::json{{"fingerprint", parts}}.dump() << '\n';
@@ -960,15 +980,15 @@ EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace
     if (!out) {
       const int error = errno;
       std::remove(temp.c_str());
-      throw InputError(path_, "cannot write the evaluation log (its temporary " + temp +
-                                  "): " + std::strerror(error));
+      throw std::runtime_error("cannot write the evaluation log " + path_ + " (its temporary " +
+                               temp + "): " + std::strerror(error));
     }
   }
   if (std::rename(temp.c_str(), path_.c_str()) != 0) {
     const int error = errno;
     std::remove(temp.c_str());
-    throw InputError(path_, "cannot write the evaluation log (renaming its temporary " + temp +
-                                "): " + std::strerror(error));
+    throw std::runtime_error("cannot write the evaluation log " + path_ +
+                             " (renaming its temporary " + temp + "): " + std::strerror(error));
   }
 }
 
@@ -985,9 +1005,12 @@ void EvaluationLog::Append(const Evaluation& evaluation) {
   j["rocks"] = rocks_;
   j["names"] = names_;
   std::ofstream out(path_, std::ios::app);
+  errno = 0;
   out << j.dump() << '\n';
   out.flush();
-  if (!out) throw std::runtime_error("cannot append to " + path_);
+  if (!out)
+    throw std::runtime_error("cannot append to " + path_ + ": " +
+                             std::strerror(errno != 0 ? errno : EIO));
   records_.push_back(evaluation);
 }
 

@@ -154,6 +154,57 @@ TEST(Calibration, LogWithAWholeNumberOutOfRangeIsRefused) {
   }
 }
 
+// Issue 40: two runs writing one folder at once left evaluations 1-2 twice,
+// interleaved, and --resume accepted them. An evaluation logged again or
+// out of order for its method is refused, naming both lines; so is a line
+// nested deeper than sites::kMaxJsonDepth. A log that cannot be written is
+// a failure (std::runtime_error: exit 1), not bad input.
+TEST(Calibration, LogOfTwoRunsDeepLinesAndUnwritableLogs) {
+  Parameter hardness, roughness;
+  hardness.material = roughness.material = "slope";
+  roughness.kind = ParameterKind::kRoughness;
+  roughness.lower = 0.01;
+  roughness.upper = 0.5;
+  const ParameterSpace space({hardness, roughness});
+  Fingerprint fingerprint;
+  fingerprint.Add("site file", "0123456789abcdef");
+  fingerprint.Add("seed", "1");
+  std::ifstream in(std::string(ROCKCAL_SOURCE_DIR) +
+                   "/fuzz/seeds/evaluation_log_fuzz/two_records.jsonl");
+  std::string header, first, second;
+  std::getline(in, header);
+  std::getline(in, first);
+  std::getline(in, second);
+  const std::string path = TempPath("two_runs.jsonl");
+  std::ofstream(path) << header << '\n' << first << '\n' << second << '\n';
+  EXPECT_EQ(EvaluationLog(path, true, space, 1, 6, fingerprint).size(), 2);
+  std::ofstream(path) << header << '\n' << first << '\n' << first << '\n' << second << '\n'
+                      << second << '\n';
+  try {
+    EvaluationLog log(path, true, space, 1, 6, fingerprint);
+    ADD_FAILURE() << "expected an InputError, read " << log.size() << " records";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(path + ":3: nlopt:bobyqa evaluation 1 after its evaluation 1 "
+                                           "(line 2): the log holds the lines of two runs"));
+  }
+  std::ofstream(path) << header << '\n' << std::string(100000, '[') << std::string(100000, ']')
+                      << '\n' << first << '\n';
+  try {
+    EvaluationLog log(path, true, space, 1, 6, fingerprint);
+    ADD_FAILURE() << "expected an InputError, read " << log.size() << " records";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(path + ":2: JSON nested 100000 levels deep"));
+  }
+  try {
+    EvaluationLog log("/proc/rockcal_no_folder/evaluations.jsonl", false, space, 1, 6, fingerprint);
+    ADD_FAILURE() << "expected a failure to write";
+  } catch (const InputError& e) {
+    ADD_FAILURE() << "bad input? " << e.what();
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("cannot write the evaluation log /proc/rockcal_no_folder"));
+  }
+}
+
 TEST(Calibration, EveryMethodRunsWithinItsBudget) {
   Small small;
   MethodOptions options;
