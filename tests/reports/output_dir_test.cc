@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -132,6 +133,67 @@ TEST(OutputDir, RemovesTheTemporariesOfKilledRuns) {
   std::ofstream(out + "/parameters.json.tmp-" + dead) << "half";
   EXPECT_EQ(RemoveStaleTemporaries(out, ""), 1);
   EXPECT_FALSE(fs::exists(out + "/parameters.json.tmp-" + dead));
+}
+
+// A run holds the lock of its output folder for its life: a second one is
+// refused with or without force, naming the holder, and the kernel releases
+// the lock of a process that dies without cleaning up.
+TEST(OutputLock, ASecondRunIsRefusedNamingTheHolderUntilTheFirstEnds) {
+  const std::string out = Fresh("out");
+  std::optional<OutputDir> first(std::in_place, out, false, OutputOrigin{"simulate", {}});
+  const std::string holder = "pid " + std::to_string(::getpid()) + " on ";
+  first->Commit();
+  for (bool force : {false, true})
+    EXPECT_THAT(InputErrorOf([&] {
+                  OutputDir second(out, force, {"simulate", {}});
+                }),
+                HasSubstr(out + ": is in use by another rockcal run (" + holder));
+  EXPECT_THAT(Slurp(out + "/" + kOutputLock), HasSubstr("rockcal simulate, since "));
+  EXPECT_THAT(InputErrorOf([&] {
+                ResumableOutputDir second(out, false, true, {"calibrate", {}}, "log", "done");
+              }),
+              HasSubstr("is in use by another rockcal run"));
+  first.reset();
+  EXPECT_EQ(Slurp(out + "/" + kOutputLock), "") << "a run that ends leaves no holder";
+  { OutputDir second(out, true, {"simulate", {}}); }
+
+  // A process that takes the lock and dies (no destructor runs).
+  const std::string cal = Fresh("cal");
+  { ResumableOutputDir made(cal, false, false, {"calibrate", {}}, "log", "done"); }
+  const pid_t child = ::fork();
+  if (child == 0) {
+    new OutputLock(cal, cal, "calibrate");  // never released by the child
+    ::_exit(0);
+  }
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  EXPECT_THAT(Slurp(cal + "/" + kOutputLock), HasSubstr("pid " + std::to_string(child)));
+  { ResumableOutputDir resumed(cal, true, false, {"calibrate", {}}, "log", "done"); }
+}
+
+TEST(ResumableOutputDir, ANewFolderAppearsWholeAndResumeNeedsTheLog) {
+  const std::string out = Fresh("out");
+  {
+    ResumableOutputDir dir(out, false, false, {"calibrate", {}}, "evaluations.jsonl", "done");
+    EXPECT_TRUE(fs::exists(out + "/evaluations.jsonl"));
+    EXPECT_THAT(Slurp(out + "/.rockcal-output"), HasSubstr("\"command\": \"calibrate\""));
+    std::ofstream(out + "/done") << "{}";
+  }
+  EXPECT_THAT(
+      InputErrorOf([&] {
+        ResumableOutputDir dir(out, false, false, {"calibrate", {}}, "evaluations.jsonl", "done");
+      }),
+      HasSubstr("--resume to continue"));
+  { ResumableOutputDir dir(out, true, false, {"calibrate", {}}, "evaluations.jsonl", "done"); }
+  EXPECT_FALSE(fs::exists(out + "/done")) << "resume removes the completion mark";
+  EXPECT_THAT(InputErrorOf([&] {
+                ResumableOutputDir dir(out, true, false, {"calibrate", {}}, "other.jsonl", "done");
+              }),
+              HasSubstr("nothing to resume"));
+  std::ofstream(out + "/a") << "a";
+  { ResumableOutputDir dir(out, false, true, {"calibrate", {}}, "evaluations.jsonl", "done"); }
+  EXPECT_FALSE(fs::exists(out + "/a")) << "--force replaced it";
+  EXPECT_TRUE(fs::exists(out + "/evaluations.jsonl"));
 }
 
 TEST(WriteFile, DiskFullNamesTheOutputAndTheCause) {

@@ -5,6 +5,12 @@
 // (JSON: the tool, its version, the command and "complete"). --force
 // replaces only a folder that holds the marker and is none of the run's
 // inputs, contains none and lies inside none.
+//
+// A run holds an advisory lock (flock) on the file kOutputLock inside its
+// output folder (or inside the temporary folder that becomes it) for its
+// whole life; the kernel releases it when the process ends, however it ends.
+// A second run on the same folder, with or without --force or --resume, is
+// refused (InputError) naming the holder written into the lock file.
 #ifndef ROCKCAL_REPORTS_OUTPUT_DIR_H_
 #define ROCKCAL_REPORTS_OUTPUT_DIR_H_
 
@@ -15,6 +21,31 @@
 namespace rockcal::reports {
 
 inline constexpr const char kOutputMarker[] = ".rockcal-output";
+inline constexpr const char kOutputLock[] = ".rockcal-lock";
+
+// The lock of a run on an output folder: flock(LOCK_EX) on `folder`/kOutputLock
+// (created if missing), held until destroyed (or the process ends). The file
+// holds the holder: "pid P on HOST: rockcal COMMAND, since TIME".
+class OutputLock final {
+ public:
+  OutputLock() = default;
+  // Throws InputError naming `output` and the holder when another run holds
+  // the lock; std::runtime_error when the file cannot be created.
+  OutputLock(const std::string& folder, const std::string& output, const std::string& command);
+  ~OutputLock();
+  OutputLock(OutputLock&& other) noexcept;
+  OutputLock& operator=(OutputLock&& other) noexcept;
+  OutputLock(const OutputLock&) = delete;
+  OutputLock& operator=(const OutputLock&) = delete;
+  bool held() const { return fd_ >= 0; }
+
+ private:
+  int fd_ = -1;
+};
+
+// Throws InputError naming `output` and the holder when another run holds the
+// lock of `folder`; nothing when the folder has no lock file or it is free.
+void CheckNotLocked(const std::string& folder, const std::string& output);
 
 // Who writes an output folder: the command ("simulate", ...) for the marker,
 // and the files and folders the run reads, which the output must not touch.
@@ -45,13 +76,17 @@ bool HasOutputMarker(const std::string& folder);
 
 // Removes what killed runs left beside or inside an output: the entries of
 // folder `dir` named `prefix` + ".tmp-PID" or ".old-PID" (`prefix` empty: any
-// name) whose process PID no longer exists. Returns how many were removed.
+// name) whose process PID no longer exists and, for a folder, whose lock no
+// run holds (a folder shared between machines: the lock decides, not the
+// PID). Returns how many were removed.
 int RemoveStaleTemporaries(const std::string& dir, const std::string& prefix);
 
 class OutputDir final {
  public:
-  // Checks `path` with CheckOutputFolder (InputError, nothing touched), removes
-  // stale temporaries of earlier killed runs and creates the temporary folder.
+  // Checks `path` with CheckOutputFolder (InputError, nothing touched but
+  // its own temporary folder), creates the temporary folder holding the lock,
+  // refuses a folder another run holds (InputError naming it) and removes
+  // stale temporaries of earlier killed runs.
   OutputDir(std::string path, bool force, OutputOrigin origin = {});
   ~OutputDir();  // removes the temporary folder unless committed
   OutputDir(const OutputDir&) = delete;
@@ -70,6 +105,27 @@ class OutputDir final {
   std::string path_, temp_;
   bool force_ = false, committed_ = false;
   OutputOrigin origin_;
+  OutputLock lock_;
+};
+
+// A folder a run writes in place and a stopped run resumes (a calibration):
+// the same checks as OutputDir, the same lock, held while this lives.
+//   resume: `path` must hold `log` (else InputError); its stale temporaries
+//           and `complete_file` (which marks the folder complete and is
+//           written last) are removed and the marker is rewritten.
+//   else:   a new folder appears whole, with its marker and an empty `log`
+//           (built under a temporary name and renamed into place); with
+//           `force`, an existing folder rockcal wrote is replaced.
+// A failure to write (read-only or full file system) is std::runtime_error.
+class ResumableOutputDir final {
+ public:
+  ResumableOutputDir(std::string path, bool resume, bool force, OutputOrigin origin,
+                     const std::string& log, const std::string& complete_file);
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  OutputLock lock_;
 };
 
 // Writes `text` to `path` through a temporary file renamed into place. A
