@@ -1,5 +1,6 @@
 #include "args.h"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -67,8 +68,9 @@ long Args::Integer(const std::string& name, long fallback, long lo, long hi) con
   if (!Has(name)) return fallback;
   const std::string v = Get(name);
   char* end = nullptr;
+  errno = 0;
   const long x = std::strtol(v.c_str(), &end, 10);
-  if (v.empty() || *end != '\0' || x < lo || x > hi)
+  if (v.empty() || *end != '\0' || errno == ERANGE || x < lo || x > hi)
     throw InputError("argument --" + name, "'" + v + "' is not a whole number in [" +
                                                std::to_string(lo) + ", " + std::to_string(hi) + "]");
   return x;

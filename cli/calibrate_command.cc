@@ -16,12 +16,13 @@
 #include "progress.h"
 #include "rockcal/calibrate/calibration_run.h"
 #include "rockcal/core/error.h"
+#include "rockcal/core/limits.h"
+#include "rockcal/core/rasters.h"
 #include "rockcal/observations/misfit.h"
 #include "rockcal/parallel/parallel.h"
 #include "rockcal/reports/calibration_outputs.h"
 #include "rockcal/reports/html_report.h"
 #include "rockcal/reports/output_dir.h"
-#include "rockcal/core/rasters.h"
 #include "rockcal/reports/raster_outputs.h"
 #include "rockcal/reports/simulation_outputs.h"
 #include "rockcal/sites/site.h"
@@ -41,51 +42,24 @@ std::vector<std::string> SplitList(const std::string& text) {
 
 }  // namespace
 
-void PrepareCalibrationFolder(std::string out, bool resume, bool force,
-                              const std::vector<std::string>& inputs, const std::string& command,
-                              const std::string& complete_file) {
-  std::error_code ec;
-  while (out.size() > 1 && out.back() == '/') out.pop_back();
-  const std::string name = fs::path(out).filename().string();
-  if (!name.empty() && name != "." && name != "..")
-    reports::RemoveStaleTemporaries(fs::path(out).parent_path().string(), name);
-  if (resume) {
-    if (out.empty() || !fs::exists(out + "/evaluations.jsonl", ec))
-      throw InputError(out, "nothing to resume: no evaluations.jsonl in this folder");
-    reports::CheckOutputAgainstInputs(out, inputs);
-    reports::RemoveStaleTemporaries(out, "");
-    fs::remove(out + "/" + complete_file, ec);
-    if (ec) throw InputError(out, "cannot remove the old " + complete_file + ": " + ec.message());
-    reports::WriteOutputMarker(out, command, std::nullopt);
-    return;
-  }
-  if (!force && fs::exists(out, ec))
-    throw InputError(out,
-                     "output folder exists already (give --force to replace it, or "
-                     "--resume to continue the run it holds)");
-  reports::CheckOutputFolder(out, force, inputs);
-  const std::string pid = std::to_string(::getpid());
-  if (fs::exists(out, ec)) {
-    // Out of the way in one step, then removed.
-    const std::string old = out + ".old-" + pid;
-    fs::rename(out, old, ec);
-    if (ec) throw InputError(out, "cannot move the old output folder away: " + ec.message());
-    fs::remove_all(old, ec);
-    if (ec) throw InputError(old, "cannot remove the old output folder: " + ec.message());
-  }
-  const std::string temp = out + ".tmp-" + pid;
-  fs::remove_all(temp, ec);
-  if (!fs::create_directory(temp, ec))
-    throw InputError(out, "cannot create the output folder (its temporary " + temp +
-                              "): " + ec.message());
-  reports::WriteOutputMarker(temp, command, std::nullopt);
-  reports::WriteFileAtomically(temp + "/evaluations.jsonl", "");
-  fs::rename(temp, out, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove_all(temp, ignored);
-    throw InputError(out, "cannot create the output folder (renaming its temporary " + temp +
-                              "): " + ec.message());
+void PrepareCalibrationFolder(const Args& args, const std::string& out, const RunInputs& inputs,
+                              const std::string& command, const std::string& complete_file,
+                              std::optional<reports::ResumableOutputDir>* dir) {
+  parallel::OnRoot([&] {
+    dir->emplace(out, args.Flag("resume"), args.Flag("force"), inputs.Origin(command),
+                 "evaluations.jsonl", complete_file);
+  });
+}
+
+void ContinuableRun(const std::string& out, const std::function<void()>& work) {
+  try {
+    work();
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string(e.what()) + "; " + out +
+                             " keeps the evaluations logged so far: mend the cause (e.g. free "
+                             "space) and run the same command with --resume to continue it");
   }
 }
 
@@ -105,9 +79,13 @@ std::vector<std::string> MethodsFromArgs(const Args& args) {
 
 calibrate::CalibrationOptions OptionsFromArgs(const Args& args, const std::string& out) {
   calibrate::CalibrationOptions options;
+  if (args.Has("rocks") && args.Has("refine"))
+    throw InputError("arguments",
+                     "give --rocks N (every evaluation at N rocks, one stage) or "
+                     "--refine F (a refining stage at F times the rocks), not both");
   if (args.Has("rocks")) options.rocks = static_cast<int>(args.Integer("rocks", 0, 1, 10000000));
   if (args.Has("seed"))
-    options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
+    options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
   options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
   options.method.max_evals = static_cast<int>(args.Integer("max-evals", 100, 2, 1000000));
   options.method.max_seconds = args.Number("max-seconds", 0.0, 0.0, 1e9);
@@ -321,31 +299,31 @@ int Calibrate(const std::vector<std::string>& argv) {
   // Rank 0 prepares the folder; under mpirun the other ranks replay the
   // same evaluation logs from copies in a scratch folder of their own and
   // write their (discarded) files there.
-  std::vector<std::string> inputs = site.inputs;
-  inputs.push_back(obs_path);
-  parallel::OnRoot([&] {
-    PrepareCalibrationFolder(out, args.Flag("resume"), args.Flag("force"), inputs, "calibrate",
-                             "calibration.json");
-  });
+  RunInputs inputs;
+  inputs.Add(site).Add(obs);
+  std::optional<reports::ResumableOutputDir> dir;  // locked for the life of the run
+  PrepareCalibrationFolder(args, out, inputs, "calibrate", "calibration.json", &dir);
   const std::string folder = RankCalibrationFolder(out);
   options.log_path = folder + "/evaluations.jsonl";
   const bool quiet = args.Flag("quiet");
   std::optional<Progress> progress;
   const calibrate::CalibrationCallbacks callbacks =
       ProgressCallbacks(quiet, options.method.max_evals, &progress);
-  const calibrate::CalibrationSummary summary =
-      calibrate::Calibrate(site, obs, options, callbacks);
-  // The folds after the full calibration: its log exists first, so that a
-  // stopped run resumes.
+  calibrate::CalibrationSummary summary;
   std::optional<calibrate::HoldoutSummary> holdout;
-  if (folds > 0) {
-    holdout = calibrate::CrossValidate(site, obs, options, folds, callbacks);
-    if (!quiet)
-      std::printf("holdout, %d folds: misfit in sample %.4g, held out %.4g (means)\n", folds,
-                  holdout->mean_in_sample_misfit, holdout->mean_held_out_misfit);
-  }
-  // The rasters: asked for, or by default for a site read from GIS files.
-  WriteCalibrationFiles(folder, site, obs, summary, holdout, args.Flag("rasters") || site.gis);
+  ContinuableRun(out, [&] {
+    summary = calibrate::Calibrate(site, obs, options, callbacks);
+    // The folds after the full calibration: its log exists first, so that a
+    // stopped run resumes.
+    if (folds > 0) {
+      holdout = calibrate::CrossValidate(site, obs, options, folds, callbacks);
+      if (!quiet)
+        std::printf("holdout, %d folds: misfit in sample %.4g, held out %.4g (means)\n", folds,
+                    holdout->mean_in_sample_misfit, holdout->mean_held_out_misfit);
+    }
+    // The rasters: asked for, or by default for a site read from GIS files.
+    WriteCalibrationFiles(folder, site, obs, summary, holdout, args.Flag("rasters") || site.gis);
+  });
   if (!quiet)
     PrintCalibration(
         out, summary, holdout.has_value(), RastersWritten(args.Flag("rasters"), site),

@@ -4,6 +4,7 @@
 #ifndef ROCKCAL_CLI_CALIBRATE_COMMON_H_
 #define ROCKCAL_CLI_CALIBRATE_COMMON_H_
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,22 +12,24 @@
 #include "args.h"
 #include "progress.h"
 #include "rockcal/calibrate/calibration_run.h"
+#include "rockcal/reports/output_dir.h"
+#include "run_inputs.h"
 
 namespace rockcal::cli {
 
-// Prepares DIR `out` for a calibration (command `command`, e.g. "calibrate"):
-// a new folder, or (with `resume`) the folder of a stopped run, or (with
-// `force`) a replaced one. Nothing is removed without `force`, and `force`
-// replaces only a folder rockcal wrote that holds none of `inputs`
-// (reports::CheckOutputFolder). Files a killed run left half-written are
-// removed, and so is `complete_file`, which marks the folder complete: it is
-// written again, after every other file, when the run finishes. A new
-// folder appears whole, with its marker and an empty evaluation log (built
-// under a temporary name and renamed into place), so that a run killed at
-// any moment leaves no folder or one that --resume continues.
-void PrepareCalibrationFolder(std::string out, bool resume, bool force,
-                              const std::vector<std::string>& inputs, const std::string& command,
-                              const std::string& complete_file);
+// Prepares DIR `out` for a calibration on rank 0 (reports::ResumableOutputDir,
+// locked until `*dir` is reset): a new folder, or (with --resume) the folder
+// of a stopped run, or (with --force) a replaced one; `complete_file` marks
+// the folder complete and is written last. `inputs` are the run's.
+void PrepareCalibrationFolder(const Args& args, const std::string& out, const RunInputs& inputs,
+                              const std::string& command, const std::string& complete_file,
+                              std::optional<reports::ResumableOutputDir>* dir);
+
+// Runs `work` (a calibration and its files, once DIR `out` is prepared). A
+// failure that is not bad input (a full disk, a rank lost) is rethrown
+// saying that `out` keeps the evaluations so far and that the same command
+// with --resume continues it.
+void ContinuableRun(const std::string& out, const std::function<void()>& work);
 
 // --method or --methods, each checked against calibrate::MethodNames().
 std::vector<std::string> MethodsFromArgs(const Args& args);

@@ -13,6 +13,7 @@
 #include "rockcal/calibrate/campaign.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/format.h"
+#include "rockcal/core/limits.h"
 #include "rockcal/observations/misfit.h"
 #include "rockcal/parallel/parallel.h"
 #include "rockcal/reports/calibration_outputs.h"
@@ -84,17 +85,18 @@ int Campaign(const std::vector<std::string>& argv) {
     const calibrate::JointSpace joint(campaign);
     for (const std::string& note : joint.notes()) std::printf("  %s\n", note.c_str());
   }
-  parallel::OnRoot([&] {
-    PrepareCalibrationFolder(out, args.Flag("resume"), args.Flag("force"), campaign.inputs,
-                             "campaign", "summary.json");
-  });
+  std::optional<reports::ResumableOutputDir> dir;  // locked for the life of the run
+  PrepareCalibrationFolder(args, out, RunInputs().Add(campaign), "campaign", "summary.json", &dir);
   const std::string folder = RankCalibrationFolder(out);
   options.log_path = folder + "/evaluations.jsonl";
   std::optional<Progress> progress;
   const calibrate::CalibrationCallbacks callbacks =
       ProgressCallbacks(quiet, options.method.max_evals, &progress);
-  const calibrate::CampaignSummary summary = calibrate::RunCampaign(campaign, options, callbacks);
-  WriteCampaignFiles(folder, summary);
+  calibrate::CampaignSummary summary;
+  ContinuableRun(out, [&] {
+    summary = calibrate::RunCampaign(campaign, options, callbacks);
+    WriteCampaignFiles(folder, summary);
+  });
   if (!quiet)
     PrintCampaign(
         out, summary,

@@ -22,6 +22,7 @@
 #include "rockcal/reports/raster_outputs.h"
 #include "rockcal/reports/simulation_outputs.h"
 #include "rockcal/sites/site.h"
+#include "run_inputs.h"
 
 namespace rockcal::cli {
 
@@ -85,7 +86,7 @@ int Simulate(const std::vector<std::string>& argv) {
   if (args.Has("rocks"))
     scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, core::kMaxRocks)));
   if (args.Has("seed"))
-    scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
+    scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
   scene.options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
   calibrate::RecordingNeeds needs;  // summary.json, rocks.csv, diagnostics.json, trajectories.csv
   needs.partitions = true;
@@ -98,7 +99,9 @@ int Simulate(const std::vector<std::string>& argv) {
   std::string error;
   if (!scene.IsValid(&error)) throw InputError(site_path, error);
 
-  RankOutputDir dir(out, args.Flag("force"), {"simulate", site.inputs});
+  RunInputs inputs;
+  inputs.Add(site).Add(args.Get("parameters", ""));
+  RankOutputDir dir(out, args.Flag("force"), inputs.Origin("simulate"));
   Progress progress("simulate", args.Flag("quiet"));
   const core::Terrain terrain = core::BuildTerrain(scene);
   // The report's views need the passages per cell and a few trajectories;

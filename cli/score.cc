@@ -8,12 +8,14 @@
 #include "args.h"
 #include "commands.h"
 #include "progress.h"
+#include "rockcal/core/limits.h"
 #include "rockcal/core/rasters.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/reports/html_report.h"
 #include "rockcal/reports/output_dir.h"
 #include "rockcal/reports/simulation_outputs.h"
 #include "rockcal/sites/site.h"
+#include "run_inputs.h"
 
 namespace rockcal::cli {
 
@@ -27,12 +29,14 @@ int Score(const std::vector<std::string>& argv) {
   calibrate::ScoreOptions options;
   if (args.Has("rocks")) options.rocks = static_cast<int>(args.Integer("rocks", 0, 1, 100000000));
   if (args.Has("seed"))
-    options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
+    options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
   options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
   if (args.Has("parameters")) options.parameters_file = args.Get("parameters");
   const core::Scene scene = calibrate::ScoreScene(site, options);
 
-  RankOutputDir dir(out, args.Flag("force"));
+  RunInputs inputs;
+  inputs.Add(site).Add(obs).Add(options.parameters_file);
+  RankOutputDir dir(out, args.Flag("force"), inputs.Origin("score"));
   const calibrate::ScoreSummary score = calibrate::Score(scene, obs);
   const core::SimulationResult& sim = score.simulation;
   nlohmann::json residuals = nlohmann::json::array();

@@ -17,6 +17,7 @@
 #include "rockcal/reports/output_dir.h"
 #include "rockcal/reports/study_report.h"
 #include "rockcal/sites/site.h"
+#include "run_inputs.h"
 
 namespace rockcal::cli {
 
@@ -32,7 +33,8 @@ int Sensitivity(const std::vector<std::string>& argv) {
   const bool morris = opt.method == calibrate::SensitivityMethod::kMorris;
   if (args.Has("samples"))
     opt.samples = static_cast<int>(args.Integer("samples", 0, morris ? 2 : 4, 100000));
-  if (args.Has("seed")) opt.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
+  if (args.Has("seed"))
+    opt.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
   opt.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
   std::string error;
   if (!opt.IsValid(&error)) throw InputError("arguments", error);
@@ -52,9 +54,10 @@ int Sensitivity(const std::vector<std::string>& argv) {
   if (args.Has("observations"))
     obs = observations::LoadObservations(args.Get("observations"), site.scene);
 
-  std::vector<std::string> inputs = site.inputs;
-  if (obs) inputs.push_back(args.Get("observations"));
-  RankOutputDir dir(out, args.Flag("force"), {"sensitivity", inputs});
+  RunInputs inputs;
+  inputs.Add(site);
+  if (obs) inputs.Add(*obs);
+  RankOutputDir dir(out, args.Flag("force"), inputs.Origin("sensitivity"));
   calibrate::SensitivityResult result;
   {
     Progress progress("sensitivity " + method, args.Flag("quiet"));

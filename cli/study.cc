@@ -17,6 +17,7 @@
 #include "rockcal/reports/reach_report.h"
 #include "rockcal/reports/study_report.h"
 #include "rockcal/sites/site.h"
+#include "run_inputs.h"
 
 namespace rockcal::cli {
 namespace {
@@ -90,13 +91,14 @@ int Stability(const Args& args, sites::Site* site, const std::string& out) {
                  {"design", "a reach option"}});
   calibrate::StabilityOptions opt;
   opt.rocks = static_cast<int>(args.Integer("rocks", opt.rocks, 1, 1000000));
-  if (args.Has("seed")) opt.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
+  if (args.Has("seed"))
+    opt.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
   opt.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
   if (args.Has("cases")) opt.cases = NameList(args.Get("cases"));
   std::string error;
   if (!opt.IsValid(&error)) throw InputError("arguments", error);
 
-  RankOutputDir dir(out, args.Flag("force"), {"study stability", site->inputs});
+  RankOutputDir dir(out, args.Flag("force"), RunInputs().Add(*site).Origin("study stability"));
   Progress progress("stability", args.Flag("quiet"));
   opt.progress = [&](int done, int total, const std::string& what) {
     progress.Update(done, total, what);
@@ -139,12 +141,13 @@ int Convergence(const Args& args, sites::Site* site, const std::string& out) {
     opt.rock_counts = IntegerList(args, "rock-counts", 1, core::kMaxRocks);
   opt.target = args.Number("target", opt.target, 1e-9, 10.0);
   opt.bootstrap = static_cast<int>(args.Integer("bootstrap", opt.bootstrap, 20, 1000000));
-  if (args.Has("seed")) opt.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
+  if (args.Has("seed"))
+    opt.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
   opt.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
   std::string error;
   if (!opt.IsValid(&error)) throw InputError("arguments", error);
 
-  RankOutputDir dir(out, args.Flag("force"), {"study convergence", site->inputs});
+  RankOutputDir dir(out, args.Flag("force"), RunInputs().Add(*site).Origin("study convergence"));
   calibrate::ConvergenceResult result;
   {
     Progress progress("convergence", args.Flag("quiet"));
@@ -184,7 +187,7 @@ int Reach(const Args& args, sites::Site* site, const std::string& out) {
   if (args.Has("rocks"))
     scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, 100000000)));
   if (args.Has("seed"))
-    scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, 1L << 62));
+    scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
   scene.options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
   calibrate::ReachOptions opt;
   opt.seed = scene.options.seed;
@@ -205,7 +208,7 @@ int Reach(const Args& args, sites::Site* site, const std::string& out) {
   const observations::Observations obs =
       observations::LoadObservations(args.Get("observations"), scene);
 
-  RankOutputDir dir(out, args.Flag("force"));
+  RankOutputDir dir(out, args.Flag("force"), RunInputs().Add(*site).Add(obs).Origin("study reach"));
   const calibrate::Objective objective(scene, space, obs, observations::MisfitOptions{});
   calibrate::ReachResult result;
   {

@@ -12,6 +12,7 @@
 #include "rockcal/core/error.h"
 #include "rockcal/reports/default_table_outputs.h"
 #include "rockcal/reports/output_dir.h"
+#include "run_inputs.h"
 
 namespace rockcal::cli {
 namespace {
@@ -51,7 +52,9 @@ int Table(const std::vector<std::string>& argv) {
                          "' is not in [0, 0.5) (the share of a parameter's range within which "
                          "a value counts as at its bound)");
   // --force must never replace a calibration with its table.
-  reports::CheckOutputAgainstInputs(out, dirs);
+  RunInputs inputs;
+  for (const std::string& d : dirs) inputs.Add(d);
+  reports::CheckOutputAgainstInputs(out, inputs.paths());
   for (const std::string& d : dirs) CheckComplete(d);
 
   // Read and check everything before anything is written.
@@ -59,7 +62,8 @@ int Table(const std::vector<std::string>& argv) {
   for (const std::string& d : dirs) sites.push_back(calibrate::ReadCalibratedSite(d));
   const calibrate::DefaultTable table = calibrate::BuildDefaultTable(sites, options);
 
-  RankOutputDir dir(out, args.Flag("force"), {"table", dirs});  // under mpirun: rank 0 writes
+  RankOutputDir dir(out, args.Flag("force"),
+                    inputs.Origin("table"));  // under mpirun: rank 0 writes
   const std::string markdown = reports::DefaultTableMarkdown(table);
   reports::WriteFileAtomically(dir.File("table.json"),
                                reports::DefaultTableJson(table).dump(2) + "\n");

@@ -137,7 +137,8 @@ void ReadCalibrateBounds(const JsonNode& node, const core::Material& mat,
 
 void ReadSimulation(const JsonNode& node, Units units, core::SimulationOptions* o) {
   node.Keys(SiteKeysAt("$.simulation"));
-  if (auto v = node.Find("seed")) o->seed = static_cast<std::uint64_t>(v->Integer(0, LONG_MAX));
+  if (auto v = node.Find("seed"))
+    o->seed = static_cast<std::uint64_t>(v->Integer(0, core::kMaxSeed));
   if (auto v = node.Find("max_time")) o->max_time = v->Positive();
   if (auto v = node.Find("stop_speed")) o->stop_speed = LengthToSI(v->Positive(), units);
   if (auto v = node.Find("stop_duration")) o->stop_duration = v->Positive();

@@ -29,20 +29,28 @@ inline std::string ReadFile(const std::string& path) {
 // file name no other test shares (ctest runs tests in parallel).
 inline std::string TestFileName() {
   const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  if (!info) {  // a suite's set-up
+    const ::testing::TestSuite* suite = ::testing::UnitTest::GetInstance()->current_test_suite();
+    return std::string(suite ? suite->name() : "rockcal") + ".SetUpTestSuite";
+  }
   std::string name = std::string(info->test_suite_name()) + "." + info->name();
   for (char& ch : name)
     if (ch == '/') ch = '_';
   return name;
 }
 
-// Runs rockcal with `args`; stdout and stderr go to files named after the test.
-inline RunResult Rockcal(const std::string& args) {
+// Runs the shell command line `command`; stdout and stderr go to files named
+// after the test.
+inline RunResult Run(const std::string& command) {
   const std::string base = ::testing::TempDir() + "/rockcal_" + TestFileName();
   const std::string out_file = base + ".stdout", err_file = base + ".stderr";
-  const std::string cmd =
-      std::string(ROCKCAL_EXE) + " " + args + " > " + out_file + " 2> " + err_file;
-  const int raw = std::system(cmd.c_str());
+  const int raw = std::system((command + " > " + out_file + " 2> " + err_file).c_str());
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, ReadFile(out_file), ReadFile(err_file)};
+}
+
+// Runs rockcal with `args`; stdout and stderr go to files named after the test.
+inline RunResult Rockcal(const std::string& args) {
+  return Run(std::string(ROCKCAL_EXE) + " " + args);
 }
 
 // The site file of a bundled example.

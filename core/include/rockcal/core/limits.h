@@ -18,6 +18,9 @@ inline constexpr double kMaxContactTime = 1.0;       // s
 // 0.3 m block at about 10 g).
 inline constexpr double kMaxVegetationStress = 100e3;
 inline constexpr int kMaxRocks = 10'000'000;         // rocks in one run
+// The largest seed, in a site file ("simulation": {"seed"}) and given to
+// --seed alike: 2^63 - 1.
+inline constexpr long kMaxSeed = 9223372036854775807L;
 // Upper estimate of the steps of one run (every rock in contact for max_time
 // at its shortest step) above which a run is refused: it would not finish.
 inline constexpr double kMaxEstimatedSteps = 1e13;
