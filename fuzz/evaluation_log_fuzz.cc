@@ -2,7 +2,7 @@
 // (calibrate::EvaluationLog): any log is read or refused with an InputError,
 // never a crash, undefined behaviour or another exception. A log that was
 // read is rewritten, and the rewritten log must read back to the same
-// records.
+// records. An input "\xff" D1 D2 REST nests REST deeply (fuzz_input.h).
 #include "fuzz_input.h"
 #include "rockcal/calibrate/calibration.h"
 #include "rockcal/core/error.h"
@@ -36,7 +36,8 @@ calibrate::Fingerprint Expected() {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string path = rockcal::fuzz::WriteInput(data, size, "_evaluations.jsonl");
+  const std::string path =
+      rockcal::fuzz::WriteText(rockcal::fuzz::Nested(data, size), "_evaluations.jsonl");
   int records = -1;
   try {
     const calibrate::EvaluationLog log(path, true, Space(), 1, 6, Expected());

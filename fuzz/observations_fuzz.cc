@@ -1,9 +1,13 @@
-// The observations reader against a fixed scene with two partitions.
+// The observations reader against a fixed scene with two partitions: any
+// input is read or refused with an InputError, deep nesting included
+// (fuzz_input.h's Nested), and so are a FIFO, a folder and /dev/zero.
 #include "fuzz_input.h"
 #include "rockcal/core/error.h"
 #include "rockcal/observations/observations.h"
 
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+namespace {
+
+const rockcal::core::Scene& FuzzScene() {
   static const rockcal::core::Scene scene = [] {
     rockcal::core::Scene s;
     rockcal::core::Partition x, z;
@@ -20,9 +24,27 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     s.groups = {g};
     return s;
   }();
-  const std::string path = rockcal::fuzz::WriteInput(data, size, "_obs.json");
+  return scene;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  rockcal::fuzz::MakeSpecialFiles();
+  for (const char* path : {rockcal::fuzz::kFifo, rockcal::fuzz::kFolder, "/dev/zero"}) {
+    try {
+      rockcal::observations::LoadObservations(path, FuzzScene());
+      __builtin_trap();  // read as observations
+    } catch (const rockcal::InputError&) {
+    }
+  }
+  return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string path = rockcal::fuzz::WriteText(rockcal::fuzz::Nested(data, size), "_obs.json");
   try {
-    rockcal::observations::LoadObservations(path, scene);
+    rockcal::observations::LoadObservations(path, FuzzScene());
   } catch (const rockcal::InputError&) {
   }
   return 0;
