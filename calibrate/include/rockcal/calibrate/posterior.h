@@ -1,0 +1,174 @@
+// The posterior of the calibrated values, p(theta | observations), under a
+// uniform prior on the calibration box: the misfit is a Gaussian
+// log-likelihood in units of sigma (half the sum of the squared residuals,
+// each scaled by the observation's error and the simulation's Monte Carlo
+// error), so p(theta | obs) ~ exp(-misfit(theta)). Each simulation is
+// expensive and noisy, so the residuals are emulated (emulator.h) over the
+// evaluations already made, a space-filling design and points added where
+// the posterior mass is; the posterior is sampled on the emulator by
+// adaptive Metropolis, the emulator's variance added to each residual's
+// (Kennedy & O'Hagan 2001). See docs/posterior.md.
+#ifndef ROCKCAL_CALIBRATE_POSTERIOR_H_
+#define ROCKCAL_CALIBRATE_POSTERIOR_H_
+
+#include <Eigen/Dense>
+#include <cstdint>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rockcal/calibrate/calibration.h"
+#include "rockcal/calibrate/emulator.h"
+#include "rockcal/calibrate/objective.h"
+#include "rockcal/observations/misfit.h"
+#include "rockcal/observations/observations.h"
+#include "rockcal/sites/site.h"
+
+namespace rockcal::calibrate {
+
+// ---- The sampler -----------------------------------------------------------------
+
+// Options of AdaptiveMetropolis. Defaults in brackets.
+struct McmcOptions {
+  int chains = 4;      // independent chains, >= 2 (R-hat needs two) [4]
+  int burn_in = 1500;  // steps per chain discarded, over which the proposal adapts, >= 100 [1500]
+  int steps = 4000;    // steps per chain kept, >= 100 [4000]
+  int thin = 4;        // every thin-th kept step is a sample, >= 1 [4]
+  std::uint64_t seed = 1;
+
+  bool IsValid(std::string* error) const;
+};
+
+struct McmcResult {
+  // The samples of every chain, chain after chain (chains * steps / thin of them).
+  std::vector<Eigen::VectorXd> samples;
+  std::vector<double> rhat;  // split R-hat per coordinate (Gelman et al. 2013)
+  double acceptance = 0.0;   // after burn-in, over the chains
+};
+
+// Samples the density exp(log_target(u)) on the unit box [0, 1]^d by
+// adaptive Metropolis (Haario, Saksman & Tamminen 2001): Gaussian proposals
+// whose covariance is (2.38^2 / d) times the chain's own during burn-in,
+// then frozen; a proposal outside the box is rejected (uniform prior).
+// Chain k starts at starts[k % starts.size()] and draws from its own random
+// stream of `seed`: the result depends on the seed only, never on threads.
+McmcResult AdaptiveMetropolis(const std::function<double(const Eigen::VectorXd&)>& log_target,
+                              const std::vector<Eigen::VectorXd>& starts,
+                              const McmcOptions& options);
+
+// Split R-hat of one scalar over chains of equal length (each chain halved).
+double SplitRhat(const std::vector<std::vector<double>>& chains);
+
+// The level-p quantile (type 7, linear interpolation) of `values` (sorted in place).
+double Quantile(std::vector<double>* values, double p);
+
+// ---- The posterior of a calibration --------------------------------------------
+
+// Options of SamplePosterior. Defaults in brackets.
+struct PosteriorOptions {
+  // Emulated points the first emulator needs, evaluations reused included:
+  // a maximin Latin hypercube tops them up to this many; 0: 6 (d + 1) [0].
+  int design_points = 0;
+  // Refining rounds: each samples the emulator, then simulates the posterior
+  // samples where the emulator is least sure, and refits [3], >= 0.
+  int rounds = 3;
+  // Points simulated per refining round; 0: 2 (d + 1) [0], >= 0.
+  int round_points = 0;
+  // A round adds no points when the emulator's variance, averaged over the
+  // residuals, is below this (in sigma^2) at every posterior sample [0.02].
+  double settled_variance = 0.02;
+  // The emulated residuals r are warped, r' = c asinh(r / c), so that the
+  // far misfits of a box-wide design do not swamp the region that matters;
+  // c in sigmas [4], > 0.
+  double warp = 4.0;
+  McmcOptions mcmc;  // the final sampling; the rounds use half its steps
+  EmulatorOptions emulator;
+  // A parameter is "not determined by the data" when its 5-95 % interval is
+  // wider than this share of the prior's (90 % of the range) [0.75], (0, 1].
+  double undetermined_share = 0.75;
+
+  bool IsValid(std::string* error) const;
+  int DesignPoints(int parameters) const;
+  int RoundPoints(int parameters) const;
+};
+
+// One calibrated value's posterior, SI.
+struct ParameterPosterior {
+  double median = 0.0, p05 = 0.0, p95 = 0.0, mean = 0.0, sd = 0.0;
+  // (p95 - p05) over the uniform prior's 5-95 % width (0.9 of the range).
+  double width_share = 0.0;
+  bool undetermined = false;  // width_share > PosteriorOptions::undetermined_share
+  double rhat = 0.0;
+};
+
+// One compared statistic's posterior predictive band (PredictiveBands).
+struct PredictiveBand {
+  std::string observation, quantity;  // as observations::Residual's
+  double observed = 0.0;              // SI
+  double p05 = 0.0, median = 0.0, p95 = 0.0;  // of the simulated value over the draws, SI
+  bool inside() const { return observed >= p05 && observed <= p95; }
+};
+
+struct PosteriorResult {
+  ParameterSpace space;
+  std::vector<std::vector<double>> samples;  // physical values, chain after chain
+  std::vector<ParameterPosterior> parameters;
+  std::vector<std::vector<double>> correlation;  // d x d, of the samples
+  double max_rhat = 0.0;
+  double acceptance = 0.0;
+  int reused = 0;        // evaluations of the calibration emulated
+  int evaluated = 0;     // points of the posterior stage (design and rounds)
+  int simulated = 0;     // of them, simulated now (the rest replayed from the log)
+  int emulated = 0;      // points of the final emulator
+  int rounds = 0;        // refining rounds that added points
+  // The emulator's variance at the posterior samples, averaged over the
+  // residuals, in sigma^2: its median (how much it widened the posterior).
+  double emulator_variance = 0.0;
+  std::vector<double> length_scales;  // unit box
+  double nugget = 0.0;
+  double wall_seconds = 0.0;
+  // The posterior predictive bands (PredictiveBands), when made.
+  std::vector<PredictiveBand> bands;
+  int band_draws = 0;
+  int band_rocks = 0;
+  std::string message;  // warnings (R-hat, emulator), empty when none
+};
+
+// Progress of SamplePosterior: (what, done, total).
+using PosteriorProgress = std::function<void(const std::string& stage, int done, int total)>;
+
+// Samples the posterior of `objective`'s parameters: the unpenalised
+// `reused` evaluations (of this objective: same rocks and seed) and a
+// space-filling design emulated, refined, then sampled (PosteriorOptions).
+// New evaluations are appended to `log` as method "posterior" (and
+// replayed from it on a resume). The seed of the design, the rounds and the
+// chains is options.mcmc.seed. Throws InputError for invalid options;
+// std::runtime_error when too few unpenalised evaluations exist to emulate.
+PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
+                                const std::vector<Evaluation>& reused,
+                                const PosteriorOptions& options, EvaluationLog* log,
+                                const PosteriorProgress& progress = nullptr);
+
+// The posterior predictive bands of the compared statistics: `draws`
+// posterior samples (evenly spaced through result.samples) each simulated
+// at its own seed (seed + 1000 + k, none of the calibration's) with `rocks`
+// rocks, so that the bands hold the parameters' uncertainty and the Monte
+// Carlo variation together; the simulated values' 5 %, 50 % and 95 %
+// quantiles per residual. Fills result->bands; spread over the ranks
+// under mpirun.
+void PredictiveBands(const sites::Site& site, const observations::Observations& observations,
+                     const observations::MisfitOptions& misfit, int rocks, std::uint64_t seed,
+                     int threads, int draws, PosteriorResult* result,
+                     const PosteriorProgress& progress = nullptr);
+
+// posterior.csv: a header of the parameters' labels, one sample per line (SI).
+std::string PosteriorCsv(const PosteriorResult& result);
+// The posterior as JSON: per parameter its summary, the correlations, the
+// diagnostics and the bands.
+nlohmann::json PosteriorJson(const PosteriorResult& result);
+
+}  // namespace rockcal::calibrate
+
+#endif  // ROCKCAL_CALIBRATE_POSTERIOR_H_

@@ -1,0 +1,224 @@
+// The posterior sampler and stage (calibrate/src/posterior.cc) on analytic
+// targets whose posterior is known exactly.
+#include "rockcal/calibrate/posterior.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <unistd.h>
+
+#include <filesystem>
+
+namespace rockcal::calibrate {
+namespace {
+
+// Residuals linear in the unit box: r = A (u - centre) / s, so exp(-misfit)
+// is a Gaussian of mean `centre` and precision sum_i a_i a_i^T / s_i^2.
+class LinearObjective final : public ObjectiveFunction {
+ public:
+  LinearObjective() {
+    Parameter a, b;
+    a.material = "a";
+    b.material = "b";
+    space_ = ParameterSpace({a, b});
+  }
+  const ParameterSpace& space() const override { return space_; }
+  int residual_count() const override { return 3; }
+  observations::Misfit Evaluate(const std::vector<double>& x) const override {
+    ++calls;
+    observations::Misfit m;
+    const double r[3] = {(x[0] - 0.4) / 0.08, (x[1] - 0.6) / 0.05, (x[0] + x[1] - 1.0) / 0.1};
+    for (double v : r) {
+      observations::Residual res;
+      res.observation = "linear";
+      res.quantity = "q";
+      res.value = v;
+      m.residuals.push_back(res);
+      m.value += 0.5 * v * v;
+    }
+    return m;
+  }
+  std::vector<observations::Misfit> EvaluateAll(
+      const std::vector<std::vector<double>>& points,
+      const std::function<void(int, const observations::Misfit&)>& done) const override {
+    std::vector<observations::Misfit> out;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      out.push_back(Evaluate(points[k]));
+      if (done) done(static_cast<int>(k), out.back());
+    }
+    return out;
+  }
+  mutable int calls = 0;
+
+ private:
+  ParameterSpace space_;
+};
+
+// The exact marginal standard deviations of LinearObjective's posterior.
+Eigen::Vector2d ExactSd() {
+  Eigen::Matrix2d precision = Eigen::Matrix2d::Zero();
+  const Eigen::Vector2d a1(1, 0), a2(0, 1), a3(1, 1);
+  precision += a1 * a1.transpose() / (0.08 * 0.08);
+  precision += a2 * a2.transpose() / (0.05 * 0.05);
+  precision += a3 * a3.transpose() / (0.1 * 0.1);
+  const Eigen::Matrix2d cov = precision.inverse();
+  return {std::sqrt(cov(0, 0)), std::sqrt(cov(1, 1))};
+}
+
+TEST(AdaptiveMetropolis, SamplesAKnownGaussian) {
+  const Eigen::Vector2d mean(0.3, 0.55), sd(0.05, 0.1);
+  const double rho = 0.6;
+  Eigen::Matrix2d cov;
+  cov << sd(0) * sd(0), rho * sd(0) * sd(1), rho * sd(0) * sd(1), sd(1) * sd(1);
+  const Eigen::Matrix2d precision = cov.inverse();
+  McmcOptions o;
+  o.seed = 5;
+  const McmcResult r = AdaptiveMetropolis(
+      [&](const Eigen::VectorXd& u) {
+        const Eigen::Vector2d d = u - mean;
+        return -0.5 * d.dot(precision * d);
+      },
+      {Eigen::Vector2d(0.9, 0.1), Eigen::Vector2d(0.1, 0.9)}, o);
+  ASSERT_EQ(r.samples.size(), static_cast<std::size_t>(o.chains * o.steps / o.thin));
+  for (int k = 0; k < 2; ++k) {
+    std::vector<double> v;
+    for (const auto& s : r.samples) v.push_back(s(k));
+    // Monte Carlo tolerance: ~4000 samples with an autocorrelation time of
+    // a few steps; 0.15 sd for the median, 0.25 sd for the outer quantiles.
+    EXPECT_NEAR(Quantile(&v, 0.5), mean(k), 0.15 * sd(k)) << "coordinate " << k;
+    EXPECT_NEAR(Quantile(&v, 0.05), mean(k) - 1.645 * sd(k), 0.25 * sd(k)) << "coordinate " << k;
+    EXPECT_NEAR(Quantile(&v, 0.95), mean(k) + 1.645 * sd(k), 0.25 * sd(k)) << "coordinate " << k;
+    EXPECT_LT(r.rhat[static_cast<std::size_t>(k)], 1.05);
+  }
+  EXPECT_GT(r.acceptance, 0.15);
+  EXPECT_LT(r.acceptance, 0.6);
+}
+
+TEST(AdaptiveMetropolis, TheSameSeedGivesTheSameSamples) {
+  McmcOptions o;
+  o.burn_in = 200, o.steps = 400, o.seed = 3;
+  const auto target = [](const Eigen::VectorXd& u) { return -0.5 * u.squaredNorm() / 0.01; };
+  const McmcResult a = AdaptiveMetropolis(target, {Eigen::Vector2d(0.5, 0.5)}, o);
+  const McmcResult b = AdaptiveMetropolis(target, {Eigen::Vector2d(0.5, 0.5)}, o);
+  ASSERT_EQ(a.samples.size(), b.samples.size());
+  for (std::size_t k = 0; k < a.samples.size(); ++k) EXPECT_EQ(a.samples[k], b.samples[k]);
+}
+
+TEST(SplitRhat, IsOneForAgreeingChainsAndLargeForDisagreeingOnes) {
+  std::vector<std::vector<double>> same(4), apart(4);
+  for (int c = 0; c < 4; ++c)
+    for (int k = 0; k < 200; ++k) {
+      const double v = std::sin(0.7 * k + c);
+      same[static_cast<std::size_t>(c)].push_back(v);
+      apart[static_cast<std::size_t>(c)].push_back(v + 3.0 * c);
+    }
+  EXPECT_LT(SplitRhat(same), 1.02);
+  EXPECT_GT(SplitRhat(apart), 2.0);
+}
+
+TEST(SamplePosterior, RecoversAKnownGaussianPosterior) {
+  const LinearObjective objective;
+  PosteriorOptions o;
+  o.design_points = 20;
+  o.rounds = 2;
+  const PosteriorResult r = SamplePosterior(objective, {}, o, nullptr);
+  const Eigen::Vector2d sd = ExactSd();
+  const double centre[2] = {0.4, 0.6};
+  for (int k = 0; k < 2; ++k) {
+    const ParameterPosterior& p = r.parameters[static_cast<std::size_t>(k)];
+    EXPECT_NEAR(p.median, centre[k], 0.15 * sd(k)) << "parameter " << k;
+    EXPECT_NEAR(p.p05, centre[k] - 1.645 * sd(k), 0.25 * sd(k)) << "parameter " << k;
+    EXPECT_NEAR(p.p95, centre[k] + 1.645 * sd(k), 0.25 * sd(k)) << "parameter " << k;
+    EXPECT_FALSE(p.undetermined);
+  }
+  EXPECT_LT(r.max_rhat, 1.05);
+  EXPECT_LT(r.emulator_variance, 0.02) << "a linear function is emulated almost exactly";
+  EXPECT_EQ(r.simulated, objective.calls);
+  EXPECT_TRUE(r.message.empty()) << r.message;
+}
+
+TEST(SamplePosterior, AParameterTheDataDoNotSeeIsFlaggedUndetermined) {
+  // Only the first parameter enters the residuals.
+  class OneSided final : public ObjectiveFunction {
+   public:
+    OneSided() {
+      Parameter a, b;
+      a.material = "a";
+      b.material = "b";
+      space_ = ParameterSpace({a, b});
+    }
+    const ParameterSpace& space() const override { return space_; }
+    int residual_count() const override { return 1; }
+    observations::Misfit Evaluate(const std::vector<double>& x) const override {
+      observations::Misfit m;
+      observations::Residual r;
+      r.value = (x[0] - 0.5) / 0.05;
+      m.residuals = {r};
+      m.value = 0.5 * r.value * r.value;
+      return m;
+    }
+    std::vector<observations::Misfit> EvaluateAll(
+        const std::vector<std::vector<double>>& points,
+        const std::function<void(int, const observations::Misfit&)>& done) const override {
+      std::vector<observations::Misfit> out;
+      for (std::size_t k = 0; k < points.size(); ++k) {
+        out.push_back(Evaluate(points[k]));
+        if (done) done(static_cast<int>(k), out.back());
+      }
+      return out;
+    }
+
+   private:
+    ParameterSpace space_;
+  } objective;
+  PosteriorOptions o;
+  o.design_points = 16;
+  const PosteriorResult r = SamplePosterior(objective, {}, o, nullptr);
+  EXPECT_FALSE(r.parameters[0].undetermined) << "width share " << r.parameters[0].width_share;
+  EXPECT_TRUE(r.parameters[1].undetermined) << "width share " << r.parameters[1].width_share;
+  EXPECT_NEAR(r.parameters[1].width_share, 1.0, 0.1);
+}
+
+TEST(SamplePosterior, AResumedRunReplaysItsEvaluationsAndGivesTheSameSamples) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("rockcal_posterior_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "evaluations.jsonl").string();
+  PosteriorOptions o;
+  o.design_points = 12;
+  o.rounds = 1;
+  o.round_points = 4;
+  o.mcmc.burn_in = 300, o.mcmc.steps = 600;
+  PosteriorResult first;
+  {
+    const LinearObjective objective;
+    EvaluationLog log(path, false, objective.space(), 1, 10);
+    first = SamplePosterior(objective, {}, o, &log);
+    EXPECT_EQ(first.simulated, objective.calls);
+    EXPECT_EQ(log.size(), first.simulated);
+  }
+  const LinearObjective objective;
+  EvaluationLog log(path, true, objective.space(), 1, 10);
+  const PosteriorResult again = SamplePosterior(objective, {}, o, &log);
+  EXPECT_EQ(objective.calls, 0) << "every evaluation replayed from the log";
+  EXPECT_EQ(again.evaluated, first.evaluated);
+  ASSERT_EQ(again.samples.size(), first.samples.size());
+  for (std::size_t k = 0; k < again.samples.size(); ++k) ASSERT_EQ(again.samples[k], first.samples[k]);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(PosteriorOptions, InvalidValuesAreNamed) {
+  PosteriorOptions o;
+  std::string error;
+  EXPECT_TRUE(o.IsValid(&error)) << error;
+  o.rounds = -1;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("rounds = -1"), std::string::npos) << error;
+  o = PosteriorOptions();
+  o.mcmc.chains = 1;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("chains = 1"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace rockcal::calibrate
