@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <memory>
 #include <optional>
 #include <sstream>
 
@@ -146,6 +147,44 @@ calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
   return callbacks;
 }
 
+void PosteriorFromArgs(const Args& args, calibrate::CalibrationOptions* options) {
+  const bool any = args.Has("posterior-points") || args.Has("posterior-rounds") ||
+                   args.Has("posterior-stage") || args.Has("predictive");
+  if (!args.Flag("posterior")) {
+    if (any)
+      throw InputError("arguments",
+                       "--posterior-points, --posterior-rounds, --posterior-stage and "
+                       "--predictive need --posterior");
+    return;
+  }
+  calibrate::PosteriorOptions p;
+  p.design_points = static_cast<int>(args.Integer("posterior-points", 0, 0, 100000));
+  p.rounds = static_cast<int>(args.Integer("posterior-rounds", p.rounds, 0, 1000));
+  options->posterior = p;
+  const std::string stage = args.Get("posterior-stage", "first");
+  if (!calibrate::ParsePosteriorStage(stage, &options->posterior_stage))
+    throw InputError("argument --posterior-stage", "'" + stage + "': expected first or final");
+  options->predictive_draws = static_cast<int>(args.Integer("predictive", 20, 0, 100000));
+}
+
+calibrate::PosteriorProgress PosteriorProgressPrinter(bool quiet, std::optional<Progress>* progress) {
+  auto last = std::make_shared<std::string>();
+  return [quiet, progress, last](const std::string& stage, int done, int total) {
+    if (stage != *last) {
+      progress->reset();
+      if (!quiet) {
+        std::printf("posterior: %s%s\n", stage.c_str(),
+                    total > 1 ? (" (" + std::to_string(total) + " simulations)").c_str() : "");
+        std::fflush(stdout);
+      }
+      *last = stage;
+      progress->emplace("posterior " + stage, quiet);
+    }
+    (*progress)->Update(done, total);
+    if (done == total && total > 1) progress->reset();
+  };
+}
+
 std::string RankCalibrationFolder(const std::string& out) {
   const std::string folder = parallel::IsRoot() ? out : parallel::ScratchFolder();
   parallel::ShareFiles(
@@ -176,6 +215,8 @@ void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
   reports::WriteFileAtomically(out + "/parameters.csv", reports::ParametersCsv(summary));
   reports::WriteFileAtomically(out + "/parameters.md", reports::ParametersMarkdown(summary));
   reports::WriteFileAtomically(out + "/trace.csv", reports::TraceCsv(summary));
+  if (summary.posterior)
+    reports::WriteFileAtomically(out + "/posterior.csv", calibrate::PosteriorCsv(*summary.posterior));
   nlohmann::json calibration = reports::CalibrationJson(summary);
   if (summary.noise_check.done) {
     const auto& c = summary.noise_check;
@@ -257,6 +298,8 @@ void PrintCalibration(const std::string& out, const calibrate::CalibrationSummar
               out.c_str(), wall_seconds,
               summary.methods.size() > 1 ? ", comparison.{csv,md}" : "",
               holdout ? ", holdout.{json,csv}, evaluations-fold-*.jsonl" : "", rasters.c_str());
+  if (summary.posterior) std::printf("  and posterior.csv (%zu posterior samples)\n",
+                                     summary.posterior->samples.size());
 }
 
 }  // namespace
@@ -290,6 +333,7 @@ int Calibrate(const std::vector<std::string>& argv) {
   // best, the site's start and the best twelfth of the design (at least 2).
   options.race_points = static_cast<int>(args.Integer(
       "race", options.refine_factor > 1 ? std::max(2, options.reach_points / 12) : 0, 0, 100000));
+  PosteriorFromArgs(args, &options);
   std::string error;
   if (!options.method.IsValid(&error)) throw InputError("arguments", error);
   calibrate::CheckCalibration(site, options);
@@ -307,8 +351,9 @@ int Calibrate(const std::vector<std::string>& argv) {
   options.log_path = folder + "/evaluations.jsonl";
   const bool quiet = args.Flag("quiet");
   std::optional<Progress> progress;
-  const calibrate::CalibrationCallbacks callbacks =
+  calibrate::CalibrationCallbacks callbacks =
       ProgressCallbacks(quiet, options.method.max_evals, &progress);
+  callbacks.posterior = PosteriorProgressPrinter(quiet, &progress);
   calibrate::CalibrationSummary summary;
   std::optional<calibrate::HoldoutSummary> holdout;
   ContinuableRun(out, [&] {

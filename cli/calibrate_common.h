@@ -44,6 +44,15 @@ calibrate::CalibrationOptions OptionsFromArgs(const Args& args, const std::strin
 calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
                                                   std::optional<Progress>* progress);
 
+// --posterior with --posterior-points, --posterior-rounds, --posterior-stage and --predictive
+// (20 draws by default) into options->posterior and predictive_draws; those
+// without --posterior are an InputError.
+void PosteriorFromArgs(const Args& args, calibrate::CalibrationOptions* options);
+
+// What the posterior stage shows as it goes: a line per stage (the design,
+// each refining round, the sampling, the predictive bands) and a progress bar.
+calibrate::PosteriorProgress PosteriorProgressPrinter(bool quiet, std::optional<Progress>* progress);
+
 // Under mpirun: the folder this rank writes into (`out` on rank 0, a scratch
 // folder elsewhere), with copies of rank 0's evaluation logs so that every
 // rank replays the same evaluations on --resume.

@@ -16,6 +16,19 @@
 
 namespace rockcal::calibrate {
 
+const char* PosteriorStageName(PosteriorStage stage) {
+  return stage == PosteriorStage::kFirst ? "first" : "final";
+}
+
+bool ParsePosteriorStage(const std::string& name, PosteriorStage* stage) {
+  for (PosteriorStage s : {PosteriorStage::kFirst, PosteriorStage::kFinal})
+    if (name == PosteriorStageName(s)) {
+      *stage = s;
+      return true;
+    }
+  return false;
+}
+
 bool CalibrationOptions::IsValid(std::string* error) const {
   std::ostringstream s;
   if (methods.empty()) {
@@ -40,6 +53,8 @@ bool CalibrationOptions::IsValid(std::string* error) const {
     s << "race_points = " << race_points << ": must be >= 0 (0: no race)";
   } else if (noise_seeds < 0) {
     s << "noise_seeds = " << noise_seeds << ": must be >= 0";
+  } else if (predictive_draws < 0 || (predictive_draws > 0 && !posterior)) {
+    s << "predictive_draws = " << predictive_draws << ": must be >= 0, and 0 without a posterior";
   } else if (resume && log_path.empty()) {
     s << "resume needs a log_path";
   } else {
@@ -50,6 +65,7 @@ bool CalibrationOptions::IsValid(std::string* error) const {
         return false;
       }
     if (!method.IsValid(error) || !misfit.IsValid(error)) return false;
+    if (posterior && !posterior->IsValid(error)) return false;
     return true;
   }
   *error = s.str();
@@ -271,6 +287,57 @@ void CheckNoise(const sites::Site& site, const observations::Observations& obs,
   check.done = true;
 }
 
+// CalibrationOptions::posterior: the posterior on the objective of the
+// stage options.posterior_stage names (`scene`, its rocks and seed), reusing
+// that stage's evaluations (the first stage's: the reach design's too) and
+// appending to its log.
+PosteriorResult RunPosteriorStage(const sites::Site& site, const observations::Observations& obs,
+                               const CalibrationOptions& options, const ParameterSpace& space,
+                               const core::Scene& scene, const CalibrationCallbacks& callbacks,
+                               const CalibrationSummary& summary) {
+  const Objective objective(scene, space, obs, options.misfit);
+  const bool refined =
+      options.refine_factor > 1 && options.posterior_stage == PosteriorStage::kFinal;
+  CalibrationOptions o = options;
+  if (refined) {
+    o.rocks = summary.final_rocks;
+    o.refine_factor = 1;
+    o.log_path = RefineLogPath(options.log_path);
+  }
+  o.resume = !o.log_path.empty() && std::filesystem::exists(o.log_path);
+  std::optional<EvaluationLog> log = OpenLog(site, obs, o, space, scene);
+  // The stage's methods: the refining one (the last), or those before it.
+  const std::size_t methods = summary.methods.size() - (options.refine_factor > 1 ? 1 : 0);
+  std::vector<Evaluation> reused;
+  for (std::size_t k = refined ? methods : 0; k < (refined ? summary.methods.size() : methods); ++k)
+    for (const Evaluation& e : summary.methods[k].trace) reused.push_back(e);
+  if (!refined && summary.reach) {
+    // The design's residuals from its statistics (in the misfit's order).
+    const ReachResult& r = *summary.reach;
+    for (const ReachPoint& p : r.points) {
+      if (p.penalised || p.simulated.size() != r.statistics.size() ||
+          static_cast<int>(r.statistics.size()) != objective.residual_count())
+        continue;
+      Evaluation e;
+      e.parameters = p.physical;
+      e.misfit = p.misfit;
+      for (std::size_t s = 0; s < r.statistics.size(); ++s)
+        e.residuals.push_back((p.simulated[s] - r.statistics[s].observed) / p.sigma[s]);
+      bool finite = true;
+      for (double v : e.residuals) finite = finite && std::isfinite(v);
+      if (finite) reused.push_back(std::move(e));
+    }
+  }
+  PosteriorOptions po = *options.posterior;
+  po.mcmc.seed = scene.options.seed;
+  PosteriorResult result =
+      SamplePosterior(objective, reused, po, log ? &*log : nullptr, callbacks.posterior,
+                      summary.misfit_before.residuals);
+  PredictiveBands(site, obs, options.misfit, scene.total_rocks(), scene.options.seed,
+                  options.threads, options.predictive_draws, &result, callbacks.posterior);
+  return result;
+}
+
 }  // namespace
 
 int CalibrationOptions::DefaultReachPoints(int parameters, int max_evals) {
@@ -408,6 +475,11 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
   }
   const MethodResult& best = summary.best_method();
   summary.termination = best.termination;
+  if (options.posterior)
+    summary.posterior = RunPosteriorStage(
+        site, obs, options, space,
+        options.posterior_stage == PosteriorStage::kFinal ? final_scene : scene, callbacks,
+        summary);
 
   // The site at the calibrated values, simulated with what its files, the
   // misfit and the report need.
@@ -438,6 +510,8 @@ HoldoutSummary CrossValidate(const sites::Site& site, const observations::Observ
     for (const auto& s : fold.scars) r.held_out_values += static_cast<int>(s.size());
     r.held_out_values += static_cast<int>(fold.runout.size());
     CalibrationOptions o = options;
+    o.posterior.reset();  // the folds check the point estimate only
+    o.predictive_draws = 0;
     // Each fold searches as the full calibration does, reach check and race
     // included, on its own part of the observations: a fold that started
     // from the full run's values would have seen its held-out blocks.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -201,11 +202,16 @@ struct Design {
     }
     return false;
   }
+  const Eigen::MatrixXd* whitening = nullptr;  // null: none
+
   void Add(const std::vector<double>& u, const std::vector<double>& residuals, double m,
            double warp) {
     if (Has(u)) return;
+    Eigen::VectorXd r = Eigen::Map<const Eigen::VectorXd>(residuals.data(),
+                                                          static_cast<Eigen::Index>(residuals.size()));
+    if (whitening) r = *whitening * r;
     std::vector<double> w;
-    for (double r : residuals) w.push_back(warp * std::asinh(r / warp));
+    for (Eigen::Index k = 0; k < r.size(); ++k) w.push_back(warp * std::asinh(r(k) / warp));
     unit.push_back(u);
     warped.push_back(std::move(w));
     misfit.push_back(m);
@@ -348,7 +354,8 @@ std::vector<std::vector<double>> RefinePoints(const Emulator& emulator, const Em
 PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
                                 const std::vector<Evaluation>& reused,
                                 const PosteriorOptions& options, EvaluationLog* log,
-                                const PosteriorProgress& progress) {
+                                const PosteriorProgress& progress,
+                                const std::vector<observations::Residual>& layout) {
   const auto start = Clock::now();
   std::string error;
   if (!options.IsValid(&error)) throw InputError("posterior options", error);
@@ -357,6 +364,12 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
   PosteriorResult result;
   result.space = space;
   Design design;
+  Eigen::MatrixXd whitening;
+  if (options.correlated_quantiles &&
+      layout.size() == static_cast<std::size_t>(objective.residual_count())) {
+    whitening = QuantileWhitening(layout);
+    design.whitening = &whitening;
+  }
   result.reused = AddEvaluations(objective, reused, options.warp, &design);
 
   // The space-filling design, topping the reused evaluations up.
@@ -460,6 +473,41 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
   result.message = message.str();
   result.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
+}
+
+Eigen::MatrixXd QuantileWhitening(const std::vector<observations::Residual>& layout) {
+  const Eigen::Index n = static_cast<Eigen::Index>(layout.size());
+  Eigen::MatrixXd w = Eigen::MatrixXd::Identity(n, n);
+  // The quantile residuals of each observation: (index, level).
+  std::map<std::string, std::vector<std::pair<Eigen::Index, double>>> groups;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const std::string& q = layout[static_cast<std::size_t>(k)].quantity;
+    if (q.size() < 2 || q[0] != 'p') continue;
+    char* end = nullptr;
+    const double percent = std::strtod(q.c_str() + 1, &end);
+    if (end == q.c_str() + 1 || *end != '\0' || !(percent > 0.0 && percent < 100.0)) continue;
+    groups[layout[static_cast<std::size_t>(k)].observation].push_back({k, percent / 100.0});
+  }
+  for (const auto& [name, members] : groups) {
+    const Eigen::Index m = static_cast<Eigen::Index>(members.size());
+    if (m < 2) continue;
+    Eigen::MatrixXd corr(m, m);
+    for (Eigen::Index i = 0; i < m; ++i)
+      for (Eigen::Index j = 0; j < m; ++j) {
+        double p = members[static_cast<std::size_t>(i)].second, q = members[static_cast<std::size_t>(j)].second;
+        if (p > q) std::swap(p, q);
+        corr(i, j) = std::sqrt(p * (1.0 - q) / (q * (1.0 - p)));
+      }
+    Eigen::LLT<Eigen::MatrixXd> llt(corr);
+    if (llt.info() != Eigen::Success) continue;
+    const Eigen::MatrixXd block =
+        llt.matrixL().solve(Eigen::MatrixXd::Identity(m, m));  // L^-1: |L^-1 r|^2 = r^T C^-1 r
+    for (Eigen::Index i = 0; i < m; ++i)
+      for (Eigen::Index j = 0; j < m; ++j)
+        w(members[static_cast<std::size_t>(i)].first, members[static_cast<std::size_t>(j)].first) =
+            block(i, j);
+  }
+  return w;
 }
 
 void PredictiveBands(const sites::Site& site, const observations::Observations& obs,

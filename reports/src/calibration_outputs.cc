@@ -81,6 +81,13 @@ nlohmann::json ParametersJson(const CalibrationSummary& record) {
                       {"lower", ps[k].lower},
                       {"upper", ps[k].upper},
                       {"std_error", se ? nlohmann::json(*se) : nlohmann::json(nullptr)}});
+    if (record.posterior) {
+      const calibrate::ParameterPosterior& q = record.posterior->parameters[k];
+      params.back()["posterior"] = {{"median", q.median},
+                                    {"p05", q.p05},
+                                    {"p95", q.p95},
+                                    {"determined", !q.undetermined}};
+    }
   }
   nlohmann::json out = {{"site", record.site},
                         {"method", best.method},
@@ -95,14 +102,22 @@ nlohmann::json ParametersJson(const CalibrationSummary& record) {
 std::string ParametersCsv(const CalibrationSummary& record) {
   const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
   std::ostringstream out;
-  out << "material,class,name,value,lower,upper,std_error,unit\n";
+  const bool post = record.posterior.has_value();
+  out << "material,class,name,value,lower,upper,std_error,unit"
+      << (post ? ",posterior_median,posterior_p05,posterior_p95,determined" : "") << "\n";
   const auto& ps = record.space.parameters();
   for (std::size_t k = 0; k < ps.size(); ++k) {
     const double* se = StdError(best, k);
     out << ps[k].material << ',' << ps[k].class_name() << ',' << ps[k].name() << ','
         << FormatNumber(best.best[k], "%.10g") << ',' << FormatNumber(ps[k].lower, "%.10g") << ','
         << FormatNumber(ps[k].upper, "%.10g") << ',' << (se ? FormatNumber(*se, "%.6g") : "") << ','
-        << SiUnit(ps[k]) << '\n';
+        << SiUnit(ps[k]);
+    if (post) {
+      const calibrate::ParameterPosterior& q = record.posterior->parameters[k];
+      out << ',' << FormatNumber(q.median, "%.6g") << ',' << FormatNumber(q.p05, "%.6g") << ','
+          << FormatNumber(q.p95, "%.6g") << ',' << (q.undetermined ? "no" : "yes");
+    }
+    out << '\n';
   }
   return out.str();
 }
@@ -129,6 +144,56 @@ std::string ParametersMarkdown(const CalibrationSummary& record) {
       << " after (half the sum of squared residuals in units of their uncertainty); "
       << record.rocks << " rocks per evaluation, seed " << record.seed << ".\n";
   if (const std::string d = DeterminationSentence(record); !d.empty()) out << "\n" << d << "\n";
+  if (record.posterior) out << "\n" << PosteriorMarkdown(record);
+  return out.str();
+}
+
+std::string PosteriorMarkdown(const CalibrationSummary& record) {
+  if (!record.posterior) return "";
+  const calibrate::PosteriorResult& post = *record.posterior;
+  std::ostringstream out;
+  out << "Posterior (uniform prior on the bounds; " << post.samples.size() << " samples):\n\n"
+      << "| parameter | median | 5 % | 95 % | interval / prior | determined by the data |\n"
+      << "|---|---|---|---|---|---|\n";
+  const auto& ps = record.space.parameters();
+  std::vector<std::string> loose;
+  for (std::size_t k = 0; k < ps.size(); ++k) {
+    const calibrate::ParameterPosterior& q = post.parameters[k];
+    out << "| " << ps[k].label() << " | " << SiteValue(ps[k], q.median, record.units) << " | "
+        << SiteValue(ps[k], q.p05, record.units) << " | " << SiteValue(ps[k], q.p95, record.units)
+        << " | " << FormatNumber(q.width_share, "%.2f") << " | "
+        << (q.undetermined ? "no (about as wide as the prior)" : "yes") << " |\n";
+    if (q.undetermined) loose.push_back(ps[k].label());
+  }
+  std::vector<std::string> pairs;
+  for (std::size_t a = 0; a < ps.size(); ++a)
+    for (std::size_t b = a + 1; b < ps.size(); ++b)
+      if (std::abs(post.correlation[a][b]) >= 0.7)
+        pairs.push_back(ps[a].label() + " and " + ps[b].label() + " (" +
+                        FormatNumber(post.correlation[a][b], "%+.2f") + ")");
+  out << "\n";
+  if (!loose.empty()) {
+    out << "Not determined by the observations (5-95 % interval over "
+        << "three quarters of the prior's): ";
+    for (std::size_t k = 0; k < loose.size(); ++k) out << (k ? ", " : "") << loose[k];
+    out << ". Carry these values with their whole interval, or fix them from other sources.\n";
+  }
+  if (!pairs.empty()) {
+    out << "Strongly correlated (determined only together): ";
+    for (std::size_t k = 0; k < pairs.size(); ++k) out << (k ? ", " : "") << pairs[k];
+    out << ".\n";
+  }
+  out << "Emulated from " << post.emulated << " evaluations (" << post.reused << " of the search, "
+      << post.evaluated << " of the posterior stage, " << post.rounds
+      << " refining rounds); max R-hat " << FormatNumber(post.max_rhat, "%.3f") << ".\n";
+  if (!post.message.empty()) out << "Warning: " << post.message << "\n";
+  if (!post.bands.empty()) {
+    int inside = 0;
+    for (const auto& b : post.bands) inside += b.inside();
+    out << "Posterior predictive: " << inside << " of " << post.bands.size()
+        << " observed statistics inside their 5-95 % band (" << post.band_draws
+        << " posterior draws at " << post.band_rocks << " rocks, each at its own seed).\n";
+  }
   return out.str();
 }
 
@@ -243,7 +308,7 @@ nlohmann::json CalibrationJson(const CalibrationSummary& record) {
                     {"misfit_before", entry.misfit_before},
                     {"misfit", entry.misfit},
                     {"penalised", entry.penalised}});
-  return {{"site", record.site},
+  nlohmann::json out = {{"site", record.site},
           {"method", best.method},
           {"termination", best.termination.message},
           {"evaluations", best.evaluations},
@@ -271,6 +336,8 @@ nlohmann::json CalibrationJson(const CalibrationSummary& record) {
           {"fit", ResidualsJson(record.misfit_after)},
           {"verdict", VerdictJson(record)},
           {"methods", methods}};
+  if (record.posterior) out["posterior"] = calibrate::PosteriorJson(*record.posterior);
+  return out;
 }
 
 std::string ComparisonCsv(const CalibrationSummary& record) {

@@ -90,6 +90,8 @@ std::vector<ReportSection> Sections(const Context& c) {
     if (trace) add("trace", "Error against run time", sections::TraceSection);
     if (!rec.misfit_after.residuals.empty())
       add("fit", "Fit to the observations", sections::FitSection);
+    if (rec.posterior && !rec.posterior->samples.empty())
+      add("posterior", "Posterior and predictive bands", sections::PosteriorSection);
   }
   add("diagnostics", "Numerical diagnostics", sections::DiagnosticsSection);
   return out;

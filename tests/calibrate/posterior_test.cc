@@ -207,6 +207,35 @@ TEST(SamplePosterior, AResumedRunReplaysItsEvaluationsAndGivesTheSameSamples) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(QuantileWhitening, WhitensTheQuantilesOfEachDistributionAndNothingElse) {
+  std::vector<observations::Residual> layout;
+  for (const char* q : {"p10", "p50", "p90", "max"}) {
+    observations::Residual r;
+    r.observation = "runout distance";
+    r.quantity = q;
+    layout.push_back(r);
+  }
+  observations::Residual f;
+  f.observation = "passing[0] P";
+  f.quantity = "fraction";
+  layout.push_back(f);
+  const Eigen::MatrixXd w = QuantileWhitening(layout);
+  // The correlation of the levels 0.1, 0.5 and 0.9 (sample quantiles).
+  const double p[3] = {0.1, 0.5, 0.9};
+  Eigen::MatrixXd corr = Eigen::MatrixXd::Identity(5, 5);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const double a = std::min(p[i], p[j]), b = std::max(p[i], p[j]);
+      corr(i, j) = std::sqrt(a * (1 - b) / (b * (1 - a)));
+    }
+  EXPECT_NEAR(corr(0, 2), 1.0 / 9.0, 1e-12);
+  const Eigen::MatrixXd white = w * corr * w.transpose();
+  EXPECT_TRUE(white.isApprox(Eigen::MatrixXd::Identity(5, 5), 1e-12)) << white;
+  EXPECT_EQ(w(3, 3), 1.0);
+  EXPECT_EQ(w(4, 4), 1.0);
+  EXPECT_EQ(w.row(3).sum(), 1.0) << "the maximum stays independent";
+}
+
 TEST(PosteriorOptions, InvalidValuesAreNamed) {
   PosteriorOptions o;
   std::string error;

@@ -12,6 +12,7 @@
 
 #include "rockcal/calibrate/calibration.h"
 #include "rockcal/calibrate/parameter_space.h"
+#include "rockcal/calibrate/posterior.h"
 #include "rockcal/calibrate/reach.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/observations/misfit.h"
@@ -19,6 +20,20 @@
 #include "rockcal/sites/site.h"
 
 namespace rockcal::calibrate {
+
+// Which stage's objective the posterior samples (CalibrationOptions::
+// posterior_stage) when a refining stage runs.
+enum class PosteriorStage {
+  // The first stage's (its rocks; the reach design's and the first search's
+  // evaluations reused): some ten times cheaper per evaluation, the
+  // intervals somewhat wider (the Monte Carlo error of fewer rocks is in
+  // every residual's sigma).
+  kFirst,
+  kFinal,  // the refining stage's (its rocks; its search's evaluations reused)
+};
+const char* PosteriorStageName(PosteriorStage stage);  // "first", "final"
+// Sets *stage from its name; false for an unknown name.
+bool ParsePosteriorStage(const std::string& name, PosteriorStage* stage);
 
 // Options of Calibrate. Defaults in brackets.
 struct CalibrationOptions {
@@ -90,6 +105,17 @@ struct CalibrationOptions {
   // budget: a rugged misfit has basins a small design does not see).
   static int DefaultReachPoints(int parameters, int max_evals);
 
+  // The posterior of the calibrated values (SamplePosterior), after the
+  // search, on the objective of `posterior_stage` (its rocks and seed; the
+  // evaluations of that stage reused, new ones appended to its log);
+  // unset: none [unset].
+  std::optional<PosteriorOptions> posterior;
+  PosteriorStage posterior_stage = PosteriorStage::kFirst;  // [first]
+  // With a posterior: its predictive bands from this many posterior draws,
+  // each simulated at its own seed with the final stage's rocks
+  // (PredictiveBands); 0: none [0], >= 0.
+  int predictive_draws = 0;
+
   // Checks each field (the methods' names, the method options, the misfit
   // options); on failure sets *error naming the field, its value and the rule.
   bool IsValid(std::string* error) const;
@@ -109,6 +135,7 @@ struct CalibrationCallbacks {
   std::function<void(const std::string& method)> method_started;
   CalibrationProgress evaluated;  // after every evaluation
   std::function<void(const MethodResult&)> method_finished;
+  PosteriorProgress posterior;  // during the posterior stage
 };
 
 // Everything a calibration produced, as its outputs need it.
@@ -172,6 +199,9 @@ struct CalibrationSummary {
     std::string message;  // one plain sentence
   };
   NoiseCheck noise_check;
+
+  // CalibrationOptions::posterior: the posterior of the calibrated values.
+  std::optional<PosteriorResult> posterior;
   // The site's scene at the calibrated values, recording what the files of
   // a simulation need (summary.json, rocks.csv, the misfit); no trajectories.
   core::Scene calibrated;

@@ -85,6 +85,14 @@ struct PosteriorOptions {
   double warp = 4.0;
   McmcOptions mcmc;  // the final sampling; the rounds use half its steps
   EmulatorOptions emulator;
+  // The quantile residuals of one distribution are correlated (sample
+  // quantiles share their values); with this set the likelihood takes their
+  // correlation, sqrt(p (1 - q) / (q (1 - p))) between the levels p <= q
+  // (the asymptotic covariance of sample quantiles: David & Nagaraja 2003,
+  // Order Statistics, sec. 10.3), by whitening the residual vector of each
+  // distribution before it is emulated; "max", shares and fractions stay
+  // independent. Off: every residual independent, as in the misfit [on].
+  bool correlated_quantiles = true;
   // A parameter is "not determined by the data" when its 5-95 % interval is
   // wider than this share of the prior's (90 % of the range) [0.75], (0, 1].
   double undetermined_share = 0.75;
@@ -146,10 +154,21 @@ using PosteriorProgress = std::function<void(const std::string& stage, int done,
 // replayed from it on a resume). The seed of the design, the rounds and the
 // chains is options.mcmc.seed. Throws InputError for invalid options;
 // std::runtime_error when too few unpenalised evaluations exist to emulate.
+// `layout`: the residuals of one evaluation (their observation and quantity
+// name each residual; the values are not used), for the quantiles'
+// correlation; empty or of another length: every residual independent.
 PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
                                 const std::vector<Evaluation>& reused,
                                 const PosteriorOptions& options, EvaluationLog* log,
-                                const PosteriorProgress& progress = nullptr);
+                                const PosteriorProgress& progress = nullptr,
+                                const std::vector<observations::Residual>& layout = {});
+
+// The whitening W of PosteriorOptions::correlated_quantiles for residuals
+// named as `layout`: W r has independent unit-variance components where r
+// has the quantiles' correlation, so |W r|^2 / 2 is the correlated misfit
+// (block diagonal: one block per observation's quantile levels p...).
+// The identity for residuals that are not quantiles.
+Eigen::MatrixXd QuantileWhitening(const std::vector<observations::Residual>& layout);
 
 // The posterior predictive bands of the compared statistics: `draws`
 // posterior samples (evenly spaced through result.samples) each simulated

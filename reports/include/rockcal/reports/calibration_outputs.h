@@ -27,6 +27,11 @@ nlohmann::json ParametersJson(const CalibrationSummary& record);
 std::string ParametersCsv(const CalibrationSummary& record);
 // parameters.md: a Markdown table ready for a report (site units beside SI).
 std::string ParametersMarkdown(const CalibrationSummary& record);
+// The posterior's table (median, 5-95 % interval, share of the prior's
+// width, determined or not), the strong correlations, the diagnostics and
+// the predictive check, in Markdown; empty without a posterior.
+// parameters.md ends with it.
+std::string PosteriorMarkdown(const CalibrationSummary& record);
 // What the standard errors say of how well the observations determine the
 // calibrated values, in plain words: the parameters whose standard error
 // exceeds a quarter of their calibration range ("not determined by the
