@@ -471,6 +471,7 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
             << " sigma^2 per residual): the intervals are wider than the data alone give; "
                "give more rounds or points. ";
   result.message = message.str();
+  while (!result.message.empty() && result.message.back() == ' ') result.message.pop_back();
   result.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
 }

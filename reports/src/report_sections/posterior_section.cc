@@ -99,14 +99,15 @@ std::string PairwisePlot(const PosteriorResult& post, const std::vector<double>&
       }
     }
   // Labels: each parameter under its column and beside its row.
+  const int font = d > 5 ? 7 : 10;  // the labels fit their cells
   for (int k = 0; k < d; ++k) {
-    std::snprintf(buf, sizeof buf, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\" font-size=\"10\">",
-                  margin + k * cell + cell / 2, d * cell + 14.0);
+    std::snprintf(buf, sizeof buf, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\" font-size=\"%d\">",
+                  margin + k * cell + cell / 2, d * cell + 14.0, font);
     s += buf + Escape(ps[static_cast<std::size_t>(k)].label()) + "</text>";
     std::snprintf(buf, sizeof buf,
-                  "<text x=\"14\" y=\"%.1f\" text-anchor=\"middle\" font-size=\"10\" "
+                  "<text x=\"14\" y=\"%.1f\" text-anchor=\"middle\" font-size=\"%d\" "
                   "transform=\"rotate(-90 14 %.1f)\">",
-                  k * cell + cell / 2, k * cell + cell / 2);
+                  k * cell + cell / 2, font, k * cell + cell / 2);
     s += buf + Escape(ps[static_cast<std::size_t>(k)].label()) + "</text>";
   }
   return s + "</svg>";
