@@ -71,6 +71,23 @@ struct CsvTable {
   std::vector<CsvRow> rows;
 };
 
+// The next row of `in` (skipping blank lines, '#' comments and a UTF-8 byte
+// order mark; fields unquoted), with its text for messages; false at the end.
+bool NextCsvRow(sites::LineReader* in, CsvRow* row, std::string* text) {
+  std::string line;
+  while (in->Next(&line)) {
+    if (in->line() == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
+    if (sites::IsBlank(line)) continue;
+    *text = line.substr(line.find_first_not_of(" \t"));
+    if ((*text)[0] == '#') continue;
+    *row = CsvRow{in->line(), SplitFields(*text)};
+    for (std::string& f : row->fields)
+      if (f.size() >= 2 && f.front() == '"' && f.back() == '"') f = f.substr(1, f.size() - 2);
+    return true;
+  }
+  return false;
+}
+
 bool LooksLikeHeader(const std::vector<std::string>& fields) {
   for (const std::string& f : fields) {
     if (f.empty()) return false;
@@ -152,6 +169,9 @@ class Loader final {
  private:
   double Length(double v) const { return sites::LengthToSI(v, units_); }
   std::string Resolve(const std::string& file) const;
+  // The CSV file named by the string at `ref`, resolved, checked to be a
+  // file and noted as an input.
+  std::string CsvFile(const JsonNode& ref) const;
   CsvTable ReadCsv(const JsonNode& ref, std::initializer_list<const char*> columns) const;
 
   // Index of the partition named by the string at `node`, or throws listing the ids.
@@ -191,25 +211,23 @@ std::string Loader::Resolve(const std::string& file) const {
   return base.empty() ? file : (base / p).string();
 }
 
-CsvTable Loader::ReadCsv(const JsonNode& ref, std::initializer_list<const char*> columns) const {
+std::string Loader::CsvFile(const JsonNode& ref) const {
   const std::string name = ref.String();
   if (name.empty()) ref.Fail("expected a CSV file name");
+  const std::string file = Resolve(name);
+  if (!std::filesystem::is_regular_file(file)) ref.Fail("cannot open CSV file '" + file + "'");
+  csv_files_.push_back(file);
+  return file;
+}
+
+CsvTable Loader::ReadCsv(const JsonNode& ref, std::initializer_list<const char*> columns) const {
   CsvTable table;
-  table.file = Resolve(name);
-  if (!std::filesystem::is_regular_file(table.file))
-    ref.Fail("cannot open CSV file '" + table.file + "'");
-  csv_files_.push_back(table.file);
+  table.file = CsvFile(ref);
   sites::LineReader in(table.file);
-  std::string line;
+  CsvRow row;
+  std::string text;
   bool first = true;
-  while (in.Next(&line)) {
-    if (in.line() == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
-    if (sites::IsBlank(line)) continue;
-    const std::string text = line.substr(line.find_first_not_of(" \t"));
-    if (text[0] == '#') continue;
-    CsvRow row{in.line(), SplitFields(text)};
-    for (std::string& f : row.fields)
-      if (f.size() >= 2 && f.front() == '"' && f.back() == '"') f = f.substr(1, f.size() - 2);
+  while (NextCsvRow(&in, &row, &text)) {
     if (first) {
       first = false;
       if (LooksLikeHeader(row.fields)) continue;
@@ -516,25 +534,14 @@ Runout Loader::ReadRunsFile(const JsonNode& ref, std::vector<std::string>* notes
   // "run"), its rock group ("group", default the run's id) and its stop
   // point ("stop_x", "stop_y", or with the suffix "_m" or "_ft"); other
   // columns (a tracked campaign's release state, masses...) are ignored.
-  const std::string name = ref.String();
-  if (name.empty()) ref.Fail("expected a CSV file name");
-  const std::string file = Resolve(name);
-  if (!std::filesystem::is_regular_file(file)) ref.Fail("cannot open CSV file '" + file + "'");
-  csv_files_.push_back(file);
-  const CsvTable table{file, {}};
-  sites::LineReader in(file);
-  std::string line;
+  const CsvTable table{CsvFile(ref), {}};
+  sites::LineReader in(table.file);
+  CsvRow row;
+  std::string text;
   std::vector<std::string> header;
   int id_col = -1, group_col = -1, x_col = -1, y_col = -1;
   Runout runout;
-  while (in.Next(&line)) {
-    if (in.line() == 1 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);
-    if (sites::IsBlank(line)) continue;
-    const std::string text = line.substr(line.find_first_not_of(" \t"));
-    if (text[0] == '#') continue;
-    CsvRow row{in.line(), SplitFields(text)};
-    for (std::string& f : row.fields)
-      if (f.size() >= 2 && f.front() == '"' && f.back() == '"') f = f.substr(1, f.size() - 2);
+  while (NextCsvRow(&in, &row, &text)) {
     if (header.empty()) {
       header = row.fields;
       auto find = [&](std::initializer_list<const char*> names) {
@@ -563,11 +570,12 @@ Runout Loader::ReadRunsFile(const JsonNode& ref, std::vector<std::string>* notes
     const std::string id = row.fields[static_cast<std::size_t>(id_col)];
     const std::string group =
         group_col >= 0 ? row.fields[static_cast<std::size_t>(group_col)] : id;
-    AddRun(file + ":" + std::to_string(row.line), id, group, stop, &runout);
+    AddRun(table.file + ":" + std::to_string(row.line), id, group, stop, &runout);
   }
   if (runout.distances.empty())
-    throw InputError(file, "no data rows (expected a header and one row per run; referenced at " +
-                               ref.where() + ")");
+    throw InputError(table.file,
+                     "no data rows (expected a header and one row per run; referenced at " +
+                         ref.where() + ")");
   NoteRuns(runout, notes);
   return runout;
 }

@@ -1,4 +1,5 @@
 #include "delaunay.h"
+#include "qhull_messages.h"
 
 #include <libqhull_r/qhull_ra.h>
 
@@ -13,32 +14,6 @@ namespace {
 
 constexpr double kInsideSlack = 1e-10;  // of a barycentric coordinate
 
-// Qhull's messages (written to a stream) as a string.
-class MessageStream final {
- public:
-  MessageStream() : file_(open_memstream(&text_, &size_)) {}
-  ~MessageStream() {
-    if (file_) std::fclose(file_);
-    std::free(text_);
-  }
-  MessageStream(const MessageStream&) = delete;
-  MessageStream& operator=(const MessageStream&) = delete;
-  FILE* file() const { return file_; }
-  // The first line written, "" when nothing was.
-  std::string FirstLine() {
-    if (file_) std::fflush(file_);
-    const std::string all = text_ ? std::string(text_, size_) : std::string();
-    std::size_t begin = all.find_first_not_of(" \n");
-    if (begin == std::string::npos) return "";
-    return all.substr(begin, all.find('\n', begin) - begin);
-  }
-
- private:
-  char* text_ = nullptr;
-  std::size_t size_ = 0;
-  FILE* file_;
-};
-
 }  // namespace
 
 bool Delaunay::Build(const std::vector<double>& u, const std::vector<double>& v,
@@ -52,7 +27,7 @@ bool Delaunay::Build(const std::vector<double>& u, const std::vector<double>& v,
     points[2 * static_cast<std::size_t>(k)] = u[static_cast<std::size_t>(k)];
     points[2 * static_cast<std::size_t>(k) + 1] = v[static_cast<std::size_t>(k)];
   }
-  MessageStream messages;
+  QhullMessages messages;
   qhT qh_qh;
   qhT* qh = &qh_qh;
   qh_zero(qh, messages.file());

@@ -12,6 +12,7 @@
 #include "rockcal/core/error.h"
 #include "rockcal/sites/point_files.h"
 #include "rockcal/sites/stl.h"
+#include "qhull_messages.h"
 
 namespace rockcal::sites {
 namespace {
@@ -30,31 +31,6 @@ std::string Stem(const std::string& path) {
   const auto dot = name.find_last_of('.');
   return dot == std::string::npos || dot == 0 ? name : name.substr(0, dot);
 }
-
-// Qhull's messages (written to a memory stream) as a string.
-class MessageStream final {
- public:
-  MessageStream() : file_(open_memstream(&text_, &size_)) {}
-  ~MessageStream() {
-    if (file_) std::fclose(file_);
-    std::free(text_);
-  }
-  MessageStream(const MessageStream&) = delete;
-  MessageStream& operator=(const MessageStream&) = delete;
-  FILE* file() const { return file_; }
-  std::string FirstLine() {
-    if (file_) std::fflush(file_);
-    const std::string all = text_ ? std::string(text_, size_) : std::string();
-    const std::size_t begin = all.find_first_not_of(" \n");
-    if (begin == std::string::npos) return "";
-    return all.substr(begin, all.find('\n', begin) - begin);
-  }
-
- private:
-  char* text_ = nullptr;
-  std::size_t size_ = 0;
-  FILE* file_;
-};
 
 }  // namespace
 
@@ -109,7 +85,7 @@ core::Polyhedron ConvexHull(const std::vector<Eigen::Vector3d>& points, const st
     for (int d = 0; d < 3; ++d)
       coords[3 * static_cast<std::size_t>(k) + static_cast<std::size_t>(d)] =
           points[static_cast<std::size_t>(k)][d];
-  MessageStream messages;
+  QhullMessages messages;
   qhT qh_qh;
   qhT* qh = &qh_qh;
   qh_zero(qh, messages.file());
