@@ -23,6 +23,13 @@ if(ROCKCAL_SANITIZE)
     $<$<NOT:${test_code}>:-fno-sanitize-recover=all>
     -fno-omit-frame-pointer -Wno-maybe-uninitialized)
   target_link_options(rockcal_sanitizers INTERFACE -fsanitize=address,undefined)
+  # Eigen allocates a dynamic matrix with the system's malloc, except under
+  # the address sanitizer (__SANITIZE_ADDRESS__), where it over-allocates and
+  # aligns by hand. Instrumented and test code would then disagree on how a
+  # matrix is freed, and the linker keeps one copy of each inline allocator
+  # for both: a matrix made on one side and freed on the other corrupts the
+  # heap. Every file of the sanitized build takes Eigen's own allocator.
+  target_compile_definitions(rockcal_sanitizers INTERFACE EIGEN_MALLOC_ALREADY_ALIGNED=0)
 endif()
 
 # rockcal_add_library(NAME folder SOURCES ... DEPS ...)
