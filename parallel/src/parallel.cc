@@ -116,7 +116,10 @@ core::SimulationResult Simulate(const core::Scene& scene, const core::Terrain& t
     return result;
   }
   const int total = scene.total_rocks();
-  const auto [first, last] = Block(total, size, Rank());
+  // Named copies, not structured bindings: C++17 lambdas cannot capture
+  // those (clang rejects it; the fuzz build uses clang).
+  const std::pair<int, int> block = Block(total, size, Rank());
+  const int first = block.first, last = block.second;
   core::ProgressFn scaled;
   if (progress && last > first)
     scaled = [&, n = last - first](int done, int) {
