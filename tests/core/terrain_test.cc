@@ -121,5 +121,27 @@ TEST(Terrain, GroundHeightIsTheTopOfTheHighestSphereOverThePoint) {
   EXPECT_GT(checked, 500);
 }
 
+
+// Issue 36's finding: a point exactly on the grid's far edge, at a spacing
+// whose reciprocal rounds (34 * 2.4575 * (1 / 2.4575) > 34), was off the grid.
+// Points on either edge are on it; a point a millionth of a cell beyond is not.
+TEST(Terrain, PointsOnTheGridsEdgesAreOnTheGrid) {
+  int far_edges = 0;
+  for (double s : {0.1, 0.3, 2.4575, 12 * kFoot}) {
+    for (int n : {2, 8, 13, 35, 60}) {
+      const HeightGrid grid =
+          testing::GridScene(n, 3, s, [](double, double) { return 0.0; }, Material()).grid;
+      const Terrain terrain(grid, {0.0}, 0.1);
+      const double edge = (n - 1) * s;
+      EXPECT_EQ(terrain.CellOf(edge, 0.0), n - 2) << "x = (n - 1) s, n " << n << ", s " << s;
+      EXPECT_EQ(terrain.CellOf(0.0, 2 * s), n - 1) << "y on the far edge, n " << n << ", s " << s;
+      EXPECT_EQ(terrain.CellOf(edge + 1e-6 * s, 0.0), -1) << "beyond x, n " << n << ", s " << s;
+      EXPECT_EQ(terrain.CellOf(-1e-6 * s, 0.0), -1) << "before x, n " << n << ", s " << s;
+      ++far_edges;
+    }
+  }
+  EXPECT_EQ(far_edges, 4 * 5);
+}
+
 }  // namespace
 }  // namespace rockcal::core

@@ -67,8 +67,12 @@ class Terrain final {
   }
   // Index j * (nx - 1) + i of the grid cell under (x, y); -1 off the grid.
   int CellOf(double x, double y) const {
+    // A point on an edge is on the grid: the product with the rounded
+    // reciprocal may land a few ulps outside, hence the 1e-9 cells.
     const double fx = (x - grid_.x0) * inv_spacing_, fy = (y - grid_.y0) * inv_spacing_;
-    if (!(fx >= 0.0 && fy >= 0.0 && fx <= grid_.nx - 1 && fy <= grid_.ny - 1)) return -1;
+    constexpr double kEdge = 1e-9;
+    if (!(fx >= -kEdge && fy >= -kEdge && fx <= grid_.nx - 1 + kEdge && fy <= grid_.ny - 1 + kEdge))
+      return -1;
     const int i = std::min(static_cast<int>(fx), grid_.nx - 2);
     const int j = std::min(static_cast<int>(fy), grid_.ny - 2);
     return j * (grid_.nx - 1) + i;
