@@ -239,7 +239,9 @@ void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
                       {"simulated_median_m", r.simulated},
                       {"rocks", r.rocks},
                       {"stopped", r.stopped},
-                      {"stuck_at_release", r.stuck}});
+                      {"stuck_at_release", r.stuck},
+                      {"spread_m", r.spread},
+                      {"sigma_m", r.sigma}});
     calibration["runs"] = {{"mean_abs_error_m", summary.misfit_after.MeanRunError()},
                            {"stuck_at_release", summary.misfit_after.StuckRocks()},
                            {"per_run", runs}};

@@ -68,13 +68,21 @@ class Comparer final {
   void Fraction(const std::string& observation, int crossed, int released, double observed,
                 double error) const;
 
+  // The floor of a sigma of measurement error `error`.
+  double SigmaFloor(double error) const { return Floor(error); }
+  // Adds one residual as it is.
+  void Residual(const std::string& observation, const std::string& quantity, double simulated,
+                double observed, double sigma, double value) const {
+    Add(observation, quantity, simulated, observed, sigma, value);
+  }
+
  private:
   double Floor(double error) const {
     return std::max(options_.sigma_floor * error, kAbsoluteSigmaFloor);
   }
   void Add(const std::string& observation, const std::string& quantity, double simulated,
            double observed, double sigma, double value) const {
-    Residual r;
+    observations::Residual r;
     r.observation = observation;
     r.quantity = quantity;
     r.simulated = simulated;
@@ -173,13 +181,28 @@ void Comparer::Fraction(const std::string& observation, int crossed, int release
 // stopped, and the simulated ones are compared in kind: the stopped rocks'
 // (the runout given stopping), with the share compared on its own.
 // Per-run observations: run i's runout (from its own release) against the
-// runouts of its group's rocks from the same release, pooled over the runs
-// into one distribution compared by quantiles as above (each run adds its
-// group's rocks, so the pooled simulated sample is the mixture of the runs'
-// predictions); a rock that did not stop is censored as above (at or beyond
-// every distance). Each run's fit goes to misfit->runs.
+// runouts of its group's rocks from the same release; a rock that did not
+// stop is censored as above (at or beyond every distance). Two comparisons,
+// as options.run_terms says:
+// - pooled: the runs' runouts pooled into one distribution compared by
+//   quantiles as above (each run adds its group's rocks, so the pooled
+//   simulated sample is the mixture of the runs' predictions);
+// - per run: one residual per run, (median_i - observed_i) / sigma_i with
+//   sigma_i^2 = error^2 + s_i^2 (1 + pi / (2 n_i)): the observed stop is one
+//   draw of the run's predictive distribution (spread s_i), the median of n_i
+//   rocks has the Monte Carlo variance pi s_i^2 / (2 n_i). The spread s_i is
+//   the run's own rocks' standard deviation (n_i - 1 degrees of freedom)
+//   shrunk toward the spread pooled over all runs' rocks about their group
+//   medians (1.4826 x their median absolute deviation, groups of 2 rocks or
+//   more; options.run_spread_prior degrees of freedom):
+//   s_i^2 = (nu0 s_pool^2 + (n_i - 1) s_own^2) / (nu0 + n_i - 1).
+//   A run of one rock takes the pooled spread; a run split between rocks
+//   that stuck and rocks that ran has a large own spread, so a moderate
+//   residual; a run with no simulated rock adds a residual 0.
+// The stopped share is compared in both cases. Each run's fit goes to
+// misfit->runs.
 void CompareRuns(const Runout& runout, double error, const core::SimulationResult& result,
-                 const Comparer& compare, Misfit* misfit) {
+                 const MisfitOptions& options, const Comparer& compare, Misfit* misfit) {
   std::vector<std::vector<const core::RockRecord*>> by_group;
   for (const core::RockRecord& rock : result.rocks) {
     const std::size_t g = static_cast<std::size_t>(rock.group);
@@ -194,6 +217,7 @@ void CompareRuns(const Runout& runout, double error, const core::SimulationResul
       farthest = std::max(farthest, (rock->stop.head<2>() - runout.run_origins[i]).norm());
   }
   std::vector<double> pooled;
+  std::vector<std::vector<double>> samples;  // each run's runouts, ascending
   int stopped = 0, released = 0;
   for (std::size_t i = 0; i < runout.run_groups.size(); ++i) {
     const std::size_t g = static_cast<std::size_t>(runout.run_groups[i]);
@@ -220,12 +244,51 @@ void CompareRuns(const Runout& runout, double error, const core::SimulationResul
     stopped += fit.stopped;
     released += fit.rocks;
     pooled.insert(pooled.end(), run.begin(), run.end());
+    samples.push_back(std::move(run));
     misfit->runs.push_back(fit);
   }
-  compare.Distributions("runout distance", std::move(pooled), runout.distances, error);
+  if (options.run_terms != RunTerms::kPerRun)
+    compare.Distributions("runout distance", std::move(pooled), runout.distances, error);
   const int observed_rocks =
       runout.observed_rocks > 0 ? runout.observed_rocks : static_cast<int>(runout.distances.size());
   compare.Share("runout stopped", stopped, released, runout.stopped_fraction, observed_rocks);
+  if (options.run_terms == RunTerms::kPooled) return;
+
+  std::vector<double> deviations;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    if (samples[i].size() < 2) continue;
+    for (const double d : samples[i]) deviations.push_back(std::abs(d - misfit->runs[i].simulated));
+  }
+  double pool = 0.0;
+  if (!deviations.empty()) {
+    std::sort(deviations.begin(), deviations.end());
+    pool = 1.4826 * core::Quantile(deviations, 0.5);
+  }
+  constexpr double kPi = 3.14159265358979323846;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    RunFit& fit = misfit->runs[i];
+    const std::vector<double>& run = samples[i];
+    const double n = static_cast<double>(run.size());
+    double own2 = 0.0;
+    if (run.size() >= 2) {
+      double mean = 0.0;
+      for (const double d : run) mean += d;
+      mean /= n;
+      for (const double d : run) own2 += (d - mean) * (d - mean);
+      own2 /= n - 1.0;
+    }
+    const double dof = options.run_spread_prior + std::max(n - 1.0, 0.0);
+    const double spread2 =
+        dof > 0.0 ? (options.run_spread_prior * pool * pool + std::max(n - 1.0, 0.0) * own2) / dof
+                  : 0.0;
+    fit.spread = std::sqrt(spread2);
+    fit.sigma = run.empty() ? std::max(error, compare.SigmaFloor(error))
+                            : std::max(std::sqrt(error * error + spread2 * (1.0 + kPi / (2.0 * n))),
+                                       compare.SigmaFloor(error));
+    const double value = run.empty() ? 0.0 : (fit.simulated - fit.observed) / fit.sigma;
+    compare.Residual(RunObservation(fit.id), kRunQuantity, fit.simulated, fit.observed, fit.sigma,
+                     value);
+  }
 }
 
 void CompareRunout(const Runout& runout, double error, const core::SimulationResult& result,
@@ -285,6 +348,36 @@ void CompareRunout(const Runout& runout, double error, const core::SimulationRes
 
 }  // namespace
 
+const char* RunTermsName(RunTerms terms) {
+  switch (terms) {
+    case RunTerms::kPooled:
+      return "pooled";
+    case RunTerms::kPerRun:
+      return "per_run";
+    case RunTerms::kBoth:
+      return "both";
+  }
+  return "?";
+}
+
+bool ParseRunTerms(const std::string& name, RunTerms* terms) {
+  for (const RunTerms t : {RunTerms::kPooled, RunTerms::kPerRun, RunTerms::kBoth}) {
+    if (name == RunTermsName(t)) {
+      *terms = t;
+      return true;
+    }
+  }
+  return false;
+}
+
+std::string RunObservation(const std::string& run_id) { return kRunObservationPrefix + run_id; }
+
+bool IsRunResidual(const Residual& residual) {
+  return residual.quantity == kRunQuantity &&
+         residual.observation.compare(0, std::char_traits<char>::length(kRunObservationPrefix),
+                                      kRunObservationPrefix) == 0;
+}
+
 bool MisfitOptions::IsValid(std::string* error) const {
   auto fail = [error](const std::string& message) {
     if (error != nullptr) *error = message;
@@ -303,6 +396,10 @@ bool MisfitOptions::IsValid(std::string* error) const {
   }
   if (!(std::isfinite(penalty) && penalty > 0.0)) {
     return fail("penalty = " + FormatNumber(penalty, "%.6g") + " (expected a finite number > 0)");
+  }
+  if (!(std::isfinite(run_spread_prior) && run_spread_prior >= 0.0)) {
+    return fail("run_spread_prior = " + FormatNumber(run_spread_prior, "%.6g") +
+                " (expected a finite number >= 0)");
   }
   if (!(sigma_floor > 0.0 && sigma_floor <= 1.0)) {
     return fail("sigma_floor = " + FormatNumber(sigma_floor, "%.6g") +
@@ -469,7 +566,8 @@ Misfit ComputeMisfit(const Observations& observations, const core::Scene& scene,
   }
 
   if (observations.runout && observations.runout->has_runs())
-    CompareRuns(*observations.runout, observations.error.runout, result, compare, &misfit);
+    CompareRuns(*observations.runout, observations.error.runout, result, options, compare,
+                &misfit);
   else if (observations.runout)
     CompareRunout(*observations.runout, observations.error.runout, result, compare);
 

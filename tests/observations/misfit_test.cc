@@ -433,6 +433,144 @@ TEST(MisfitTest, RunsAreMeasuredFromTheirOwnRelease) {
   EXPECT_GT(m.value, 10.0) << m.Report();
 }
 
+// Tracked runs released at x = 0, 100, 200, ... along y = 0, each run's
+// rocks stopping at the given runouts (a negative runout: the rock left the
+// terrain at that distance), each run observed at its own runout.
+struct RunCase {
+  core::Scene scene = TwoPartitionScene();
+  Observations obs;
+  core::SimulationResult result;
+  RunCase(const std::vector<std::vector<double>>& runouts, const std::vector<double>& observed,
+          double error) {
+    scene.groups.clear();
+    Runout r;
+    for (std::size_t i = 0; i < runouts.size(); ++i) {
+      core::RockGroup g;
+      g.id = "r" + std::to_string(i);
+      g.release.point = Eigen::Vector2d(100.0 * static_cast<double>(i), 0);
+      scene.groups.push_back(g);
+      r.run_ids.push_back(g.id);
+      r.run_groups.push_back(static_cast<int>(i));
+      r.run_origins.push_back(g.release.point);
+      r.stop_points.push_back(g.release.point + Eigen::Vector2d(0, observed[i]));
+      r.distances.push_back(observed[i]);
+      for (const double d : runouts[i]) {
+        core::RockRecord rock = StoppedRock(static_cast<int>(result.rocks.size()),
+                                            g.release.point.x(), std::abs(d));
+        rock.group = static_cast<int>(i);
+        rock.start = Eigen::Vector3d(g.release.point.x(), 0, 0);
+        if (d < 0) rock.outcome = core::Outcome::kLeft;
+        result.rocks.push_back(rock);
+      }
+    }
+    obs.runout = r;
+    obs.error.runout = error;
+  }
+  // Run `id`'s residual (observation "" when it has none).
+  Residual Run(const Misfit& m, const std::string& id) const {
+    for (const Residual& res : m.residuals)
+      if (res.observation == RunObservation(id)) return res;
+    return Residual{};
+  }
+};
+
+// One residual per run: its group's median against its stop, scaled by the
+// error, the run's spread shrunk toward the pooled spread, and the median's
+// Monte Carlo error; a run of one rock takes the pooled spread.
+TEST(MisfitTest, PerRunResidualShrinksTheRunsSpreadTowardThePool) {
+  const RunCase c({{70.0}, {40.0, 50.0, 60.0}}, {60.0, 56.0}, 1.0);
+  const Misfit m = ComputeMisfit(c.obs, c.scene, c.result);
+  // The pool: run r1's deviations about its median 50 are 10, 0, 10 (r0 has
+  // one rock and gives none): 1.4826 x 10.
+  const double pool = 14.826, pi = 3.14159265358979323846;
+  const Residual a = c.Run(m, "r0");
+  const Residual b = c.Run(m, "r1");
+  ASSERT_EQ(a.observation, "run r0") << m.Report();
+  ASSERT_EQ(b.observation, "run r1") << m.Report();
+  EXPECT_EQ(a.quantity, kRunQuantity);
+  EXPECT_TRUE(IsRunResidual(a));
+  // r0: one rock, the pool's spread; its median is the rock.
+  const double sigma_a = std::sqrt(1.0 + pool * pool * (1.0 + pi / 2.0));
+  EXPECT_DOUBLE_EQ(a.simulated, 70.0);
+  EXPECT_NEAR(a.sigma, sigma_a, 1e-9);
+  EXPECT_NEAR(a.value, 10.0 / sigma_a, 1e-12);
+  // r1: own variance 100 (2 degrees of freedom) shrunk toward the pool (4).
+  const double s2 = (4.0 * pool * pool + 2.0 * 100.0) / 6.0;
+  const double sigma_b = std::sqrt(1.0 + s2 * (1.0 + pi / 6.0));
+  EXPECT_NEAR(b.sigma, sigma_b, 1e-9);
+  EXPECT_NEAR(b.value, -6.0 / sigma_b, 1e-12);
+  EXPECT_NEAR(m.runs[1].spread, std::sqrt(s2), 1e-9);
+  EXPECT_NEAR(m.runs[1].sigma, sigma_b, 1e-9);
+  // Pooled quantiles (10 + max) and the share come first, as without runs.
+  EXPECT_EQ(m.residuals.size(), 10u + 1u + 2u);
+  // Without a pool (no spread in any group), a run's sigma is the error.
+  const RunCase d({{70.0}, {50.0, 50.0}}, {60.0, 56.0}, 2.0);
+  const Misfit md = ComputeMisfit(d.obs, d.scene, d.result);
+  EXPECT_NEAR(d.Run(md, "r0").value, 5.0, 1e-12) << md.Report();
+  EXPECT_NEAR(d.Run(md, "r1").value, -3.0, 1e-12) << md.Report();
+}
+
+// A run split between rocks that stuck and rocks that ran, and a run with a
+// censored rock, give moderate residuals, not wild ones.
+TEST(MisfitTest, PerRunResidualOfASplitOrCensoredRunStaysModerate) {
+  // r0: two rocks stuck at the release, two ran to 80 m (the run: 80 m);
+  // r1: three rocks near its 60 m, one left the terrain at 150 m.
+  const RunCase c({{0.2, 0.3, 80.0, 80.0}, {58.0, 60.0, 62.0, -150.0}, {90.0, 100.0}},
+                  {80.0, 60.0, 95.0}, 2.0);
+  const Misfit m = ComputeMisfit(c.obs, c.scene, c.result);
+  EXPECT_EQ(m.runs[0].stuck, 2);
+  const Residual split = c.Run(m, "r0");
+  ASSERT_TRUE(IsRunResidual(split)) << m.Report();
+  EXPECT_NEAR(split.simulated, 40.15, 1e-9);  // (0.3 + 80) / 2
+  EXPECT_LT(std::abs(split.value), 2.0) << m.Report();
+  EXPECT_GT(split.sigma, 20.0) << m.Report();
+  const Residual censored = c.Run(m, "r1");
+  ASSERT_TRUE(IsRunResidual(censored)) << m.Report();
+  EXPECT_LT(std::abs(censored.value), 1.0) << m.Report();
+  // The same split run with every rock stuck is far off, as it should be.
+  const RunCase stuck({{0.2, 0.3, 0.2, 0.3}, {58.0, 60.0, 62.0, 61.0}, {90.0, 100.0}},
+                      {80.0, 60.0, 95.0}, 2.0);
+  const Misfit ms = ComputeMisfit(stuck.obs, stuck.scene, stuck.result);
+  EXPECT_LT(stuck.Run(ms, "r0").value, -3.0) << ms.Report();
+}
+
+// options.run_terms: the pooled quantiles, the per-run residuals, or both.
+TEST(MisfitTest, RunTermsChooseTheComparisons) {
+  const RunCase c({{40.0, 50.0}, {70.0, 80.0}}, {45.0, 85.0}, 1.0);
+  auto count = [&](RunTerms terms, int* runs, int* pooled) {
+    MisfitOptions o;
+    o.run_terms = terms;
+    const Misfit m = ComputeMisfit(c.obs, c.scene, c.result, o);
+    *runs = *pooled = 0;
+    for (const Residual& r : m.residuals) {
+      *runs += IsRunResidual(r) ? 1 : 0;
+      *pooled += r.observation == "runout distance" ? 1 : 0;
+    }
+  };
+  int runs = 0, pooled = 0;
+  count(RunTerms::kPooled, &runs, &pooled);
+  EXPECT_EQ(runs, 0);
+  EXPECT_EQ(pooled, 10);
+  count(RunTerms::kPerRun, &runs, &pooled);
+  EXPECT_EQ(runs, 2);
+  EXPECT_EQ(pooled, 0);
+  count(RunTerms::kBoth, &runs, &pooled);
+  EXPECT_EQ(runs, 2);
+  EXPECT_EQ(pooled, 10);
+  for (const RunTerms t : {RunTerms::kPooled, RunTerms::kPerRun, RunTerms::kBoth}) {
+    RunTerms parsed = RunTerms::kPooled;
+    EXPECT_TRUE(ParseRunTerms(RunTermsName(t), &parsed));
+    EXPECT_EQ(parsed, t);
+  }
+  RunTerms unused;
+  EXPECT_FALSE(ParseRunTerms("all", &unused));
+  MisfitOptions bad;
+  bad.run_spread_prior = -1.0;
+  std::string error;
+  EXPECT_FALSE(bad.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("run_spread_prior = -1"));
+}
+
 TEST(MisfitTest, PassingFractionWithBinomialError) {
   const core::Scene scene = TwoPartitionScene();
   core::SimulationResult result = CrossingAt(1, std::vector<double>(4, 1.0));

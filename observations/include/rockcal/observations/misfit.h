@@ -13,6 +13,16 @@
 
 namespace rockcal::observations {
 
+// Which comparisons of tracked runs (Runout::has_runs) enter the misfit.
+enum class RunTerms {
+  kPooled,  // the runs' runouts pooled into one distribution, compared by quantiles
+  kPerRun,  // one residual per run: its group's median runout against its stop
+  kBoth,    // both (the default; docs/field-campaigns.md says why)
+};
+const char* RunTermsName(RunTerms terms);  // "pooled", "per_run", "both"
+// Parses a name of RunTermsName; false when unknown.
+bool ParseRunTerms(const std::string& name, RunTerms* terms);
+
 struct MisfitOptions {
   // Quantile levels compared for every distribution (heights, runout distance
   // and lateral offset), each in [0, 1].
@@ -26,6 +36,12 @@ struct MisfitOptions {
   // Floor of every sigma as a fraction of the measurement error of its kind
   // (an absolute floor of 1e-9 applies too), in (0, 1].
   double sigma_floor = 1e-3;
+  // Tracked runs: the pooled quantiles, the per-run residuals or both.
+  RunTerms run_terms = RunTerms::kBoth;
+  // Tracked runs: the weight, in rocks' degrees of freedom, of the spread
+  // pooled over all runs when a run's own predictive spread is estimated
+  // (its n rocks give n - 1); finite, >= 0.
+  double run_spread_prior = 4.0;
 
   // Checks each field; on failure sets *error (naming the field, its value
   // and the rule) and returns false.
@@ -42,6 +58,14 @@ struct Residual {
   double value = 0.0;       // (simulated - observed) / sigma
 };
 
+// The names of the per-run residuals, kept in one place: observation
+// "run <id>", quantity "runout" (never a quantile name, so no quantile
+// grouping takes it for one).
+inline constexpr const char* kRunObservationPrefix = "run ";
+inline constexpr const char* kRunQuantity = "runout";
+std::string RunObservation(const std::string& run_id);
+bool IsRunResidual(const Residual& residual);
+
 // How the simulations of one tracked run (Runout::has_runs) compare with it.
 struct RunFit {
   std::string id;
@@ -53,6 +77,10 @@ struct RunFit {
   // Simulated rocks whose centre ended within kStuckDistance of where it
   // started (in plan) while the run itself moved farther than that.
   int stuck = 0;
+  // The per-run residual's scale [m]: measurement error, predictive spread
+  // and the median's Monte Carlo error (RunTerms kPerRun, kBoth; else 0).
+  double sigma = 0.0;
+  double spread = 0.0;  // m, the run's predictive spread (shrunk toward the pool)
   static constexpr double kStuckDistance = 1.0;  // m
 };
 
