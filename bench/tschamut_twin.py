@@ -12,6 +12,11 @@ stages must be no worse than the design's best.
 
   bench/tschamut_twin.py BUILD_DIR OUT_DIR [--runs 8] [--truths H,R;H,R]
                          [--choices old,new,...] [--threads 1]
+                         [--count 1 --position-spread 0]
+
+With --count N > 1 and --position-spread R > 0 each run's group is N
+spheres released within R m of its point (no longer deterministic), and
+each run's "observed" stop is one draw at the truth at another seed (1001).
 
 Writes OUT_DIR/results.csv (one row per truth and choice) and prints a
 table. Deterministic: a seed fixes everything.
@@ -56,7 +61,7 @@ def run(cmd, log):
     return dt
 
 
-def make_twin(out, runs, truth, rockcal, threads):
+def make_twin(out, runs, truth, rockcal, threads, count=1, spread=0.0):
     """The twin site and its observations at `truth`; returns (site, obs)."""
     with open(os.path.join(EXAMPLE, "data", "runs.csv")) as f:
         rows = list(csv.DictReader(f))
@@ -65,10 +70,12 @@ def make_twin(out, runs, truth, rockcal, threads):
     groups = []
     for row in chosen:
         groups.append({
-            "id": row["run"], "count": 1, "shape": "sphere", "size": 0.35, "unit_weight": 26.0,
+            "id": row["run"], "count": count, "shape": "sphere", "size": 0.35, "unit_weight": 26.0,
             "release": {"point": [float(row["release_x_m"]), float(row["release_y_m"])],
                         "height": 0.0,
                         "velocity": [float(row["release_v%s_mps" % c]) for c in "xyz"]}})
+        if spread > 0:
+            groups[-1]["release"]["position_spread"] = spread
     site = {
         "name": "Tschamut twin", "units": "si",
         "surface": {"grid_file": os.path.abspath(os.path.join(EXAMPLE, "data", "terrain.asc")),
@@ -81,7 +88,17 @@ def make_twin(out, runs, truth, rockcal, threads):
     with open(site_path, "w") as f:
         json.dump(site, f, indent=1)
     sim = os.path.join(out, "truth")
-    run([rockcal, "simulate", site_path, "--out", sim, "--force", "--threads", str(threads),
+    # The observed draw: one rock a run (at another seed when the groups spread).
+    truth_site = site_path
+    if count > 1:
+        one = json.loads(json.dumps(site))
+        for g in one["rocks"]:
+            g["count"] = 1
+        one["simulation"]["seed"] = 1001
+        truth_site = os.path.join(out, "site_truth.json")
+        with open(truth_site, "w") as f:
+            json.dump(one, f, indent=1)
+    run([rockcal, "simulate", truth_site, "--out", sim, "--force", "--threads", str(threads),
          "--set", "material.meadow.hardness=%g" % truth[0],
          "--set", "material.meadow.roughness=%g" % truth[1]], os.path.join(out, "truth.log"))
     stops = []
@@ -107,13 +124,16 @@ def main():
     p.add_argument("--max-evals", type=int, default=100)
     p.add_argument("--threads", type=int, default=1)
     p.add_argument("--reach-yardstick", type=int, default=100)
+    p.add_argument("--count", type=int, default=1)
+    p.add_argument("--position-spread", type=float, default=0.0)
     a = p.parse_args()
     rockcal = os.path.join(a.build, "cli", "rockcal")
     rows = []
     for t, text in enumerate(a.truths.split(";")):
         truth = [float(v) for v in text.split(",")]
         tdir = os.path.join(a.out, "truth%d" % (t + 1))
-        site, obs = make_twin(tdir, a.runs, truth, rockcal, a.threads)
+        site, obs = make_twin(tdir, a.runs, truth, rockcal, a.threads, a.count,
+                              a.position_spread)
         with open(obs) as f:
             if not json.load(f)["runs"]:
                 print("truth %s: no run stopped on the terrain at the truth; skipped" % text)

@@ -15,7 +15,7 @@ import json
 import os
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROCKS_PER_RUN = 1          # per evaluation; the refining stage takes 4 times as many
+ROCKS_PER_RUN = 2          # per evaluation (2: a run's own spread; the refining stage takes 4 times as many)
 POSITION_SPREAD_M = 0.5    # radius of the release disc (LPS and hand placement)
 VELOCITY_SPREAD_MPS = 0.3  # one sigma of each component of the first tracked velocity
 
