@@ -96,6 +96,64 @@ double SplitRhat(const std::vector<std::vector<double>>& chains) {
   return std::sqrt(pooled / within);
 }
 
+double EffectiveSampleSize(const std::vector<std::vector<double>>& chains) {
+  // Split chains, as SplitRhat; the autocorrelation at lag t from the
+  // within-chain autocovariance and the pooled variance (Gelman et al. 2013,
+  // Bayesian Data Analysis, 3rd ed., eq. 11.7), summed in pairs of lags
+  // while a pair's sum stays positive (Geyer's initial positive sequence).
+  std::vector<std::vector<double>> halves;
+  for (const std::vector<double>& c : chains) {
+    const std::size_t n = c.size() / 2;
+    if (n < 4) continue;
+    halves.emplace_back(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(n));
+    halves.emplace_back(c.end() - static_cast<std::ptrdiff_t>(n), c.end());
+  }
+  if (halves.size() < 2) return std::numeric_limits<double>::quiet_NaN();
+  const std::size_t n = halves.front().size();
+  for (const auto& h : halves)
+    if (h.size() != n) return std::numeric_limits<double>::quiet_NaN();
+  const double m = static_cast<double>(halves.size());
+  const double nn = static_cast<double>(n);
+  std::vector<double> means;
+  double within = 0.0;
+  for (auto& h : halves) {
+    double mean = 0.0;
+    for (double v : h) mean += v / nn;
+    double var = 0.0;
+    for (double& v : h) {
+      v -= mean;  // centred from here on
+      var += v * v;
+    }
+    within += var / (nn - 1.0) / m;
+    means.push_back(mean);
+  }
+  double grand = 0.0;
+  for (double v : means) grand += v / m;
+  double between = 0.0;
+  for (double v : means) between += (v - grand) * (v - grand);
+  between *= nn / (m - 1.0);
+  const double pooled = (nn - 1.0) / nn * within + between / nn;
+  if (!(pooled > 0.0)) return m * nn;  // constant chains: every draw counts
+  const auto rho = [&](std::size_t t) {
+    if (t == 0) return 1.0;
+    double acov = 0.0;
+    for (const auto& h : halves) {
+      double s = 0.0;
+      for (std::size_t i = 0; i + t < n; ++i) s += h[i] * h[i + t];
+      acov += s / nn / m;
+    }
+    return 1.0 - (within - acov) / pooled;
+  };
+  double sum = 0.0;
+  for (std::size_t t = 0; t + 1 < n; t += 2) {
+    const double pair = rho(t) + rho(t + 1);
+    if (!(pair > 0.0)) break;
+    sum += pair;
+  }
+  const double tau = std::max(2.0 * sum - 1.0, 1.0 / std::log10(std::max(m * nn, 10.0)));
+  return m * nn / tau;
+}
+
 McmcResult AdaptiveMetropolis(const std::function<double(const Eigen::VectorXd&)>& log_target,
                               const std::vector<Eigen::VectorXd>& starts,
                               const McmcOptions& options) {
@@ -103,58 +161,85 @@ McmcResult AdaptiveMetropolis(const std::function<double(const Eigen::VectorXd&)
   if (!options.IsValid(&error)) throw InputError("posterior sampler options", error);
   if (starts.empty()) throw std::invalid_argument("AdaptiveMetropolis: no starting point");
   const Eigen::Index d = starts.front().size();
-  const double scale = 2.38 * 2.38 / static_cast<double>(d);
+  const std::size_t chains = static_cast<std::size_t>(options.chains);
   McmcResult out;
-  std::vector<std::vector<std::vector<double>>> traces(static_cast<std::size_t>(d));
+  std::vector<std::vector<std::vector<double>>> traces(
+      static_cast<std::size_t>(d), std::vector<std::vector<double>>(chains));
+  std::vector<std::vector<Eigen::VectorXd>> kept(chains);
   long accepted = 0, proposed = 0;
-  for (int c = 0; c < options.chains; ++c) {
-    core::RandomStream rng(options.seed, kChainStream + static_cast<std::uint64_t>(c));
-    Eigen::VectorXd x = starts[static_cast<std::size_t>(c) % starts.size()];
-    for (Eigen::Index k = 0; k < d; ++k) x(k) = std::clamp(x(k), 0.0, 1.0);
-    double lp = log_target(x);
-    // The proposal: 0.1 of the box along each axis at first, then the
-    // burn-in's own covariance (its running mean and sum of squares).
-    Eigen::MatrixXd chol = Eigen::MatrixXd::Identity(d, d) * 0.1;
-    Eigen::VectorXd mean = Eigen::VectorXd::Zero(d);
-    Eigen::MatrixXd m2 = Eigen::MatrixXd::Zero(d, d);
-    long count = 0;
-    for (auto& t : traces) t.emplace_back();
-    const int total = options.burn_in + options.steps;
-    for (int step = 0; step < total; ++step) {
+  // The chains advance in lock step, each on its own random stream, so that
+  // the proposal's covariance can pool them: (2.38^2 / d) times the
+  // covariance of every chain's states since a quarter of the burn-in
+  // (Haario et al. 2001, pooled over chains: a chain that started in a
+  // narrow corner learns the posterior's extent from the others), and a
+  // global scale per chain tuned towards an acceptance of 0.234 (Andrieu &
+  // Thoms 2008, A tutorial on adaptive MCMC, Statistics and Computing
+  // 18:343-373, algorithm 4). Both frozen after the burn-in.
+  std::vector<core::RandomStream> rng;
+  std::vector<Eigen::VectorXd> x(chains);
+  std::vector<double> lp(chains);
+  const double log_scale0 = std::log(2.38 * 2.38 / static_cast<double>(d));
+  std::vector<double> log_scale(chains, log_scale0);
+  for (std::size_t c = 0; c < chains; ++c) {
+    rng.emplace_back(options.seed, kChainStream + static_cast<std::uint64_t>(c));
+    x[c] = starts[c % starts.size()];
+    for (Eigen::Index k = 0; k < d; ++k) x[c](k) = std::clamp(x[c](k), 0.0, 1.0);
+    lp[c] = log_target(x[c]);
+  }
+  // At first 0.1 of the box along each axis (scale applied below).
+  Eigen::MatrixXd chol = Eigen::MatrixXd::Identity(d, d) * (0.1 / std::exp(0.5 * log_scale0));
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(d);
+  Eigen::MatrixXd m2 = Eigen::MatrixXd::Zero(d, d);
+  long count = 0;
+  const int pool_from = options.burn_in / 4;
+  const int total = options.burn_in + options.steps;
+  for (int step = 0; step < total; ++step) {
+    const bool burn = step < options.burn_in;
+    for (std::size_t c = 0; c < chains; ++c) {
       Eigen::VectorXd z(d);
-      for (Eigen::Index k = 0; k < d; ++k) z(k) = rng.Normal();
-      const Eigen::VectorXd y = x + chol * z;
-      const double log_u = std::log(std::max(rng.Uniform(), 1e-300));
-      const bool burn = step < options.burn_in;
+      for (Eigen::Index k = 0; k < d; ++k) z(k) = rng[c].Normal();
+      const Eigen::VectorXd y = x[c] + std::exp(0.5 * log_scale[c]) * (chol * z);
+      const double log_u = std::log(std::max(rng[c].Uniform(), 1e-300));
       if (!burn) ++proposed;
+      bool accept = false;
       if (Inside(y)) {
         const double ly = log_target(y);
-        if (std::isfinite(ly) && (ly >= lp || log_u < ly - lp || !std::isfinite(lp))) {
-          x = y;
-          lp = ly;
+        if (std::isfinite(ly) && (ly >= lp[c] || log_u < ly - lp[c] || !std::isfinite(lp[c]))) {
+          x[c] = y;
+          lp[c] = ly;
+          accept = true;
           if (!burn) ++accepted;
         }
       }
       if (burn) {
-        ++count;
-        const Eigen::VectorXd delta = x - mean;
-        mean += delta / static_cast<double>(count);
-        m2 += delta * (x - mean).transpose();
-        if (count >= 200 && count % 50 == 0) {
-          const Eigen::MatrixXd cov = m2 / static_cast<double>(count - 1) +
-                                      1e-8 * Eigen::MatrixXd::Identity(d, d);
-          Eigen::LLT<Eigen::MatrixXd> llt(scale * cov);
-          if (llt.info() == Eigen::Success) chol = llt.matrixL();
+        // Robbins-Monro on the log scale, the gain falling as 1 / sqrt(step).
+        log_scale[c] += ((accept ? 1.0 : 0.0) - 0.234) / std::sqrt(1.0 + step);
+        log_scale[c] = std::clamp(log_scale[c], std::log(1e-4), std::log(100.0));
+        if (step >= pool_from) {
+          ++count;
+          const Eigen::VectorXd delta = x[c] - mean;
+          mean += delta / static_cast<double>(count);
+          m2 += delta * (x[c] - mean).transpose();
         }
         continue;
       }
-      const int kept = step - options.burn_in;
       for (Eigen::Index k = 0; k < d; ++k)
-        traces[static_cast<std::size_t>(k)].back().push_back(x(k));
-      if (kept % options.thin == 0) out.samples.push_back(x);
+        traces[static_cast<std::size_t>(k)][c].push_back(x[c](k));
+      if ((step - options.burn_in) % options.thin == 0) kept[c].push_back(x[c]);
+    }
+    if (burn && count >= 200 && (step + 1) % 50 == 0) {
+      const Eigen::MatrixXd cov =
+          m2 / static_cast<double>(count - 1) + 1e-8 * Eigen::MatrixXd::Identity(d, d);
+      Eigen::LLT<Eigen::MatrixXd> llt(cov);
+      if (llt.info() == Eigen::Success) chol = llt.matrixL();
     }
   }
-  for (Eigen::Index k = 0; k < d; ++k) out.rhat.push_back(SplitRhat(traces[static_cast<std::size_t>(k)]));
+  for (auto& c : kept)
+    for (auto& s : c) out.samples.push_back(std::move(s));
+  for (Eigen::Index k = 0; k < d; ++k) {
+    out.rhat.push_back(SplitRhat(traces[static_cast<std::size_t>(k)]));
+    out.ess.push_back(EffectiveSampleSize(traces[static_cast<std::size_t>(k)]));
+  }
   out.acceptance = proposed ? static_cast<double>(accepted) / static_cast<double>(proposed) : 0.0;
   return out;
 }
@@ -447,7 +532,9 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
     p.width_share = (p.p95 - p.p05) / (0.9 * (par.upper - par.lower));
     p.undetermined = p.width_share > options.undetermined_share;
     p.rhat = chains.rhat[kk];
+    p.ess = chains.ess[kk];
     result.max_rhat = std::max(result.max_rhat, p.rhat);
+    result.min_ess = k == 0 ? p.ess : std::min(result.min_ess, p.ess);
     means[kk] = p.mean;
     sds[kk] = p.sd;
     result.parameters.push_back(p);
@@ -587,7 +674,8 @@ nlohmann::json PosteriorJson(const PosteriorResult& result) {
                           {"sd", JsonNum(p.sd)},
                           {"width_share", JsonNum(p.width_share)},
                           {"undetermined", p.undetermined},
-                          {"rhat", JsonNum(p.rhat)}});
+                          {"rhat", JsonNum(p.rhat)},
+                          {"ess", JsonNum(p.ess)}});
   }
   nlohmann::json correlation = nlohmann::json::array();
   for (const auto& row : result.correlation) {
@@ -610,6 +698,7 @@ nlohmann::json PosteriorJson(const PosteriorResult& result) {
           {"correlation", correlation},
           {"samples", result.samples.size()},
           {"max_rhat", JsonNum(result.max_rhat)},
+          {"min_ess", JsonNum(result.min_ess)},
           {"acceptance", JsonNum(result.acceptance)},
           {"reused_evaluations", result.reused},
           {"posterior_evaluations", result.evaluated},

@@ -1,9 +1,12 @@
 // The posterior sampler and stage (calibrate/src/posterior.cc) on analytic
 // targets whose posterior is known exactly.
 #include "rockcal/calibrate/posterior.h"
+#include "rockcal/calibrate/posterior_draws.h"
+#include "rockcal/core/random.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <unistd.h>
 
@@ -114,6 +117,43 @@ TEST(SplitRhat, IsOneForAgreeingChainsAndLargeForDisagreeingOnes) {
     }
   EXPECT_LT(SplitRhat(same), 1.02);
   EXPECT_GT(SplitRhat(apart), 2.0);
+}
+
+TEST(EffectiveSampleSize, CountsIndependentDrawsAndDiscountsCorrelatedOnes) {
+  // Independent uniform draws: about every draw counts. An AR(1) chain with
+  // coefficient 0.9: the integrated autocorrelation time is (1 + 0.9) / (1 - 0.9) = 19.
+  core::RandomStream rng(5, 0);
+  std::vector<std::vector<double>> iid(4), ar(4);
+  for (int c = 0; c < 4; ++c) {
+    double x = 0.0;
+    for (int k = 0; k < 5000; ++k) {
+      iid[static_cast<std::size_t>(c)].push_back(rng.Uniform());
+      x = 0.9 * x + rng.Normal();
+      ar[static_cast<std::size_t>(c)].push_back(x);
+    }
+  }
+  const double n = 20000.0;
+  const double e_iid = EffectiveSampleSize(iid), e_ar = EffectiveSampleSize(ar);
+  EXPECT_GT(e_iid, 0.85 * n) << e_iid;
+  EXPECT_LT(e_iid, 1.15 * n) << e_iid;
+  EXPECT_GT(e_ar, n / 19.0 * 0.7) << e_ar;
+  EXPECT_LT(e_ar, n / 19.0 * 1.3) << e_ar;
+}
+
+TEST(DrawSampleIndices, DistinctInRangeAndFixedByTheSeed) {
+  const std::vector<int> a = DrawSampleIndices(50, 20, 7);
+  ASSERT_EQ(a.size(), 20u);
+  std::vector<int> sorted = a;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(std::adjacent_find(sorted.begin(), sorted.end()), sorted.end()) << "a sample twice";
+  EXPECT_GE(sorted.front(), 0);
+  EXPECT_LT(sorted.back(), 50);
+  EXPECT_EQ(DrawSampleIndices(50, 20, 7), a);
+  EXPECT_NE(DrawSampleIndices(50, 20, 8), a);
+  // As many draws as samples: every sample once.
+  std::vector<int> all = DrawSampleIndices(5, 5, 1);
+  std::sort(all.begin(), all.end());
+  EXPECT_EQ(all, (std::vector<int>{0, 1, 2, 3, 4}));
 }
 
 TEST(SamplePosterior, RecoversAKnownGaussianPosterior) {

@@ -33,9 +33,9 @@ namespace rockcal::calibrate {
 // Options of AdaptiveMetropolis. Defaults in brackets.
 struct McmcOptions {
   int chains = 4;      // independent chains, >= 2 (R-hat needs two) [4]
-  int burn_in = 1500;  // steps per chain discarded, over which the proposal adapts, >= 100 [1500]
-  int steps = 4000;    // steps per chain kept, >= 100 [4000]
-  int thin = 4;        // every thin-th kept step is a sample, >= 1 [4]
+  int burn_in = 3000;  // steps per chain discarded, over which the proposal adapts, >= 100 [3000]
+  int steps = 12000;   // steps per chain kept, >= 100 [12000]
+  int thin = 12;       // every thin-th kept step is a sample, >= 1 [12]
   std::uint64_t seed = 1;
 
   bool IsValid(std::string* error) const;
@@ -45,6 +45,7 @@ struct McmcResult {
   // The samples of every chain, chain after chain (chains * steps / thin of them).
   std::vector<Eigen::VectorXd> samples;
   std::vector<double> rhat;  // split R-hat per coordinate (Gelman et al. 2013)
+  std::vector<double> ess;   // effective sample size per coordinate (EffectiveSampleSize)
   double acceptance = 0.0;   // after burn-in, over the chains
 };
 
@@ -60,6 +61,13 @@ McmcResult AdaptiveMetropolis(const std::function<double(const Eigen::VectorXd&)
 
 // Split R-hat of one scalar over chains of equal length (each chain halved).
 double SplitRhat(const std::vector<std::vector<double>>& chains);
+// The effective sample size of one scalar over chains of equal length (each
+// chain halved as for SplitRhat): the draws' count over the integrated
+// autocorrelation time, the autocorrelations from the within-chain
+// autocovariances and the pooled variance, summed while consecutive pairs
+// stay positive (Gelman et al. 2013, Bayesian Data Analysis, 3rd ed.,
+// sec. 11.5). NaN for chains of fewer than 8 values.
+double EffectiveSampleSize(const std::vector<std::vector<double>>& chains);
 
 // The level-p quantile (type 7, linear interpolation) of `values` (sorted in place).
 double Quantile(std::vector<double>* values, double p);
@@ -109,6 +117,7 @@ struct ParameterPosterior {
   double width_share = 0.0;
   bool undetermined = false;  // width_share > PosteriorOptions::undetermined_share
   double rhat = 0.0;
+  double ess = 0.0;  // effective sample size of the chains (unthinned)
 };
 
 // One compared statistic's posterior predictive band (PredictiveBands).
@@ -125,6 +134,7 @@ struct PosteriorResult {
   std::vector<ParameterPosterior> parameters;
   std::vector<std::vector<double>> correlation;  // d x d, of the samples
   double max_rhat = 0.0;
+  double min_ess = 0.0;  // the smallest effective sample size over the parameters
   double acceptance = 0.0;
   int reused = 0;        // evaluations of the calibration emulated
   int evaluated = 0;     // points of the posterior stage (design and rounds)
