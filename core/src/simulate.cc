@@ -736,8 +736,11 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
   return SimulateRocks(scene, terrain, 0, scene.total_rocks(), progress);
 }
 
-SimulationResult SimulateRocks(const Scene& scene, const Terrain& terrain, int first, int last,
-                               const ProgressFn& progress) {
+namespace {
+
+// Rocks first, first + stride, ... below last (SimulateRocks: stride 1).
+SimulationResult SimulateStridedRocks(const Scene& scene, const Terrain& terrain, int first,
+                                      int last, int stride, const ProgressFn& progress) {
   const auto start = std::chrono::steady_clock::now();
   SceneContext ctx{scene, terrain, {}, Eigen::Vector3d(0, 0, -scene.gravity)};
   for (const auto& m : scene.materials) {
@@ -760,6 +763,12 @@ SimulationResult SimulateRocks(const Scene& scene, const Terrain& terrain, int f
                                 std::to_string(jobs.size()));
   jobs.erase(jobs.begin() + last, jobs.end());
   jobs.erase(jobs.begin(), jobs.begin() + first);
+  if (stride > 1) {
+    std::vector<Job> kept;
+    for (std::size_t k = 0; k < jobs.size(); k += static_cast<std::size_t>(stride))
+      kept.push_back(jobs[k]);
+    jobs = std::move(kept);
+  }
 
   SimulationResult result;
   result.rocks.resize(jobs.size());
@@ -821,6 +830,23 @@ SimulationResult SimulateRocks(const Scene& scene, const Terrain& terrain, int f
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
+}
+
+}  // namespace
+
+SimulationResult SimulateRocks(const Scene& scene, const Terrain& terrain, int first, int last,
+                               const ProgressFn& progress) {
+  return SimulateStridedRocks(scene, terrain, first, last, 1, progress);
+}
+
+SimulationResult SimulateEveryNthRock(const Scene& scene, const Terrain& terrain, int offset,
+                                      int stride, const ProgressFn& progress) {
+  if (stride < 1 || offset < 0 || offset >= stride)
+    throw std::invalid_argument("SimulateEveryNthRock: offset " + std::to_string(offset) +
+                                " and stride " + std::to_string(stride) +
+                                ": expected 0 <= offset < stride");
+  return SimulateStridedRocks(scene, terrain, std::min(offset, scene.total_rocks()),
+                              scene.total_rocks(), stride, progress);
 }
 
 SimulationResult JoinRockBlocks(std::vector<SimulationResult> blocks) {

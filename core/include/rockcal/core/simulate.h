@@ -109,6 +109,14 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain,
 SimulationResult SimulateRocks(const Scene& scene, const Terrain& terrain, int first, int last,
                                const ProgressFn& progress = nullptr);
 
+// Only rocks offset, offset + stride, offset + 2 stride, ... of the scene
+// (0 <= offset < stride), each exactly as in the whole run (same index, same
+// random stream), in rock order: the rocks a run whose values change from
+// rock to rock in `stride` turns gives to one set of values (rockcal
+// simulate of a posterior, calibrate/posterior_draws.h).
+SimulationResult SimulateEveryNthRock(const Scene& scene, const Terrain& terrain, int offset,
+                                      int stride, const ProgressFn& progress = nullptr);
+
 // The result of consecutive blocks of SimulateRocks (in rock order) as
 // Simulate gives it for the whole run: records appended, totals summed or
 // taken as min / max (wall_seconds: the largest block's; a caller timing
