@@ -7,8 +7,9 @@ namespace rockcal::cli {
 const std::vector<CommandFlags>& AllCommandFlags() {
   static const std::vector<CommandFlags> table = {
       {"simulate",
-       {"force", "quiet", "rasters"},
-       {"rocks", "seed", "set", "parameters", "trajectories", "sample-seconds", "threads", "out"},
+       {"force", "quiet", "rasters", "point-values"},
+       {"rocks", "seed", "set", "parameters", "draws", "trajectories", "sample-seconds", "threads",
+        "out"},
        {"set"}},
       {"calibrate",
        {"force", "quiet", "resume", "rasters", "posterior"},

@@ -5,10 +5,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "args.h"
 #include "progress.h"
+#include "rockcal/calibrate/posterior_draws.h"
 #include "rockcal/calibrate/recording.h"
 #include "rockcal/calibrate/score.h"
 #include "rockcal/core/error.h"
@@ -79,15 +81,23 @@ int Simulate(const std::vector<std::string>& argv) {
   const Args args(argv, FlagsOf("simulate"));
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
-  sites::Site site = sites::LoadSite(site_path);
-  if (args.Has("parameters")) calibrate::ApplyParametersFile(args.Get("parameters"), &site.scene);
-  for (const std::string& kv : args.All("set")) sites::ApplySetting(kv, &site);
-  core::Scene& scene = site.scene;
-  if (args.Has("rocks"))
-    scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, core::kMaxRocks)));
-  if (args.Has("seed"))
-    scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
-  scene.options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+  const sites::Site loaded = sites::LoadSite(site_path);
+  // A calibration's values: its point values, or (when it has a posterior
+  // and --point-values is not given) parameter sets drawn from its samples.
+  std::optional<calibrate::CalibratedSite> parameters;
+  if (args.Has("parameters")) parameters = calibrate::ReadParametersFile(args.Get("parameters"));
+  if (args.Flag("point-values") && !parameters)
+    throw InputError("argument --point-values",
+                     "goes with --parameters (a calibration's parameters.json or its folder)");
+  const bool drawn = parameters && parameters->has_posterior() && !args.Flag("point-values");
+  if (args.Has("draws") && !drawn)
+    throw InputError("argument --draws",
+                     parameters && parameters->has_posterior()
+                         ? "draws posterior parameter sets; --point-values takes the point values only"
+                         : "needs --parameters of a calibration with a posterior (rockcal calibrate "
+                           "--posterior)");
+  std::vector<std::vector<double>> samples;
+  if (drawn) samples = calibrate::ReadPosteriorSamples(*parameters);
   calibrate::RecordingNeeds needs;  // summary.json, rocks.csv, diagnostics.json, trajectories.csv
   needs.partitions = true;
   needs.energy_check = true;
@@ -95,39 +105,100 @@ int Simulate(const std::vector<std::string>& argv) {
   if (args.Has("sample-seconds") && !args.Has("trajectories"))
     throw InputError("argument --sample-seconds", "goes with --trajectories N");
   needs.sample_seconds = args.Number("sample-seconds", 0.05, 1e-6, 1e6);
-  scene.options.record = calibrate::RecordingFor(scene, needs);
+  // The scene at `values` (null: the site's own), as the options set it.
+  const auto make_scene = [&](const calibrate::CalibratedSite* values) {
+    sites::Site site = loaded;
+    if (values) calibrate::ApplyParameters(*values, &site.scene);
+    for (const std::string& kv : args.All("set")) sites::ApplySetting(kv, &site);
+    core::Scene scene = std::move(site.scene);
+    if (args.Has("rocks"))
+      scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, core::kMaxRocks)));
+    if (args.Has("seed"))
+      scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
+    scene.options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+    scene.options.record = calibrate::RecordingFor(scene, needs);
+    return scene;
+  };
+  sites::Site site = loaded;
+  site.scene = make_scene(parameters ? &*parameters : nullptr);
+  core::Scene& scene = site.scene;
   std::string error;
   if (!scene.IsValid(&error)) throw InputError(site_path, error);
+  calibrate::PosteriorDrawOptions draw_options;
+  if (drawn) {
+    draw_options.draws = static_cast<int>(args.Integer("draws", draw_options.draws, 1, 10000));
+    draw_options.seed = scene.options.seed;
+  }
 
   RunInputs inputs;
   inputs.Add(site).Add(args.Get("parameters", ""));
+  if (drawn) inputs.Add(parameters->samples_file);
   RankOutputDir dir(out, args.Flag("force"), inputs.Origin("simulate"));
   Progress progress("simulate", args.Flag("quiet"));
-  const core::Terrain terrain = core::BuildTerrain(scene);
   // The report's views need the passages per cell and a few trajectories;
   // they are recorded on a copy so that trajectories.csv is still written
   // only when --trajectories asks for it.
   core::Scene recorded = scene;
-  needs.report = true;
-  recorded.options.record = calibrate::RecordingFor(scene, needs);
-  const core::SimulationResult result =
-      parallel::Simulate(recorded, terrain, [&](int done, int total) { progress.Update(done, total); });
+  calibrate::RecordingNeeds report_needs = needs;
+  report_needs.report = true;
+  recorded.options.record = calibrate::RecordingFor(scene, report_needs);
+  std::optional<calibrate::PosteriorRun> run;
+  core::SimulationResult result;
+  if (drawn) {
+    // Rock i with the (i mod D)-th posterior draw (calibrate/posterior_draws.h).
+    run = calibrate::SimulatePosteriorDraws(
+        *parameters, samples, draw_options,
+        [&](const calibrate::CalibratedSite& values) {
+          core::Scene s = make_scene(&values);
+          s.options.record = recorded.options.record;
+          std::string why;
+          if (!s.IsValid(&why)) throw InputError(parameters->samples_file, why);
+          return s;
+        },
+        "argument --draws", [&](int done, int total) { progress.Update(done, total); });
+    result = std::move(run->pooled);
+    run->pooled = core::SimulationResult();
+  } else {
+    const core::Terrain terrain = core::BuildTerrain(scene);
+    result = parallel::Simulate(recorded, terrain,
+                                [&](int done, int total) { progress.Update(done, total); });
+  }
   // One set of maps for rasters.tif and the report's plan view.
-  const core::RasterSet rasters = core::ComputeRasters(recorded, result);
+  core::RasterSet rasters = core::ComputeRasters(recorded, result);
+  if (run)
+    for (const core::RasterBand& b : run->raster_bands) rasters.bands.push_back(b);
   const bool write_rasters = args.Flag("rasters") || site.gis;
-  reports::WriteSimulationFiles(dir.folder(), scene, result);
+  nlohmann::json used = nullptr;
+  if (run) {
+    used = calibrate::PosteriorRunJson(*run);
+  } else if (parameters) {
+    used = {{"file", parameters->file},
+            {"use", "point values"},
+            {"posterior", parameters->has_posterior()}};
+  }
+  reports::WriteSimulationFiles(dir.folder(), scene, result, used);
+  if (run) reports::WriteFileAtomically(dir.File("draws.csv"), calibrate::DrawsCsv(*run));
   if (write_rasters) reports::WriteRasterFiles(dir.folder(), rasters, SiteRasterFrame(site));
-  reports::WriteFileAtomically(dir.File("report.html"),
-                               reports::HtmlReport(SiteReport(site, scene, result, &rasters)));
+  reports::ReportInput report = SiteReport(site, scene, result, &rasters);
+  report.posterior_run = run ? &*run : nullptr;
+  reports::WriteFileAtomically(dir.File("report.html"), reports::HtmlReport(report));
   dir.Commit();
   if (!args.Flag("quiet")) {
     std::printf("%s: %zu rocks in %.2f s (%ld steps, %ld flights): %d stopped, %d left, %d timeout\n",
                 scene.name.c_str(), result.rocks.size(), result.wall_seconds, result.steps,
                 result.flights, result.count(core::Outcome::kStopped),
                 result.count(core::Outcome::kLeft), result.count(core::Outcome::kTimeout));
-    std::printf("wrote %s/summary.json, rocks.csv, diagnostics.json, report.html%s%s\n",
+    if (run)
+      std::printf("parameters: %zu posterior draws from %d samples of %s (rock i with draw i mod "
+                  "%zu; --point-values for the point values)\n",
+                  run->draws.size(), run->samples, parameters->samples_file.c_str(),
+                  run->draws.size());
+    else if (parameters)
+      std::printf("parameters: the point values of %s%s\n", parameters->file.c_str(),
+                  parameters->has_posterior() ? " (--point-values: its posterior not drawn)" : "");
+    std::printf("wrote %s/summary.json, rocks.csv, diagnostics.json, report.html%s%s%s\n",
                 out.c_str(), scene.options.record.trajectories > 0 ? ", trajectories.csv" : "",
-                RastersWritten(args.Flag("rasters"), site).c_str());
+                run ? ", draws.csv" : "", RastersWritten(args.Flag("rasters"), site).c_str());
   }
   if (result.non_finite > 0) {
     std::fprintf(stderr, "rockcal: failed: %d rocks reached a non-finite state\n", result.non_finite);

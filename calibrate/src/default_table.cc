@@ -4,6 +4,8 @@
 #include <cassert>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <cstdlib>
 #include <map>
 #include <set>
 #include <system_error>
@@ -37,7 +39,7 @@ double ReadBoundValue(const JsonNode& node, const std::string& name) {
 std::string Quote(const std::string& s) { return "'" + s + "'"; }
 
 CalibratedParameter ReadParameter(const JsonNode& p) {
-  p.Keys({"material", "class", "name", "value", "lower", "upper", "std_error"});
+  p.Keys({"material", "class", "name", "value", "lower", "upper", "std_error", "posterior"});
   CalibratedParameter out;
   {
     const JsonNode m = p.Get("material");
@@ -71,6 +73,26 @@ CalibratedParameter ReadParameter(const JsonNode& p) {
   if (!se.raw().is_null()) {
     if (!se.is_number()) se.Fail("expected a standard error >= 0 or null (not computed)");
     out.std_error = se.NonNegative();
+  }
+  if (auto post = p.Find("posterior")) {
+    post->Keys({"median", "p05", "p95", "determined"});
+    CalibratedParameter::Interval q;
+    const auto within = [&](const char* key) {
+      const JsonNode v = post->Get(key);
+      const double x = v.Number();
+      if (x < out.lower - slack || x > out.upper + slack)
+        v.Fail("expected a value within the parameter's bounds [" + FormatNumber(out.lower) +
+               ", " + FormatNumber(out.upper) + "]");
+      return x;
+    };
+    q.median = within("median");
+    q.p05 = within("p05");
+    q.p95 = within("p95");
+    if (!(q.p05 <= q.median && q.median <= q.p95))
+      post->Fail("expected p05 <= median <= p95 (p05 " + FormatNumber(q.p05) + ", median " +
+                 FormatNumber(q.median) + ", p95 " + FormatNumber(q.p95) + ")");
+    q.determined = post->Get("determined").Bool();
+    out.posterior = q;
   }
   return out;
 }
@@ -154,8 +176,8 @@ CalibratedSite ReadParametersFile(const std::string& path) {
                      "calibrate writes");
   const nlohmann::json json = sites::ReadJsonFile(out.file);
   const JsonNode root(&json, out.file, "$");
-  root.Keys(
-      {"site", "method", "misfit", "evaluations", "wall_seconds", "grid_spacing_m", "parameters"});
+  root.Keys({"site", "method", "misfit", "evaluations", "wall_seconds", "grid_spacing_m",
+             "parameters", "posterior_samples"});
   {
     const JsonNode site = root.Get("site");
     out.site = site.String();
@@ -180,7 +202,80 @@ CalibratedSite ReadParametersFile(const std::string& path) {
                           FormatNumber(*out.grid_spacing_m / 2) + " m)");
     out.parameters.push_back(std::move(param));
   }
+  // A posterior is of every calibrated value or of none.
+  std::size_t with = 0;
+  for (const CalibratedParameter& p : out.parameters) with += p.posterior.has_value();
+  if (with != 0 && with != out.parameters.size()) {
+    for (std::size_t k = 0; k < out.parameters.size(); ++k)
+      if (!out.parameters[k].posterior)
+        params[k].Fail("no \"posterior\" where other parameters have one; expected one for "
+                       "every parameter or for none");
+  }
+  if (auto s = root.Find("posterior_samples")) {
+    if (with == 0) s->Fail("expected no posterior samples' file without a \"posterior\" per parameter");
+    const std::string name = s->String();
+    if (name.empty()) s->Fail("expected a file name (not empty)");
+    out.samples_file = (fs::path(out.result_dir) / name).string();
+  } else if (with != 0) {
+    out.samples_file = (fs::path(out.result_dir) / "posterior.csv").string();
+  }
   return out;
+}
+
+std::vector<std::vector<double>> ReadPosteriorSamples(const CalibratedSite& site) {
+  const std::string& file = site.samples_file;
+  if (file.empty())
+    throw InputError(site.file, "no posterior (its parameters have no \"posterior\"); expected "
+                                "the parameters.json of rockcal calibrate --posterior");
+  sites::CheckInputFile(file);
+  std::ifstream in(file);
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec) || !in)
+    throw InputError(file, "no such file; expected the posterior samples (posterior.csv) that "
+                           "rockcal calibrate --posterior writes beside " + site.file);
+  std::string line;
+  std::getline(in, line);
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  std::string expected;
+  for (const CalibratedParameter& p : site.parameters)
+    expected += (expected.empty() ? "" : ",") + p.material + "." + p.name;
+  if (line != expected)
+    throw InputError(file + ": line 1", "header '" + line + "'; expected '" + expected +
+                                            "' (the parameters of " + site.file + ", in order)");
+  std::vector<std::vector<double>> samples;
+  for (int number = 2; std::getline(in, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    std::vector<double> row;
+    std::size_t at = 0;
+    for (std::size_t k = 0; k < site.parameters.size(); ++k) {
+      const std::size_t comma = line.find(',', at);
+      const std::string field = line.substr(at, comma == std::string::npos ? std::string::npos : comma - at);
+      const std::string where = file + ": line " + std::to_string(number) + ", column " +
+                                std::to_string(k + 1) + " (" + site.parameters[k].material + "." +
+                                site.parameters[k].name + ")";
+      char* end = nullptr;
+      const double v = std::strtod(field.c_str(), &end);
+      if (field.empty() || end != field.c_str() + field.size() || !std::isfinite(v))
+        throw InputError(where, "'" + field + "': expected a number");
+      const CalibratedParameter& p = site.parameters[k];
+      const double slack = 1e-6 * (p.upper - p.lower);
+      if (v < p.lower - slack || v > p.upper + slack)
+        throw InputError(where, FormatNumber(v) + ": expected a value within the bounds [" +
+                                    FormatNumber(p.lower) + ", " + FormatNumber(p.upper) + "]");
+      row.push_back(std::clamp(v, p.lower, p.upper));
+      const bool last = k + 1 == site.parameters.size();
+      if (last != (comma == std::string::npos))
+        throw InputError(file + ": line " + std::to_string(number),
+                         "expected " + std::to_string(site.parameters.size()) +
+                             " comma-separated values (one per parameter)");
+      at = comma + 1;
+    }
+    samples.push_back(std::move(row));
+  }
+  if (samples.empty())
+    throw InputError(file, "no samples; expected a line of values per posterior sample");
+  return samples;
 }
 
 bool DefaultTableOptions::IsValid(std::string* error) const {
@@ -278,6 +373,7 @@ std::map<std::pair<std::string, int>, TableRow> CollectRows(
       v.upper = p.upper;
       v.std_error = p.std_error;
       v.grid_spacing_m = s.grid_spacing_m;
+      v.posterior = p.posterior;
       v.bound = AtBound(p.value, p.lower, p.upper, options.bound_fraction);
       v.counted = options.include_at_bound || v.bound == BoundPosition::kInside;
       row.values.push_back(v);
@@ -321,6 +417,28 @@ void SummariseRow(TableRow* row_out, DefaultTable* table_out) {
   }
   row.all = Statistics(all, all_sites);
   row.headline = Statistics(counted, counted_sites);
+  // The envelope of the counted values' posterior intervals.
+  int with = 0, counted_values = 0;
+  for (const TableValue& v : row.values) {
+    if (!v.counted) continue;
+    ++counted_values;
+    if (!v.posterior) continue;
+    table.any_posterior = true;
+    row.posterior_p05 = with ? std::min(*row.posterior_p05, v.posterior->p05) : v.posterior->p05;
+    row.posterior_p95 = with ? std::max(*row.posterior_p95, v.posterior->p95) : v.posterior->p95;
+    ++with;
+  }
+  for (const TableValue& v : row.values) table.any_posterior = table.any_posterior || v.posterior;
+  row.posterior_values = with;
+  if (with == 0 || with != counted_values) {
+    if (with > 0)
+      table.notes.push_back(row.material_class + " " + row.name + ": " + std::to_string(with) +
+                            " of " + std::to_string(counted_values) +
+                            " counted values have a posterior; no interval for the row (run "
+                            "every calibration with --posterior)");
+    row.posterior_p05.reset();
+    row.posterior_p95.reset();
+  }
   if (row.name == "roughness" && row.values.size() > 1 &&
       (spacings.size() > 1 || spacing_unknown)) {
     std::vector<std::string> list;

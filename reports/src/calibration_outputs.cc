@@ -96,6 +96,8 @@ nlohmann::json ParametersJson(const CalibrationSummary& record) {
                         {"wall_seconds", best.wall_seconds}};
   if (record.grid_spacing_m > 0) out["grid_spacing_m"] = record.grid_spacing_m;
   out["parameters"] = params;
+  // rockcal simulate --parameters draws from these (ReadPosteriorSamples).
+  if (record.posterior) out["posterior_samples"] = "posterior.csv";
   return out;
 }
 

@@ -90,14 +90,21 @@ std::string Percent(double fraction) { return FormatNumber(fraction * 100, "%.3g
 
 // The Markdown summary table of `stats` (headline or all) per row.
 void SummaryTable(const DefaultTable& table, bool headline, std::ostringstream& out) {
-  out << "| class | parameter | sites | values | median | min – max | at a bound |\n"
-      << "|---|---|---|---|---|---|---|\n";
+  // The posterior envelope is of the counted values: in the headline table only.
+  const bool post = headline && table.any_posterior;
+  out << "| class | parameter | sites | values | median | min – max |"
+      << (post ? " posterior 5 % – 95 % |" : "") << " at a bound |\n"
+      << "|---|---|---|---|---|---|" << (post ? "---|" : "") << "---|\n";
   for (const TableRow& row : table.rows) {
     const ValueStatistics& s = headline ? row.headline : row.all;
     out << "| " << Cell(row.material_class) << " | " << Label(row.name) << " | " << s.sites << " | "
         << s.values << " | " << (s.values > 0 ? ShowOne(row.name, s.median) : std::string("–"))
-        << " | " << (s.values > 0 ? ShowRange(row.name, s.min, s.max) : std::string("–")) << " | "
-        << row.at_bound << " of " << row.values.size() << " |\n";
+        << " | " << (s.values > 0 ? ShowRange(row.name, s.min, s.max) : std::string("–")) << " | ";
+    if (post)
+      out << (row.posterior_p05 ? ShowRange(row.name, *row.posterior_p05, *row.posterior_p95)
+                                : std::string("–"))
+          << " | ";
+    out << row.at_bound << " of " << row.values.size() << " |\n";
   }
 }
 
@@ -130,6 +137,13 @@ nlohmann::json DefaultTableJson(const DefaultTable& table) {
                                          ? nlohmann::json(nullptr)
                                          : nlohmann::json(calibrate::BoundName(v.bound))},
                         {"counted", v.counted}});
+      if (table.any_posterior)
+        values.back()["posterior"] =
+            v.posterior ? nlohmann::json{{"median", v.posterior->median},
+                                         {"p05", v.posterior->p05},
+                                         {"p95", v.posterior->p95},
+                                         {"determined", v.posterior->determined}}
+                        : nlohmann::json(nullptr);
     }
     nlohmann::json j = StatsJson(row.headline);
     j["class"] = row.material_class;
@@ -137,6 +151,11 @@ nlohmann::json DefaultTableJson(const DefaultTable& table) {
     j["unit"] = SiUnit(row.name);
     j["at_bound"] = row.at_bound;
     j["all"] = StatsJson(row.all);
+    if (table.any_posterior)
+      j["posterior"] = row.posterior_p05 ? nlohmann::json{{"p05", *row.posterior_p05},
+                                                          {"p95", *row.posterior_p95},
+                                                          {"values", row.posterior_values}}
+                                         : nlohmann::json(nullptr);
     j["entries"] = values;
     rows.push_back(j);
   }
@@ -150,24 +169,40 @@ nlohmann::json DefaultTableJson(const DefaultTable& table) {
 std::string DefaultTableCsv(const DefaultTable& table) {
   std::ostringstream out;
   out << "class,parameter,unit,sites,values,median,min,max,at_bound,"
-         "sites_all,values_all,median_all,min_all,max_all\n";
+         "sites_all,values_all,median_all,min_all,max_all"
+      << (table.any_posterior ? ",posterior_p05,posterior_p95" : "") << "\n";
   for (const TableRow& row : table.rows) {
     out << CsvField(row.material_class) << ',' << row.name << ',' << SiUnit(row.name) << ','
-        << StatsCsv(row.headline) << ',' << row.at_bound << ',' << StatsCsv(row.all) << '\n';
+        << StatsCsv(row.headline) << ',' << row.at_bound << ',' << StatsCsv(row.all);
+    if (table.any_posterior)
+      out << ',' << (row.posterior_p05 ? FormatNumber(*row.posterior_p05) : "") << ','
+          << (row.posterior_p95 ? FormatNumber(*row.posterior_p95) : "");
+    out << '\n';
   }
   return out.str();
 }
 
 std::string DefaultTableValuesCsv(const DefaultTable& table) {
   std::ostringstream out;
-  out << "class,parameter,unit,site,folder,material,value,lower,upper,std_error,at_bound,counted\n";
+  out << "class,parameter,unit,site,folder,material,value,lower,upper,std_error,at_bound,counted"
+      << (table.any_posterior ? ",posterior_median,posterior_p05,posterior_p95,determined" : "")
+      << "\n";
   for (const TableRow& row : table.rows) {
     for (const TableValue& v : row.values) {
       out << CsvField(row.material_class) << ',' << row.name << ',' << SiUnit(row.name) << ','
           << CsvField(v.site) << ',' << CsvField(v.result_dir) << ',' << CsvField(v.material) << ','
           << FormatNumber(v.value) << ',' << FormatNumber(v.lower) << ',' << FormatNumber(v.upper)
           << ',' << (v.std_error ? FormatNumber(*v.std_error) : "") << ','
-          << calibrate::BoundName(v.bound) << ',' << (v.counted ? 1 : 0) << '\n';
+          << calibrate::BoundName(v.bound) << ',' << (v.counted ? 1 : 0);
+      if (table.any_posterior) {
+        if (v.posterior)
+          out << ',' << FormatNumber(v.posterior->median) << ',' << FormatNumber(v.posterior->p05)
+              << ',' << FormatNumber(v.posterior->p95) << ','
+              << (v.posterior->determined ? "yes" : "no");
+        else
+          out << ",,,,";
+      }
+      out << '\n';
     }
   }
   return out.str();
@@ -196,17 +231,26 @@ std::string DefaultTableMarkdown(const DefaultTable& table) {
     out << "\n### With the values at a bound\n\n";
     SummaryTable(table, false, out);
   }
+  if (table.any_posterior)
+    out << "\nPosterior 5 % – 95 %: the envelope of the counted values' posterior intervals (the "
+           "lowest 5 % and the highest 95 % quantile; rockcal calibrate --posterior), given when "
+           "every counted value has one.\n";
   out << "\n### Values\n\n"
-      << "| class | parameter | site | folder | material | value | std. error | bounds | at a "
-         "bound "
-         "|\n"
-      << "|---|---|---|---|---|---|---|---|---|\n";
+      << "| class | parameter | site | folder | material | value | std. error |"
+      << (table.any_posterior ? " posterior 5 % – 95 % |" : "") << " bounds | at a bound |\n"
+      << "|---|---|---|---|---|---|---|" << (table.any_posterior ? "---|" : "") << "---|---|\n";
   for (const TableRow& row : table.rows) {
     for (const TableValue& v : row.values) {
       out << "| " << Cell(row.material_class) << " | " << Label(row.name) << " | " << Cell(v.site)
           << " | " << Cell(v.result_dir) << " | " << Cell(v.material) << " | "
           << ShowOne(row.name, v.value) << " | "
-          << (v.std_error ? ShowOne(row.name, *v.std_error) : std::string("-")) << " | ["
+          << (v.std_error ? ShowOne(row.name, *v.std_error) : std::string("-"))
+          << (table.any_posterior
+                  ? " | " + (v.posterior ? ShowRange(row.name, v.posterior->p05, v.posterior->p95) +
+                                               (v.posterior->determined ? "" : " (not determined)")
+                                         : std::string("-"))
+                  : std::string(""))
+          << " | ["
           << Show(row.name, v.lower) << ", " << Show(row.name, v.upper) << "]" << Unit(row.name)
           << " | "
           << (v.bound == BoundPosition::kInside

@@ -93,6 +93,8 @@ std::vector<ReportSection> Sections(const Context& c) {
     if (rec.posterior && !rec.posterior->samples.empty())
       add("posterior", "Posterior and predictive bands", sections::PosteriorSection);
   }
+  if (c.in.posterior_run)
+    add("posterior-draws", "Posterior draws and predictive bands", sections::PosteriorDrawsSection);
   add("diagnostics", "Numerical diagnostics", sections::DiagnosticsSection);
   return out;
 }

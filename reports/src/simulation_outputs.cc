@@ -149,9 +149,10 @@ std::string TrajectoriesCsv(const core::SimulationResult& result) {
 }
 
 void WriteSimulationFiles(const std::string& folder, const core::Scene& scene,
-                          const core::SimulationResult& result) {
+                          const core::SimulationResult& result, const nlohmann::json& parameters) {
   // Everything is built and checked before anything is written.
-  const nlohmann::json summary = SummaryJson(scene, result);
+  nlohmann::json summary = SummaryJson(scene, result);
+  if (!parameters.is_null()) summary["parameters"] = parameters;
   const nlohmann::json diagnostics = DiagnosticsJson(scene, result);
   CheckFinite(summary, "summary.json", "$");
   CheckFinite(diagnostics, "diagnostics.json", "$");

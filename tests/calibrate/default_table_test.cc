@@ -169,6 +169,100 @@ TEST(ReadCalibratedSite, ErrorsNameTheFileAndPath) {
               HasSubstr("$.evaluations: expected a whole number"));
 }
 
+// ParametersFile() with a posterior per parameter, as calibrate --posterior writes it.
+Json WithPosterior() {
+  Json json = ParametersFile();
+  json["parameters"][0]["posterior"] = {{"median", 0.3}, {"p05", 0.2}, {"p95", 0.5}, {"determined", true}};
+  json["parameters"][1]["posterior"] = {{"median", 0.5}, {"p05", 0.3}, {"p95", 1.2}, {"determined", false}};
+  json["parameters"][2]["posterior"] = {{"median", 0.006}, {"p05", 0.004}, {"p95", 0.008}, {"determined", true}};
+  json["posterior_samples"] = "posterior.csv";
+  return json;
+}
+
+TEST(ReadCalibratedSite, ReadsThePosteriorAndItsSamples) {
+  TempDir dir;
+  const std::string folder = WriteResult(dir, "post", WithPosterior());
+  dir.Write("post/posterior.csv",
+            "talus.hardness,talus.roughness,soil.contact_time\n0.25,0.4,0.005\n0.3,0.6,0.007\n");
+  const CalibratedSite s = ReadCalibratedSite(folder);
+  ASSERT_TRUE(s.has_posterior());
+  EXPECT_EQ(s.samples_file, folder + "/posterior.csv");
+  ASSERT_TRUE(s.parameters[1].posterior.has_value());
+  EXPECT_DOUBLE_EQ(s.parameters[1].posterior->p95, 1.2);
+  EXPECT_FALSE(s.parameters[1].posterior->determined);
+  const std::vector<std::vector<double>> samples = ReadPosteriorSamples(s);
+  ASSERT_EQ(samples.size(), 2u);
+  EXPECT_EQ(samples[1], (std::vector<double>{0.3, 0.6, 0.007}));
+
+  // Errors name the file, the line and column, the value and what was expected.
+  dir.Write("post/posterior.csv", "talus.hardness,soil.contact_time\n0.25,0.005\n");
+  EXPECT_THAT(ErrorOf([&] { ReadPosteriorSamples(s); }),
+              HasSubstr(folder + "/posterior.csv: line 1: header 'talus.hardness,soil.contact_time'; "
+                                 "expected 'talus.hardness,talus.roughness,soil.contact_time'"));
+  dir.Write("post/posterior.csv",
+            "talus.hardness,talus.roughness,soil.contact_time\n0.25,0.4,0.005\n0.9,0.4,0.005\n");
+  EXPECT_THAT(ErrorOf([&] { ReadPosteriorSamples(s); }),
+              HasSubstr("posterior.csv: line 3, column 1 (talus.hardness): 0.9: expected a value "
+                        "within the bounds [0.1, 0.7]"));
+  dir.Write("post/posterior.csv",
+            "talus.hardness,talus.roughness,soil.contact_time\n0.25,x,0.005\n");
+  EXPECT_THAT(ErrorOf([&] { ReadPosteriorSamples(s); }),
+              HasSubstr("line 2, column 2 (talus.roughness): 'x': expected a number"));
+  dir.Write("post/posterior.csv", "talus.hardness,talus.roughness,soil.contact_time\n0.25,0.4\n");
+  EXPECT_THAT(ErrorOf([&] { ReadPosteriorSamples(s); }), HasSubstr("line 2"));
+  dir.Write("post/posterior.csv", "talus.hardness,talus.roughness,soil.contact_time\n");
+  EXPECT_THAT(ErrorOf([&] { ReadPosteriorSamples(s); }), HasSubstr("no samples"));
+
+  // A posterior of some parameters only, or an interval out of order, is refused.
+  EXPECT_THAT(ReadError([](Json& j) {
+                j = WithPosterior();
+                j["parameters"][2].erase("posterior");
+              }),
+              HasSubstr("$.parameters[2]: no \"posterior\" where other parameters have one"));
+  EXPECT_THAT(ReadError([](Json& j) {
+                j = WithPosterior();
+                j["parameters"][0]["posterior"]["p05"] = 0.4;
+              }),
+              HasSubstr("$.parameters[0].posterior: expected p05 <= median <= p95"));
+  EXPECT_THAT(ReadError([](Json& j) {
+                j = WithPosterior();
+                j["parameters"][0]["posterior"]["p95"] = 0.9;
+              }),
+              HasSubstr("$.parameters[0].posterior.p95: expected a value within the parameter's "
+                        "bounds [0.1, 0.7]"));
+}
+
+TEST(BuildDefaultTable, ARowOfValuesWithPosteriorsHasTheirIntervalsEnvelope) {
+  TempDir dir;
+  Json a = WithPosterior();
+  Json b = WithPosterior();
+  b["site"] = "Other slope";
+  b["parameters"][0]["value"] = 0.45;
+  b["parameters"][0]["posterior"] = {{"median", 0.45}, {"p05", 0.35}, {"p95", 0.6}, {"determined", true}};
+  const CalibratedSite sa = ReadCalibratedSite(WriteResult(dir, "a", a));
+  const CalibratedSite sb = ReadCalibratedSite(WriteResult(dir, "b", b));
+  const DefaultTable t = BuildDefaultTable({sa, sb}, {});
+  EXPECT_TRUE(t.any_posterior);
+  const TableRow* hardness = nullptr;
+  for (const TableRow& r : t.rows)
+    if (r.material_class == "scree" && r.name == "hardness") hardness = &r;
+  ASSERT_NE(hardness, nullptr);
+  ASSERT_TRUE(hardness->posterior_p05.has_value());
+  EXPECT_DOUBLE_EQ(*hardness->posterior_p05, 0.2);  // site a's 5 %
+  EXPECT_DOUBLE_EQ(*hardness->posterior_p95, 0.6);  // site b's 95 %
+  EXPECT_EQ(hardness->posterior_values, 2);
+
+  // One counted value without a posterior: no interval for the row, and a note.
+  Json c = ParametersFile();
+  c["site"] = "Third slope";
+  const CalibratedSite sc = ReadCalibratedSite(WriteResult(dir, "c", c));
+  const DefaultTable mixed = BuildDefaultTable({sa, sc}, {});
+  for (const TableRow& r : mixed.rows) EXPECT_FALSE(r.posterior_p05.has_value()) << r.name;
+  std::string notes;
+  for (const std::string& n : mixed.notes) notes += n + "\n";
+  EXPECT_THAT(notes, HasSubstr("scree hardness: 1 of 2 counted values have a posterior"));
+}
+
 TEST(ReadCalibratedSite, MissingFolderFileAndBadJson) {
   TempDir dir;
   const std::string none = dir.path() + "/none";

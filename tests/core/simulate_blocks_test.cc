@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 #include "rockcal/core/simulate.h"
 #include "scene_fixtures.h"
@@ -87,6 +88,22 @@ TEST(SimulateRocks, RejectsARangeOutsideTheScene) {
   EXPECT_THROW(SimulateRocks(scene, terrain, 3, 2), std::invalid_argument);
   EXPECT_THROW(SimulateRocks(scene, terrain, 0, 10), std::invalid_argument);
   EXPECT_THROW(SimulateRocks(scene, terrain, -1, 2), std::invalid_argument);
+}
+
+TEST(SimulateEveryNthRock, TakesEveryNthRockOfTheWholeRunAcrossTheGroups) {
+  const Scene scene = SlopeScene();
+  const Terrain terrain = BuildTerrain(scene);
+  const SimulationResult whole = Simulate(scene, terrain);
+  ASSERT_EQ(whole.rocks.size(), 9u);
+  // Stride 4: rocks {1, 5} (both groups: the spheres are 0-4, the cubes 5-8), {3, 7}.
+  for (const int offset : {1, 3}) {
+    const SimulationResult part = SimulateEveryNthRock(scene, terrain, offset, 4);
+    ASSERT_EQ(part.rocks.size(), 2u) << "offset " << offset;
+    for (std::size_t k = 0; k < part.rocks.size(); ++k)
+      ExpectSameRecord(whole.rocks[static_cast<std::size_t>(offset) + 4 * k], part.rocks[k]);
+  }
+  EXPECT_EQ(SimulateEveryNthRock(scene, terrain, 0, 1).rocks.size(), 9u);
+  EXPECT_THROW(SimulateEveryNthRock(scene, terrain, 4, 4), std::invalid_argument);
 }
 
 }  // namespace

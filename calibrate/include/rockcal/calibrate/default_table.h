@@ -27,6 +27,13 @@ struct CalibratedParameter {
   std::string name;            // "hardness", "roughness" or "contact_time"
   double value = 0.0, lower = 0.0, upper = 0.0;
   std::optional<double> std_error;  // null in the file: not computed
+  // "posterior" (rockcal calibrate --posterior): the posterior's median and
+  // 5-95 % interval (SI) and whether the data determine the value.
+  struct Interval {
+    double median = 0.0, p05 = 0.0, p95 = 0.0;
+    bool determined = true;
+  };
+  std::optional<Interval> posterior;  // absent: no posterior
 };
 
 // One calibrated site: RESULT_DIR/parameters.json.
@@ -39,6 +46,11 @@ struct CalibratedSite {
   int evaluations = 0;
   std::optional<double> grid_spacing_m;  // absent in files written before it
   std::vector<CalibratedParameter> parameters;
+  // The posterior samples' file (every parameter has a posterior): the
+  // "posterior_samples" key, relative to the file's folder, or else
+  // posterior.csv beside it; empty without a posterior.
+  std::string samples_file;
+  bool has_posterior() const { return !samples_file.empty(); }
 };
 
 // Reads RESULT_DIR/parameters.json strictly: a missing folder or file, bad
@@ -50,6 +62,15 @@ CalibratedSite ReadCalibratedSite(const std::string& result_dir);
 // The same for a parameters.json named by its path, or by its folder
 // (result_dir is its folder).
 CalibratedSite ReadParametersFile(const std::string& file);
+
+// The posterior samples of `site` (site.samples_file, as rockcal calibrate
+// --posterior writes it: a header of the parameters' labels
+// material.name in the order of site.parameters, one sample per line, SI):
+// sample k is samples[k], one value per parameter. A missing file, a header
+// naming other parameters, a line of another length, a value that is not a
+// number or lies outside its bounds, or no sample at all is an InputError
+// naming the file, the line (and column) and what was expected.
+std::vector<std::vector<double>> ReadPosteriorSamples(const CalibratedSite& site);
 
 struct DefaultTableOptions {
   // A value within this fraction of its range from a bound is "at a bound".
@@ -85,6 +106,7 @@ struct TableValue {
   double value = 0.0, lower = 0.0, upper = 0.0;
   std::optional<double> std_error;
   std::optional<double> grid_spacing_m;
+  std::optional<CalibratedParameter::Interval> posterior;  // the calibration's, when it has one
   BoundPosition bound = BoundPosition::kInside;
   bool counted = true;  // in the headline statistics
 };
@@ -97,6 +119,12 @@ struct TableRow {
   ValueStatistics headline;        // the values counted (see options)
   ValueStatistics all;             // every value, at a bound or not
   int at_bound = 0;                // values at a bound
+  // When every counted value has a posterior (rockcal calibrate
+  // --posterior): the lowest of their 5 % quantiles and the highest of
+  // their 95 % quantiles (the envelope of the sites' 90 % intervals: the
+  // values some site's posterior holds), and how many were pooled.
+  std::optional<double> posterior_p05, posterior_p95;
+  int posterior_values = 0;
 };
 
 struct DefaultTable {
@@ -107,6 +135,7 @@ struct DefaultTable {
   // What a user should know: old files without classes, a site met in
   // several folders, values at a bound, roughness from different grid spacings.
   std::vector<std::string> notes;
+  bool any_posterior = false;  // some value has a posterior: the outputs show the intervals
 };
 
 // Pools the calibrated sites (in the order given) into the table. The same

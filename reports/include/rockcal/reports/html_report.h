@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "rockcal/calibrate/posterior_draws.h"
 #include "rockcal/core/rasters.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/observations/observations.h"
@@ -49,6 +50,10 @@ struct ReportInput {
   // Optional: the calibration that chose the scene's parameters; adds the
   // calibration, trace and fit sections.
   const CalibrationSummary* calibration = nullptr;
+  // Optional: the posterior draws the run took (rockcal simulate --parameters
+  // of a posterior); adds the section "posterior-draws" (the draws and the
+  // predictive bands of the runout and the partitions' statistics).
+  const calibrate::PosteriorRun* posterior_run = nullptr;
   // Optional: field observations; observed stop points are drawn on the plan.
   const observations::Observations* observations = nullptr;
   ReportOptions options;

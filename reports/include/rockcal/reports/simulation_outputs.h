@@ -25,8 +25,12 @@ std::string TrajectoriesCsv(const core::SimulationResult& result);
 // trajectories.csv into `folder`, each through a temporary file. A
 // non-finite value in any of them throws std::runtime_error (an internal
 // failure, exit 1) naming the file and where, before anything is written.
+// `parameters`, when not null, is summary.json's "parameters": which values
+// the run took (rockcal simulate --parameters: point values or posterior
+// draws, calibrate::PosteriorRunJson).
 void WriteSimulationFiles(const std::string& folder, const core::Scene& scene,
-                          const core::SimulationResult& result);
+                          const core::SimulationResult& result,
+                          const nlohmann::json& parameters = nullptr);
 
 }  // namespace rockcal::reports
 
