@@ -28,7 +28,70 @@ std::string Args(const std::string& out, const std::string& extra) {
          "--posterior-points 12 --posterior-rounds 1 --predictive 3 --out " + out + " " + extra;
 }
 
-TEST(CalibratePosterior, WritesTheIntervalsSamplesAndBandsAndResumes) {
+// rockcal simulate --parameters of the calibration `cal` (with a posterior)
+// draws from it; rockcal table shows its intervals.
+void SimulateDrawsFromItAndTableShowsItsIntervals(const std::string& cal) {
+  RunResult r;
+  const std::string site = std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/tutorial/site.json";
+  const std::string simulate = "simulate " + site + " --parameters " + cal + " --rocks 12 --quiet ";
+  const std::string one = FreshDir("draws_one"), two = FreshDir("draws_two");
+  r = Rockcal(simulate + "--draws 4 --rasters --threads 1 --out " + one);
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = Rockcal(simulate + "--draws 4 --rasters --threads 2 --out " + two);
+  ASSERT_EQ(r.status, 0) << r.err;
+  // The seed fixes the draws and the rocks at any thread count.
+  EXPECT_EQ(ReadFile(one + "/rocks.csv"), ReadFile(two + "/rocks.csv"));
+  EXPECT_EQ(ReadFile(one + "/draws.csv"), ReadFile(two + "/draws.csv"));
+  std::ifstream in(one + "/summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  const nlohmann::json& used = summary["parameters"];
+  EXPECT_EQ(used["use"], "posterior draws") << used.dump();
+  EXPECT_EQ(used["draws"].get<int>(), 4);
+  EXPECT_EQ(used["samples"].get<int>(), 4000);
+  EXPECT_EQ(used["rocks_per_draw"]["min"].get<int>(), 3);
+  const nlohmann::json& p90 = used["bands"]["runout"]["x_m"]["p90"];
+  EXPECT_LE(p90["p05"].get<double>(), p90["median"].get<double>()) << p90.dump();
+  EXPECT_LE(p90["median"].get<double>(), p90["p95"].get<double>()) << p90.dump();
+  ASSERT_FALSE(used["bands"]["partitions"].empty());
+  EXPECT_TRUE(used["bands"]["partitions"][0].contains("energy_kj")) << used.dump();
+  // draws.csv: a header and one line per draw, each with its rocks.
+  std::istringstream draws(ReadFile(one + "/draws.csv"));
+  std::string line;
+  std::getline(draws, line);
+  EXPECT_EQ(line, "draw,sample,rocks,talus.hardness,talus.roughness,soil.hardness,soil.roughness");
+  int lines = 0;
+  while (std::getline(draws, line)) ++lines;
+  EXPECT_EQ(lines, 4);
+  EXPECT_TRUE(std::filesystem::exists(one + "/rasters/reach_probability_q95.asc"));
+  EXPECT_TRUE(std::filesystem::exists(one + "/rasters/energy_p95_q05.asc"));
+  EXPECT_THAT(ReadFile(one + "/report.html"), HasSubstr("id=\"posterior-draws\""));
+
+  // --point-values: the calibrated values only, and the summary says so.
+  const std::string point = FreshDir("draws_point");
+  r = Rockcal(simulate + "--point-values --out " + point);
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream pin(point + "/summary.json");
+  EXPECT_EQ(nlohmann::json::parse(pin)["parameters"]["use"], "point values");
+  EXPECT_FALSE(std::filesystem::exists(point + "/draws.csv"));
+  // More draws than rocks, or --draws with the point values: exit 2, named.
+  r = Rockcal(simulate + "--draws 13 --out " + FreshDir("draws_many"));
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("argument --draws: 13 draws for 12 rocks"));
+  r = Rockcal(simulate + "--draws 3 --point-values --out " + FreshDir("draws_point2"));
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("argument --draws"));
+
+  // rockcal table: the posterior columns and intervals.
+  const std::string table = FreshDir("draws_table");
+  r = Rockcal("table " + cal + " --quiet --out " + table);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(ReadFile(table + "/table.csv"), HasSubstr(",posterior_p05,posterior_p95\n"));
+  EXPECT_THAT(ReadFile(table + "/values.csv"),
+              HasSubstr(",posterior_median,posterior_p05,posterior_p95,determined\n"));
+  EXPECT_THAT(ReadFile(table + "/table.md"), HasSubstr("posterior 5 % – 95 %"));
+}
+
+TEST(CalibratePosterior, WritesTheIntervalsSamplesAndBandsResumesAndSimulateDrawsFromIt) {
   const std::string out = FreshDir("posterior");
   RunResult r = Rockcal(Args(out, ""));
   ASSERT_EQ(r.status, 0) << r.err;
@@ -73,6 +136,7 @@ TEST(CalibratePosterior, WritesTheIntervalsSamplesAndBandsAndResumes) {
   EXPECT_EQ(again["posterior"]["simulated"].get<int>(), 0);
   EXPECT_EQ(again["posterior"]["posterior_evaluations"], post["posterior_evaluations"]);
   EXPECT_EQ(again["posterior"]["parameters"], post["parameters"]);
+  SimulateDrawsFromItAndTableShowsItsIntervals(out);
 }
 
 TEST(CalibratePosterior, ItsOptionsNeedTheFlagAndAKnownStage) {
