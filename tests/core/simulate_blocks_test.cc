@@ -1,5 +1,6 @@
 // SimulateRocks and JoinRockBlocks: a run split into blocks of rocks (as the
-// ranks of an MPI job simulate it) joins into exactly the whole run.
+// ranks of an MPI job simulate it) joins into exactly the whole run; and
+// SimulateEveryNthRock takes the whole run's rocks.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -54,7 +55,7 @@ void ExpectSameRecord(const RockRecord& a, const RockRecord& b) {
     EXPECT_EQ(a.trajectory[s].x, b.trajectory[s].x);
 }
 
-TEST(SimulateRocks, BlocksJoinIntoTheWholeRun) {
+TEST(SimulateRocks, BlocksJoinIntoTheWholeRunAndEveryNthRockIsTheWholeRunsRock) {
   const Scene scene = SlopeScene();
   const Terrain terrain = BuildTerrain(scene);
   const SimulationResult whole = Simulate(scene, terrain);
@@ -79,6 +80,14 @@ TEST(SimulateRocks, BlocksJoinIntoTheWholeRun) {
   EXPECT_EQ(joined.max_penetration, whole.max_penetration);
   EXPECT_EQ(joined.non_finite, whole.non_finite);
   EXPECT_EQ(joined.tunneled, whole.tunneled);
+
+  // SimulateEveryNthRock: stride 4 takes rocks {1, 5} (both groups: the
+  // spheres are 0-4, the cubes 5-8), exactly as in the whole run.
+  const SimulationResult every = SimulateEveryNthRock(scene, terrain, 1, 4);
+  ASSERT_EQ(every.rocks.size(), 2u);
+  for (std::size_t k = 0; k < every.rocks.size(); ++k)
+    ExpectSameRecord(whole.rocks[1 + 4 * k], every.rocks[k]);
+  EXPECT_THROW(SimulateEveryNthRock(scene, terrain, 4, 4), std::invalid_argument);
   EXPECT_EQ(joined.cells_recorded, whole.cells_recorded);
 }
 
@@ -88,22 +97,6 @@ TEST(SimulateRocks, RejectsARangeOutsideTheScene) {
   EXPECT_THROW(SimulateRocks(scene, terrain, 3, 2), std::invalid_argument);
   EXPECT_THROW(SimulateRocks(scene, terrain, 0, 10), std::invalid_argument);
   EXPECT_THROW(SimulateRocks(scene, terrain, -1, 2), std::invalid_argument);
-}
-
-TEST(SimulateEveryNthRock, TakesEveryNthRockOfTheWholeRunAcrossTheGroups) {
-  const Scene scene = SlopeScene();
-  const Terrain terrain = BuildTerrain(scene);
-  const SimulationResult whole = Simulate(scene, terrain);
-  ASSERT_EQ(whole.rocks.size(), 9u);
-  // Stride 4: rocks {1, 5} (both groups: the spheres are 0-4, the cubes 5-8), {3, 7}.
-  for (const int offset : {1, 3}) {
-    const SimulationResult part = SimulateEveryNthRock(scene, terrain, offset, 4);
-    ASSERT_EQ(part.rocks.size(), 2u) << "offset " << offset;
-    for (std::size_t k = 0; k < part.rocks.size(); ++k)
-      ExpectSameRecord(whole.rocks[static_cast<std::size_t>(offset) + 4 * k], part.rocks[k]);
-  }
-  EXPECT_EQ(SimulateEveryNthRock(scene, terrain, 0, 1).rocks.size(), 9u);
-  EXPECT_THROW(SimulateEveryNthRock(scene, terrain, 4, 4), std::invalid_argument);
 }
 
 }  // namespace
