@@ -1,7 +1,7 @@
 // The contact law's damping role (DESIGN.md, Integration): how a rock's
 // contacts share its dashpot, and the implicit (trapezoidal) dashpot solve,
 // of one contact in closed form and of a step's contacts together.
-// Internal to core (simulate.cc; tests/core/damping_test.cc).
+// Internal to core (contact_forces.h; tests/core/damping_test.cc).
 #ifndef ROCKCAL_CORE_SRC_DAMPING_H_
 #define ROCKCAL_CORE_SRC_DAMPING_H_
 

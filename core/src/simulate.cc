@@ -12,8 +12,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "contact_forces.h"
 #include "contact_search.h"
-#include "damping.h"
 #include "flight.h"
 #include "look_ahead.h"
 #include "recording.h"
@@ -43,12 +43,6 @@ constexpr double kFlightKeep = 0.5;
 // contacts ask for.
 constexpr int kMaxRetries = 3;
 
-struct ContactState {
-  std::int64_t key;
-  int element;
-  Eigen::Vector3d u;  // tangential spring displacement
-};
-
 // Everything a rock needs that is shared by all rocks of the scene.
 struct SceneContext {
   const Scene& scene;
@@ -56,17 +50,6 @@ struct SceneContext {
   std::vector<ContactLaw> laws;
   Eigen::Vector3d gravity;
   double max_contact_time = 0.0;      // longest contact time of the scene's materials
-};
-
-// A rock's contact steps on one material: t_c / N_c within the stability
-// bound, and the longer one of gentle contact (GentleTimeStep).
-struct MaterialSteps {
-  double contact = 0.0, gentle = 0.0;
-  double gentle_speed = 0.0;  // g t_c: a contact slower along its normal is gentle
-};
-struct StepSizes {
-  std::vector<MaterialSteps> material;  // Scene::materials order
-  double finest = 0.0;                  // the shortest contact step
 };
 
 // One rock, from release to its outcome. kCluster selects the rigid-cluster
@@ -82,19 +65,15 @@ class RockRun {
         steps_(steps),
         dt_(steps.finest),
         exact_flight_(opt_.exact_flight && !opt_.reference_path),
-        single_element_(body.elements.size() == 1),
         rec_(rec),
         recorder_(ctx.scene, ctx.terrain, body, kCluster, rec),
         ends_(opt_, ctx.terrain, body, opt_.reference_path ? 0.0 : opt_.rest_window,
               ctx.max_contact_time),
         search_(ctx.terrain, body, !opt_.reference_path),
-        look_ahead_(ctx.terrain, body, ctx.gravity) {
+        look_ahead_(ctx.terrain, body, ctx.gravity),
+        forces_(ctx.laws, body, steps, ctx.gravity) {
     inv_inertia_ = body.inertia.cwiseInverse();
-    inertia_min_ = body.inertia.minCoeff();
     g_ = ctx.gravity.norm();
-    hits_.reserve(16);
-    contacts_.reserve(16);
-    next_.reserve(16);
   }
 
   // The loop of DESIGN.md: advance (an exact flight while nothing is near,
@@ -115,7 +94,7 @@ class RockRun {
       const int cell = ctx_.terrain.CellOf(s_.x.x(), s_.x.y());
       if (opt_.record.energy_check && !flew) CheckEnergy();
       if (ends_.Ended(s_, cell, before.t, search_.FloorClear(s_.x), &outcome, rec_)) break;
-      if (ends_.AtRest(s_, flew, !contacts_.empty(), sliding_, before.t)) {
+      if (ends_.AtRest(s_, flew, forces_.touching(), forces_.sliding(), before.t)) {
         s_.t = ends_.slow_since() + opt_.stop_duration;
         outcome = Outcome::kStopped;
         break;
@@ -141,7 +120,7 @@ class RockRun {
   // nothing touches and the flight is worth it, a contact step otherwise.
   // True for a flight.
   bool Advance() {
-    if (contacts_.empty() && exact_flight_) {
+    if (!forces_.touching() && exact_flight_) {
       const double tau = std::min(FlightTime(), opt_.max_time - s_.t);
       if (tau > kMinFlight * dt_) {
         Fly(tau);
@@ -152,37 +131,40 @@ class RockRun {
     }
     // After a flight the rock is within a small fraction of a step of the
     // terrain: the contact force at the step start is the dashpot's.
-    if (landing_ && contacts_.empty()) PrimeLanding();
+    if (landing_ && !forces_.touching()) PrimeLanding();
     landing_ = false;
     ContactStep();
     ++rec_->steps;
     return false;
   }
 
-  // The step the last one's contacts asked for (their materials, gentle or
-  // not, and how many touch at once), or the local contact step without
-  // contacts. A step whose contacts ask for a shorter one is taken back and
-  // redone with that.
+  // A contact step of the step the last one's contacts asked for (their
+  // materials, gentle or not, and how many touch at once), or of the local
+  // contact step without contacts. A step whose contacts ask for a shorter
+  // one is taken back and redone with that.
   void ContactStep() {
-    double dt = contacts_.empty() ? dt_ : needed_dt_;
+    double dt = NextStep();
     const RockState s0 = s_;
     const Eigen::Vector3d a0 = a_, alpha0 = alpha_;
-    const double spring0 = spring_energy_, penetration0 = rec_->max_penetration;
     Step(dt);
-    for (int retry = 0; needed_dt_ < dt && retry < kMaxRetries; ++retry) {
+    for (int retry = 0; retry < kMaxRetries; ++retry) {
+      const double asked = NextStep();
+      if (!(asked < dt)) break;
       s_ = s0;
       a_ = a0;
       alpha_ = alpha0;
-      spring_energy_ = spring0;
-      rec_->max_penetration = penetration0;
-      contacts_.swap(next_);      // the contacts before the step
+      forces_.Undo();             // the contacts before the step
       search_.InvalidatePairs();  // made at the step's end
       ++rec_->retried_steps;
-      dt = needed_dt_;
+      dt = asked;
       Step(dt);
     }
+    rec_->max_penetration =
+        std::max(rec_->max_penetration, forces_.deepest() / body_.element_radius);
     if (dt > dt_) ++rec_->gentle_steps;
   }
+  // The step the last step's contacts ask for, or the local one without.
+  double NextStep() const { return forces_.touching() ? forces_.needed_dt() : dt_; }
 
   void Finish(Outcome outcome) {
     rec_->outcome = outcome;
@@ -212,7 +194,7 @@ class RockRun {
 
   // Mechanical energy including the energy stored in contact springs.
   double Energy() const {
-    return KineticEnergy(s_) - body_.mass * ctx_.gravity.dot(s_.x) + spring_energy_;
+    return KineticEnergy(s_) - body_.mass * ctx_.gravity.dot(s_.x) + forces_.spring_energy();
   }
 
   void CheckEnergy() {
@@ -255,37 +237,22 @@ class RockRun {
                            (s_.v.norm() + s_.w.norm() * body_.bounding_radius) +
                        1e-12 * body_.element_radius;
     const Eigen::Matrix3d rot = Rotation();
-    Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
-    const double m = body_.mass;
     // The neighbourhood where the flight ended (a new one if it left the
     // old one), and the floor where it is within the tolerance's reach.
     const bool floor = UpdateNeighbours() + tol >= search_.floor_clear();
-    hits_.clear();
+    forces_.Clear();
     for (std::size_t e = 0; e < body_.elements.size(); ++e) {
       Eigen::Vector3d centre = s_.x;
       if constexpr (kCluster) centre += rot * body_.elements[e];
       for (TerrainContact c :
            search_.FindElementContacts(centre, floor, body_.element_radius + tol)) {
         c.overlap = std::max(c.overlap - tol, 0.0);
-        hits_.push_back({c, static_cast<int>(e)});
+        forces_.Add(c, static_cast<int>(e));
       }
     }
-    const double norm = OverlapNorm();
-    for (const Hit& h : hits_) {
-      const TerrainContact& c = h.contact;
-      const ContactLaw& law = ctx_.laws[static_cast<std::size_t>(c.material)];
-      const Eigen::Vector3d arm = c.point - s_.x;
-      const double vn = (s_.v + s_.w.cross(arm)).dot(c.normal);
-      // Per unit mass, as the law keeps it, then times the mass.
-      const double fn =
-          m * NormalForce({law.stiffness_per_mass,
-                           law.damping_per_mass * DampingShare(c.overlap, norm)},
-                          c.overlap, vn);
-      force += fn * c.normal;
-      torque += arm.cross(fn * c.normal);
-    }
-    a_ = ctx_.gravity + force / m;
-    alpha_ = AngularAcceleration(torque, s_.w, rot);
+    const auto load = forces_.Landing(s_.x, s_.v, s_.w);
+    a_ = ctx_.gravity + load.force / body_.mass;
+    alpha_ = AngularAcceleration(load.torque, s_.w, rot);
   }
 
   // The rock's neighbourhood where it is (ContactSearch::UpdateNeighbours),
@@ -321,13 +288,9 @@ class RockRun {
     return std::isfinite(dt) ? dt : steps_.finest;
   }
 
-  // One central-difference (kick-drift-kick) contact step of dt. Sets
-  // needed_dt_ to the step its contacts ask for: each its material's gentle
-  // step while it moves along its normal slower than g t_c, its contact step
-  // otherwise (the rock's shortest when there is none).
+  // One central-difference (kick-drift-kick) contact step of dt, its
+  // contacts' load from the contact law (contact_forces.h).
   void Step(double dt) {
-    needed_dt_ = kInf;
-    sliding_ = false;
     const Eigen::Vector3d v_half = s_.v + 0.5 * dt * a_;
     const Eigen::Vector3d w_half = s_.w + 0.5 * dt * alpha_;
     s_.x += dt * v_half;
@@ -336,199 +299,22 @@ class RockRun {
     // Angular velocity estimate at the new time for the gyroscopic term.
     const Eigen::Vector3d w_pred = w_half + 0.5 * dt * alpha_;
     const Eigen::Matrix3d rot = Rotation();
-    Load load;
-    next_.clear();
-    spring_energy_ = 0.0;
     const double moved = UpdateNeighbours();
     const bool floor = moved >= search_.floor_clear();
     const bool paired = search_.UpdatePairs(
         s_.x, dt * (v_half.norm() + w_half.norm() * body_.bounding_radius), moved, rot);
     if (kCluster && !paired) search_.ElementCentres(s_.x, rot);
-    hits_.clear();
+    forces_.Clear();
     for (std::size_t e = 0; e < body_.elements.size(); ++e) {
       const std::vector<TerrainContact>* found = search_.StepContacts(e, s_.x, rot, paired, floor);
       if (!found) continue;
-      for (const TerrainContact& c : *found) hits_.push_back({c, static_cast<int>(e)});
+      for (const TerrainContact& c : *found) forces_.Add(c, static_cast<int>(e));
     }
-    const double norm = OverlapNorm();
-    // The dashpots of all the step's contacts implicit together
-    // (JointEndMotion); one contact solves its own (AddContactForce).
-    const bool joint = hits_.size() > 1;
-    const Motion end =
-        joint ? JointEndMotion(v_half, w_half, dt, norm, rot) : Motion{v_half, w_half};
-    for (const Hit& h : hits_)
-      AddContactForce(h.contact, h.element, DampingShare(h.contact.overlap, norm), v_half, w_half,
-                      dt, joint ? &end : nullptr, rot, &load);
-    const Eigen::Vector3d torque =
-        load.torque + LimitRollingTorque(load.rolling, inertia_min_, w_half.norm(), dt);
-    AddVegetationForce(v_half, dt, &load);
-    if (next_.empty()) needed_dt_ = dt_;
-    contacts_.swap(next_);
+    const auto load = forces_.Step(s_.x, v_half, w_half, dt, rot);
     a_ = ctx_.gravity + load.force / body_.mass;
-    alpha_ = AngularAcceleration(torque, w_pred, rot);
+    alpha_ = AngularAcceleration(load.torque, w_pred, rot);
     s_.v = v_half + 0.5 * dt * a_;
     s_.w = w_half + 0.5 * dt * alpha_;
-  }
-
-  // The forces and torques of a step's contacts, summed.
-  struct Load {
-    Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
-    Eigen::Vector3d rolling = Eigen::Vector3d::Zero();  // rolling resistance, before its limit
-  };
-
-  // Undergrowth on the ground the rock touches (the highest stress of this
-  // step's contacts' materials): tau times the rock's frontal area, at its
-  // centre, against its velocity, at most what stops it within the step,
-  // so it only ever takes energy and never reverses the motion. A rock
-  // flying over the ground is not slowed.
-  void AddVegetationForce(const Eigen::Vector3d& v_half, double dt, Load* load) const {
-    double stress = 0.0;
-    for (const Hit& h : hits_)
-      stress = std::max(stress, ctx_.laws[static_cast<std::size_t>(h.contact.material)].vegetation_stress);
-    const double speed = v_half.norm();
-    if (!(stress > 0.0) || !(speed > 0.0)) return;
-    const double deceleration = std::min(stress * body_.frontal_area / body_.mass, speed / dt);
-    load->force -= (body_.mass * deceleration / speed) * v_half;
-  }
-
-  // The Euclidean norm of the step's contacts' overlaps, for their
-  // damping shares (damping.h, DampingShare).
-  double OverlapNorm() const {
-    double sum = 0.0;
-    for (const Hit& h : hits_) sum += h.contact.overlap * h.contact.overlap;
-    return std::sqrt(sum);
-  }
-  double DampingShare(double overlap, double norm) const {
-    return core::DampingShare(overlap, norm, hits_.size(), single_element_);
-  }
-
-  // The rock's velocity and spin at the end of a step of dt with all its
-  // contacts' dashpots implicit together (damping.h, JointDashpots).
-  struct Motion {
-    Eigen::Vector3d v, w;
-  };
-  using Dashpots = JointDashpots<kCluster ? 6 : 3>;
-  Motion JointEndMotion(const Eigen::Vector3d& v_half, const Eigen::Vector3d& w_half, double dt,
-                        double norm, const Eigen::Matrix3d& rot) {
-    using Vector = typename Dashpots::Vector;
-    using Matrix = typename Dashpots::Matrix;
-    // The free motion M^-1 (M u_half + dt/2 g), and M^-1 per unit mass.
-    Vector free;
-    free.template head<3>() = v_half + 0.5 * dt * ctx_.gravity;
-    Eigen::Matrix3d inverse_inertia;
-    if constexpr (kCluster) {
-      free.template tail<3>() = w_half;
-      inverse_inertia = rot * (body_.mass * inv_inertia_).asDiagonal() * rot.transpose();
-    }
-    // Each contact's row g_i, M^-1 g_i, dashpot (dt/2 c_i) and spring (dt/2 k d_i) terms.
-    const std::size_t n = hits_.size();
-    dashpots_.Resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const TerrainContact& c = hits_[i].contact;
-      const ContactLaw& law = ctx_.laws[static_cast<std::size_t>(c.material)];
-      auto& row = dashpots_.row(i);
-      row.template head<3>() = c.normal;
-      if constexpr (kCluster) {
-        row.template tail<3>() = (c.point - s_.x).cross(c.normal);
-        auto& reach = dashpots_.reach(i);
-        reach.template head<3>() = c.normal;
-        reach.template tail<3>() = inverse_inertia * row.template tail<3>();
-      } else {
-        row.template tail<3>().setZero();
-      }
-      dashpots_.terms(i) = {0.5 * dt * law.damping_per_mass * DampingShare(c.overlap, norm),
-                            0.5 * dt * law.stiffness_per_mass * c.overlap};
-    }
-    // M per unit mass, only where the 6 x 6 (or a sphere's 3 x 3) is solved.
-    const Vector u = dashpots_.Solve(free, [&] {
-      Matrix mass = Matrix::Identity();
-      if constexpr (kCluster)
-        mass.template bottomRightCorner<3, 3>() =
-            rot * (body_.inertia / body_.mass).asDiagonal() * rot.transpose();
-      return mass;
-    });
-    if constexpr (kCluster) {
-      return {u.template head<3>(), u.template tail<3>()};
-    } else {
-      return {u, w_half};
-    }
-  }
-
-  // The contact law (core/contact.h) on contact c of element e, with its
-  // share of the rock's damping (DampingShare), over a step of dt from the
-  // half-step velocities: adds its force and torques to *load, keeps its
-  // spring in next_ and its energy in spring_energy_, and lowers needed_dt_
-  // to the step it asks for. end: the rock's motion at the step's end from
-  // JointEndMotion, or null to solve this contact's dashpot alone (the rock's
-  // only contact).
-  void AddContactForce(const TerrainContact& c, int e, double damping_share,
-                       const Eigen::Vector3d& v_half, const Eigen::Vector3d& w_half, double dt,
-                       const Motion* end, const Eigen::Matrix3d& rot, Load* load) {
-    const ContactLaw& law = ctx_.laws[static_cast<std::size_t>(c.material)];
-    const double m = body_.mass;
-    const Eigen::Vector3d arm = c.point - s_.x;
-    const Eigen::Vector3d vc_half = v_half + w_half.cross(arm);
-    const double kn = m * law.stiffness_per_mass;
-    const double damping_per_mass = law.damping_per_mass * damping_share;
-    // Normal velocity at the end of the step, with the dashpot taken
-    // implicitly (trapezoidal): v_n = v_n,half + dt/2 (k d / m - c v_n + g_n).
-    // Alone, the contact's own row of JointEndMotion's system: the rock
-    // meets it with its effective mass there, m / s.
-    double vn;
-    if (end) {
-      vn = (end->v + end->w.cross(arm)).dot(c.normal);
-    } else {
-      double s = 1.0;
-      if constexpr (kCluster) {
-        const Eigen::Vector3d lever = rot.transpose() * arm.cross(c.normal);  // body axes
-        s += m * lever.cwiseAbs2().dot(inv_inertia_);
-      }
-      vn = ImplicitNormalSpeed(vc_half.dot(c.normal), dt, s, law.stiffness_per_mass, c.overlap,
-                               ctx_.gravity.dot(c.normal), damping_per_mass);
-    }
-    const double fn = NormalForce({kn, m * damping_per_mass}, c.overlap, vn);
-    const MaterialSteps& ms = steps_.material[static_cast<std::size_t>(c.material)];
-    // n contacts at once meet the rock with up to n times the stiffness, so
-    // their impact lasts down to t_c / sqrt(n): it takes N_c steps of that.
-    needed_dt_ =
-        std::min(needed_dt_, std::abs(vn) < ms.gentle_speed
-                                 ? ms.gentle
-                                 : ms.contact / std::sqrt(static_cast<double>(hits_.size())));
-    // Tangential spring: carry the displacement over, rotated into the
-    // current tangent plane, and add this step's sliding.
-    Eigen::Vector3d u = CarriedDisplacement(c.key, e, c.normal);
-    u += TangentialSlip(vc_half, c.normal, dt);
-    const double ks = kn * law.tangential_ratio;
-    const Eigen::Vector3d ft = TangentialForce({ks, law.friction}, fn, &u);
-    // At the Coulomb cap, or carrying no load: the contact does not hold the rock.
-    if (!(ft.norm() < law.friction * fn)) sliding_ = true;
-    const Eigen::Vector3d f = fn * c.normal + ft;
-    load->force += f;
-    load->torque += arm.cross(f);
-    // Rolling resistance against rolling, not spin about this contact's
-    // normal, on the spring's normal force k_n d: the load on the contact
-    // (the dashpot's share nets about zero over an impact). The lever is the
-    // contact's distance from the rolling axis (a sphere's radius a; with the
-    // element radius instead, a block tumbling over its edges felt a fraction
-    // of the resistance a sphere of its size feels).
-    if (law.rolling_resistance > 0.0) {
-      const Eigen::Vector3d roll = RollingRate(w_half, c.normal);
-      const double lever = single_element_ ? body_.element_radius : RollingLever(roll, arm);
-      load->rolling += RollingResistanceTorque(law.rolling_resistance, lever, kn * c.overlap, roll);
-    }
-    spring_energy_ += 0.5 * kn * c.overlap * c.overlap + 0.5 * ks * u.squaredNorm();
-    next_.push_back({c.key, e, u});
-    rec_->max_penetration = std::max(rec_->max_penetration, c.overlap / body_.element_radius);
-  }
-
-  // The tangential spring displacement contact `key` of element e had at
-  // the last step, carried into the tangent plane of `normal`; zero for a
-  // new contact.
-  Eigen::Vector3d CarriedDisplacement(std::int64_t key, int e,
-                                      const Eigen::Vector3d& normal) const {
-    for (const ContactState& old : contacts_)
-      if (old.key == key && old.element == e) return CarryTangentialDisplacement(old.u, normal);
-    return Eigen::Vector3d::Zero();
   }
 
   const SceneContext& ctx_;
@@ -540,28 +326,17 @@ class RockRun {
   // the first neighbourhood, and always on the reference path.
   double dt_;
   const bool exact_flight_;                // off on the reference path
-  const bool single_element_;              // a sphere (on either path)
-  double needed_dt_ = 0.0;  // the step the last step's contacts ask for
   RockRecord* rec_;
   Recorder recorder_;  // what the record keeps of the path (recording.h)
   RockEnds ends_;      // rest, the run's ends and the energy check (rest.h)
   RockState s_;
   Eigen::Vector3d a_, alpha_;  // accelerations at the current state
   Eigen::Vector3d inv_inertia_;
-  double inertia_min_ = 0.0;
   double g_ = 0.0;
-  double spring_energy_ = 0.0;
-  bool sliding_ = false;  // a contact of the last step slid or carried no load (Step)
   bool landing_ = false;  // the last advance was a flight
   ContactSearch<kCluster> search_;  // neighbour lists and contact detection (contact_search.h)
   FlightLookAhead<kCluster> look_ahead_;  // the flight near the ground (look_ahead.h)
-  struct Hit {
-    TerrainContact contact;
-    int element;
-  };
-  std::vector<Hit> hits_;  // a step's contacts, every element's (Step)
-  Dashpots dashpots_;  // JointEndMotion's system (damping.h)
-  std::vector<ContactState> contacts_, next_;
+  ContactForces<kCluster> forces_;  // the contact law on the step's contacts (contact_forces.h)
 };
 
 // Release: a random point of the zone, a random size and orientation, then
@@ -641,7 +416,7 @@ namespace {
 // The stable step of `body` on `law`: `safety` times the critical step
 // 2 / omega of its stiffest contact. The damping ratio does not shorten it:
 // every dashpot is implicit, for the rock's spin as for its centre, and
-// together with the step's other contacts (RockRun::JointEndMotion), and the
+// together with the step's other contacts (contact_forces.h, JointEndMotion), and the
 // central-difference step with implicit dashpots is stable up to
 // omega dt = 2 whatever the damping (bench/README.md, "The step").
 double StableTimeStep(const RockBody& body, const ContactLaw& law, double safety) {

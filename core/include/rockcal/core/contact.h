@@ -2,8 +2,8 @@
 // normal spring-dashpot, the tangential spring with its Coulomb cap, and
 // rolling resistance. Plain numbers in, a force or torque out; whatever a
 // contact keeps from step to step (the tangential spring's displacement)
-// belongs to the caller. The simulation loop (simulate.cc) calls these and
-// nothing else for the contact forces.
+// belongs to the caller. A step's contact forces (core/src/contact_forces.h)
+// call these and nothing else for the contact law.
 #ifndef ROCKCAL_CORE_CONTACT_H_
 #define ROCKCAL_CORE_CONTACT_H_
 
