@@ -238,8 +238,10 @@ class RockRun {
                        1e-12 * body_.element_radius;
     const Eigen::Matrix3d rot = Rotation();
     // The neighbourhood where the flight ended (a new one if it left the
-    // old one), and the floor where it is within the tolerance's reach.
-    const bool floor = UpdateNeighbours() + tol >= search_.floor_clear();
+    // old one), and the floor where it is within the tolerance's reach. The
+    // floor's clearance is read after the update, which remakes it.
+    const double moved = UpdateNeighbours();
+    const bool floor = moved + tol >= search_.floor_clear();
     forces_.Clear();
     for (std::size_t e = 0; e < body_.elements.size(); ++e) {
       Eigen::Vector3d centre = s_.x;
