@@ -20,6 +20,7 @@
 #include "rockcal/sites/surface.h"
 #include "rockcal/sites/text_reader.h"
 #include "rockcal/sites/zone_files.h"
+#include "site_readers.h"
 
 namespace rockcal::sites {
 namespace {
@@ -50,27 +51,6 @@ std::string Join(const std::vector<std::string>& items) {
 }
 
 
-// A plan polygon in file units -> SI; at least 3 vertices and a non-zero area.
-Polygon ReadPolygon(const JsonNode& node, Units units) {
-  if (!node.is_array() || node.raw().size() < 3)
-    node.Fail("expected a polygon: an array of at least 3 [x, y] vertices");
-  Polygon polygon;
-  double scale = 0.0;
-  for (const JsonNode& v : node.Array()) {
-    const std::vector<double> xy = CoordinatesToSI(v, 2, units);
-    polygon.emplace_back(xy[0], xy[1]);
-  }
-  for (const Eigen::Vector2d& v : polygon) scale = std::max(scale, (v - polygon[0]).norm());
-  if (!(std::abs(SignedArea(polygon)) > 1e-9 * scale * scale))
-    node.Fail("degenerate polygon: its vertices enclose no area");
-  if (const auto edges = FindSelfIntersection(polygon)) {
-    node.Fail("self-intersecting polygon: edge " + std::to_string(edges->first) + " (vertices " +
-              std::to_string(edges->first) + "-" + std::to_string(edges->first + 1) +
-              ") meets edge " + std::to_string(edges->second) +
-              "; expected a simple polygon whose edges meet only at shared vertices");
-  }
-  return polygon;
-}
 
 // Material fields whose checks need the grid spacing (roughness <= s/2).
 struct PendingMaterial {
@@ -162,277 +142,6 @@ void ReadSimulation(const JsonNode& node, Units units, core::SimulationOptions* 
   if (auto v = node.Find("threads")) o->threads = static_cast<int>(v->Integer(0, 4096));
   std::string error;
   if (!o->IsValid(&error)) throw InputError(node.where(), error);
-}
-
-core::Release ReadRelease(const JsonNode& node, Units units, const core::HeightGrid& grid,
-                          std::string* note) {
-  node.Keys(SiteKeysAt("$.rocks[].release"));
-  core::Release r;
-  if (node.Has("position_spread") && !node.Has("point"))
-    node.Get("position_spread").Fail("goes with a release 'point' only (a zone is already spread)");
-  if (node.Has("height") && node.Has("elevation"))
-    node.Fail("expected 'height' (above the ground) or 'elevation' (absolute), not both");
-  const bool has_zone = node.Has("zone"), has_point = node.Has("point");
-  if (has_zone == has_point)
-    node.Fail("expected exactly one of 'zone' (plan polygon) or 'point' ([x, y])");
-  const double to_file = 1.0 / LengthToSI(1.0, units);
-  auto where_text = [&](const Eigen::Vector2d& p) {
-    return "(" + FormatNumber(p.x() * to_file) + ", " + FormatNumber(p.y() * to_file) + ")";
-  };
-  const std::string grid_text = "the terrain spans x " + FormatNumber(grid.x(0) * to_file) +
-                                " to " + FormatNumber(grid.x(grid.nx - 1) * to_file) + ", y " +
-                                FormatNumber(grid.y(0) * to_file) + " to " +
-                                FormatNumber(grid.y(grid.ny - 1) * to_file);
-  Eigen::Vector2d centre;
-  if (has_zone) {
-    const JsonNode z = node.Get("zone");
-    r.zone = ReadPolygon(z, units);
-    if (auto off = FindOffTerrain(grid, r.zone, grid.spacing / 4)) {
-      z.Fail("release zone point " + where_text(*off) +
-             " is off the terrain (outside the grid or over a hole; " + grid_text +
-             "); expected a zone entirely on the terrain");
-    }
-    centre = Eigen::Vector2d::Zero();
-    for (const Eigen::Vector2d& v : r.zone) centre += v;
-    centre /= static_cast<double>(r.zone.size());
-    *note = "zone of " + std::to_string(r.zone.size()) + " vertices, area " +
-            FormatNumber(std::abs(SignedArea(r.zone))) + " m^2";
-  } else {
-    const JsonNode p = node.Get("point");
-    const std::vector<double> xy = p.Numbers(2);
-    r.point = Eigen::Vector2d(LengthToSI(xy[0], units), LengthToSI(xy[1], units));
-    if (!OnTerrain(grid, r.point.x(), r.point.y())) {
-      p.Fail("release point is off the terrain (outside the grid or over a hole; " + grid_text +
-             "); expected a point on the terrain");
-    }
-    centre = r.point;
-    *note = "point (" + FormatNumber(r.point.x()) + ", " + FormatNumber(r.point.y()) + ") m";
-    if (const auto spread = node.Find("position_spread")) {
-      // A tracked release is known within an error: each rock starts at a
-      // point drawn uniformly from the disc of this radius about the point
-      // (a polygon of kSpreadVertices vertices, released as a zone).
-      const double radius =
-          NumberInRange(*spread, LengthToSI(spread->NonNegative(), units), 0, 1000.0,
-                        "release position spread", Quantity::kLength, units);
-      if (radius > 0) {
-        constexpr int kSpreadVertices = 24;
-        for (int k = 0; k < kSpreadVertices; ++k) {
-          const double a = 2.0 * 3.14159265358979323846 * k / kSpreadVertices;
-          r.zone.push_back(r.point + radius * Eigen::Vector2d(std::cos(a), std::sin(a)));
-        }
-        if (auto off = FindOffTerrain(grid, r.zone, grid.spacing / 4))
-          spread->Fail("the disc of this radius about the release point reaches " +
-                       where_text(*off) + ", off the terrain (" + grid_text +
-                       "); expected a disc on the terrain");
-        *note += " within " + FormatNumber(radius) + " m (uniform in the disc)";
-      }
-    }
-  }
-  if (const std::optional<double> z = ElevationAt(grid, centre.x(), centre.y()))
-    *note += ", ground " + FormatNumber(*z) + " m";
-  if (auto h = node.Find("height"))
-    r.height = NumberInRange(*h, LengthToSI(h->NonNegative(), units), 0, core::kMaxCoordinate,
-                             "release height", Quantity::kLength, units);
-  if (auto e = node.Find("elevation")) {
-    // The lowest point of a dropped rock: above the ground everywhere in the
-    // zone (checked at its vertices and centre), and within reach of it.
-    r.elevation = LengthToSI(e->Number(), units);
-    std::vector<Eigen::Vector2d> where = r.zone;
-    where.push_back(centre);
-    double ground_max = -std::numeric_limits<double>::infinity();
-    for (const Eigen::Vector2d& p : where)
-      if (const std::optional<double> z = ElevationAt(grid, p.x(), p.y()))
-        ground_max = std::max(ground_max, *z);
-    if (!(*r.elevation >= ground_max && *r.elevation <= ground_max + 1000.0)) {
-      e->Fail("the ground of the release reaches " + FormatNumber(ground_max * to_file) + " " +
-              LengthUnit(units) + "; expected a drop elevation at or above it (and at most 1 km " +
-              "above it)");
-    }
-    *note += ", dropped from elevation " + FormatNumber(*r.elevation) + " m";
-  }
-  auto velocity = [&](const JsonNode& v, bool spread) {
-    const std::vector<double> vel = v.Numbers(3);
-    Eigen::Vector3d out;
-    for (int k = 0; k < 3; ++k) {
-      out[k] = LengthToSI(vel[static_cast<std::size_t>(k)], units);
-      if (spread && !(out[k] >= 0)) v.Fail("expected three spreads >= 0 (one sigma per component)");
-    }
-    NumberInRange(v, out.norm(), 0, core::kMaxSpeed,
-                  spread ? "release velocity spread" : "release speed", Quantity::kSpeed, units);
-    return out;
-  };
-  if (auto v = node.Find("velocity")) r.velocity = velocity(*v, false);
-  if (auto v = node.Find("velocity_spread")) r.velocity_spread = velocity(*v, true);
-  return r;
-}
-
-// The clump options of a rock group: its "spheres" (the budget), if any.
-core::ClumpOptions ReadClumpOptions(const JsonNode& node) {
-  core::ClumpOptions options;
-  if (auto n = node.Find("spheres")) options.spheres = static_cast<int>(n->Integer(1, 64));
-  return options;
-}
-
-// A shape file named in a site: loaded once per resolved path.
-std::shared_ptr<const core::ScannedShape> LoadShapeOnce(
-    const std::string& file, Units units, const core::ClumpOptions& options,
-    std::map<std::string, std::shared_ptr<const core::ScannedShape>>* cache,
-    std::vector<std::string>* inputs) {
-  auto it = cache->find(file);
-  if (it != cache->end()) return it->second;
-  auto shape = LoadScannedShape(file, LengthToSI(1.0, units), options);
-  inputs->push_back(file);
-  cache->emplace(file, shape);
-  return shape;
-}
-
-// How an inventory's scanned shapes take each block's size.
-enum class ShapeScale { kSides, kMass };
-constexpr std::pair<ShapeScale, const char*> kShapeScales[] = {{ShapeScale::kSides, "sides"},
-                                                               {ShapeScale::kMass, "mass"}};
-
-std::string FitSummary(const core::ScannedShape& s) {
-  const core::Clump& c = s.clump;
-  char text[200];
-  std::snprintf(text, sizeof text,
-                ": %zu spheres, union volume %+.2f %%, moments within %.2f %%, sides within "
-                "%.1f %% of the hull's",
-                c.centres.size(), 100.0 * c.volume_error, 100.0 * c.moment_error,
-                100.0 * c.side_error);
-  return s.name + text;
-}
-
-core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightGrid& grid,
-                          const std::string& base_dir, std::vector<std::string>* inputs,
-                          std::string* note) {
-  core::RockGroup g;
-  if (const auto id = node.Find("id")) {
-    g.id = id->String();
-    if (g.id.empty()) id->Fail("expected a non-empty group id");
-  }
-  std::map<std::string, std::shared_ptr<const core::ScannedShape>> cache;
-  if (node.Has("inventory")) {
-    // The blocks of a field inventory; count (default one rock per block)
-    // repeats them in turn.
-    node.Keys(SiteKeysAt("$.rocks[] (inventory)"));
-    const JsonNode inv = node.Get("inventory");
-    const std::string file = ResolvePath(base_dir, inv.String());
-    std::vector<std::string> shape_files;
-    g.inventory = ReadInventory(file, units, &shape_files);
-    inputs->push_back(file);
-    // Scanned shapes: from the library folder ("shapes", relative to the
-    // site file) or else beside the site file.
-    std::string library = base_dir;
-    if (auto lib = node.Find("shapes")) {
-      library = ResolvePath(base_dir, lib->String());
-      if (!std::filesystem::is_directory(library))
-        lib->Fail("shape library '" + library + "' is not a folder");
-    }
-    const core::ClumpOptions clump = ReadClumpOptions(node);
-    ShapeScale scale = ShapeScale::kSides;
-    if (auto sc = node.Find("shape_scale")) {
-      const std::string name = sc->String();
-      bool found = false;
-      for (const auto& [value, label] : kShapeScales)
-        if (name == label) scale = value, found = true;
-      if (!found) sc->Fail("unknown shape_scale '" + name + "' (allowed: sides, mass)");
-    }
-    double unit_weight = 0.0;
-    if (auto uw = node.Find("unit_weight")) {
-      if (scale != ShapeScale::kMass)
-        uw->Fail("an inventory's blocks have their measured masses: 'unit_weight' goes with "
-                 "\"shape_scale\": \"mass\" only");
-      unit_weight = NumberInRange(*uw, UnitWeightToSI(uw->Positive(), units), core::kMinUnitWeight,
-                                  core::kMaxUnitWeight, "unit weight", Quantity::kUnitWeight,
-                                  units);
-    }
-    bool any_scanned = false;
-    // Shape name -> its worst fit over the blocks (error, summary), for the note.
-    std::map<std::string, std::pair<double, std::string>> fits;
-    for (std::size_t k = 0; k < g.inventory.size(); ++k) {
-      core::Block& b = g.inventory[k];
-      if (shape_files[k].empty()) continue;
-      any_scanned = true;
-      const auto shape =
-          LoadShapeOnce(ResolvePath(library, shape_files[k]), units, clump, &cache, inputs);
-      if (scale == ShapeScale::kSides) {
-        b.scanned = ShapeAtSides(*shape, b.sides, clump);
-      } else {
-        if (!(unit_weight > 0))
-          node.Fail("\"shape_scale\": \"mass\" needs the rocks' \"unit_weight\"");
-        const double volume = b.mass * core::kStandardGravity / unit_weight;
-        b.scanned = std::make_shared<const core::ScannedShape>(
-            core::ScaleShape(*shape, std::cbrt(volume / shape->mass.volume)));
-      }
-      const double worst = std::max({std::abs(b.scanned->clump.volume_error),
-                                     b.scanned->clump.moment_error});
-      auto it = fits.find(shape->name);
-      if (it == fits.end() || worst > it->second.first)
-        fits[shape->name] = {worst, FitSummary(*b.scanned)};
-    }
-    if (!any_scanned) {
-      for (const char* key : {"shapes", "spheres", "shape_scale", "unit_weight"})
-        if (auto n = node.Find(key))
-          n->Fail(std::string("'") + key + "' goes with shape files in the inventory's shape column");
-    }
-    g.shape = g.inventory.front().shape;
-    g.count = node.Has("count") ? static_cast<int>(node.Get("count").Integer(1, core::kMaxRocks))
-                                : static_cast<int>(g.inventory.size());
-    std::string release_note;
-    g.release = ReadRelease(node.Get("release"), units, grid, &release_note);
-    const core::GroupExtent extent = core::GroupBodies(g, core::kStandardGravity);
-    *note = std::to_string(g.count) + " rocks from the inventory " + file + " (" +
-            std::to_string(g.inventory.size()) + " blocks, " +
-            FormatNumber(extent.lightest.mass) + "-" + FormatNumber(extent.heaviest.mass) +
-            " kg), release " + release_note;
-    for (const auto& [name, fit] : fits)
-      *note += "; worst fit of " + fit.second;
-    return g;
-  }
-  node.Keys(SiteKeysAt("$.rocks[]"));
-  g.count = static_cast<int>(node.Get("count").Integer(1, core::kMaxRocks));
-  if (auto sf = node.Find("shape_file")) {
-    if (node.Has("shape")) sf->Fail("give \"shape\" or \"shape_file\", not both");
-    g.shape = core::Shape::kScanned;
-    g.scanned = LoadShapeOnce(ResolvePath(base_dir, sf->String()), units, ReadClumpOptions(node),
-                              &cache, inputs);
-  } else {
-    if (auto sp = node.Find("spheres")) sp->Fail("'spheres' goes with \"shape_file\" only");
-    const JsonNode shape = node.Get("shape");
-    if (!core::ParseShape(shape.String(), &g.shape))
-      shape.Fail(std::string("unknown shape (allowed: ") + core::ShapeNames() + ")");
-  }
-  const JsonNode size = node.Get("size");
-  if (size.is_array()) {
-    const std::vector<double> s = size.Numbers(2);
-    if (!(s[0] > 0)) size.Fail("expected [min, max] with 0 < min <= max");
-    if (s[0] > s[1]) size.Fail("expected [min, max] with min <= max");
-    g.size_min = LengthToSI(s[0], units);
-    g.size_max = LengthToSI(s[1], units);
-  } else {
-    if (!size.is_number()) size.Fail("expected a size > 0 or a range [min, max]");
-    g.size_min = g.size_max = LengthToSI(size.Positive(), units);
-  }
-  if (auto box = node.Find("box")) {
-    if (g.shape != core::Shape::kBox) box->Fail("'box' goes with \"shape\": \"box\" only");
-    const std::vector<double> b = box->Numbers(3);
-    for (double side : b)
-      if (!(side > 0 && side <= 1e3)) box->Fail("expected three proportions L1, L2, L3 in (0, 1000]");
-    g.box = Eigen::Vector3d(b[0], b[1], b[2]);
-  }
-  NumberInRange(size, g.size_max, 0, core::kMaxRockSize, "rock size", Quantity::kLength, units);
-  g.unit_weight = NumberInRange(
-      node.Get("unit_weight"), UnitWeightToSI(node.Get("unit_weight").Positive(), units),
-      core::kMinUnitWeight, core::kMaxUnitWeight, "unit weight", Quantity::kUnitWeight, units);
-  std::string release_note;
-  g.release = ReadRelease(node.Get("release"), units, grid, &release_note);
-  *note = std::to_string(g.count) + " " +
-          (g.scanned ? "of the shape " + FitSummary(*g.scanned) : core::ShapeName(g.shape)) +
-          ", size " +
-          FormatNumber(g.size_min) +
-          (g.size_max > g.size_min ? "-" + FormatNumber(g.size_max) : "") + " m, unit weight " +
-          FormatNumber(g.unit_weight / 1000.0) + " kN/m^3, release " + release_note;
-  return g;
 }
 
 // The whole run: at most kMaxRocks rocks, and a step count that can finish.
@@ -621,48 +330,16 @@ void ReadPartitions(const JsonNode& parts, Units units, double zmin, double zmax
   }
 }
 
-}  // namespace
-
-Site LoadSite(const std::string& path) {
-  const nlohmann::json json = ReadJsonFile(path);
-  const JsonNode root(&json, path, "$");
-  root.Keys(SiteKeysAt("$"));
-  Site site;
-  site.path = path;
-  site.units = ReadUnits(root.Get("units"));
-  const Units units = site.units;
+// Each material's roughness within what the grid's spacing allows, and its
+// calibration bounds.
+void CheckRoughness(const std::vector<PendingMaterial>& pending, Units units, Site* site) {
+  const double s = site->scene.grid.spacing;
   const double to_file = 1.0 / LengthToSI(1.0, units);
   const char* unit = LengthUnit(units);
-  core::Scene& scene = site.scene;
-  {
-    const JsonNode name = root.Get("name");
-    scene.name = name.String();
-    if (scene.name.empty()) name.Fail("expected a non-empty name");
-  }
-  if (auto d = root.Find("description")) d->String();
-
-  // Materials (their roughness limit needs the grid spacing: checked below).
-  std::vector<PendingMaterial> pending = ReadMaterials(root.Get("materials"), units, &site);
-  std::vector<std::string> ids;
-  for (const core::Material& m : scene.materials) ids.push_back(m.id);
-
-  // Surface.
-  const std::string base_dir = std::filesystem::path(path).parent_path().string();
-  Surface surface = ReadSurface(root.Get("surface"), units, base_dir, ids);
-  scene.grid = std::move(surface.grid);
-  core::HeightGrid& grid = scene.grid;
-  const double s = grid.spacing;
-  site.notes = surface.notes;
-  site.inputs.push_back(path);
-  site.inputs.insert(site.inputs.end(), surface.files.begin(), surface.files.end());
-  site.crs_wkt = surface.crs_wkt;
-  site.gis = surface.gis;
-
-  // Roughness and calibration bounds.
   for (std::size_t k = 0; k < pending.size(); ++k) {
     const JsonNode& m = pending[k].node;
-    core::Material& mat = scene.materials[k];
-    const std::string& mat_class = site.material_classes[k];
+    core::Material& mat = site->scene.materials[k];
+    const std::string& mat_class = site->material_classes[k];
     const double max_rough = s / 2 * to_file;
     if (mat.roughness_m > s / 2 * (1 + 1e-12)) {
       m.Get("roughness")
@@ -682,8 +359,67 @@ Site LoadSite(const std::string& path) {
                 FormatNumber(min_rough * to_file) + ", " + FormatNumber(max_rough) + "] " + unit);
     }
     if (auto c = m.Find("calibrate"))
-      ReadCalibrateBounds(*c, mat, mat_class, units, min_rough, s / 2, &site);
+      ReadCalibrateBounds(*c, mat, mat_class, units, min_rough, s / 2, site);
   }
+}
+
+}  // namespace
+
+Polygon ReadPolygon(const JsonNode& node, Units units) {
+  if (!node.is_array() || node.raw().size() < 3)
+    node.Fail("expected a polygon: an array of at least 3 [x, y] vertices");
+  Polygon polygon;
+  double scale = 0.0;
+  for (const JsonNode& v : node.Array()) {
+    const std::vector<double> xy = CoordinatesToSI(v, 2, units);
+    polygon.emplace_back(xy[0], xy[1]);
+  }
+  for (const Eigen::Vector2d& v : polygon) scale = std::max(scale, (v - polygon[0]).norm());
+  if (!(std::abs(SignedArea(polygon)) > 1e-9 * scale * scale))
+    node.Fail("degenerate polygon: its vertices enclose no area");
+  if (const auto edges = FindSelfIntersection(polygon)) {
+    node.Fail("self-intersecting polygon: edge " + std::to_string(edges->first) + " (vertices " +
+              std::to_string(edges->first) + "-" + std::to_string(edges->first + 1) +
+              ") meets edge " + std::to_string(edges->second) +
+              "; expected a simple polygon whose edges meet only at shared vertices");
+  }
+  return polygon;
+}
+
+Site LoadSite(const std::string& path) {
+  const nlohmann::json json = ReadJsonFile(path);
+  const JsonNode root(&json, path, "$");
+  root.Keys(SiteKeysAt("$"));
+  Site site;
+  site.path = path;
+  site.units = ReadUnits(root.Get("units"));
+  const Units units = site.units;
+  const double to_file = 1.0 / LengthToSI(1.0, units);
+  core::Scene& scene = site.scene;
+  {
+    const JsonNode name = root.Get("name");
+    scene.name = name.String();
+    if (scene.name.empty()) name.Fail("expected a non-empty name");
+  }
+  if (auto d = root.Find("description")) d->String();
+
+  // Materials (their roughness limit needs the grid spacing: checked below).
+  std::vector<PendingMaterial> pending = ReadMaterials(root.Get("materials"), units, &site);
+  std::vector<std::string> ids;
+  for (const core::Material& m : scene.materials) ids.push_back(m.id);
+
+  // Surface.
+  const std::string base_dir = std::filesystem::path(path).parent_path().string();
+  Surface surface = ReadSurface(root.Get("surface"), units, base_dir, ids);
+  scene.grid = std::move(surface.grid);
+  core::HeightGrid& grid = scene.grid;
+  site.notes = surface.notes;
+  site.inputs.push_back(path);
+  site.inputs.insert(site.inputs.end(), surface.files.begin(), surface.files.end());
+  site.crs_wkt = surface.crs_wkt;
+  site.gis = surface.gis;
+
+  CheckRoughness(pending, units, &site);
 
   // Zones: the zone file's first, then the materials' own on top.
   if (auto zones = root.Find("zones")) ApplyZoneFile(*zones, base_dir, &site);

@@ -154,9 +154,25 @@ void RasterInto(const RasterGrid& raster, const JsonNode& where, bool has_resolu
 
 }  // namespace
 
-Surface ReadSurface(const JsonNode& surface, Units units, const std::string& base_dir,
-                    const std::vector<std::string>& material_ids) {
-  surface.Keys(SiteKeysAt("$.surface"));
+namespace {
+
+// What every source's reader needs of the surface object: the units, the
+// data files' folder, the grid's spacing and the node its errors name, the
+// triangulation's options and the CRS the site file names.
+struct SurfaceSettings {
+  Units units;
+  std::string base_dir;
+  double to_file = 1.0;           // m -> file units
+  std::optional<JsonNode> resolution;
+  double spacing = 0.0;           // the grid's, m
+  JsonNode where;                 // the resolution's node, or the surface's
+  GriddingOptions gridding;
+  std::optional<JsonNode> crs;
+  std::string named_crs;          // the CRS `crs` names, as WKT
+};
+
+// The one source key of `surface` (kSources).
+std::string SourceOf(const JsonNode& surface) {
   std::vector<const char*> present;
   for (const char* k : kSources)
     if (surface.Has(k)) present.push_back(k);
@@ -166,173 +182,171 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
     surface.Fail("expected exactly one surface source (one of " + SourceList() + "), found " +
                  (present.empty() ? std::string("none") : found));
   }
-  Surface out;
-  out.source = present[0];
-  const double to_file = 1.0 / LengthToSI(1.0, units);  // m -> file units
-  // The virtual spheres' spacing, at which roughness is defined whatever the
-  // data's resolution; the resolution defaults to it.
-  const std::optional<JsonNode> sphere_node = surface.Find("sphere_spacing");
-  const double sphere_spacing =
-      sphere_node ? LengthToSI(sphere_node->Positive(), units) : kDefaultSphereSpacingM;
-  const std::optional<JsonNode> resolution = surface.Find("resolution");
-  double spacing = resolution ? LengthToSI(resolution->Positive(), units) : sphere_spacing;
-  const JsonNode where = resolution ? *resolution : surface;
-  const JsonNode src = surface.Get(present[0]);
-  const bool from_points =
-      out.source == "points" || out.source == "points_file" || out.source == "lidar";
-  GriddingOptions gridding;
-  gridding.spacing = spacing;
+  return present[0];
+}
+
+// The settings of `surface` for its source, whose grid defaults to the
+// virtual spheres' spacing.
+SurfaceSettings ReadSurfaceSettings(const JsonNode& surface, const std::string& source,
+                                    Units units, const std::string& base_dir,
+                                    double sphere_spacing) {
+  SurfaceSettings set{units, base_dir, 1.0 / LengthToSI(1.0, units), surface.Find("resolution"),
+                      0.0, surface, {}, surface.Find("crs"), {}};
+  set.spacing = set.resolution ? LengthToSI(set.resolution->Positive(), units) : sphere_spacing;
+  if (set.resolution) set.where = *set.resolution;
+  const bool from_points = source == "points" || source == "points_file" || source == "lidar";
+  set.gridding.spacing = set.spacing;
   if (const std::optional<JsonNode> max_edge = surface.Find("max_edge")) {
     if (!from_points) {
       max_edge->Fail(
           "'max_edge' applies to triangulated points (points, points_file, lidar) "
           "only; expected no max_edge with " +
-          out.source);
+          source);
     }
-    gridding.max_edge = LengthToSI(max_edge->Positive(), units);
+    set.gridding.max_edge = LengthToSI(max_edge->Positive(), units);
   }
-  // The CRS the site file names (checked against the data's own below).
-  const std::optional<JsonNode> crs = surface.Find("crs");
-  std::string named_crs;
-  if (crs) {
+  // The CRS the site file names (checked against the data's own later).
+  if (set.crs) {
     std::string error;
-    if (!CrsFromUserInput(crs->String(), &named_crs, &error)) {
-      crs->Fail("not a coordinate reference system GDAL recognises (" + error +
-                "); expected e.g. \"EPSG:2154\" or a WKT string");
+    if (!CrsFromUserInput(set.crs->String(), &set.named_crs, &error)) {
+      set.crs->Fail("not a coordinate reference system GDAL recognises (" + error +
+                    "); expected e.g. \"EPSG:2154\" or a WKT string");
     }
   }
-  out.crs_wkt = named_crs;
+  return set;
+}
 
-  if (out.source == "points") {
-    std::vector<Eigen::Vector3d> points;
-    for (const JsonNode& p : src.Array(3)) {
-      const std::vector<double> v = p.Numbers(3);
-      points.emplace_back(v[0], v[1], v[2]);
-    }
-    out.notes.push_back("surface: " + std::to_string(points.size()) + " inline points");
-    GridInto(ToSI(std::move(points), units), where, src, gridding, to_file, &out);
-  } else if (out.source == "points_file") {
-    const std::string file = DataFile(src, base_dir, &out);
-    std::vector<Eigen::Vector3d> points = ReadPointsFile(file);
-    CheckPointCount(src, file, points.size());
-    out.notes.push_back("surface: " + std::to_string(points.size()) + " points from " + file);
-    GridInto(ToSI(std::move(points), units), where, src, gridding, to_file, &out);
-  } else if (out.source == "lidar") {
-    src.Keys(SiteKeysAt("$.surface.lidar"));
-    const std::string file = DataFile(src.Get("file"), base_dir, &out);
-    LidarTransform transform;
-    if (const std::optional<JsonNode> offset = src.Find("offset")) {
-      if (offset->is_string()) {
-        if (offset->String() != "auto") offset->Fail("expected \"auto\" or [x, y, z]");
-        transform.auto_offset = true;
-      } else {
-        if (!offset->is_array()) offset->Fail("expected \"auto\" or [x, y, z]");
-        const std::vector<double> v = offset->Numbers(3);
-        transform.offset = Eigen::Vector3d(v[0], v[1], v[2]);
-      }
-    }
-    if (const std::optional<JsonNode> spin = src.Find("spin_deg"))
-      transform.spin_deg = spin->Number(-360.0, 360.0);
-    if (crs && (transform.auto_offset || transform.offset.x() != 0.0 ||
-                transform.offset.y() != 0.0 || transform.spin_deg != 0.0)) {
-      crs->Fail(
-          "a LIDAR offset in plan or a spin moves the points out of any map frame; "
-          "expected no 'crs' with them (or no offset in x, y and no spin)");
-    }
-    std::vector<Eigen::Vector3d> points = ReadLidarFile(file);
-    CheckPointCount(src.Get("file"), file, points.size());
-    const Eigen::Vector3d offset = ApplyLidarTransform(transform, &points);
-    out.notes.push_back("surface: " + std::to_string(points.size()) + " LIDAR points from " + file +
-                        ", offset (" + FormatNumber(offset.x()) + ", " + FormatNumber(offset.y()) +
-                        ", " + FormatNumber(offset.z()) + ") subtracted, then spun " +
-                        FormatNumber(transform.spin_deg) + " deg about Z");
-    GridInto(ToSI(std::move(points), units), where, src, gridding, to_file, &out);
-  } else if (out.source == "grid_file") {
-    const std::string file = DataFile(src, base_dir, &out);
-    RasterInto(ReadEsriGrid(file), where, resolution.has_value(), spacing, units,
-               "ESRI grid " + file, &out);
-  } else if (out.source == "raster") {
-    // "dem.tif" or {"file": "dem.tif", "band": 2}.
-    int band = 1;
-    JsonNode file_node = src;
-    if (src.is_object()) {
-      src.Keys(SiteKeysAt("$.surface.raster"));
-      file_node = src.Get("file");
-      if (const std::optional<JsonNode> b = src.Find("band"))
-        band = static_cast<int>(b->Integer(1, 1'000'000));
-    } else if (!src.is_string()) {
-      src.Fail("expected a file name, or {\"file\": NAME, \"band\": N}");
-    }
-    const std::string file = DataFile(file_node, base_dir, &out);
-    RasterFile raster = ReadRaster(file, band);
-    for (const std::string& f : raster.files)
-      if (f != file) out.files.push_back(f);
-    if (!raster.crs_wkt.empty()) {
-      if (crs && !SameCrs(raster.crs_wkt, named_crs)) {
-        crs->Fail("the raster '" + file + "' has the CRS " + CrsLabel(raster.crs_wkt) +
-                  ", not the one named here (" + CrsLabel(named_crs) +
-                  "); expected the same CRS, or no 'crs'");
-      }
-      if (const std::string problem = CrsUnitMismatch(raster.crs_wkt, units); !problem.empty())
-        throw InputError(file, problem);
-      out.crs_wkt = raster.crs_wkt;
-    }
-    out.gis = true;
-    RasterInto(raster.grid, where, resolution.has_value(), spacing, units,
-               "raster " + file + " (" + raster.driver + ", band " + std::to_string(band) + ")",
-               &out);
-  } else {  // stl
-    src.Keys(SiteKeysAt("$.surface.stl"));
-    StlAxes axes = StlAxes::kXYZ;
-    if (const std::optional<JsonNode> a = src.Find("axes")) {
-      if (!ParseStlAxes(a->String(), &axes)) a->Fail("unknown axes (allowed: xyz, xzy)");
-    }
-    std::vector<TriangleSet> sets;
-    Box box;
-    for (const JsonNode& f : src.Get("files").Array(1)) {
-      f.Keys(SiteKeysAt("$.surface.stl.files[]"));
-      const JsonNode m = f.Get("material");
-      const std::string id = m.String();
-      const auto it = std::find(material_ids.begin(), material_ids.end(), id);
-      if (it == material_ids.end()) {
-        std::string list;
-        for (const std::string& k : material_ids) list += (list.empty() ? "" : ", ") + k;
-        m.Fail("unknown material '" + id + "' (materials: " + list + ")");
-      }
-      const std::string file = DataFile(f.Get("file"), base_dir, &out);
-      TriangleSet set;
-      set.triangles = ReadStl(file, axes, LengthToSI(1.0, units));
-      set.material = static_cast<int>(it - material_ids.begin());
-      for (const Triangle& t : set.triangles)
-        for (const Eigen::Vector3d* p : {&t.a, &t.b, &t.c}) box.Add(p->x(), p->y());
-      out.notes.push_back("surface: " + std::to_string(set.triangles.size()) + " triangles from " +
-                          file + " (material " + id + ")");
-      sets.push_back(std::move(set));
-    }
-    CheckGridSize(where, box, spacing, to_file);
-    out.grid = SampleTriangles(sets, spacing);
-    out.materials_from_source = true;
+// "points": inline [x, y, z] triples.
+void ReadInlinePoints(const JsonNode& src, const SurfaceSettings& set, Surface* out) {
+  std::vector<Eigen::Vector3d> points;
+  for (const JsonNode& p : src.Array(3)) {
+    const std::vector<double> v = p.Numbers(3);
+    points.emplace_back(v[0], v[1], v[2]);
   }
+  out->notes.push_back("surface: " + std::to_string(points.size()) + " inline points");
+  GridInto(ToSI(std::move(points), set.units), set.where, src, set.gridding, set.to_file, out);
+}
 
-  if (crs) {
-    if (const std::string problem = CrsUnitMismatch(out.crs_wkt, units); !problem.empty())
-      crs->Fail(problem);
-  }
-  if (std::abs(sphere_spacing - out.grid.spacing) > 1e-9 * sphere_spacing) {
-    Box box;
-    box.Add(out.grid.x(0), out.grid.y(0));
-    box.Add(out.grid.x(out.grid.nx - 1), out.grid.y(out.grid.ny - 1));
-    CheckGridSize(sphere_node ? *sphere_node : surface, box, sphere_spacing, to_file);
-    const double from = out.grid.spacing;
-    out.grid = ResampleGrid(out.grid, sphere_spacing);
-    out.notes.push_back("surface: the grid of " + FormatNumber(from * to_file) +
-                        " resampled bilinearly to the virtual spheres' spacing " +
-                        FormatNumber(sphere_spacing * to_file) + " (sphere_spacing)");
-  }
-  if (!out.crs_wkt.empty()) out.notes.push_back("crs: " + CrsLabel(out.crs_wkt));
+// "points_file": a text file of points.
+void ReadPointsSource(const JsonNode& src, const SurfaceSettings& set, Surface* out) {
+  const std::string file = DataFile(src, set.base_dir, out);
+  std::vector<Eigen::Vector3d> points = ReadPointsFile(file);
+  CheckPointCount(src, file, points.size());
+  out->notes.push_back("surface: " + std::to_string(points.size()) + " points from " + file);
+  GridInto(ToSI(std::move(points), set.units), set.where, src, set.gridding, set.to_file, out);
+}
 
-  // Something to stand on: at least one cell without a hole corner.
-  const core::HeightGrid& g = out.grid;
+// "lidar": a scan with its offset and spin.
+void ReadLidarSource(const JsonNode& src, const SurfaceSettings& set, Surface* out) {
+  src.Keys(SiteKeysAt("$.surface.lidar"));
+  const std::string file = DataFile(src.Get("file"), set.base_dir, out);
+  LidarTransform transform;
+  if (const std::optional<JsonNode> offset = src.Find("offset")) {
+    if (offset->is_string()) {
+      if (offset->String() != "auto") offset->Fail("expected \"auto\" or [x, y, z]");
+      transform.auto_offset = true;
+    } else {
+      if (!offset->is_array()) offset->Fail("expected \"auto\" or [x, y, z]");
+      const std::vector<double> v = offset->Numbers(3);
+      transform.offset = Eigen::Vector3d(v[0], v[1], v[2]);
+    }
+  }
+  if (const std::optional<JsonNode> spin = src.Find("spin_deg"))
+    transform.spin_deg = spin->Number(-360.0, 360.0);
+  if (set.crs && (transform.auto_offset || transform.offset.x() != 0.0 ||
+                  transform.offset.y() != 0.0 || transform.spin_deg != 0.0)) {
+    set.crs->Fail(
+        "a LIDAR offset in plan or a spin moves the points out of any map frame; "
+        "expected no 'crs' with them (or no offset in x, y and no spin)");
+  }
+  std::vector<Eigen::Vector3d> points = ReadLidarFile(file);
+  CheckPointCount(src.Get("file"), file, points.size());
+  const Eigen::Vector3d offset = ApplyLidarTransform(transform, &points);
+  out->notes.push_back("surface: " + std::to_string(points.size()) + " LIDAR points from " + file +
+                       ", offset (" + FormatNumber(offset.x()) + ", " + FormatNumber(offset.y()) +
+                       ", " + FormatNumber(offset.z()) + ") subtracted, then spun " +
+                       FormatNumber(transform.spin_deg) + " deg about Z");
+  GridInto(ToSI(std::move(points), set.units), set.where, src, set.gridding, set.to_file, out);
+}
+
+// "grid_file": an ESRI ASCII grid.
+void ReadGridFileSource(const JsonNode& src, const SurfaceSettings& set, Surface* out) {
+  const std::string file = DataFile(src, set.base_dir, out);
+  RasterInto(ReadEsriGrid(file), set.where, set.resolution.has_value(), set.spacing, set.units,
+             "ESRI grid " + file, out);
+}
+
+// "raster": "dem.tif" or {"file": "dem.tif", "band": 2}, read by GDAL, its
+// CRS checked against the one named.
+void ReadRasterSource(const JsonNode& src, const SurfaceSettings& set, Surface* out) {
+  int band = 1;
+  JsonNode file_node = src;
+  if (src.is_object()) {
+    src.Keys(SiteKeysAt("$.surface.raster"));
+    file_node = src.Get("file");
+    if (const std::optional<JsonNode> b = src.Find("band"))
+      band = static_cast<int>(b->Integer(1, 1'000'000));
+  } else if (!src.is_string()) {
+    src.Fail("expected a file name, or {\"file\": NAME, \"band\": N}");
+  }
+  const std::string file = DataFile(file_node, set.base_dir, out);
+  RasterFile raster = ReadRaster(file, band);
+  for (const std::string& f : raster.files)
+    if (f != file) out->files.push_back(f);
+  if (!raster.crs_wkt.empty()) {
+    if (set.crs && !SameCrs(raster.crs_wkt, set.named_crs)) {
+      set.crs->Fail("the raster '" + file + "' has the CRS " + CrsLabel(raster.crs_wkt) +
+                    ", not the one named here (" + CrsLabel(set.named_crs) +
+                    "); expected the same CRS, or no 'crs'");
+    }
+    if (const std::string problem = CrsUnitMismatch(raster.crs_wkt, set.units); !problem.empty())
+      throw InputError(file, problem);
+    out->crs_wkt = raster.crs_wkt;
+  }
+  out->gis = true;
+  RasterInto(raster.grid, set.where, set.resolution.has_value(), set.spacing, set.units,
+             "raster " + file + " (" + raster.driver + ", band " + std::to_string(band) + ")",
+             out);
+}
+
+// "stl": triangle meshes, each of one material.
+void ReadStlSource(const JsonNode& src, const SurfaceSettings& set,
+                   const std::vector<std::string>& material_ids, Surface* out) {
+  src.Keys(SiteKeysAt("$.surface.stl"));
+  StlAxes axes = StlAxes::kXYZ;
+  if (const std::optional<JsonNode> a = src.Find("axes")) {
+    if (!ParseStlAxes(a->String(), &axes)) a->Fail("unknown axes (allowed: xyz, xzy)");
+  }
+  std::vector<TriangleSet> sets;
+  Box box;
+  for (const JsonNode& f : src.Get("files").Array(1)) {
+    f.Keys(SiteKeysAt("$.surface.stl.files[]"));
+    const JsonNode m = f.Get("material");
+    const std::string id = m.String();
+    const auto it = std::find(material_ids.begin(), material_ids.end(), id);
+    if (it == material_ids.end()) {
+      std::string list;
+      for (const std::string& k : material_ids) list += (list.empty() ? "" : ", ") + k;
+      m.Fail("unknown material '" + id + "' (materials: " + list + ")");
+    }
+    const std::string file = DataFile(f.Get("file"), set.base_dir, out);
+    TriangleSet triangles;
+    triangles.triangles = ReadStl(file, axes, LengthToSI(1.0, set.units));
+    triangles.material = static_cast<int>(it - material_ids.begin());
+    for (const Triangle& t : triangles.triangles)
+      for (const Eigen::Vector3d* p : {&t.a, &t.b, &t.c}) box.Add(p->x(), p->y());
+    out->notes.push_back("surface: " + std::to_string(triangles.triangles.size()) +
+                         " triangles from " + file + " (material " + id + ")");
+    sets.push_back(std::move(triangles));
+  }
+  CheckGridSize(set.where, box, set.spacing, set.to_file);
+  out->grid = SampleTriangles(sets, set.spacing);
+  out->materials_from_source = true;
+}
+
+// Fails at `src` unless some grid cell has four valid corners: something to
+// stand on.
+void CheckSomeCell(const core::HeightGrid& g, const JsonNode& src) {
   bool any_cell = false;
   for (int j = 0; j + 1 < g.ny && !any_cell; ++j) {
     for (int i = 0; i + 1 < g.nx && !any_cell; ++i) {
@@ -345,6 +359,54 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
         "the surface has no grid cell with four valid corners (every cell touches a "
         "hole); expected data dense enough for the resolution");
   }
+}
+
+}  // namespace
+
+Surface ReadSurface(const JsonNode& surface, Units units, const std::string& base_dir,
+                    const std::vector<std::string>& material_ids) {
+  surface.Keys(SiteKeysAt("$.surface"));
+  Surface out;
+  out.source = SourceOf(surface);
+  // The virtual spheres' spacing, at which roughness is defined whatever the
+  // data's resolution; the resolution defaults to it.
+  const std::optional<JsonNode> sphere_node = surface.Find("sphere_spacing");
+  const double sphere_spacing =
+      sphere_node ? LengthToSI(sphere_node->Positive(), units) : kDefaultSphereSpacingM;
+  const SurfaceSettings set =
+      ReadSurfaceSettings(surface, out.source, units, base_dir, sphere_spacing);
+  out.crs_wkt = set.named_crs;
+  const JsonNode src = surface.Get(out.source.c_str());
+  if (out.source == "points") {
+    ReadInlinePoints(src, set, &out);
+  } else if (out.source == "points_file") {
+    ReadPointsSource(src, set, &out);
+  } else if (out.source == "lidar") {
+    ReadLidarSource(src, set, &out);
+  } else if (out.source == "grid_file") {
+    ReadGridFileSource(src, set, &out);
+  } else if (out.source == "raster") {
+    ReadRasterSource(src, set, &out);
+  } else {
+    ReadStlSource(src, set, material_ids, &out);
+  }
+  if (set.crs) {
+    if (const std::string problem = CrsUnitMismatch(out.crs_wkt, units); !problem.empty())
+      set.crs->Fail(problem);
+  }
+  if (std::abs(sphere_spacing - out.grid.spacing) > 1e-9 * sphere_spacing) {
+    Box box;
+    box.Add(out.grid.x(0), out.grid.y(0));
+    box.Add(out.grid.x(out.grid.nx - 1), out.grid.y(out.grid.ny - 1));
+    CheckGridSize(sphere_node ? *sphere_node : surface, box, sphere_spacing, set.to_file);
+    const double from = out.grid.spacing;
+    out.grid = ResampleGrid(out.grid, sphere_spacing);
+    out.notes.push_back("surface: the grid of " + FormatNumber(from * set.to_file) +
+                        " resampled bilinearly to the virtual spheres' spacing " +
+                        FormatNumber(sphere_spacing * set.to_file) + " (sphere_spacing)");
+  }
+  if (!out.crs_wkt.empty()) out.notes.push_back("crs: " + CrsLabel(out.crs_wkt));
+  CheckSomeCell(out.grid, src);
   return out;
 }
 
