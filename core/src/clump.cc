@@ -193,22 +193,15 @@ Eigen::Vector3d MomentsFromSecond(const Eigen::Vector3d& s) {
 
 }  // namespace
 
-Clump FitClump(const Polyhedron& hull, const ClumpOptions& options) {
-  Clump clump;
-  const MassProperties m = PolyhedronMassProperties(hull);
-  clump.hull_volume = m.volume;
-  clump.hull_moments = m.inertia.diagonal();
-  // Second moments of the hull (integral of x_k^2) from the diagonal inertia.
-  const double tr = 0.5 * clump.hull_moments.sum();
-  const Eigen::Vector3d target = Eigen::Vector3d::Constant(tr) - clump.hull_moments;
-  Eigen::Vector3d lo, hi;
-  Bounds(hull.vertices, &lo, &hi);
-  clump.hull_sides = hi - lo;
+namespace {
 
-  // Interior points: cell centres of a grid over the bounding box.
+// Interior points of `hull`: the centres of the cells of an n x n x n grid
+// over its box (corner lo, sides `sides`) inside every face; the origin if
+// none is.
+std::vector<Eigen::Vector3d> InteriorPoints(const Polyhedron& hull, const Eigen::Vector3d& lo,
+                                            const Eigen::Vector3d& sides, int n) {
   const Planes planes = FacePlanes(hull);
-  const int n = options.grid;
-  const Eigen::Vector3d h = clump.hull_sides / n;
+  const Eigen::Vector3d h = sides / n;
   std::vector<Eigen::Vector3d> inside;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
@@ -228,11 +221,14 @@ Clump FitClump(const Polyhedron& hull, const ClumpOptions& options) {
       }
     }
   if (inside.empty()) inside.push_back(Eigen::Vector3d::Zero());
-  const std::size_t count = std::min<std::size_t>(static_cast<std::size_t>(options.spheres),
-                                                  inside.size());
+  return inside;
+}
 
-  // Seeds: the interior point farthest from the centroid, then each time
-  // the one farthest from every seed so far (ties: the first in grid order).
+// `count` seeds among the interior points: the one farthest from the
+// centroid, then each time the one farthest from every seed so far (ties:
+// the first in grid order).
+std::vector<Eigen::Vector3d> SeedCentres(const std::vector<Eigen::Vector3d>& inside,
+                                         std::size_t count) {
   std::vector<Eigen::Vector3d> centres;
   std::vector<double> nearest(inside.size(), std::numeric_limits<double>::infinity());
   std::size_t pick = 0;
@@ -247,11 +243,20 @@ Clump FitClump(const Polyhedron& hull, const ClumpOptions& options) {
     }
     pick = far;
   }
-  // Lloyd's iterations: each centre moves to the mean of its Voronoi cell.
+  return centres;
+}
+
+// Lloyd's iterations: each centre moves to the mean of its Voronoi cell
+// among the interior points, until none moves `converged` or after
+// `iterations`.
+void LloydIterations(const std::vector<Eigen::Vector3d>& inside, int iterations, double converged,
+                     std::vector<Eigen::Vector3d>* centres_out) {
+  std::vector<Eigen::Vector3d>& centres = *centres_out;
+  const std::size_t count = centres.size();
   std::vector<Eigen::Vector3d> sum(count);
   std::vector<int> members(count);
   std::vector<std::size_t> cell_of(inside.size());
-  for (int it = 0; it < options.lloyd_iterations && count > 1; ++it) {
+  for (int it = 0; it < iterations && count > 1; ++it) {
     std::fill(sum.begin(), sum.end(), Eigen::Vector3d::Zero());
     std::fill(members.begin(), members.end(), 0);
     for (std::size_t p = 0; p < inside.size(); ++p) {
@@ -278,8 +283,30 @@ Clump FitClump(const Polyhedron& hull, const ClumpOptions& options) {
       moved = std::max(moved, (next - centres[c]).norm());
       centres[c] = next;
     }
-    if (moved < 1e-9 * clump.hull_sides.maxCoeff()) break;  // converged
+    if (moved < converged) break;
   }
+}
+
+}  // namespace
+
+Clump FitClump(const Polyhedron& hull, const ClumpOptions& options) {
+  Clump clump;
+  const MassProperties m = PolyhedronMassProperties(hull);
+  clump.hull_volume = m.volume;
+  clump.hull_moments = m.inertia.diagonal();
+  // Second moments of the hull (integral of x_k^2) from the diagonal inertia.
+  const double tr = 0.5 * clump.hull_moments.sum();
+  const Eigen::Vector3d target = Eigen::Vector3d::Constant(tr) - clump.hull_moments;
+  Eigen::Vector3d lo, hi;
+  Bounds(hull.vertices, &lo, &hi);
+  clump.hull_sides = hi - lo;
+
+  const int n = options.grid;
+  const std::vector<Eigen::Vector3d> inside = InteriorPoints(hull, lo, clump.hull_sides, n);
+  const std::size_t count = std::min<std::size_t>(static_cast<std::size_t>(options.spheres),
+                                                  inside.size());
+  std::vector<Eigen::Vector3d> centres = SeedCentres(inside, count);
+  LloydIterations(inside, options.lloyd_iterations, 1e-9 * clump.hull_sides.maxCoeff(), &centres);
   if (count == 1) centres[0].setZero();
 
   // The common radius and the stretch of the centres along each axis:
