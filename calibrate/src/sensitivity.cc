@@ -562,13 +562,48 @@ std::string Summary(SensitivityMethod method, const SensitivityResult& res) {
 
 }  // namespace
 
-SensitivityResult RunSensitivity(const sites::Site& site, const observations::Observations* obs,
-                                 const SensitivityOptions& opt) {
-  const auto start = std::chrono::steady_clock::now();
-  std::string error;
-  if (!opt.IsValid(&error)) throw std::invalid_argument(error);
-  const ParameterSpace space = ParameterSpace::FromSite(site);  // InputError without bounds
+namespace {
 
+// One simulation at physical values of a space on a base scene; the
+// terrain is rebuilt only when the roughness values change (hardness and
+// contact time reuse it).
+class DesignRunner {
+ public:
+  DesignRunner(const ParameterSpace& space, const core::Scene& base) : space_(space), base_(base) {}
+
+  std::pair<core::Scene, core::SimulationResult> Run(const std::vector<double>& physical) {
+    core::Scene scene = base_;
+    space_.Apply(physical, &scene);
+    std::vector<double> key;
+    for (int i = 0; i < space_.size(); ++i)
+      if (space_.parameters()[static_cast<std::size_t>(i)].kind == ParameterKind::kRoughness)
+        key.push_back(physical[static_cast<std::size_t>(i)]);
+    if (!terrain_ || key != terrain_key_) {
+      terrain_ = std::make_unique<core::Terrain>(core::BuildTerrain(scene));
+      terrain_key_ = key;
+    }
+    core::SimulationResult r = parallel::Simulate(scene, *terrain_);
+    return std::make_pair(std::move(scene), std::move(r));
+  }
+
+ private:
+  const ParameterSpace& space_;
+  const core::Scene& base_;
+  std::vector<double> terrain_key_;
+  std::unique_ptr<core::Terrain> terrain_;
+};
+
+// A simulation's share of the result's counts.
+void CountRun(double seconds, bool non_finite, SensitivityResult* res) {
+  ++res->simulations;
+  res->simulation_seconds += seconds;
+  if (non_finite) ++res->non_finite_runs;
+}
+
+// The site's scene as the study runs it: the seed, threads and recording
+// of the options.
+core::Scene StudyScene(const sites::Site& site, const observations::Observations* obs,
+                       const SensitivityOptions& opt) {
   core::Scene base = site.scene;
   if (opt.seed) base.options.seed = *opt.seed;
   base.options.threads = opt.threads;
@@ -576,92 +611,45 @@ SensitivityResult RunSensitivity(const sites::Site& site, const observations::Ob
   needs.observations = obs;
   needs.partitions = !base.partitions.empty();
   base.options.record = RecordingFor(base, needs);
+  std::string error;
   if (!base.options.IsValid(&error)) throw InputError(site.path, error);
+  return base;
+}
 
-  const std::vector<SiteOutput> outputs = SiteOutputs(base, obs);
-  const int k = space.size(), m = static_cast<int>(outputs.size());
-
-  SensitivityResult res;
-  res.method = opt.method;
-  res.samples = opt.EffectiveSamples();
-  res.seed = base.options.seed;
-  res.rocks = base.total_rocks();
-  res.threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
-  res.parameters = space.parameters();
-  res.current = space.Current(base);
-  const int design_runs =
-      opt.method == SensitivityMethod::kMorris ? res.samples * (k + 1) : res.samples * (k + 2);
-  const int total_runs = design_runs + 1;
-
-  // One simulation at `physical` values; the terrain is rebuilt only when
-  // the roughness values change (hardness and contact time reuse it).
-  std::vector<double> terrain_key;
-  std::unique_ptr<core::Terrain> terrain;
-  auto run_at = [&](const std::vector<double>& physical) {
-    core::Scene scene = base;
-    space.Apply(physical, &scene);
-    std::vector<double> key;
-    for (int i = 0; i < k; ++i)
-      if (res.parameters[static_cast<std::size_t>(i)].kind == ParameterKind::kRoughness)
-        key.push_back(physical[static_cast<std::size_t>(i)]);
-    if (!terrain || key != terrain_key) {
-      terrain = std::make_unique<core::Terrain>(core::BuildTerrain(scene));
-      terrain_key = key;
-    }
-    core::SimulationResult r = parallel::Simulate(scene, *terrain);
-    return std::make_pair(std::move(scene), std::move(r));
-  };
-  // A simulation's share of the result's counts.
-  auto count = [&](double seconds, bool non_finite) {
-    ++res.simulations;
-    res.simulation_seconds += seconds;
-    if (non_finite) ++res.non_finite_runs;
-  };
-
-  // The site's current parameters: each output's value and its noise.
-  {
-    const auto [scene, r] = run_at(res.current);
-    count(r.wall_seconds, r.non_finite > 0);
-    if (opt.progress) opt.progress(res.simulations, total_runs, "current parameters");
-    const std::vector<double> noise = OutputNoise(outputs, scene, r, opt.bootstrap, res.seed);
-    for (std::size_t o = 0; o < outputs.size(); ++o)
-      res.outputs.push_back({outputs[o].name, outputs[o].unit, outputs[o].description,
-                             outputs[o].compute(scene, r), noise[o]});
+// One pass of the study's method over k parameters and m outputs with
+// `model`, into *res; *delta: Morris's step.
+void RunDesign(const SensitivityOptions& opt, int k, int m, const SensitivityModel& model,
+               SensitivityResult* res, double* delta) {
+  if (opt.method == SensitivityMethod::kMorris) {
+    MorrisOptions mo;
+    mo.trajectories = res->samples;
+    mo.levels = opt.levels;
+    mo.seed = res->seed;
+    res->morris = RunMorris(k, m, model, mo);
+    *delta = res->morris.delta;
+  } else {
+    SobolOptions so;
+    so.samples = res->samples;
+    so.bootstrap = opt.bootstrap;
+    so.confidence = opt.confidence;
+    so.seed = res->seed;
+    res->sobol = RunSobol(k, m, model, so);
   }
+}
 
-  // The design's points do not depend on the outputs: a first pass of the
-  // method with a model that only notes them gives the list, which is
-  // simulated as independent tasks (over the ranks of an MPI run,
-  // parallel::Map); the second pass reads the outputs back in the same order.
-  double delta = 0.0;
-  auto run_design = [&](const SensitivityModel& model) {
-    if (opt.method == SensitivityMethod::kMorris) {
-      MorrisOptions mo;
-      mo.trajectories = res.samples;
-      mo.levels = opt.levels;
-      mo.seed = res.seed;
-      res.morris = RunMorris(k, m, model, mo);
-      delta = res.morris.delta;
-    } else {
-      SobolOptions so;
-      so.samples = res.samples;
-      so.bootstrap = opt.bootstrap;
-      so.confidence = opt.confidence;
-      so.seed = res.seed;
-      res.sobol = RunSobol(k, m, model, so);
-    }
-  };
-  std::vector<std::vector<double>> points;
-  run_design([&](const std::vector<double>& unit) {
-    points.push_back(unit);
-    return std::vector<double>(static_cast<std::size_t>(m), 0.0);
-  });
+// The outputs at each of the design's unit points, simulated as independent
+// tasks (over the ranks of an MPI run, parallel::Map), in order.
+std::vector<std::vector<double>> SimulateDesign(const std::vector<std::vector<double>>& points,
+                                                const ParameterSpace& space,
+                                                const std::vector<SiteOutput>& outputs,
+                                                const SensitivityOptions& opt, int total_runs,
+                                                DesignRunner* runner, SensitivityResult* res) {
   const std::string what = SensitivityMethodName(opt.method);
-  int finished = res.simulations;
+  int finished = res->simulations;
   const std::vector<std::string> runs = parallel::Map(
       static_cast<int>(points.size()),
       [&](int p) {
-        const auto [scene, r] = run_at(space.ToPhysical(points[static_cast<std::size_t>(p)]));
+        const auto [scene, r] = runner->Run(space.ToPhysical(points[static_cast<std::size_t>(p)]));
         std::vector<double> y(outputs.size());
         for (std::size_t o = 0; o < outputs.size(); ++o) y[o] = outputs[o].compute(scene, r);
         parallel::Writer w;
@@ -678,14 +666,64 @@ SensitivityResult RunSensitivity(const sites::Site& site, const observations::Ob
     parallel::Reader r(bytes);
     ys.push_back(r.Doubles());
     const double seconds = r.Double();
-    count(seconds, r.Int() != 0);
+    CountRun(seconds, r.Int() != 0, res);
   }
+  return ys;
+}
+
+}  // namespace
+
+SensitivityResult RunSensitivity(const sites::Site& site, const observations::Observations* obs,
+                                 const SensitivityOptions& opt) {
+  const auto start = std::chrono::steady_clock::now();
+  std::string error;
+  if (!opt.IsValid(&error)) throw std::invalid_argument(error);
+  const ParameterSpace space = ParameterSpace::FromSite(site);  // InputError without bounds
+  const core::Scene base = StudyScene(site, obs, opt);
+  const std::vector<SiteOutput> outputs = SiteOutputs(base, obs);
+  const int k = space.size(), m = static_cast<int>(outputs.size());
+
+  SensitivityResult res;
+  res.method = opt.method;
+  res.samples = opt.EffectiveSamples();
+  res.seed = base.options.seed;
+  res.rocks = base.total_rocks();
+  res.threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+  res.parameters = space.parameters();
+  res.current = space.Current(base);
+  const int design_runs =
+      opt.method == SensitivityMethod::kMorris ? res.samples * (k + 1) : res.samples * (k + 2);
+  const int total_runs = design_runs + 1;
+  DesignRunner runner(space, base);
+
+  // The site's current parameters: each output's value and its noise.
+  {
+    const auto [scene, r] = runner.Run(res.current);
+    CountRun(r.wall_seconds, r.non_finite > 0, &res);
+    if (opt.progress) opt.progress(res.simulations, total_runs, "current parameters");
+    const std::vector<double> noise = OutputNoise(outputs, scene, r, opt.bootstrap, res.seed);
+    for (std::size_t o = 0; o < outputs.size(); ++o)
+      res.outputs.push_back({outputs[o].name, outputs[o].unit, outputs[o].description,
+                             outputs[o].compute(scene, r), noise[o]});
+  }
+
+  // The design's points do not depend on the outputs: a first pass of the
+  // method with a model that only notes them gives the list, which is
+  // simulated; the second pass reads the outputs back in the same order.
+  double delta = 0.0;
+  std::vector<std::vector<double>> points;
+  RunDesign(opt, k, m, [&](const std::vector<double>& unit) {
+    points.push_back(unit);
+    return std::vector<double>(static_cast<std::size_t>(m), 0.0);
+  }, &res, &delta);
+  const std::vector<std::vector<double>> ys =
+      SimulateDesign(points, space, outputs, opt, total_runs, &runner, &res);
   std::size_t next = 0;
-  run_design([&](const std::vector<double>& unit) {
+  RunDesign(opt, k, m, [&](const std::vector<double>& unit) {
     if (next >= ys.size() || unit != points[next])
       throw std::logic_error("sensitivity: the design changed between its two passes");
     return ys[next++];
-  });
+  }, &res, &delta);
 
   AddEntries(opt.method, delta, &res);
   AddNotes(opt.method, &res);

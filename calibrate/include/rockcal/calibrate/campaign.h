@@ -126,6 +126,12 @@ class JointSpace final {
     std::string label;  // "<site>:<class>.<parameter>_offset"
     double Value(const std::vector<double>& joint) const;
   };
+  // The constructor's work in progress, and its steps (campaign.cc): each
+  // site's values joined, the joint bounds checked, the offsets added.
+  struct Builder;
+  void AddSites(const Campaign& campaign, Builder* b);
+  void CheckBounds(const Campaign& campaign, const Builder& b);
+  void AddOffsets(const Campaign& campaign, Builder* b);
   ParameterSpace space_;
   std::vector<ParameterSpace> site_spaces_;
   std::vector<std::vector<Term>> sites_;  // per site, per site parameter
