@@ -68,6 +68,85 @@ bool GriddingOptions::IsValid(std::string* error) const {
   return true;
 }
 
+namespace {
+
+// Whether each triangle of dt is usable: not degenerate, no edge longer than
+// max_edge (p: the points, dt's vertices).
+std::vector<char> UsableTriangles(const Delaunay& dt, const std::vector<Eigen::Vector3d>& p,
+                                  double max_edge) {
+  std::vector<char> usable(static_cast<std::size_t>(dt.size()));
+  for (int f = 0; f < dt.size(); ++f) {
+    const std::array<int, 3>& vi = dt.vertices(f);
+    double longest = 0.0;
+    for (int k = 0; k < 3; ++k)
+      longest = std::max(longest, (p[vi[k]].head<2>() - p[vi[(k + 1) % 3]].head<2>()).norm());
+    usable[f] = !dt.degenerate(f) && longest <= max_edge;
+  }
+  return usable;
+}
+
+// How far outside triangle f of dt the plan point with barycentric
+// coordinates l lies [m] (0 inside).
+double DistanceOutside(const Delaunay& dt, const std::vector<Eigen::Vector3d>& p, int f,
+                       const double* l) {
+  const std::array<int, 3>& vi = dt.vertices(f);
+  const Eigen::Vector2d a = p[vi[0]].head<2>(), b = p[vi[1]].head<2>(), c = p[vi[2]].head<2>();
+  const double area2 = std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+  const double opposite[3] = {(c - b).norm(), (a - c).norm(), (b - a).norm()};
+  double out = 0.0;
+  for (int k = 0; k < 3; ++k)
+    if (l[k] < 0.0) out = std::max(out, -l[k] * area2 / opposite[k]);
+  return out;
+}
+
+// Each node of g interpolated linearly in its usable triangle of dt (built
+// in units of d from g's corner); counted in *rep.
+void InterpolateNodes(const Delaunay& dt, const std::vector<Eigen::Vector3d>& p,
+                      const std::vector<char>& usable, double d, core::HeightGrid* grid,
+                      GriddingReport* report) {
+  core::HeightGrid& g = *grid;
+  GriddingReport& rep = *report;
+  const double s = g.spacing;
+  int start = 0;
+  for (int j = 0; j < g.ny; ++j) {
+    for (int i = 0; i < g.nx; ++i) {
+      const double x = i * s / d, y = j * s / d;
+      int f = -1;
+      double l[3];
+      const bool inside = dt.Locate(start, x, y, &f);
+      if (f < 0) {
+        ++rep.outside_hull;
+        continue;
+      }
+      start = f;
+      dt.Barycentric(f, x, y, l);
+      if (!inside && DistanceOutside(dt, p, f, l) > 1e-6 * s) {
+        ++rep.outside_hull;
+        continue;
+      }
+      if (!usable[f]) {
+        // On an edge (or a corner) shared with a usable triangle: take that one.
+        int other = -1;
+        for (int k = 0; k < 3 && other < 0; ++k) {
+          const int n = dt.neighbour(f, k);
+          if (std::abs(l[k]) <= 1e-9 && n >= 0 && usable[n]) other = n;
+        }
+        if (other < 0) {
+          ++rep.long_edge;
+          continue;
+        }
+        f = other;
+        dt.Barycentric(f, x, y, l);
+      }
+      const std::array<int, 3>& vi = dt.vertices(f);
+      g.z[g.index(i, j)] = l[0] * p[vi[0]].z() + l[1] * p[vi[1]].z() + l[2] * p[vi[2]].z();
+      ++rep.nodes;
+    }
+  }
+}
+
+}  // namespace
+
 bool GridPoints(const std::vector<Eigen::Vector3d>& points, const GriddingOptions& options,
                 core::HeightGrid* grid, GriddingReport* report, std::string* error) {
   if (!options.IsValid(error)) return false;
@@ -113,17 +192,7 @@ bool GridPoints(const std::vector<Eigen::Vector3d>& points, const GriddingOption
   }
   rep.triangles = dt.size();
 
-  // A triangle is usable unless it is degenerate or has an edge longer than
-  // max_edge.
-  std::vector<char> usable(static_cast<std::size_t>(dt.size()));
-  for (int f = 0; f < dt.size(); ++f) {
-    const std::array<int, 3>& vi = dt.vertices(f);
-    double longest = 0.0;
-    for (int k = 0; k < 3; ++k)
-      longest = std::max(longest, (p[vi[k]].head<2>() - p[vi[(k + 1) % 3]].head<2>()).norm());
-    usable[f] = !dt.degenerate(f) && longest <= options.max_edge;
-  }
-
+  const std::vector<char> usable = UsableTriangles(dt, p, options.max_edge);
   core::HeightGrid& g = *grid;
   const double s = options.spacing;
   g = core::HeightGrid();
@@ -134,56 +203,7 @@ bool GridPoints(const std::vector<Eigen::Vector3d>& points, const GriddingOption
   g.ny = static_cast<int>(NodeCount(ymax - ymin, s));
   g.z.assign(static_cast<std::size_t>(g.nx) * g.ny, kNaN);
   g.material.assign(g.z.size(), 0);
-
-  // How far outside triangle f the plan point with barycentric coordinates
-  // l lies [m] (0 inside).
-  auto distance_outside = [&](int f, const double* l) {
-    const std::array<int, 3>& vi = dt.vertices(f);
-    const Eigen::Vector2d a = p[vi[0]].head<2>(), b = p[vi[1]].head<2>(), c = p[vi[2]].head<2>();
-    const double area2 = std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
-    const double opposite[3] = {(c - b).norm(), (a - c).norm(), (b - a).norm()};
-    double out = 0.0;
-    for (int k = 0; k < 3; ++k)
-      if (l[k] < 0.0) out = std::max(out, -l[k] * area2 / opposite[k]);
-    return out;
-  };
-
-  int start = 0;
-  for (int j = 0; j < g.ny; ++j) {
-    for (int i = 0; i < g.nx; ++i) {
-      const double x = i * s / d, y = j * s / d;
-      int f = -1;
-      double l[3];
-      const bool inside = dt.Locate(start, x, y, &f);
-      if (f < 0) {
-        ++rep.outside_hull;
-        continue;
-      }
-      start = f;
-      dt.Barycentric(f, x, y, l);
-      if (!inside && distance_outside(f, l) > 1e-6 * s) {
-        ++rep.outside_hull;
-        continue;
-      }
-      if (!usable[f]) {
-        // On an edge (or a corner) shared with a usable triangle: take that one.
-        int other = -1;
-        for (int k = 0; k < 3 && other < 0; ++k) {
-          const int n = dt.neighbour(f, k);
-          if (std::abs(l[k]) <= 1e-9 && n >= 0 && usable[n]) other = n;
-        }
-        if (other < 0) {
-          ++rep.long_edge;
-          continue;
-        }
-        f = other;
-        dt.Barycentric(f, x, y, l);
-      }
-      const std::array<int, 3>& vi = dt.vertices(f);
-      g.z[g.index(i, j)] = l[0] * p[vi[0]].z() + l[1] * p[vi[1]].z() + l[2] * p[vi[2]].z();
-      ++rep.nodes;
-    }
-  }
+  InterpolateNodes(dt, p, usable, d, &g, &rep);
   if (report) *report = rep;
   return true;
 }

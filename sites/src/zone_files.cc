@@ -83,9 +83,9 @@ void MatchCrs(const JsonNode& file_node, const std::string& file, const std::str
   }
 }
 
-// The polygons of a vector file, burnt in order onto the nodes.
-Claims FromVector(const JsonNode& zones, const std::string& file, GDALDatasetH ds, Site* site) {
-  const JsonNode file_node = zones.Get("file");
+// The layer of a vector file that holds the zones: the one "layer" names,
+// or the file's only one.
+OGRLayerH ZoneLayer(const JsonNode& zones, const std::string& file, GDALDatasetH ds) {
   OGRLayerH layer = nullptr;
   std::vector<std::string> layer_names;
   for (int k = 0; k < GDALDatasetGetLayerCount(ds); ++k)
@@ -103,25 +103,25 @@ Claims FromVector(const JsonNode& zones, const std::string& file, GDALDatasetH d
                " layers" + (layer_names.empty() ? "" : " (" + Join(layer_names) + ")") +
                "; expected \"layer\" naming the one with the zones");
   }
-  const std::string layer_name = OGR_L_GetName(layer);
-  const JsonNode field_node = zones.Get("field");
-  const std::string field = field_node.String();
-  OGRFeatureDefnH defn = OGR_L_GetLayerDefn(layer);
-  const int field_index = OGR_FD_GetFieldIndex(defn, field.c_str());
-  if (field_index < 0) {
-    std::vector<std::string> fields;
-    for (int k = 0; k < OGR_FD_GetFieldCount(defn); ++k)
-      fields.emplace_back(OGR_Fld_GetNameRef(OGR_FD_GetFieldDefn(defn, k)));
-    field_node.Fail("layer '" + layer_name + "' of the zone file '" + file +
-                    "' has no such field (fields: " + Join(fields) + ")");
-  }
-  MatchCrs(file_node, file, LayerCrs(layer), ds, site);
+  return layer;
+}
 
-  // Each feature: a (multi)polygon and a material id.
-  const std::vector<std::string> ids = MaterialIds(*site);
+// A vector file's features: a (multi)polygon and a material each.
+struct ZoneFeatures {
   std::vector<Geometry> geometries;
   std::vector<int> material;  // per feature
   std::vector<GIntBig> fids;
+};
+
+// Each feature of `layer` with its material id in field `field_index`
+// (one of `ids`); empty geometries left out.
+ZoneFeatures ReadZoneFeatures(OGRLayerH layer, const std::string& layer_name, int field_index,
+                              const std::string& field, const std::string& file,
+                              const std::vector<std::string>& ids) {
+  ZoneFeatures out;
+  std::vector<Geometry>& geometries = out.geometries;
+  std::vector<int>& material = out.material;
+  std::vector<GIntBig>& fids = out.fids;
   OGR_L_ResetReading(layer);
   while (gdal::Feature f{OGR_L_GetNextFeature(layer)}) {
     const auto feature = static_cast<OGRFeatureH>(f.get());
@@ -152,10 +152,17 @@ Claims FromVector(const JsonNode& zones, const std::string& file, GDALDatasetH d
     material.push_back(static_cast<int>(it - ids.begin()));
     fids.push_back(fid);
   }
+  return out;
+}
 
-  // Burn feature k + 1 (0: none) so that each node knows its last feature.
-  const core::HeightGrid& grid = site->scene.grid;
-  const double to_file = 1.0 / LengthToSI(1.0, site->units);
+// Burns feature k + 1 (0: none) onto the site's nodes, so that each node
+// knows its last feature, and counts each feature's nodes.
+Claims BurnZones(const ZoneFeatures& features, const std::string& file, const Site& site,
+                 std::vector<int>* nodes_of_feature) {
+  const std::vector<Geometry>& geometries = features.geometries;
+  const std::vector<int>& material = features.material;
+  const core::HeightGrid& grid = site.scene.grid;
+  const double to_file = 1.0 / LengthToSI(1.0, site.units);
   gdal::Dataset raster = gdal::NodeRaster(grid.nx, grid.ny, grid.x0 * to_file, grid.y0 * to_file,
                                           grid.spacing * to_file, GDT_Int32, 0.0, "");
   std::vector<OGRGeometryH> handles;
@@ -177,16 +184,41 @@ Claims FromVector(const JsonNode& zones, const std::string& file, GDALDatasetH d
 
   Claims claims;
   claims.material.assign(cells.size(), -1);
-  std::vector<int> nodes_of_feature(geometries.size(), 0);
+  nodes_of_feature->assign(geometries.size(), 0);
   for (int j = 0; j < grid.ny; ++j) {
     for (int i = 0; i < grid.nx; ++i) {
       const std::int32_t k = cells[static_cast<std::size_t>(grid.ny - 1 - j) * grid.nx + i];
       if (k <= 0) continue;
-      ++nodes_of_feature[static_cast<std::size_t>(k - 1)];
+      ++(*nodes_of_feature)[static_cast<std::size_t>(k - 1)];
       claims.material[static_cast<std::size_t>(grid.index(i, j))] = material[k - 1];
       ++claims.claimed;
     }
   }
+  return claims;
+}
+
+// The polygons of a vector file, burnt in order onto the nodes.
+Claims FromVector(const JsonNode& zones, const std::string& file, GDALDatasetH ds, Site* site) {
+  const JsonNode file_node = zones.Get("file");
+  OGRLayerH layer = ZoneLayer(zones, file, ds);
+  const std::string layer_name = OGR_L_GetName(layer);
+  const JsonNode field_node = zones.Get("field");
+  const std::string field = field_node.String();
+  OGRFeatureDefnH defn = OGR_L_GetLayerDefn(layer);
+  const int field_index = OGR_FD_GetFieldIndex(defn, field.c_str());
+  if (field_index < 0) {
+    std::vector<std::string> fields;
+    for (int k = 0; k < OGR_FD_GetFieldCount(defn); ++k)
+      fields.emplace_back(OGR_Fld_GetNameRef(OGR_FD_GetFieldDefn(defn, k)));
+    field_node.Fail("layer '" + layer_name + "' of the zone file '" + file +
+                    "' has no such field (fields: " + Join(fields) + ")");
+  }
+  MatchCrs(file_node, file, LayerCrs(layer), ds, site);
+  const ZoneFeatures features =
+      ReadZoneFeatures(layer, layer_name, field_index, field, file, MaterialIds(*site));
+  const std::vector<GIntBig>& fids = features.fids;
+  std::vector<int> nodes_of_feature;
+  Claims claims = BurnZones(features, file, *site, &nodes_of_feature);
   std::vector<std::string> idle;
   for (std::size_t k = 0; k < fids.size(); ++k)
     if (nodes_of_feature[k] == 0) idle.push_back(std::to_string(fids[k]));
