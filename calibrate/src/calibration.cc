@@ -877,89 +877,114 @@ std::string HashFile(const std::string& path) {
   return hex;
 }
 
+namespace {
+
+// A resumed log's header: the fingerprint of the inputs it was made with,
+// which must be `fingerprint`.
+void CheckLogHeader(const std::string& line, const std::string& where,
+                    const Fingerprint& fingerprint) {
+  nlohmann::json h = nlohmann::json::parse(line, nullptr, false);
+  if (h.is_discarded() || !h.is_object() || !h.contains("fingerprint") ||
+      !h["fingerprint"].is_object())
+    throw InputError(where,
+                     "no fingerprint header (a log written by an older rockcal, or not an "
+                     "evaluation log): cannot tell whether its evaluations still hold; start "
+                     "afresh with --force instead of --resume");
+  Fingerprint logged;
+  for (const auto& [name, value] : h["fingerprint"].items())
+    logged.Add(name, value.is_string() ? value.get<std::string>() : value.dump());
+  const std::vector<std::string> changed = fingerprint.Differences(logged);
+  if (!changed.empty()) {
+    std::string list;
+    for (const std::string& c : changed) list += (list.empty() ? "" : ", ") + c;
+    throw InputError(where, "cannot resume: what determines the evaluations changed since "
+                            "this log was written: " + list +
+                            "; restore it, or start afresh with --force instead of --resume");
+  }
+}
+
+// One record of a resumed log, of the calibration at `seed`, `rocks` and
+// parameter `names`. Throws nlohmann::json's exceptions on a line that is
+// not a record.
+Evaluation ReadLogRecord(const std::string& line, const std::string& where, std::uint64_t seed,
+                         int rocks, const std::vector<std::string>& names) {
+  const nlohmann::json j = nlohmann::json::parse(line);
+  if (WholeField<std::uint64_t>(j, "seed", where) != seed ||
+      WholeField<int>(j, "rocks", where) != rocks ||
+      j.at("names").get<std::vector<std::string>>() != names)
+    throw InputError(where, "record of another calibration (different parameters, --seed or "
+                            "--rocks); start afresh with --force instead of --resume");
+  Evaluation e;
+  e.method = j.at("method").get<std::string>();
+  e.index = WholeField<int>(j, "evaluation", where);
+  e.parameters = j.at("parameters").get<std::vector<double>>();
+  e.misfit = j.at("misfit").get<double>();
+  e.residuals = j.at("residuals").get<std::vector<double>>();
+  e.penalised = j.at("penalised").get<bool>();
+  e.seconds = j.at("seconds").get<double>();
+  e.elapsed = j.at("elapsed").get<double>();
+  return e;
+}
+
+}  // namespace
+
 EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace& space,
                              std::uint64_t seed, int rocks, Fingerprint fingerprint)
     : path_(std::move(path)), seed_(seed), rocks_(rocks), fingerprint_(std::move(fingerprint)) {
   for (const auto& p : space.parameters()) names_.push_back(p.label());
-  if (resume) {
-    sites::CheckInputFile(path_);
-    std::ifstream in(path_);
-    if (!in) throw InputError(path_, "cannot resume: no evaluation log here");
-    std::string line;
-    int number = 0;
-    bool header = false;
-    // Per method, the last evaluation logged and its line: a run appends its
-    // evaluations in order, and a resumed run only after the last, so an
-    // evaluation logged again or out of order is the line of another run
-    // (two runs writing the same folder at once).
-    std::map<std::string, std::pair<int, int>> last;
-    while (std::getline(in, line)) {
-      ++number;
-      if (line.empty()) continue;
-      const std::string where = path_ + ":" + std::to_string(number);
-      sites::CheckJsonDepth(line, where);
-      if (!header) {
-        // The header: the fingerprint of the inputs the log was made with.
-        nlohmann::json h = nlohmann::json::parse(line, nullptr, false);
-        if (h.is_discarded() || !h.is_object() || !h.contains("fingerprint") ||
-            !h["fingerprint"].is_object())
-          throw InputError(where,
-                           "no fingerprint header (a log written by an older rockcal, or not an "
-                           "evaluation log): cannot tell whether its evaluations still hold; start "
-                           "afresh with --force instead of --resume");
-        Fingerprint logged;
-        for (const auto& [name, value] : h["fingerprint"].items())
-          logged.Add(name, value.is_string() ? value.get<std::string>() : value.dump());
-        const std::vector<std::string> changed = fingerprint_.Differences(logged);
-        if (!changed.empty()) {
-          std::string list;
-          for (const std::string& c : changed) list += (list.empty() ? "" : ", ") + c;
-          throw InputError(where, "cannot resume: what determines the evaluations changed since "
-                                  "this log was written: " + list +
-                                  "; restore it, or start afresh with --force instead of --resume");
-        }
-        header = true;
-        continue;
-      }
-      nlohmann::json j;
-      try {
-        j = nlohmann::json::parse(line);
-        if (WholeField<std::uint64_t>(j, "seed", where) != seed_ ||
-            WholeField<int>(j, "rocks", where) != rocks_ ||
-            j.at("names").get<std::vector<std::string>>() != names_)
-          throw InputError(where, "record of another calibration (different parameters, --seed or "
-                                  "--rocks); start afresh with --force instead of --resume");
-        Evaluation e;
-        e.method = j.at("method").get<std::string>();
-        e.index = WholeField<int>(j, "evaluation", where);
-        e.parameters = j.at("parameters").get<std::vector<double>>();
-        e.misfit = j.at("misfit").get<double>();
-        e.residuals = j.at("residuals").get<std::vector<double>>();
-        e.penalised = j.at("penalised").get<bool>();
-        e.seconds = j.at("seconds").get<double>();
-        e.elapsed = j.at("elapsed").get<double>();
-        auto [before, inserted] = last.try_emplace(e.method, e.index, number);
-        if (!inserted && e.index <= before->second.first)
-          throw InputError(where, e.method + " evaluation " + std::to_string(e.index) +
-                                      " after its evaluation " +
-                                      std::to_string(before->second.first) + " (line " +
-                                      std::to_string(before->second.second) +
-                                      "): the log holds the lines of two runs that wrote this "
-                                      "folder at once, so it cannot be resumed; start afresh "
-                                      "with --force instead of --resume");
-        before->second = {e.index, number};
-        records_.push_back(std::move(e));
-      } catch (const nlohmann::json::exception&) {
-        // A line cut short by a killed run is the only damage expected: the
-        // last line. Anything else is not ours.
-        if (in.peek() == EOF) break;
-        throw InputError(where, "not an evaluation record (expected one JSON object per line)");
-      }
+  if (resume) ReadBack();
+  Rewrite();
+}
+
+// The records of the log at path_, whose fingerprint must be this run's.
+void EvaluationLog::ReadBack() {
+  sites::CheckInputFile(path_);
+  std::ifstream in(path_);
+  if (!in) throw InputError(path_, "cannot resume: no evaluation log here");
+  std::string line;
+  int number = 0;
+  bool header = false;
+  // Per method, the last evaluation logged and its line: a run appends its
+  // evaluations in order, and a resumed run only after the last, so an
+  // evaluation logged again or out of order is the line of another run
+  // (two runs writing the same folder at once).
+  std::map<std::string, std::pair<int, int>> last;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty()) continue;
+    const std::string where = path_ + ":" + std::to_string(number);
+    sites::CheckJsonDepth(line, where);
+    if (!header) {
+      CheckLogHeader(line, where, fingerprint_);
+      header = true;
+      continue;
+    }
+    try {
+      Evaluation e = ReadLogRecord(line, where, seed_, rocks_, names_);
+      auto [before, inserted] = last.try_emplace(e.method, e.index, number);
+      if (!inserted && e.index <= before->second.first)
+        throw InputError(where, e.method + " evaluation " + std::to_string(e.index) +
+                                    " after its evaluation " +
+                                    std::to_string(before->second.first) + " (line " +
+                                    std::to_string(before->second.second) +
+                                    "): the log holds the lines of two runs that wrote this "
+                                    "folder at once, so it cannot be resumed; start afresh "
+                                    "with --force instead of --resume");
+      before->second = {e.index, number};
+      records_.push_back(std::move(e));
+    } catch (const nlohmann::json::exception&) {
+      // A line cut short by a killed run is the only damage expected: the
+      // last line. Anything else is not ours.
+      if (in.peek() == EOF) break;
+      throw InputError(where, "not an evaluation record (expected one JSON object per line)");
     }
   }
-  // Rewrite the log with the good records only (drops a torn last line),
-  // through a temporary file renamed into place: a run killed meanwhile
-  // leaves the old log whole.
+}
+
+// Rewrites the log with the good records only (drops a torn last line),
+// through a temporary file renamed into place: a run killed meanwhile
+// leaves the old log whole.
+void EvaluationLog::Rewrite() const {
   const std::string temp = path_ + ".tmp-" + std::to_string(::getpid());
   {
     std::ofstream out(temp, std::ios::trunc);

@@ -63,6 +63,8 @@ class EvaluationLog final {
   const std::string& path() const { return path_; }
 
  private:
+  void ReadBack();       // the records of a log resumed
+  void Rewrite() const;  // the log anew with the records kept, atomically
   std::string path_;
   std::uint64_t seed_;
   int rocks_;
