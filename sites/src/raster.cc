@@ -32,6 +32,63 @@ core::HeightGrid RasterToHeightGrid(const RasterGrid& grid, double length_scale,
       spacing);
 }
 
+namespace {
+
+// The raster's geotransform into gt: north-up (no rotation), square cells
+// with columns running west to east.
+void ReadGeoTransform(const std::string& path, GDALDatasetH h, double gt[6]) {
+  if (GDALGetGeoTransform(h, gt) != CE_None) {
+    throw InputError(path,
+                     "has no georeferencing (no geotransform); expected a georeferenced raster "
+                     "(a GeoTIFF's own geotransform, or a world file beside the image)");
+  }
+  if (gt[2] != 0.0 || gt[4] != 0.0) {
+    throw InputError(path, "has a rotated geotransform (rotation terms " + FormatNumber(gt[2]) +
+                               ", " + FormatNumber(gt[4]) +
+                               "); rotated rasters are not supported: expected a north-up "
+                               "raster (warp it first, e.g. gdalwarp)");
+  }
+  const double w = gt[1], hgt = gt[5];
+  if (!(w > 0.0) || !std::isfinite(w)) {
+    throw InputError(path, "has a pixel width of " + FormatNumber(w) +
+                               "; expected columns running west to east (width > 0)");
+  }
+  if (!(std::abs(std::abs(hgt) - w) <= 1e-9 * w)) {
+    throw InputError(path, "has cells of " + FormatNumber(w) + " x " + FormatNumber(std::abs(hgt)) +
+                               ", not square; expected square cells (resample first, e.g. "
+                               "gdalwarp -tr " +
+                               FormatNumber(w) + " " + FormatNumber(w) + ")");
+  }
+}
+
+// The band's values as elevations: its scale and offset applied, its
+// nodata and non-finite values NaN. Fails when none is left.
+void ToElevations(const std::string& path, GDALRasterBandH band, int band_index,
+                  std::vector<double>* values) {
+  int has_nodata = 0, has_scale = 0, has_offset = 0;
+  const double nodata = GDALGetRasterNoDataValue(band, &has_nodata);
+  double scale = GDALGetRasterScale(band, &has_scale);
+  double offset = GDALGetRasterOffset(band, &has_offset);
+  if (!has_scale) scale = 1.0;
+  if (!has_offset) offset = 0.0;
+  std::size_t valid = 0;
+  for (double& v : *values) {
+    if ((has_nodata && v == nodata) || !std::isfinite(v)) {
+      v = kNaN;
+    } else {
+      v = v * scale + offset;
+      ++valid;
+    }
+  }
+  if (valid == 0) {
+    throw InputError(path, "every cell of band " + std::to_string(band_index) + " is nodata" +
+                               (has_nodata ? " (" + FormatNumber(nodata) + ")" : "") +
+                               "; expected elevations");
+  }
+}
+
+}  // namespace
+
 RasterFile ReadRaster(const std::string& path, int band_index) {
   if (path.rfind("/vsi", 0) != 0) CheckInputFile(path);  // GDAL's virtual paths excepted
   gdal::Init();
@@ -59,28 +116,8 @@ RasterFile ReadRaster(const std::string& path, int band_index) {
                                std::to_string(bands) + ")");
   }
   double gt[6];
-  if (GDALGetGeoTransform(h, gt) != CE_None) {
-    throw InputError(path,
-                     "has no georeferencing (no geotransform); expected a georeferenced raster "
-                     "(a GeoTIFF's own geotransform, or a world file beside the image)");
-  }
-  if (gt[2] != 0.0 || gt[4] != 0.0) {
-    throw InputError(path, "has a rotated geotransform (rotation terms " + FormatNumber(gt[2]) +
-                               ", " + FormatNumber(gt[4]) +
-                               "); rotated rasters are not supported: expected a north-up "
-                               "raster (warp it first, e.g. gdalwarp)");
-  }
+  ReadGeoTransform(path, h, gt);
   const double w = gt[1], hgt = gt[5];
-  if (!(w > 0.0) || !std::isfinite(w)) {
-    throw InputError(path, "has a pixel width of " + FormatNumber(w) +
-                               "; expected columns running west to east (width > 0)");
-  }
-  if (!(std::abs(std::abs(hgt) - w) <= 1e-9 * w)) {
-    throw InputError(path, "has cells of " + FormatNumber(w) + " x " + FormatNumber(std::abs(hgt)) +
-                               ", not square; expected square cells (resample first, e.g. "
-                               "gdalwarp -tr " +
-                               FormatNumber(w) + " " + FormatNumber(w) + ")");
-  }
   const int nx = GDALGetRasterXSize(h), ny = GDALGetRasterYSize(h);
   if (nx < 2 || ny < 2) {
     throw InputError(path, "has " + std::to_string(nx) + " x " + std::to_string(ny) +
@@ -106,26 +143,7 @@ RasterFile ReadRaster(const std::string& path, int band_index) {
     throw InputError(path,
                      "cannot read the values of band " + std::to_string(band_index) + gdal_said());
   }
-  int has_nodata = 0, has_scale = 0, has_offset = 0;
-  const double nodata = GDALGetRasterNoDataValue(band, &has_nodata);
-  double scale = GDALGetRasterScale(band, &has_scale);
-  double offset = GDALGetRasterOffset(band, &has_offset);
-  if (!has_scale) scale = 1.0;
-  if (!has_offset) offset = 0.0;
-  std::size_t valid = 0;
-  for (double& v : g.values) {
-    if ((has_nodata && v == nodata) || !std::isfinite(v)) {
-      v = kNaN;
-    } else {
-      v = v * scale + offset;
-      ++valid;
-    }
-  }
-  if (valid == 0) {
-    throw InputError(path, "every cell of band " + std::to_string(band_index) + " is nodata" +
-                               (has_nodata ? " (" + FormatNumber(nodata) + ")" : "") +
-                               "; expected elevations");
-  }
+  ToElevations(path, band, band_index, &g.values);
   // Rows north to south as stored (height < 0), or south to north (> 0).
   if (hgt > 0.0) {
     for (int r = 0; r < ny / 2; ++r) {
