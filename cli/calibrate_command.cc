@@ -90,8 +90,13 @@ calibrate::CalibrationOptions OptionsFromArgs(const Args& args, const std::strin
   options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
   options.method.max_evals = static_cast<int>(args.Integer("max-evals", 100, 2, 1000000));
   options.method.max_seconds = args.Number("max-seconds", 0.0, 0.0, 1e9);
-  options.method.ceres_loss = args.Get("loss", "none");
-  options.method.estimate = args.Get("estimate", "lowest");
+  if (args.Has("loss") && !calibrate::StringToCeresLoss(args.Get("loss"), &options.method.ceres_loss))
+    throw InputError("argument --loss", "unknown loss '" + args.Get("loss") +
+                                            "' (allowed: " + calibrate::CeresLossNames() + ")");
+  if (args.Has("estimate") &&
+      !calibrate::StringToEstimate(args.Get("estimate"), &options.method.estimate))
+    throw InputError("argument --estimate", "unknown estimate '" + args.Get("estimate") +
+                                                "' (allowed: " + calibrate::EstimateNames() + ")");
   options.log_path = out + "/evaluations.jsonl";
   options.resume = args.Flag("resume");
   // Enough rocks where the search ends: without a fixed --rocks, a refining

@@ -371,8 +371,8 @@ Termination RunCeres(std::vector<double> unit, const MethodOptions& options, Eva
   cost->SetNumResiduals(static_cast<int>(ev->residual_count()));
   ceres::Problem problem;
   ceres::LossFunction* loss = nullptr;
-  if (options.ceres_loss == "huber") loss = new ceres::HuberLoss(1.0);
-  if (options.ceres_loss == "cauchy") loss = new ceres::CauchyLoss(1.0);
+  if (options.ceres_loss == CeresLoss::kHuber) loss = new ceres::HuberLoss(1.0);
+  if (options.ceres_loss == CeresLoss::kCauchy) loss = new ceres::CauchyLoss(1.0);
   problem.AddResidualBlock(cost, loss, w.data());
   ceres::Solver::Options so;
   so.linear_solver_type = ceres::DENSE_QR;
@@ -418,7 +418,7 @@ int FirstStageBudget(int n) { return 2 * (n + 1) + 1; }
 // How much of the smoothed estimate a budget has room for.
 enum class Smoothing { kNone, kFirstStage, kBoth };
 Smoothing SmoothingFor(const MethodOptions& options, int n) {
-  if (options.estimate != "smoothed") return Smoothing::kNone;
+  if (options.estimate != Estimate::kSmoothed) return Smoothing::kNone;
   if (options.max_evals >= SmoothingBudget(n)) return Smoothing::kBoth;
   return options.max_evals >= FirstStageBudget(n) ? Smoothing::kFirstStage : Smoothing::kNone;
 }
@@ -479,7 +479,7 @@ MethodResult Conclude(Evaluator* ev, Termination termination, Smoothing smoothin
   const int n = space.size();
   if (smoothing == Smoothing::kNone || ev->best().empty()) {
     MethodResult result = ev->Finish(std::move(termination));
-    if (options.estimate == "smoothed")
+    if (options.estimate == Estimate::kSmoothed)
       result.smoothed.message = "not used: a budget of " + std::to_string(options.max_evals) +
                                 " evaluations is too small for it (it needs " +
                                 std::to_string(FirstStageBudget(n)) + ")";
@@ -800,10 +800,10 @@ bool MethodOptions::IsValid(std::string* error) const {
     s << "initial_step = " << initial_step << ": must be in (0, 1]";
   } else if (!(ceres_step > 0 && ceres_step <= 2)) {
     s << "ceres_step = " << ceres_step << ": must be in (0, 2]";
-  } else if (ceres_loss != "none" && ceres_loss != "huber" && ceres_loss != "cauchy") {
-    s << "ceres_loss = '" << ceres_loss << "': must be none, huber or cauchy";
-  } else if (estimate != "smoothed" && estimate != "lowest") {
-    s << "estimate = '" << estimate << "': must be smoothed or lowest";
+  } else if (!*CeresLossToString(ceres_loss)) {
+    s << "ceres_loss = " << static_cast<int>(ceres_loss) << ": must be one of " << CeresLossNames();
+  } else if (!*EstimateToString(estimate)) {
+    s << "estimate = " << static_cast<int>(estimate) << ": must be one of " << EstimateNames();
   } else if (!(smoothing_radius > 0 && smoothing_radius <= 1)) {
     s << "smoothing_radius = " << smoothing_radius << ": must be in (0, 1]";
   } else {
@@ -812,6 +812,50 @@ bool MethodOptions::IsValid(std::string* error) const {
   *error = s.str();
   return false;
 }
+
+namespace {
+
+constexpr std::pair<CeresLoss, const char*> kCeresLosses[] = {
+    {CeresLoss::kNone, "none"}, {CeresLoss::kHuber, "huber"}, {CeresLoss::kCauchy, "cauchy"}};
+constexpr std::pair<Estimate, const char*> kEstimates[] = {{Estimate::kLowest, "lowest"},
+                                                           {Estimate::kSmoothed, "smoothed"}};
+
+// The name of `value` in `table`; "" for a value not in it.
+template <typename Enum, std::size_t N>
+const char* ToName(const std::pair<Enum, const char*> (&table)[N], Enum value) {
+  for (const auto& [v, name] : table)
+    if (v == value) return name;
+  return "";
+}
+template <typename Enum, std::size_t N>
+bool FromName(const std::pair<Enum, const char*> (&table)[N], const std::string& name,
+              Enum* value) {
+  for (const auto& [v, n] : table)
+    if (name == n) {
+      *value = v;
+      return true;
+    }
+  return false;
+}
+template <typename Enum, std::size_t N>
+std::string NameList(const std::pair<Enum, const char*> (&table)[N]) {
+  std::string s;
+  for (const auto& entry : table) s += std::string(s.empty() ? "" : ", ") + entry.second;
+  return s;
+}
+
+}  // namespace
+
+const char* CeresLossToString(CeresLoss loss) { return ToName(kCeresLosses, loss); }
+bool StringToCeresLoss(const std::string& name, CeresLoss* loss) {
+  return FromName(kCeresLosses, name, loss);
+}
+std::string CeresLossNames() { return NameList(kCeresLosses); }
+const char* EstimateToString(Estimate estimate) { return ToName(kEstimates, estimate); }
+bool StringToEstimate(const std::string& name, Estimate* estimate) {
+  return FromName(kEstimates, name, estimate);
+}
+std::string EstimateNames() { return NameList(kEstimates); }
 
 const std::vector<std::string>& MethodNames() {
   static const std::vector<std::string> names = [] {

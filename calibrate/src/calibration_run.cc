@@ -377,8 +377,9 @@ Fingerprint CalibrationFingerprint(const sites::Site& site, const observations::
   std::ostringstream method;
   method.precision(17);
   method << "polish_fraction " << m.polish_fraction << ", initial_step " << m.initial_step
-         << ", ceres_step " << m.ceres_step << ", ceres_loss " << m.ceres_loss << ", estimate "
-         << m.estimate << ", smoothing_radius " << m.smoothing_radius;
+         << ", ceres_step " << m.ceres_step << ", ceres_loss " << CeresLossToString(m.ceres_loss)
+         << ", estimate " << EstimateToString(m.estimate) << ", smoothing_radius "
+         << m.smoothing_radius;
   f.Add("method options", method.str());
   std::ostringstream misfit;
   misfit.precision(17);

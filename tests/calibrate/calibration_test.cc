@@ -40,7 +40,7 @@ struct Small {
 TEST(Calibration, ResumeEndsLikeAStraightRunWithFewerSimulations) {
   Small small;
   MethodOptions options;
-  options.estimate = "smoothed";
+  options.estimate = Estimate::kSmoothed;
   options.max_evals = 22;  // with the smoothed estimate's stencil (12 search, 10 kept back)
   const std::string straight_log = TempPath("straight.jsonl");
   EvaluationLog straight_log_file(straight_log, false, small.space, 1, 6);
@@ -239,6 +239,29 @@ TEST(Calibration, NonFiniteSimulationIsAFinitePenalty) {
   for (const auto& r : m.residuals) EXPECT_TRUE(std::isfinite(r.value));
 }
 
+// One name table each for parsing and printing: every name reads back as
+// its value, and a name not in the table is refused.
+TEST(Calibration, LossAndEstimateNamesRoundTrip) {
+  for (CeresLoss loss : {CeresLoss::kNone, CeresLoss::kHuber, CeresLoss::kCauchy}) {
+    CeresLoss read = CeresLoss::kNone;
+    EXPECT_TRUE(StringToCeresLoss(CeresLossToString(loss), &read)) << CeresLossToString(loss);
+    EXPECT_EQ(read, loss) << CeresLossToString(loss);
+  }
+  for (Estimate estimate : {Estimate::kLowest, Estimate::kSmoothed}) {
+    Estimate read = Estimate::kLowest;
+    EXPECT_TRUE(StringToEstimate(EstimateToString(estimate), &read)) << EstimateToString(estimate);
+    EXPECT_EQ(read, estimate) << EstimateToString(estimate);
+  }
+  CeresLoss loss = CeresLoss::kHuber;
+  EXPECT_FALSE(StringToCeresLoss("l1", &loss));
+  EXPECT_EQ(loss, CeresLoss::kHuber) << "left alone";
+  Estimate estimate = Estimate::kSmoothed;
+  EXPECT_FALSE(StringToEstimate("mean", &estimate));
+  EXPECT_EQ(estimate, Estimate::kSmoothed) << "left alone";
+  EXPECT_EQ(CeresLossNames(), "none, huber, cauchy");
+  EXPECT_EQ(EstimateNames(), "lowest, smoothed");
+}
+
 TEST(Calibration, OptionsAreChecked) {
   MethodOptions o;
   std::string error;
@@ -247,13 +270,13 @@ TEST(Calibration, OptionsAreChecked) {
   EXPECT_FALSE(o.IsValid(&error));
   EXPECT_THAT(error, HasSubstr("max_evals = 1"));
   o = MethodOptions{};
-  o.ceres_loss = "l1";
+  o.ceres_loss = static_cast<CeresLoss>(7);
   EXPECT_FALSE(o.IsValid(&error));
-  EXPECT_THAT(error, HasSubstr("none, huber or cauchy"));
+  EXPECT_THAT(error, HasSubstr("ceres_loss = 7: must be one of none, huber, cauchy"));
   o = MethodOptions{};
-  o.estimate = "mean";
+  o.estimate = static_cast<Estimate>(7);
   EXPECT_FALSE(o.IsValid(&error));
-  EXPECT_THAT(error, HasSubstr("smoothed or lowest"));
+  EXPECT_THAT(error, HasSubstr("estimate = 7: must be one of lowest, smoothed"));
   o = MethodOptions{};
   o.smoothing_radius = 0.0;
   EXPECT_FALSE(o.IsValid(&error));
@@ -422,7 +445,7 @@ TEST(SmoothedEstimate, SaysWhenTheEvaluationsCannotDetermineIt) {
 TEST(Calibration, SmoothedEstimateIsEvaluatedAndReported) {
   Small small;
   MethodOptions options;
-  options.estimate = "smoothed";
+  options.estimate = Estimate::kSmoothed;
   // Four parameters: at least 10 for the search, 10 kept back for the
   // stencil (9) and the estimate (1).
   options.max_evals = 20;
@@ -483,7 +506,7 @@ TEST(Calibration, SmoothedEstimateIsEvaluatedAndReported) {
   EXPECT_THAT(r.smoothed.message, HasSubstr("too small for it (it needs 11)"));
   EXPECT_EQ(r.best, r.lowest);
   options.max_evals = 20;
-  options.estimate = "lowest";
+  options.estimate = Estimate::kLowest;
   r = RunMethod("nlopt:bobyqa", small.objective,
                                    small.space.Current(small.site.scene), options, nullptr);
   EXPECT_FALSE(r.smoothed.used);

@@ -36,7 +36,7 @@ CalibrationOptions Options() {
   CalibrationOptions options;
   options.methods = {"ceres"};
   options.method.max_evals = 30;
-  options.method.estimate = "smoothed";
+  options.method.estimate = Estimate::kSmoothed;
   options.rocks = 250;
   options.seed = 2;  // the observations were drawn with seed 11
   return options;

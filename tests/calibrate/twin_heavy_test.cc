@@ -115,7 +115,7 @@ std::vector<double> SearchStart(Twin& twin) { return SearchStart(twin, twin.obje
 TEST(Calibration, TwinExperimentBobyqa) {
   Twin& twin = SharedTwin();
   MethodOptions options;
-  options.estimate = "smoothed";
+  options.estimate = Estimate::kSmoothed;
   // BOBYQA reads the misfit alone, not its residuals: on this rugged
   // four-parameter misfit it needs about 150 evaluations (with 100 it stopped
   // at 1.9 and 2.7 times the truth's misfit for calibration seeds 2 and 3).
@@ -138,7 +138,7 @@ TEST(Calibration, TwinExperimentBobyqa) {
 TEST(Calibration, TwinExperimentCeresWithUncertainty) {
   Twin& twin = SharedTwin();
   MethodOptions options;
-  options.estimate = "smoothed";
+  options.estimate = Estimate::kSmoothed;
   options.max_evals = 60;
   int recovered = 0;
   for (const std::uint64_t seed : {2, 3, 4}) {

@@ -113,6 +113,10 @@ TEST(CampaignCommand, BadInputExitsTwoNamingTheFileAndPathAndWritesNothing) {
                                     "\"hardness\", \"sigma\": 0.1}]}"),
        "", "bad_offset.json: $.offsets[0]: class 'rock' hardness: no site calibrates it"},
       {TwinCampaign(), "--method nlopt:nope", "unknown method 'nlopt:nope'"},
+      {TwinCampaign(), "--loss l1",
+       "argument --loss: unknown loss 'l1' (allowed: none, huber, cauchy)"},
+      {TwinCampaign(), "--estimate mean",
+       "argument --estimate: unknown estimate 'mean' (allowed: lowest, smoothed)"},
       {TwinCampaign(), "--refine 2", "unknown option"},
   };
   for (const Case& c : cases) {

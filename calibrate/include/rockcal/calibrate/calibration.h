@@ -73,6 +73,22 @@ class EvaluationLog final {
   std::vector<Evaluation> records_;
 };
 
+// The robust loss Ceres puts on the residuals (scale 1: they are in sigmas).
+enum class CeresLoss { kNone, kHuber, kCauchy };
+// How the calibrated values are taken from the evaluations
+// (MethodOptions::estimate).
+enum class Estimate { kLowest, kSmoothed };
+// Their names ("none", "huber", "cauchy"; "lowest", "smoothed"), from one
+// table each for parsing and printing. StringTo* returns false (and leaves
+// *value alone) for a name not in the table; *Names lists the table, comma
+// separated, for messages.
+const char* CeresLossToString(CeresLoss loss);
+bool StringToCeresLoss(const std::string& name, CeresLoss* loss);
+std::string CeresLossNames();
+const char* EstimateToString(Estimate estimate);
+bool StringToEstimate(const std::string& name, Estimate* estimate);
+std::string EstimateNames();
+
 // Options of one method run. Defaults in brackets.
 struct MethodOptions {
   int max_evals = 100;            // evaluations (replayed ones count) [100], >= 2
@@ -85,9 +101,9 @@ struct MethodOptions {
   // its range: large enough to see through the jumps of a Monte Carlo
   // objective, small enough to follow its trend. (0, 2]
   double ceres_step = 0.2;
-  std::string ceres_loss = "none";  // none | huber | cauchy (scale 1: residuals are in sigmas)
+  CeresLoss ceres_loss = CeresLoss::kNone;  // [none]
   // How the calibrated values are taken from the evaluations:
-  //  - "smoothed": the Gauss-Newton minimiser of a linear model of the
+  //  - kSmoothed: the Gauss-Newton minimiser of a linear model of the
   //    residuals fitted by least squares to the evaluations near the best,
   //    in two stages (FitSmoothedEstimate): a first estimate from the
   //    search's evaluations near the lowest misfit; then a stencil of 2n + 1
@@ -101,12 +117,12 @@ struct MethodOptions {
   //    the lowest is taken. A time limit covers the search only. A Monte
   //    Carlo misfit is rugged: its lowest evaluation sits in a dip of the
   //    noise (the winner's curse), which the fit averages out;
-  //  - "lowest" (the default): the evaluation with the lowest misfit.
+  //  - kLowest (the default): the evaluation with the lowest misfit.
   // The smoothed estimate pays where each evaluation has enough rocks for
   // the misfit's trend to stand out of its noise (the twin experiment, 1000
   // rocks: every parameter within 7 % of its range where the lowest was up
   // to 20 % off); with a few dozen rocks its model fits noise.
-  std::string estimate = "lowest";
+  Estimate estimate = Estimate::kLowest;
   // Half-width, in the unit box, of the neighbourhood whose evaluations the
   // smoothed estimate fits (widened until it holds 2(n + 1) of them); also
   // the largest move of each stage, and twice the stencil's step. (0, 1]
