@@ -78,18 +78,24 @@ std::vector<std::string> MethodsFromArgs(const Args& args) {
   return methods;
 }
 
-calibrate::CalibrationOptions OptionsFromArgs(const Args& args, const std::string& out) {
-  calibrate::CalibrationOptions options;
+calibrate::CalibrationOptions OptionsFromArgs(const Args& args, const std::string& out,
+                                              calibrate::CalibrationOptions base) {
+  calibrate::CalibrationOptions options = std::move(base);
   if (args.Has("rocks") && args.Has("refine"))
     throw InputError("arguments",
                      "give --rocks N (every evaluation at N rocks, one stage) or "
                      "--refine F (a refining stage at F times the rocks), not both");
-  if (args.Has("rocks")) options.rocks = static_cast<int>(args.Integer("rocks", 0, 1, 10000000));
+  // --rocks N: every evaluation at N rocks, in one stage.
+  if (args.Has("rocks")) {
+    options.rocks = static_cast<int>(args.Integer("rocks", 0, 1, 10000000));
+    options.refine_factor = 1;
+  }
   if (args.Has("seed"))
     options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
-  options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
-  options.method.max_evals = static_cast<int>(args.Integer("max-evals", 100, 2, 1000000));
-  options.method.max_seconds = args.Number("max-seconds", 0.0, 0.0, 1e9);
+  if (args.Has("threads")) options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+  if (args.Has("max-evals"))
+    options.method.max_evals = static_cast<int>(args.Integer("max-evals", 0, 2, 1000000));
+  if (args.Has("max-seconds")) options.method.max_seconds = args.Number("max-seconds", 0.0, 0.0, 1e9);
   if (args.Has("loss") && !calibrate::StringToCeresLoss(args.Get("loss"), &options.method.ceres_loss))
     throw InputError("argument --loss", "unknown loss '" + args.Get("loss") +
                                             "' (allowed: " + calibrate::CeresLossNames() + ")");
@@ -99,13 +105,13 @@ calibrate::CalibrationOptions OptionsFromArgs(const Args& args, const std::strin
                                                 "' (allowed: " + calibrate::EstimateNames() + ")");
   options.log_path = out + "/evaluations.jsonl";
   options.resume = args.Flag("resume");
-  // Enough rocks where the search ends: without a fixed --rocks, a refining
-  // stage with 4 times the rocks; the misfit's noise from 3 more seeds.
-  options.refine_factor =
-      static_cast<int>(args.Integer("refine", args.Has("rocks") ? 1 : 4, 1, 1000));
-  options.noise_seeds = 3;
-  // The noise check before the search: the start at 3 more seeds.
-  options.noise_check_seeds = 3;
+  if (args.Has("refine")) options.refine_factor = static_cast<int>(args.Integer("refine", 0, 1, 1000));
+  if (args.Has("reach")) {
+    options.reach_points = static_cast<int>(args.Integer("reach", 0, 0, 100000));
+    if (options.reach_points == 1)
+      throw InputError("argument --reach", "1: expected 0 (no reach check) or at least 2 points");
+  }
+  if (args.Has("race")) options.race_points = static_cast<int>(args.Integer("race", 0, 0, 100000));
   return options;
 }
 
@@ -327,23 +333,8 @@ int Calibrate(const std::vector<std::string>& argv) {
   const observations::Observations obs = observations::LoadObservations(obs_path, site.scene);
   for (const std::string& w : sites::IdenticalCopyWarnings(site.scene))
     std::printf("WARNING: %s\n", w.c_str());
-  // Reach before fit, the global stage: 4 (n + 1) design points or half
-  // the evaluation budget, whichever is more, by default; 0 for none.
-  const int parameters = calibrate::ParameterSpace::FromSite(site).size();
-  options.reach_points = static_cast<int>(args.Integer(
-      "reach",
-      calibrate::CalibrationOptions::DefaultReachPoints(parameters, options.method.max_evals), 0,
-      100000));
-  if (options.reach_points == 1)
-    throw InputError("argument --reach", "1: expected 0 (no reach check) or at least 2 points");
-  // With a refining stage, a race of its possible starts: the first stage's
-  // best, the site's start and the best twelfth of the design (at least 2).
-  options.race_points = static_cast<int>(args.Integer(
-      "race", options.refine_factor > 1 ? std::max(2, options.reach_points / 12) : 0, 0, 100000));
   PosteriorFromArgs(args, &options);
-  std::string error;
-  if (!options.method.IsValid(&error)) throw InputError("arguments", error);
-  calibrate::CheckCalibration(site, options);
+  calibrate::CheckCalibration(site, options);  // before the folder is made
   const int folds = args.Has("holdout") ? static_cast<int>(args.Integer("holdout", 0, 2, 1000)) : 0;
   if (folds > 0) observations::MakeFolds(obs, folds, 0);  // enough values for the folds?
 

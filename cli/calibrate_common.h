@@ -34,10 +34,14 @@ void ContinuableRun(const std::string& out, const std::function<void()>& work);
 // --method or --methods, each checked against calibrate::MethodNames().
 std::vector<std::string> MethodsFromArgs(const Args& args);
 
-// The calibration's options from the arguments (--rocks, --seed, --threads,
-// --max-evals, --max-seconds, --loss, --estimate, --resume, --refine), but
-// for the methods and the reach check; the log is DIR/evaluations.jsonl.
-calibrate::CalibrationOptions OptionsFromArgs(const Args& args, const std::string& out);
+// The calibration's options: `base` (the library's defaults unless given)
+// with the flags given mapped onto it (--rocks, --seed, --threads,
+// --max-evals, --max-seconds, --loss, --estimate, --resume, --refine,
+// --reach, --race), but for the methods; the log is DIR/evaluations.jsonl.
+// A flag not given leaves the field alone.
+calibrate::CalibrationOptions OptionsFromArgs(
+    const Args& args, const std::string& out,
+    calibrate::CalibrationOptions base = calibrate::CalibrationOptions{});
 
 // What a calibration shows as it goes: the start, the reach check, a
 // progress bar per method and each method's result.

@@ -72,11 +72,10 @@ int Campaign(const std::vector<std::string>& argv) {
   if (args.Flag("resume") && args.Flag("force"))
     throw InputError("arguments", "give --resume or --force, not both");
   const calibrate::Campaign campaign = calibrate::LoadCampaign(path);
-  calibrate::CalibrationOptions options = OptionsFromArgs(args, out);
-  options.methods = methods;
   // A campaign searches in one stage, at the rocks it is given.
-  options.refine_factor = 1;
-  options.noise_seeds = 0;
+  calibrate::CalibrationOptions options =
+      OptionsFromArgs(args, out, calibrate::CalibrationOptions::SingleStage());
+  options.methods = methods;
   calibrate::CheckCampaign(campaign, options);
 
   const bool quiet = args.Flag("quiet");

@@ -37,8 +37,8 @@ bool CalibrationOptions::IsValid(std::string* error) const {
     s << "rocks = " << rocks << ": must be >= 0 (0: the site's counts)";
   } else if (threads < 0) {
     s << "threads = " << threads << ": must be >= 0 (0: OpenMP's default)";
-  } else if (reach_points < 0 || reach_points == 1) {
-    s << "reach_points = " << reach_points << ": must be 0 (none) or at least 2";
+  } else if (reach_points < kAuto || reach_points == 1) {
+    s << "reach_points = " << reach_points << ": must be kAuto (-1), 0 (none) or at least 2";
   } else if (refine_factor < 1) {
     s << "refine_factor = " << refine_factor << ": must be >= 1 (1: one stage)";
   } else if (!(refine_share > 0.0 && refine_share < 1.0)) {
@@ -49,8 +49,8 @@ bool CalibrationOptions::IsValid(std::string* error) const {
     s << "noise_check_seeds = " << noise_check_seeds << ": must be >= 0 (0: no check)";
   } else if (!(noise_check_ratio > 0.0 && noise_check_ratio <= 1.0)) {
     s << "noise_check_ratio = " << noise_check_ratio << ": must be in (0, 1]";
-  } else if (race_points < 0) {
-    s << "race_points = " << race_points << ": must be >= 0 (0: no race)";
+  } else if (race_points < kAuto) {
+    s << "race_points = " << race_points << ": must be kAuto (-1) or >= 0 (0: no race)";
   } else if (noise_seeds < 0) {
     s << "noise_seeds = " << noise_seeds << ": must be >= 0";
   } else if (predictive_draws < 0 || (predictive_draws > 0 && !posterior)) {
@@ -340,6 +340,24 @@ PosteriorResult RunPosteriorStage(const sites::Site& site, const observations::O
 
 }  // namespace
 
+CalibrationOptions CalibrationOptions::SingleStage() {
+  CalibrationOptions o;
+  o.reach_points = 0;
+  o.refine_factor = 1;
+  o.race_points = 0;
+  o.noise_seeds = 0;
+  o.noise_check_seeds = 0;
+  return o;
+}
+
+CalibrationOptions CalibrationOptions::Resolved(int parameters) const {
+  CalibrationOptions o = *this;
+  if (o.reach_points == kAuto) o.reach_points = DefaultReachPoints(parameters, method.max_evals);
+  if (o.race_points == kAuto)
+    o.race_points = o.refine_factor > 1 ? std::max(2, o.reach_points / 12) : 0;
+  return o;
+}
+
 int CalibrationOptions::DefaultReachPoints(int parameters, int max_evals) {
   return std::max(4 * (parameters + 1), max_evals / 2);
 }
@@ -426,12 +444,14 @@ void CheckCalibration(const sites::Site& site, const CalibrationOptions& options
 }
 
 CalibrationSummary Calibrate(const sites::Site& site, const observations::Observations& obs,
-                             const CalibrationOptions& options,
+                             const CalibrationOptions& given,
                              const CalibrationCallbacks& callbacks) {
   const auto start_time = std::chrono::steady_clock::now();
-  CheckCalibration(site, options);
+  std::string error;
+  if (!given.IsValid(&error)) throw InputError("calibration options", error);
+  const ParameterSpace space = ParameterSpace::FromSite(site);  // once per run
+  const CalibrationOptions options = given.Resolved(space.size());
   const core::Scene scene = RunScene(site, options.rocks, options.seed, options.threads);
-  const ParameterSpace space = ParameterSpace::FromSite(site);
   const bool refine = options.refine_factor > 1;
   MethodOptions method_options = options.method;
   method_options.seed = scene.options.seed;

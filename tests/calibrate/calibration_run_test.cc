@@ -28,7 +28,7 @@ using testing::kTruth;
 TEST(CalibrationRun, SummaryHoldsTheBestMethodAndItsSimulation) {
   const sites::Site site = TwinSite(6);
   const observations::Observations obs = TwinObservations(TwinSite(20), kTruth, 5);
-  CalibrationOptions options;
+  CalibrationOptions options = CalibrationOptions::SingleStage();
   options.methods = {"nlopt:bobyqa", "nlopt:sbplx"};
   options.method.max_evals = 4;
   options.seed = 3;
@@ -69,7 +69,7 @@ TEST(CalibrationRun, SummaryHoldsTheBestMethodAndItsSimulation) {
 TEST(CalibrationRun, RefiningStageSearchesOnWithMoreRocksAndNoiseIsMeasured) {
   const sites::Site site = TwinSite(6);
   const observations::Observations obs = TwinObservations(TwinSite(20), kTruth, 5);
-  CalibrationOptions options;
+  CalibrationOptions options = CalibrationOptions::SingleStage();
   options.method.max_evals = 12;
   options.seed = 3;
   options.refine_factor = 3;
@@ -115,7 +115,7 @@ TEST(CalibrationRun, RefiningStageSearchesOnWithMoreRocksAndNoiseIsMeasured) {
 TEST(CalibrationRun, RefiningStartsFromTheRaceWinner) {
   const sites::Site site = TwinSite(6);
   const observations::Observations obs = TwinObservations(TwinSite(20), kTruth, 5);
-  CalibrationOptions options;
+  CalibrationOptions options = CalibrationOptions::SingleStage();
   options.method.max_evals = 9;
   options.seed = 3;
   options.refine_factor = 2;
@@ -185,7 +185,7 @@ TEST(CalibrationRun, ResumesAcrossTheRefiningStage) {
   const observations::Observations obs =
       observations::LoadObservations(tutorial + "observations.json", site.scene);
   sites::testing::TempDir dir;
-  CalibrationOptions options;
+  CalibrationOptions options = CalibrationOptions::SingleStage();
   options.rocks = 4;
   options.method.max_evals = 12;
   options.seed = 3;
@@ -240,9 +240,9 @@ TEST(CalibrationRun, OptionsAreChecked) {
   EXPECT_FALSE(o.IsValid(&error));
   EXPECT_THAT(error, HasSubstr("log_path"));
   o = CalibrationOptions{};
-  o.race_points = -1;
+  o.race_points = -2;
   EXPECT_FALSE(o.IsValid(&error));
-  EXPECT_THAT(error, HasSubstr("race_points = -1"));
+  EXPECT_THAT(error, HasSubstr("race_points = -2"));
   o = CalibrationOptions{};
   o.refine_factor = 0;
   EXPECT_FALSE(o.IsValid(&error));
@@ -301,6 +301,36 @@ TEST(Objective, ResidualCountComesFromTheObservations) {
 
 namespace rockcal::calibrate {
 namespace {
+
+// The library owns the defaults `rockcal calibrate` runs: a reach design
+// of DefaultReachPoints, a refining stage at 4 times the rocks with a race
+// of the best twelfth of the design (at least 2), the noise from 3 seeds
+// and the noise check at 3; the automatic fields resolve per run.
+TEST(CalibrationOptions, DefaultsResolvePerRun) {
+  const CalibrationOptions o;
+  EXPECT_EQ(o.refine_factor, 4);
+  EXPECT_EQ(o.noise_seeds, 3);
+  EXPECT_EQ(o.noise_check_seeds, 3);
+  EXPECT_EQ(o.method.max_evals, 100);
+  const CalibrationOptions r = o.Resolved(2);
+  EXPECT_EQ(r.reach_points, 50) << "half of 100 evaluations";
+  EXPECT_EQ(r.race_points, 4) << "50 / 12";
+  CalibrationOptions small;
+  small.method.max_evals = 6;
+  EXPECT_EQ(small.Resolved(1).reach_points, 8) << "4 (n + 1)";
+  EXPECT_EQ(small.Resolved(1).race_points, 2) << "at least 2";
+  small.refine_factor = 1;
+  EXPECT_EQ(small.Resolved(1).race_points, 0) << "no race without a refining stage";
+  small.reach_points = 0;
+  small.race_points = 5;
+  EXPECT_EQ(small.Resolved(1).reach_points, 0) << "given values are kept";
+  EXPECT_EQ(small.Resolved(1).race_points, 5) << "given values are kept";
+  const CalibrationOptions one = CalibrationOptions::SingleStage();
+  EXPECT_EQ(one.Resolved(3).reach_points, 0);
+  EXPECT_EQ(one.refine_factor, 1);
+  EXPECT_EQ(one.Resolved(3).race_points, 0);
+  EXPECT_EQ(one.noise_seeds + one.noise_check_seeds, 0);
+}
 
 // Issue 38: the reach design, the global stage, grows with the evaluation
 // budget: 4 (n + 1) points or half of max_evals, whichever is more.

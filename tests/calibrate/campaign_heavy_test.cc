@@ -33,7 +33,7 @@ struct Recovery {
 };
 
 CalibrationOptions Options() {
-  CalibrationOptions options;
+  CalibrationOptions options = CalibrationOptions::SingleStage();
   options.methods = {"ceres"};
   options.method.max_evals = 30;
   options.method.estimate = Estimate::kSmoothed;

@@ -221,7 +221,7 @@ TEST(Campaign, OneSiteAloneIsThatSitesCalibration) {
   Campaign c;
   c.name = "one";
   c.sites.push_back({"twin", site, obs, 0, 1.0});
-  CalibrationOptions options;
+  CalibrationOptions options = CalibrationOptions::SingleStage();
   options.methods = {"nlopt:bobyqa"};
   options.method.max_evals = 6;
   options.seed = 3;
@@ -252,7 +252,7 @@ TEST(Campaign, ResumeReplaysTheLogAndGivesTheSameResult) {
   const TempDir dir;
   Campaign c = TwoTwins(5, true);
   c.offsets = {{"slope", "hardness", 0.05}};
-  CalibrationOptions options;
+  CalibrationOptions options = CalibrationOptions::SingleStage();
   options.methods = {"nlopt:bobyqa"};
   options.method.max_evals = 4;
   options.seed = 3;
@@ -276,7 +276,7 @@ TEST(Campaign, ResumeReplaysTheLogAndGivesTheSameResult) {
 
 TEST(Campaign, OptionsItDoesNotTakeAreBadInput) {
   const Campaign c = TwoTwins(4);
-  CalibrationOptions options;
+  CalibrationOptions options = CalibrationOptions::SingleStage();
   options.refine_factor = 2;
   EXPECT_THAT(ErrorOf([&] { CheckCampaign(c, options); }),
               HasSubstr("a campaign takes no a refining stage"));

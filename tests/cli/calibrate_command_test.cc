@@ -7,9 +7,14 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "cli_fixture.h"
+#include "rockcal/calibrate/calibration_run.h"
+#include "rockcal/observations/observations.h"
+#include "rockcal/sites/site.h"
 
 namespace rockcal::cli {
 namespace {
@@ -27,6 +32,59 @@ std::string Calibrate(const std::string& out, const std::string& extra) {
       std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/tutorial/observations.json";
   return "calibrate " + Example("tutorial") + " --observations " + obs + " --rocks 4 --reach 0 --quiet " +
          extra + " --out " + out;
+}
+
+// An evaluation log's lines without their wall times (seconds, elapsed).
+std::vector<nlohmann::json> LogWithoutTimes(const std::string& path) {
+  std::vector<nlohmann::json> lines;
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    nlohmann::json j = nlohmann::json::parse(line);
+    j.erase("seconds");
+    j.erase("elapsed");
+    lines.push_back(std::move(j));
+  }
+  return lines;
+}
+
+// The library owns the defaults: rockcal calibrate with no flags but the
+// budget runs what calibrate::Calibrate runs with CalibrationOptions{} and
+// that budget (the reach design, the noise check, the refining stage with
+// its race, the noise seeds): the same evaluations, in the same logs.
+TEST(CalibrateCommand, RunsTheLibrarysDefaults) {
+  const std::string dir = FreshDir("defaults");
+  fs::create_directories(dir);
+  const std::string fan = std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/twin_campaign/fan/";
+  nlohmann::json site_json = nlohmann::json::parse(ReadFile(fan + "site.json"));
+  for (auto& group : site_json["rocks"]) group["count"] = 2;  // a small scene
+  for (auto& material : site_json["materials"])  // one value: a reach design of 8
+    if (material.contains("calibrate")) material["calibrate"].erase("roughness");
+  const std::string site_path = dir + "/site.json";
+  std::ofstream(site_path) << site_json.dump(1);
+  const std::string obs_path = fan + "observations.json";
+  const std::string out = dir + "/cli";
+  const RunResult run = Rockcal("calibrate " + site_path + " --observations " + obs_path +
+                                " --max-evals 6 --quiet --out " + out);
+  ASSERT_EQ(run.status, 0) << run.err;
+
+  const sites::Site site = sites::LoadSite(site_path);
+  const observations::Observations obs = observations::LoadObservations(obs_path, site.scene);
+  calibrate::CalibrationOptions options;
+  options.method.max_evals = 6;
+  fs::create_directories(dir + "/library");
+  options.log_path = dir + "/library/evaluations.jsonl";
+  const calibrate::CalibrationSummary summary = calibrate::Calibrate(site, obs, options);
+  ASSERT_TRUE(summary.reach.has_value()) << "the default reach design";
+  EXPECT_EQ(summary.final_rocks, 4 * summary.rocks) << "the default refining stage";
+  EXPECT_EQ(summary.noise_seeds.size(), 3u) << "the default noise seeds";
+  for (const char* log : {"evaluations.jsonl", "evaluations-refine.jsonl"}) {
+    const std::vector<nlohmann::json> cli = LogWithoutTimes(out + "/" + log);
+    const std::vector<nlohmann::json> library = LogWithoutTimes(dir + "/library/" + log);
+    EXPECT_GT(cli.size(), 1u) << log;
+    ASSERT_EQ(cli.size(), library.size()) << log;
+    for (std::size_t k = 0; k < cli.size(); ++k)
+      EXPECT_EQ(cli[k], library[k]) << log << " line " << k + 1;
+  }
 }
 
 // The PID of a process that has exited (and been reaped).

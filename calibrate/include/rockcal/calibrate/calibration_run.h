@@ -35,8 +35,17 @@ const char* PosteriorStageName(PosteriorStage stage);  // "first", "final"
 // Sets *stage from its name; false for an unknown name.
 bool ParsePosteriorStage(const std::string& name, PosteriorStage* stage);
 
-// Options of Calibrate. Defaults in brackets.
+// Options of Calibrate. Defaults in brackets: CalibrationOptions{} is what
+// `rockcal calibrate` runs without flags (the command only maps its flags
+// onto these fields).
 struct CalibrationOptions {
+  // A field left at kAuto takes the value Resolved gives it for the run's
+  // parameters and budget.
+  static constexpr int kAuto = -1;
+  // The search alone, in one stage: no reach check, refining stage, race,
+  // noise check or noise seeds (a campaign's search, and tests').
+  static CalibrationOptions SingleStage();
+
   // The methods to run, in order, each one of MethodNames() [nlopt:bobyqa];
   // the one with the lowest misfit gives the calibrated values.
   std::vector<std::string> methods = {"nlopt:bobyqa"};
@@ -64,8 +73,9 @@ struct CalibrationOptions {
   // (RunReach) simulated before the search; 0: none [0]. The search starts
   // from the design's lowest misfit when that is lower than the site's
   // starting values', and the summary keeps the reach check (which observed
-  // statistics the box reaches at all). >= 0; 1 is not a design.
-  int reach_points = 0;
+  // statistics the box reaches at all). kAuto: DefaultReachPoints [kAuto];
+  // else >= 0, 1 is not a design.
+  int reach_points = kAuto;
   // Enough rocks where the search ends (retrospective approximation): with
   // refine_factor > 1, after the methods have searched at `rocks` per
   // evaluation, the best of them searches again from its calibrated values
@@ -73,8 +83,8 @@ struct CalibrationOptions {
   // box) and refine_share of max_evals (the first stage keeps the rest); its
   // values are the calibrated ones and the final simulation has as many
   // rocks. 1: one stage [1], >= 1. The refining log is the log's name with
-  // "-refine" before ".jsonl".
-  int refine_factor = 1;
+  // "-refine" before ".jsonl". [4]
+  int refine_factor = 4;
   double refine_share = 1.0 / 3.0;  // (0, 1)
   double refine_step = 0.05;        // (0, 1]
   // A race before the refining stage (with refine_factor > 1): the first
@@ -84,17 +94,18 @@ struct CalibrationOptions {
   // At a few dozen rocks the misfit's Monte Carlo noise is as large as the
   // differences the first stage ranks by, so its best is mostly the luckiest
   // draw; the race ranks the candidates again at the noise level the search
-  // ends at. 0: none, the refining search starts from the first stage's best
-  // [0], >= 0.
-  int race_points = 0;
+  // ends at. 0: none, the refining search starts from the first stage's
+  // best. kAuto: with a refining stage the best twelfth of the reach design
+  // (at least 2), else 0 [kAuto]; else >= 0.
+  int race_points = kAuto;
   // The misfit's Monte Carlo noise where the search ended: the calibrated
   // values simulated again at this many other seeds (seed + 1, seed + 2, ...)
-  // with the final rock count; 0: none [0], >= 0.
-  int noise_seeds = 0;
+  // with the final rock count; 0: none [3], >= 0.
+  int noise_seeds = 3;
   // The noise check before the search (NoiseCheck): the misfit at the start
   // at this many other seeds (seed + 1, ...), its spread against the spread
-  // of the reach design's misfits (needs reach_points); 0: none [0], >= 0.
-  int noise_check_seeds = 0;
+  // of the reach design's misfits (needs reach_points); 0: none [3], >= 0.
+  int noise_check_seeds = 3;
   // Noise dominates when the start's spread over seeds is more than this
   // share of the design's spread [0.25], (0, 1].
   double noise_check_ratio = 0.25;
@@ -104,6 +115,9 @@ struct CalibrationOptions {
   // evaluation budget when that is more (a global stage that grows with the
   // budget: a rugged misfit has basins a small design does not see).
   static int DefaultReachPoints(int parameters, int max_evals);
+  // These options with every kAuto field resolved for a space of
+  // `parameters` calibrated values (Calibrate resolves them itself).
+  CalibrationOptions Resolved(int parameters) const;
 
   // The posterior of the calibrated values (SamplePosterior), after the
   // search, on the objective of `posterior_stage` (its rocks and seed; the
