@@ -60,19 +60,32 @@ double Quantile(std::vector<double>* values, double p) {
   return (*values)[below] + t * ((*values)[above] - (*values)[below]);
 }
 
-double SplitRhat(const std::vector<std::vector<double>>& chains) {
-  // Each chain halved: 2m sequences of n values.
+namespace {
+
+// Each chain halved, for SplitRhat and EffectiveSampleSize: 2m sequences of
+// n values (chains shorter than 2 min_half left out); empty when fewer than
+// two sequences remain or their lengths differ.
+std::vector<std::vector<double>> SplitChains(const std::vector<std::vector<double>>& chains,
+                                             std::size_t min_half) {
   std::vector<std::vector<double>> halves;
   for (const std::vector<double>& c : chains) {
     const std::size_t n = c.size() / 2;
-    if (n < 2) continue;
+    if (n < min_half) continue;
     halves.emplace_back(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(n));
     halves.emplace_back(c.end() - static_cast<std::ptrdiff_t>(n), c.end());
   }
-  if (halves.size() < 2) return std::numeric_limits<double>::quiet_NaN();
-  const std::size_t n = halves.front().size();
+  if (halves.size() < 2) return {};
   for (const auto& h : halves)
-    if (h.size() != n) return std::numeric_limits<double>::quiet_NaN();
+    if (h.size() != halves.front().size()) return {};
+  return halves;
+}
+
+}  // namespace
+
+double SplitRhat(const std::vector<std::vector<double>>& chains) {
+  const std::vector<std::vector<double>> halves = SplitChains(chains, 2);
+  if (halves.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const std::size_t n = halves.front().size();
   const double m = static_cast<double>(halves.size());
   std::vector<double> means;
   double within = 0.0;
@@ -101,17 +114,9 @@ double EffectiveSampleSize(const std::vector<std::vector<double>>& chains) {
   // within-chain autocovariance and the pooled variance (Gelman et al. 2013,
   // Bayesian Data Analysis, 3rd ed., eq. 11.7), summed in pairs of lags
   // while a pair's sum stays positive (Geyer's initial positive sequence).
-  std::vector<std::vector<double>> halves;
-  for (const std::vector<double>& c : chains) {
-    const std::size_t n = c.size() / 2;
-    if (n < 4) continue;
-    halves.emplace_back(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(n));
-    halves.emplace_back(c.end() - static_cast<std::ptrdiff_t>(n), c.end());
-  }
-  if (halves.size() < 2) return std::numeric_limits<double>::quiet_NaN();
+  std::vector<std::vector<double>> halves = SplitChains(chains, 4);
+  if (halves.empty()) return std::numeric_limits<double>::quiet_NaN();
   const std::size_t n = halves.front().size();
-  for (const auto& h : halves)
-    if (h.size() != n) return std::numeric_limits<double>::quiet_NaN();
   const double m = static_cast<double>(halves.size());
   const double nn = static_cast<double>(n);
   std::vector<double> means;
