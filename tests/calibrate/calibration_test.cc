@@ -124,19 +124,30 @@ TEST(Calibration, LoggedResidualsOfAnotherCountAreRefused) {
   }
 }
 
-// Logs that made the reader convert a number beyond its type (undefined
-// behaviour; fuzz/evaluation_log_fuzz.cc reads them with the same space and
-// fingerprint): each is refused, naming the line and the field.
-TEST(Calibration, LogWithAWholeNumberOutOfRangeIsRefused) {
+// The space and fingerprint of the evaluation logs under
+// tests/calibrate/evaluation_logs/ and fuzz/seeds/evaluation_log_fuzz/.
+ParameterSpace LogSpace() {
   Parameter hardness, roughness;
   hardness.material = roughness.material = "slope";
   roughness.kind = ParameterKind::kRoughness;
   roughness.lower = 0.01;
   roughness.upper = 0.5;
-  const ParameterSpace space({hardness, roughness});
+  return ParameterSpace({hardness, roughness});
+}
+
+Fingerprint LogFingerprint() {
   Fingerprint fingerprint;
   fingerprint.Add("site file", "0123456789abcdef");
   fingerprint.Add("seed", "1");
+  return fingerprint;
+}
+
+// Logs that made the reader convert a number beyond its type (undefined
+// behaviour; fuzz/evaluation_log_fuzz.cc reads them with the same space and
+// fingerprint): each is refused, naming the line and the field.
+TEST(Calibration, LogWithAWholeNumberOutOfRangeIsRefused) {
+  const ParameterSpace space = LogSpace();
+  const Fingerprint fingerprint = LogFingerprint();
   const std::string dir = std::string(ROCKCAL_SOURCE_DIR) + "/tests/calibrate/evaluation_logs/";
   for (const auto& [file, field] : {std::pair<const char*, const char*>{"evaluation_1e300", "evaluation"},
                                     {"rocks_minus_1e300", "rocks"},
@@ -160,15 +171,8 @@ TEST(Calibration, LogWithAWholeNumberOutOfRangeIsRefused) {
 // nested deeper than sites::kMaxJsonDepth. A log that cannot be written is
 // a failure (std::runtime_error: exit 1), not bad input.
 TEST(Calibration, LogOfTwoRunsDeepLinesAndUnwritableLogs) {
-  Parameter hardness, roughness;
-  hardness.material = roughness.material = "slope";
-  roughness.kind = ParameterKind::kRoughness;
-  roughness.lower = 0.01;
-  roughness.upper = 0.5;
-  const ParameterSpace space({hardness, roughness});
-  Fingerprint fingerprint;
-  fingerprint.Add("site file", "0123456789abcdef");
-  fingerprint.Add("seed", "1");
+  const ParameterSpace space = LogSpace();
+  const Fingerprint fingerprint = LogFingerprint();
   std::ifstream in(std::string(ROCKCAL_SOURCE_DIR) +
                    "/fuzz/seeds/evaluation_log_fuzz/two_records.jsonl");
   std::string header, first, second;
