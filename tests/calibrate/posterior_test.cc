@@ -15,16 +15,20 @@
 namespace rockcal::calibrate {
 namespace {
 
+// Two parameters of the default kind and bounds (materials "a" and "b"): the
+// test objectives' space.
+ParameterSpace TwoValues() {
+  Parameter a, b;
+  a.material = "a";
+  b.material = "b";
+  return ParameterSpace({a, b});
+}
+
 // Residuals linear in the unit box: r = A (u - centre) / s, so exp(-misfit)
 // is a Gaussian of mean `centre` and precision sum_i a_i a_i^T / s_i^2.
 class LinearObjective final : public ObjectiveFunction {
  public:
-  LinearObjective() {
-    Parameter a, b;
-    a.material = "a";
-    b.material = "b";
-    space_ = ParameterSpace({a, b});
-  }
+  LinearObjective() : space_(TwoValues()) {}
   const ParameterSpace& space() const override { return space_; }
   int residual_count() const override { return 3; }
   observations::Misfit Evaluate(const std::vector<double>& x) const override {
@@ -181,12 +185,7 @@ TEST(SamplePosterior, AParameterTheDataDoNotSeeIsFlaggedUndetermined) {
   // Only the first parameter enters the residuals.
   class OneSided final : public ObjectiveFunction {
    public:
-    OneSided() {
-      Parameter a, b;
-      a.material = "a";
-      b.material = "b";
-      space_ = ParameterSpace({a, b});
-    }
+    OneSided() : space_(TwoValues()) {}
     const ParameterSpace& space() const override { return space_; }
     int residual_count() const override { return 1; }
     observations::Misfit Evaluate(const std::vector<double>& x) const override {
