@@ -27,10 +27,21 @@ install_missing() {
   $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}" >/dev/null
 }
 
+# A compiler cache, where the machine has one (Debian's ccache; not
+# installed by this script): a second build of the same sources, in this
+# checkout or in another clone, compiles only what changed. Paths are taken
+# relative to the checkout and the build folder is left out of the hash, so
+# that two clones share their objects.
+launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER= -DCMAKE_C_COMPILER_LAUNCHER=)
+if command -v ccache >/dev/null 2>&1; then
+  export CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=1
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+fi
+
 build() {  # build DIR TYPE [extra cmake args]
   local dir=$1 type=$2
   shift 2
-  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE="$type" "$@" >/dev/null
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE="$type" "${launcher[@]}" "$@" >/dev/null
   cmake --build "$dir" -j "$JOBS"
 }
 
@@ -65,7 +76,7 @@ case "${1:-}" in
     # against the single process, bit for bit (Open MPI's own allocations
     # defeat the sanitized build's leak check). Without link-time
     # optimisation: its links cost more than it saves here.
-    cmake -S . -B build-heavy -DCMAKE_BUILD_TYPE=Release -DROCKCAL_LTO=OFF >/dev/null
+    cmake -S . -B build-heavy -DCMAKE_BUILD_TYPE=Release -DROCKCAL_LTO=OFF "${launcher[@]}" >/dev/null
     heavy=$(cd tests && ls */*_heavy_test.cc | cut -d/ -f1 | sort -u | sed 's/$/_heavy_tests/')
     for target in $heavy; do cmake --build build-heavy -j "$JOBS" --target "$target"; done
     ctest --test-dir build-heavy --output-on-failure -j "$JOBS" -L heavy
