@@ -41,8 +41,8 @@ int Score(const std::vector<std::string>& argv) {
   const core::SimulationResult& sim = score.simulation;
   nlohmann::json residuals = nlohmann::json::array();
   for (const auto& r : score.misfit.residuals)
-    residuals.push_back({{"observation", r.observation},
-                         {"quantity", r.quantity},
+    residuals.push_back({{"observation", r.id.observation()},
+                         {"quantity", r.id.quantity()},
                          {"simulated", r.simulated},
                          {"observed", r.observed},
                          {"sigma", r.sigma},

@@ -561,8 +561,9 @@ HoldoutSummary CrossValidate(const sites::Site& site, const observations::Observ
     }
     for (const observations::Residual& res : score.misfit.residuals)
       if (score.misfit.runs.empty())
-      if (res.observation == "runout distance" && res.quantity != "max")
-        gaps.push_back(std::abs(res.simulated - res.observed));
+        if (res.id.kind == observations::ObservationKind::kRunoutDistance &&
+            res.id.statistic != observations::Statistic::kMax)
+          gaps.push_back(std::abs(res.simulated - res.observed));
     if (!gaps.empty()) {
       std::sort(gaps.begin(), gaps.end());
       const std::size_t m = gaps.size() / 2;

@@ -272,8 +272,11 @@ void JointSpace::AddOffsets(const Campaign& campaign, Builder* b) {
     for (std::size_t w = 0; w < with.size() && with.size() > 1; ++w) {
       Offset offset;
       offset.sigma = prior.sigma;
-      offset.label =
-          campaign.sites[with[w]].name + ":" + prior.class_name + "." + prior.parameter + "_offset";
+      offset.id.kind = observations::ObservationKind::kPrior;
+      offset.id.index = static_cast<int>(offsets_.size());
+      offset.id.name = prior.class_name + "." + prior.parameter;
+      offset.id.statistic = observations::Statistic::kOffset;
+      offset.id.site = campaign.sites[with[w]].name;
       if (w + 1 < with.size())
         offset.terms = {{free[w], 1.0}};
       else
@@ -331,8 +334,7 @@ std::vector<observations::Residual> JointSpace::PriorResiduals(
   std::vector<observations::Residual> out;
   for (const Offset& o : offsets_) {
     observations::Residual r;
-    r.observation = "prior";
-    r.quantity = o.label;
+    r.id = o.id;
     r.simulated = o.Value(joint);
     r.observed = 0.0;
     r.sigma = o.sigma;
@@ -383,7 +385,7 @@ observations::Misfit CampaignObjective::Join(const std::vector<double>& joint,
       out.message += (out.message.empty() ? "" : "; ") + names_[s] + ": " + m.message;
     }
     for (observations::Residual r : m.residuals) {
-      r.observation = names_[s] + ": " + r.observation;
+      r.id.site = names_[s];
       r.value *= scale;
       out.residuals.push_back(std::move(r));
     }

@@ -26,8 +26,12 @@ std::string EncodeMisfit(const observations::Misfit& m) {
   w.String(m.message);
   w.Int(static_cast<long long>(m.residuals.size()));
   for (const observations::Residual& r : m.residuals) {
-    w.String(r.observation);
-    w.String(r.quantity);
+    w.Int(static_cast<long long>(r.id.kind));
+    w.Int(r.id.index);
+    w.String(r.id.name);
+    w.Int(static_cast<long long>(r.id.statistic));
+    w.Double(r.id.level);
+    w.String(r.id.site);
     w.Double(r.simulated);
     w.Double(r.observed);
     w.Double(r.sigma);
@@ -44,8 +48,12 @@ observations::Misfit DecodeMisfit(const std::string& bytes) {
   m.message = r.String();
   m.residuals.resize(static_cast<std::size_t>(r.Int()));
   for (observations::Residual& res : m.residuals) {
-    res.observation = r.String();
-    res.quantity = r.String();
+    res.id.kind = static_cast<observations::ObservationKind>(r.Int());
+    res.id.index = static_cast<int>(r.Int());
+    res.id.name = r.String();
+    res.id.statistic = static_cast<observations::Statistic>(r.Int());
+    res.id.level = r.Double();
+    res.id.site = r.String();
     res.simulated = r.Double();
     res.observed = r.Double();
     res.sigma = r.Double();

@@ -572,14 +572,12 @@ Eigen::MatrixXd QuantileWhitening(const std::vector<observations::Residual>& lay
   const Eigen::Index n = static_cast<Eigen::Index>(layout.size());
   Eigen::MatrixXd w = Eigen::MatrixXd::Identity(n, n);
   // The quantile residuals of each observation: (index, level).
-  std::map<std::string, std::vector<std::pair<Eigen::Index, double>>> groups;
+  std::map<observations::ResidualId, std::vector<std::pair<Eigen::Index, double>>> groups;
   for (Eigen::Index k = 0; k < n; ++k) {
-    const std::string& q = layout[static_cast<std::size_t>(k)].quantity;
-    if (q.size() < 2 || q[0] != 'p') continue;
-    char* end = nullptr;
-    const double percent = std::strtod(q.c_str() + 1, &end);
-    if (end == q.c_str() + 1 || *end != '\0' || !(percent > 0.0 && percent < 100.0)) continue;
-    groups[layout[static_cast<std::size_t>(k)].observation].push_back({k, percent / 100.0});
+    const observations::ResidualId& id = layout[static_cast<std::size_t>(k)].id;
+    if (id.statistic != observations::Statistic::kQuantile || !(id.level > 0.0 && id.level < 1.0))
+      continue;
+    groups[id.observation_id()].push_back({k, id.level});
   }
   for (const auto& [name, members] : groups) {
     const Eigen::Index m = static_cast<Eigen::Index>(members.size());
@@ -626,14 +624,14 @@ void PredictiveBands(const sites::Site& site, const observations::Observations& 
       [&](int, const observations::Misfit&) {
         if (progress) progress("predictive bands", ++done, draws);
       });
-  // The residuals keyed by (observation, quantity), in the first draw's order.
-  std::vector<std::pair<std::string, std::string>> keys;
-  std::map<std::pair<std::string, std::string>, std::vector<double>> values;
-  std::map<std::pair<std::string, std::string>, double> observed;
+  // The residuals by their identity, in the first draw's order.
+  std::vector<observations::ResidualId> keys;
+  std::map<observations::ResidualId, std::vector<double>> values;
+  std::map<observations::ResidualId, double> observed;
   for (const observations::Misfit& m : misfits)
     for (const observations::Residual& r : m.residuals) {
       if (!std::isfinite(r.simulated)) continue;
-      const auto key = std::make_pair(r.observation, r.quantity);
+      const observations::ResidualId& key = r.id;
       if (!values.count(key)) keys.push_back(key);
       values[key].push_back(r.simulated);
       observed[key] = r.observed;
@@ -641,8 +639,7 @@ void PredictiveBands(const sites::Site& site, const observations::Observations& 
   for (const auto& key : keys) {
     std::vector<double> v = values[key];
     PredictiveBand b;
-    b.observation = key.first;
-    b.quantity = key.second;
+    b.id = key;
     b.observed = observed[key];
     b.p05 = Quantile(&v, 0.05);
     b.median = Quantile(&v, 0.5);
@@ -690,8 +687,8 @@ nlohmann::json PosteriorJson(const PosteriorResult& result) {
   }
   nlohmann::json bands = nlohmann::json::array();
   for (const PredictiveBand& b : result.bands)
-    bands.push_back({{"observation", b.observation},
-                     {"quantity", b.quantity},
+    bands.push_back({{"observation", b.id.observation()},
+                     {"quantity", b.id.quantity()},
                      {"observed", JsonNum(b.observed)},
                      {"p05", JsonNum(b.p05)},
                      {"median", JsonNum(b.median)},

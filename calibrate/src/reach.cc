@@ -104,8 +104,8 @@ double Median(std::vector<double> v) {
 // True when the residual compares its simulated value with the observed one:
 // a penalty (which replaces the comparison) leaves value != (sim - obs) / sigma.
 bool Usable(const observations::Residual& r, bool penalised) {
-  if (r.observation.empty() || !std::isfinite(r.simulated) || !std::isfinite(r.observed) ||
-      !(std::isfinite(r.sigma) && r.sigma > 0.0))
+  if (r.id.kind == observations::ObservationKind::kNone || !std::isfinite(r.simulated) ||
+      !std::isfinite(r.observed) || !(std::isfinite(r.sigma) && r.sigma > 0.0))
     return false;
   if (!penalised) return true;
   const double expected = (r.simulated - r.observed) / r.sigma;
@@ -268,7 +268,8 @@ const char* ReachVerdictText(ReachVerdict verdict) {
 }
 
 std::string ReachStatistic::name() const {
-  return quantity.empty() ? observation : observation + " " + quantity;
+  const std::string quantity = id.quantity();
+  return quantity.empty() ? id.observation() : id.observation() + " " + quantity;
 }
 
 int ReachResult::out_of_reach() const {
@@ -340,7 +341,7 @@ ReachResult RunReach(const Objective& objective, const ReachOptions& options) {
   const std::vector<std::vector<double>> design =
       SpaceFillingDesign(options.design, count, n, options.seed, options.candidates);
   // Statistics in first-seen order, keyed by (observation, quantity).
-  std::map<std::pair<std::string, std::string>, std::size_t> index;
+  std::map<observations::ResidualId, std::size_t> index;
   std::vector<std::vector<observations::Residual>> residuals;
   // The design points are independent: simulated over the ranks of an MPI
   // run, in design order all the same.
@@ -360,12 +361,11 @@ ReachResult RunReach(const Objective& objective, const ReachOptions& options) {
     point.penalised = misfit.penalised;
     point.message = misfit.message;
     for (const observations::Residual& r : misfit.residuals) {
-      if (r.observation.empty()) continue;  // a spread penalty carries no statistic
-      const auto key = std::make_pair(r.observation, r.quantity);
-      if (index.emplace(key, result.statistics.size()).second) {
+      // a spread penalty carries no statistic
+      if (r.id.kind == observations::ObservationKind::kNone) continue;
+      if (index.emplace(r.id, result.statistics.size()).second) {
         ReachStatistic s;
-        s.observation = r.observation;
-        s.quantity = r.quantity;
+        s.id = r.id;
         s.observed = r.observed;
         result.statistics.push_back(s);
       }
@@ -380,7 +380,7 @@ ReachResult RunReach(const Objective& objective, const ReachOptions& options) {
     point.sigma.assign(m, kNaN);
     for (const observations::Residual& r : residuals[p]) {
       if (!Usable(r, point.penalised)) continue;
-      const std::size_t s = index.at(std::make_pair(r.observation, r.quantity));
+      const std::size_t s = index.at(r.id);
       point.simulated[s] = r.simulated;
       point.sigma[s] = r.sigma;
     }
@@ -423,8 +423,8 @@ nlohmann::json ReachJson(const std::string& site_name, const ReachResult& r) {
   nlohmann::json stats = nlohmann::json::array();
   for (const ReachStatistic& s : r.statistics)
     stats.push_back({{"name", s.name()},
-                     {"observation", s.observation},
-                     {"quantity", s.quantity},
+                     {"observation", s.id.observation()},
+                     {"quantity", s.id.quantity()},
                      {"observed", JsonNum(s.observed)},
                      {"sigma", JsonNum(s.sigma)},
                      {"min", JsonNum(s.min)},
@@ -476,12 +476,13 @@ std::string ReachCsv(const ReachResult& r) {
   out << "statistic,observation,quantity,observed,sigma,min,max,min_point,max_point,"
          "closest_point,closest_simulated,closest_sigmas,points_with_value,verdict,at_edge\n";
   for (const ReachStatistic& s : r.statistics)
-    out << CsvField(s.name()) << ',' << CsvField(s.observation) << ',' << CsvField(s.quantity)
-        << ',' << Num(s.observed, "%.10g") << ',' << Num(s.sigma, "%.10g") << ','
-        << Num(s.min, "%.10g") << ',' << Num(s.max, "%.10g") << ',' << s.min_point << ','
-        << s.max_point << ',' << s.closest_point << ',' << Num(s.closest_simulated, "%.10g") << ','
-        << Num(s.closest_sigmas, "%.10g") << ',' << s.points_with_value << ','
-        << ReachVerdictText(s.verdict) << ',' << (s.at_edge() ? "true" : "false") << '\n';
+    out << CsvField(s.name()) << ',' << CsvField(s.id.observation()) << ','
+        << CsvField(s.id.quantity()) << ',' << Num(s.observed, "%.10g") << ','
+        << Num(s.sigma, "%.10g") << ',' << Num(s.min, "%.10g") << ',' << Num(s.max, "%.10g") << ','
+        << s.min_point << ',' << s.max_point << ',' << s.closest_point << ','
+        << Num(s.closest_simulated, "%.10g") << ',' << Num(s.closest_sigmas, "%.10g") << ','
+        << s.points_with_value << ',' << ReachVerdictText(s.verdict) << ','
+        << (s.at_edge() ? "true" : "false") << '\n';
   return out.str();
 }
 

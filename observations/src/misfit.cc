@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
 #include "rockcal/core/format.h"
 #include "rockcal/core/statistics.h"
@@ -50,41 +52,38 @@ class Comparer final {
 
   // Quantiles (options' levels, and the max) of the simulated against the
   // observed values; `error` is the one-sigma measurement error.
-  void Distributions(const std::string& observation, std::vector<double> simulated,
+  void Distributions(const ResidualId& of, std::vector<double> simulated,
                      std::vector<double> observed, double error) const {
-    Quantiles(observation, std::move(simulated), std::move(observed), error, options_.levels,
+    Quantiles(of, std::move(simulated), std::move(observed), error, options_.levels,
               options_.include_max);
   }
   // The same at `levels` (and the max when `include_max`).
-  void Quantiles(const std::string& observation, std::vector<double> simulated,
-                 std::vector<double> observed, double error, const std::vector<double>& levels,
-                 bool include_max) const;
+  void Quantiles(const ResidualId& of, std::vector<double> simulated, std::vector<double> observed,
+                 double error, const std::vector<double>& levels, bool include_max) const;
   // A share: `k_sim` of `n_sim` simulated rocks against an observed share of
   // `n_obs` rocks; each side's binomial error with Jeffreys' estimate
   // (k + 1/2) / (n + 1), which stays > 0 when every rock stopped.
-  void Share(const std::string& observation, int k_sim, int n_sim, double observed,
-             int n_obs) const;
+  void Share(const ResidualId& of, int k_sim, int n_sim, double observed, int n_obs) const;
   // A passing fraction: `crossed` of `released` simulated rocks.
-  void Fraction(const std::string& observation, int crossed, int released, double observed,
+  void Fraction(const ResidualId& of, int crossed, int released, double observed,
                 double error) const;
 
   // The floor of a sigma of measurement error `error`.
   double SigmaFloor(double error) const { return Floor(error); }
-  // Adds one residual as it is.
-  void Residual(const std::string& observation, const std::string& quantity, double simulated,
-                double observed, double sigma, double value) const {
-    Add(observation, quantity, simulated, observed, sigma, value);
+  // Adds one residual of `of` and `statistic` as it is.
+  void Residual(const ResidualId& of, Statistic statistic, double simulated, double observed,
+                double sigma, double value) const {
+    Add(of, statistic, 0.0, simulated, observed, sigma, value);
   }
 
  private:
   double Floor(double error) const {
     return std::max(options_.sigma_floor * error, kAbsoluteSigmaFloor);
   }
-  void Add(const std::string& observation, const std::string& quantity, double simulated,
+  void Add(const ResidualId& of, Statistic statistic, double level, double simulated,
            double observed, double sigma, double value) const {
     observations::Residual r;
-    r.observation = observation;
-    r.quantity = quantity;
+    r.id = of.With(statistic, level);
     r.simulated = simulated;
     r.observed = observed;
     r.sigma = sigma;
@@ -100,11 +99,11 @@ class Comparer final {
   Misfit* misfit_;
 };
 
-void Comparer::Quantiles(const std::string& observation, std::vector<double> simulated,
+void Comparer::Quantiles(const ResidualId& of, std::vector<double> simulated,
                          std::vector<double> observed, double error,
                          const std::vector<double>& levels, bool include_max) const {
   if (observed.empty()) {
-    throw std::invalid_argument("ComputeMisfit: observation '" + observation +
+    throw std::invalid_argument("ComputeMisfit: observation '" + of.observation() +
                                 "' has no observed values");
   }
   std::sort(simulated.begin(), simulated.end());
@@ -114,35 +113,35 @@ void Comparer::Quantiles(const std::string& observation, std::vector<double> sim
   // A distribution that cannot be compared adds exactly `penalty` to the misfit.
   const double penalty_value = std::sqrt(2.0 * options_.penalty / static_cast<double>(quantities));
   if (sparse) {
-    Penalise(observation + ": " + std::to_string(simulated.size()) + " simulated value" +
+    Penalise(of.observation() + ": " + std::to_string(simulated.size()) + " simulated value" +
              (simulated.size() == 1 ? "" : "s") + " (fewer than 2); penalty " +
              FormatNumber(options_.penalty, "%.6g") + " added.");
   }
   const double min_sigma = Floor(error);
-  auto compare = [&](const std::string& quantity, double sim, double obs, double sim_error,
+  auto compare = [&](Statistic statistic, double level, double sim, double obs, double sim_error,
                      double obs_error) {
     const double sigma = std::max(
         std::sqrt(error * error + sim_error * sim_error + obs_error * obs_error), min_sigma);
     const double value = sparse ? penalty_value : (sim - obs) / sigma;
-    Add(observation, quantity, sim, obs, sigma, value);
+    Add(of, statistic, level, sim, obs, sigma, value);
   };
   for (const double level : levels) {
     const double sim = simulated.empty() ? 0.0 : core::Quantile(simulated, level);
-    compare(LevelName(level), sim, core::Quantile(observed, level),
+    compare(Statistic::kQuantile, level, sim, core::Quantile(observed, level),
             QuantileStandardError(simulated, level), QuantileStandardError(observed, level));
   }
   if (include_max) {
     const double sim = simulated.empty() ? 0.0 : simulated.back();
-    compare("max", sim, observed.back(), MaxStandardError(simulated), MaxStandardError(observed));
+    compare(Statistic::kMax, 0.0, sim, observed.back(), MaxStandardError(simulated),
+            MaxStandardError(observed));
   }
 }
 
-void Comparer::Share(const std::string& observation, int k_sim, int n_sim, double observed,
-                     int n_obs) const {
+void Comparer::Share(const ResidualId& of, int k_sim, int n_sim, double observed, int n_obs) const {
   if (n_sim <= 0) {
-    Penalise(observation + ": no rocks released; penalty " +
+    Penalise(of.observation() + ": no rocks released; penalty " +
              FormatNumber(options_.penalty, "%.6g") + " added.");
-    Add(observation, "share", 0.0, observed, 1.0, std::sqrt(2.0 * options_.penalty));
+    Add(of, Statistic::kShare, 0.0, 0.0, observed, 1.0, std::sqrt(2.0 * options_.penalty));
     return;
   }
   auto variance = [](double k, int n) {
@@ -151,22 +150,22 @@ void Comparer::Share(const std::string& observation, int k_sim, int n_sim, doubl
   };
   const double f = static_cast<double>(k_sim) / n_sim;
   const double sigma = std::sqrt(variance(k_sim, n_sim) + variance(observed * n_obs, n_obs));
-  Add(observation, "share", f, observed, sigma, (f - observed) / sigma);
+  Add(of, Statistic::kShare, 0.0, f, observed, sigma, (f - observed) / sigma);
 }
 
-void Comparer::Fraction(const std::string& observation, int crossed, int released, double observed,
+void Comparer::Fraction(const ResidualId& of, int crossed, int released, double observed,
                         double error) const {
   if (released <= 0) {
-    Penalise(observation + ": no rocks released; penalty " +
+    Penalise(of.observation() + ": no rocks released; penalty " +
              FormatNumber(options_.penalty, "%.6g") + " added.");
-    Add(observation, "fraction", 0.0, observed, std::max(error, Floor(error)),
+    Add(of, Statistic::kFraction, 0.0, 0.0, observed, std::max(error, Floor(error)),
         std::sqrt(2.0 * options_.penalty));
     return;
   }
   const double n = static_cast<double>(released);
   const double f = static_cast<double>(crossed) / n;
   const double sigma = std::max(std::sqrt(error * error + f * (1.0 - f) / n), Floor(error));
-  Add(observation, "fraction", f, observed, sigma, (f - observed) / sigma);
+  Add(of, Statistic::kFraction, 0.0, f, observed, sigma, (f - observed) / sigma);
 }
 
 // The runout: where rocks stopped against the observed stops, pooled and per
@@ -248,10 +247,12 @@ void CompareRuns(const Runout& runout, double error, const core::SimulationResul
     misfit->runs.push_back(fit);
   }
   if (options.run_terms != RunTerms::kPerRun)
-    compare.Distributions("runout distance", std::move(pooled), runout.distances, error);
+    compare.Distributions(ResidualId::Of(ObservationKind::kRunoutDistance), std::move(pooled),
+                          runout.distances, error);
   const int observed_rocks =
       runout.observed_rocks > 0 ? runout.observed_rocks : static_cast<int>(runout.distances.size());
-  compare.Share("runout stopped", stopped, released, runout.stopped_fraction, observed_rocks);
+  compare.Share(ResidualId::Of(ObservationKind::kRunoutStopped), stopped, released,
+                runout.stopped_fraction, observed_rocks);
   if (options.run_terms == RunTerms::kPooled) return;
 
   std::vector<double> deviations;
@@ -286,8 +287,8 @@ void CompareRuns(const Runout& runout, double error, const core::SimulationResul
                             : std::max(std::sqrt(error * error + spread2 * (1.0 + kPi / (2.0 * n))),
                                        compare.SigmaFloor(error));
     const double value = run.empty() ? 0.0 : (fit.simulated - fit.observed) / fit.sigma;
-    compare.Residual(RunObservation(fit.id), kRunQuantity, fit.simulated, fit.observed, fit.sigma,
-                     value);
+    compare.Residual(ResidualId::Of(ObservationKind::kRun, static_cast<int>(i), fit.id),
+                     Statistic::kRunout, fit.simulated, fit.observed, fit.sigma, value);
   }
 }
 
@@ -316,13 +317,15 @@ void CompareRunout(const Runout& runout, double error, const core::SimulationRes
     if (all_stopped && rock.outcome != core::Outcome::kStopped) rocks.push_back({rock.mass, farthest});
   std::vector<double> distance;
   for (const Rock& r : rocks) distance.push_back(r.distance);
-  compare.Distributions("runout distance", std::move(distance), runout.distances, error);
+  compare.Distributions(ResidualId::Of(ObservationKind::kRunoutDistance), std::move(distance),
+                        runout.distances, error);
   if (runout.has_lateral())
-    compare.Distributions("runout lateral", std::move(lateral), runout.lateral, error);
+    compare.Distributions(ResidualId::Of(ObservationKind::kRunoutLateral), std::move(lateral),
+                          runout.lateral, error);
   const int observed_rocks =
       runout.observed_rocks > 0 ? runout.observed_rocks : static_cast<int>(runout.distances.size());
-  compare.Share("runout stopped", stopped, static_cast<int>(result.rocks.size()),
-                runout.stopped_fraction, observed_rocks);
+  compare.Share(ResidualId::Of(ObservationKind::kRunoutStopped), stopped,
+                static_cast<int>(result.rocks.size()), runout.stopped_fraction, observed_rocks);
   if (runout.mass_classes < 2) return;
   const std::vector<double> bounds = runout.MassClassBounds();
   auto class_of = [&](double mass) {
@@ -341,8 +344,8 @@ void CompareRunout(const Runout& runout, double error, const core::SimulationRes
             ? ">= " + FormatNumber(std::round(bounds[static_cast<std::size_t>(c - 1)]), "%.6g")
             : FormatNumber(std::round(bounds[static_cast<std::size_t>(c - 1)]), "%.6g") + "-" +
                   FormatNumber(std::round(bounds[static_cast<std::size_t>(c)]), "%.6g");
-    const std::string label = "runout distance, mass " + range + " kg";
-    compare.Quantiles(label, std::move(sim), std::move(obs), error, {0.5}, false);
+    compare.Quantiles(ResidualId::Of(ObservationKind::kRunoutMassClass, c, range), std::move(sim),
+                      std::move(obs), error, {0.5}, false);
   }
 }
 
@@ -370,12 +373,81 @@ bool ParseRunTerms(const std::string& name, RunTerms* terms) {
   return false;
 }
 
-std::string RunObservation(const std::string& run_id) { return kRunObservationPrefix + run_id; }
+std::string ResidualId::observation() const {
+  std::string text;
+  switch (kind) {
+    case ObservationKind::kNone:
+      break;
+    case ObservationKind::kTreeScars:
+    case ObservationKind::kPassing:
+      text = name;
+      break;
+    case ObservationKind::kRunoutDistance:
+      text = "runout distance";
+      break;
+    case ObservationKind::kRunoutMassClass:
+      text = "runout distance, mass " + name + " kg";
+      break;
+    case ObservationKind::kRunoutLateral:
+      text = "runout lateral";
+      break;
+    case ObservationKind::kRunoutStopped:
+      text = "runout stopped";
+      break;
+    case ObservationKind::kRun:
+      text = "run " + name;
+      break;
+    case ObservationKind::kPrior:
+      return "prior";
+  }
+  return site.empty() ? text : site + ": " + text;
+}
 
-bool IsRunResidual(const Residual& residual) {
-  return residual.quantity == kRunQuantity &&
-         residual.observation.compare(0, std::char_traits<char>::length(kRunObservationPrefix),
-                                      kRunObservationPrefix) == 0;
+std::string ResidualId::quantity() const {
+  switch (statistic) {
+    case Statistic::kNone:
+      return "";
+    case Statistic::kQuantile:
+      return LevelName(level);
+    case Statistic::kMax:
+      return "max";
+    case Statistic::kShare:
+      return "share";
+    case Statistic::kFraction:
+      return "fraction";
+    case Statistic::kRunout:
+      return "runout";
+    case Statistic::kOffset:
+      return site + ":" + name + "_offset";
+  }
+  return "";
+}
+
+ResidualId ResidualId::Of(ObservationKind kind, int index, std::string name) {
+  ResidualId id;
+  id.kind = kind;
+  id.index = index;
+  id.name = std::move(name);
+  return id;
+}
+
+ResidualId ResidualId::With(Statistic what, double at) const {
+  ResidualId id = *this;
+  id.statistic = what;
+  id.level = at;
+  return id;
+}
+
+ResidualId ResidualId::observation_id() const { return With(Statistic::kNone); }
+
+bool ResidualId::operator==(const ResidualId& o) const {
+  return kind == o.kind && index == o.index && name == o.name && statistic == o.statistic &&
+         level == o.level && site == o.site;
+}
+
+bool ResidualId::operator<(const ResidualId& o) const {
+  return std::tie(site, kind, index, name, statistic, level) <
+         std::tie(o.site, o.kind, o.index, o.name, o.statistic, o.level);
 }
 
 bool MisfitOptions::IsValid(std::string* error) const {
@@ -416,8 +488,8 @@ std::string Misfit::Report() const {
   out << line;
   for (const Residual& r : residuals) {
     std::snprintf(line, sizeof(line), "%-28s %-9s %12.5g %12.5g %12.5g %10.4g\n",
-                  r.observation.c_str(), r.quantity.c_str(), r.simulated, r.observed, r.sigma,
-                  r.value);
+                  r.id.observation().c_str(), r.id.quantity().c_str(), r.simulated, r.observed,
+                  r.sigma, r.value);
     out << line;
   }
   out << "misfit " << value << (penalised ? " (penalised)" : "") << "\n";
@@ -455,8 +527,8 @@ FitVerdict AssessFit(const Misfit& misfit) {
   bool very_far = false;
   for (const Residual& r : misfit.residuals) {
     if (std::abs(r.value) > 2.0) far.push_back(&r);
-    very_far =
-        very_far || std::abs(r.value) > 3.0 || (r.quantity == "share" && std::abs(r.value) > 2.0);
+    very_far = very_far || std::abs(r.value) > 3.0 ||
+               (r.id.statistic == Statistic::kShare && std::abs(r.value) > 2.0);
   }
   std::sort(far.begin(), far.end(), [](const Residual* a, const Residual* b) {
     return std::abs(a->value) > std::abs(b->value);
@@ -465,7 +537,7 @@ FitVerdict AssessFit(const Misfit& misfit) {
     char line[160];
     std::snprintf(line, sizeof line, ": simulated %.3g against %.3g observed (%+.1f sigma)",
                   r->simulated, r->observed, r->value);
-    v.outside.push_back(r->observation + " " + r->quantity + line);
+    v.outside.push_back(r->id.observation() + " " + r->id.quantity() + line);
   }
   const std::size_t allowed = std::max<std::size_t>(1, misfit.residuals.size() / 10);
   v.poor = misfit.penalised || very_far || far.size() > allowed;
@@ -544,7 +616,8 @@ Misfit ComputeMisfit(const Observations& observations, const core::Scene& scene,
   };
 
   const Comparer compare(options, &misfit);
-  for (const ScarSet& set : observations.tree_scars) {
+  for (std::size_t i = 0; i < observations.tree_scars.size(); ++i) {
+    const ScarSet& set = observations.tree_scars[i];
     std::vector<double> simulated;
     if (set.at_partition()) {
       check_partition(set.label, set.partition);
@@ -561,8 +634,9 @@ Misfit ComputeMisfit(const Observations& observations, const core::Scene& scene,
         }
       }
     }
-    compare.Distributions(set.label, std::move(simulated), set.ObservedHeights(),
-                          observations.error.height);
+    compare.Distributions(
+        ResidualId::Of(ObservationKind::kTreeScars, static_cast<int>(i), set.label),
+        std::move(simulated), set.ObservedHeights(), observations.error.height);
   }
 
   if (observations.runout && observations.runout->has_runs())
@@ -572,13 +646,14 @@ Misfit ComputeMisfit(const Observations& observations, const core::Scene& scene,
     CompareRunout(*observations.runout, observations.error.runout, result, compare);
 
   const int released = static_cast<int>(result.rocks.size());
-  for (const Passing& passing : observations.passing) {
+  for (std::size_t i = 0; i < observations.passing.size(); ++i) {
+    const Passing& passing = observations.passing[i];
     check_partition(passing.label, passing.partition);
     const std::size_t p = static_cast<std::size_t>(passing.partition);
     int crossed = 0;
     for (const core::RockRecord& rock : result.rocks) crossed += rock.crossings[p].crossed ? 1 : 0;
-    compare.Fraction(passing.label, crossed, released, passing.fraction,
-                     observations.error.passing);
+    compare.Fraction(ResidualId::Of(ObservationKind::kPassing, static_cast<int>(i), passing.label),
+                     crossed, released, passing.fraction, observations.error.passing);
   }
 
   double sum = 0.0;

@@ -57,8 +57,8 @@ const double* StdError(const MethodResult& m, std::size_t k) {
 nlohmann::json ResidualsJson(const observations::Misfit& m) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& r : m.residuals)
-    out.push_back({{"observation", r.observation},
-                   {"quantity", r.quantity},
+    out.push_back({{"observation", r.id.observation()},
+                   {"quantity", r.id.quantity()},
                    {"simulated", r.simulated},
                    {"observed", r.observed},
                    {"sigma", r.sigma},

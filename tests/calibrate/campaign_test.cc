@@ -163,9 +163,11 @@ TEST(JointSpace, OffsetsAddToTheSharedValueSumToZeroAndEnterTheMisfitAsPriorResi
   ASSERT_EQ(prior.size(), 2u);
   EXPECT_DOUBLE_EQ(prior[0].value, 2.0);
   EXPECT_DOUBLE_EQ(prior[1].value, -2.0);
-  EXPECT_EQ(prior[0].observation, "prior");
-  EXPECT_EQ(prior[0].quantity, "a:slope.hardness_offset");
-  EXPECT_EQ(prior[1].quantity, "b:slope.hardness_offset");
+  EXPECT_EQ(prior[0].id.observation(), "prior");
+  EXPECT_EQ(prior[0].id.quantity(), "a:slope.hardness_offset");
+  EXPECT_EQ(prior[1].id.quantity(), "b:slope.hardness_offset");
+  EXPECT_EQ(prior[1].id.kind, observations::ObservationKind::kPrior);
+  EXPECT_EQ(prior[1].id.site, "b");
   EXPECT_DOUBLE_EQ(prior[0].sigma, 0.05);
   // The start: offsets 0.
   const std::vector<double> start =
@@ -198,9 +200,11 @@ TEST(CampaignObjective, JoinsTheSitesWeightedResidualsAndThePriors) {
   double sum = 0.0;
   for (const auto& r : joint.residuals) sum += r.value * r.value;
   EXPECT_NEAR(joint.value, 0.5 * sum, 1e-9 * joint.value);
-  EXPECT_EQ(joint.residuals[0].observation, "a: " + ma.residuals[0].observation);
+  EXPECT_EQ(joint.residuals[0].id.observation(), "a: " + ma.residuals[0].id.observation());
+  EXPECT_EQ(joint.residuals[0].id.site, "a");
+  EXPECT_EQ(joint.residuals[static_cast<std::size_t>(a)].id.site, "b");
   EXPECT_EQ(joint.residuals[static_cast<std::size_t>(a)].value, 2.0 * mb.residuals[0].value);
-  EXPECT_EQ(joint.residuals.back().observation, "prior");
+  EXPECT_EQ(joint.residuals.back().id.observation(), "prior");
   EXPECT_DOUBLE_EQ(joint.residuals.back().value, -0.5);
   // Several points at once: the same misfits as one by one, and `done` once per point.
   const std::vector<double> y = {0.4, 0.2, 0.2, 0.3, 0.0};

@@ -37,8 +37,6 @@ class LinearObjective final : public ObjectiveFunction {
     const double r[3] = {(x[0] - 0.4) / 0.08, (x[1] - 0.6) / 0.05, (x[0] + x[1] - 1.0) / 0.1};
     for (double v : r) {
       observations::Residual res;
-      res.observation = "linear";
-      res.quantity = "q";
       res.value = v;
       m.residuals.push_back(res);
       m.value += 0.5 * v * v;
@@ -248,15 +246,19 @@ TEST(SamplePosterior, AResumedRunReplaysItsEvaluationsAndGivesTheSameSamples) {
 
 TEST(QuantileWhitening, WhitensTheQuantilesOfEachDistributionAndNothingElse) {
   std::vector<observations::Residual> layout;
-  for (const char* q : {"p10", "p50", "p90", "max"}) {
+  using observations::ObservationKind;
+  using observations::ResidualId;
+  using observations::Statistic;
+  const ResidualId distance = ResidualId::Of(ObservationKind::kRunoutDistance);
+  for (const ResidualId& id :
+       {distance.With(Statistic::kQuantile, 0.1), distance.With(Statistic::kQuantile, 0.5),
+        distance.With(Statistic::kQuantile, 0.9), distance.With(Statistic::kMax)}) {
     observations::Residual r;
-    r.observation = "runout distance";
-    r.quantity = q;
+    r.id = id;
     layout.push_back(r);
   }
   observations::Residual f;
-  f.observation = "passing[0] P";
-  f.quantity = "fraction";
+  f.id = ResidualId::Of(ObservationKind::kPassing, 0, "passing[0] P").With(Statistic::kFraction);
   layout.push_back(f);
   const Eigen::MatrixXd w = QuantileWhitening(layout);
   // The correlation of the levels 0.1, 0.5 and 0.9 (sample quantiles).

@@ -93,8 +93,8 @@ TEST(ReachOptions, ValidatesAndNamesTheField) {
 
 TEST(ReachStatistic, AtTheEdgeWhenOnlyTheSigmaAllowancePutsItInReach) {
   ReachStatistic s;
-  s.observation = "runout distance";
-  s.quantity = "p90";
+  s.id = observations::ResidualId::Of(observations::ObservationKind::kRunoutDistance)
+             .With(observations::Statistic::kQuantile, 0.9);
   s.min = 10.0;
   s.max = 20.0;
   s.verdict = ReachVerdict::kInReach;

@@ -89,12 +89,12 @@ TEST(MisfitTest, IdenticalDistributionsGiveZero) {
   EXPECT_FALSE(m.penalised) << m.message;
   EXPECT_EQ(m.value, 0.0);
   ASSERT_EQ(m.residuals.size(), 10u);  // p10 ... p90 and max
-  EXPECT_EQ(m.residuals[0].quantity, "p10");
-  EXPECT_EQ(m.residuals[8].quantity, "p90");
-  EXPECT_EQ(m.residuals[9].quantity, "max");
+  EXPECT_EQ(m.residuals[0].id.quantity(), "p10");
+  EXPECT_EQ(m.residuals[8].id.quantity(), "p90");
+  EXPECT_EQ(m.residuals[9].id.quantity(), "max");
   for (const Residual& r : m.residuals) {
-    EXPECT_EQ(r.observation, "tree_scars[0] BP-1");
-    EXPECT_EQ(r.value, 0.0) << r.quantity;
+    EXPECT_EQ(r.id.observation(), "tree_scars[0] BP-1");
+    EXPECT_EQ(r.value, 0.0) << r.id.quantity();
     EXPECT_GE(r.sigma, 0.3);
   }
 }
@@ -111,8 +111,8 @@ TEST(MisfitTest, GrowsMonotonicallyWithAShiftAndResidualsFollowItsSign) {
     // The sigmas do not depend on the shift, so the misfit is symmetric.
     EXPECT_NEAR(down.value, up.value, 1e-9 * up.value) << "shift " << shift;
     for (std::size_t i = 0; i < up.residuals.size(); ++i) {
-      EXPECT_GT(up.residuals[i].value, 0.0) << up.residuals[i].quantity;
-      EXPECT_LT(down.residuals[i].value, 0.0) << down.residuals[i].quantity;
+      EXPECT_GT(up.residuals[i].value, 0.0) << up.residuals[i].id.quantity();
+      EXPECT_LT(down.residuals[i].value, 0.0) << down.residuals[i].id.quantity();
       EXPECT_NEAR(up.residuals[i].simulated - up.residuals[i].observed, shift, 1e-9);
     }
     previous = up.value;
@@ -135,7 +135,7 @@ TEST(MisfitTest, SigmaCombinesMeasurementMonteCarloAndSamplingErrors) {
   const double x_hi = 0.3 / 9.0 * (36.0 + (h - 1.5) * (49.0 - 36.0));  // x(4.5 + h)
   const double obs_error = 0.5 * (x_hi - x_lo);
   const Residual& p50 = m.residuals[4];
-  EXPECT_EQ(p50.quantity, "p50");
+  EXPECT_EQ(p50.id.quantity(), "p50");
   EXPECT_NEAR(p50.sigma, std::sqrt(e * e + 0.25 * 0.25 + obs_error * obs_error), 1e-12);
   EXPECT_NEAR(p50.simulated, 2.475, 1e-12);
   EXPECT_NEAR(p50.observed, 0.3 * (16 + 0.5 * 9) / 9.0, 1e-12);
@@ -249,10 +249,10 @@ TEST(MisfitTest, RunoutComparesDistanceAndLateralOffsetOfStoppedRocks) {
   EXPECT_FALSE(same.penalised) << same.message;
   EXPECT_EQ(same.value, 0.0);
   ASSERT_EQ(same.residuals.size(), 21u);
-  EXPECT_EQ(same.residuals[0].observation, "runout distance");
-  EXPECT_EQ(same.residuals[10].observation, "runout lateral");
-  EXPECT_EQ(same.residuals[20].observation, "runout stopped");
-  EXPECT_EQ(same.residuals[20].quantity, "share");
+  EXPECT_EQ(same.residuals[0].id.observation(), "runout distance");
+  EXPECT_EQ(same.residuals[10].id.observation(), "runout lateral");
+  EXPECT_EQ(same.residuals[20].id.observation(), "runout stopped");
+  EXPECT_EQ(same.residuals[20].id.quantity(), "share");
 
   const Misfit longer = ComputeMisfit(obs, scene, simulate(15, 0));
   for (std::size_t i = 0; i < 10; ++i) EXPECT_GT(longer.residuals[i].value, 0.0);
@@ -304,7 +304,7 @@ TEST(MisfitTest, LostRocksAreCensoredAndNeverLowerTheMisfit) {
           << lost << " rocks " << core::OutcomeName(outcome) << ": " << left.value << " against "
           << stopped.value << " when they stop where they were last seen";
       const Residual& share = left.residuals.back();
-      EXPECT_EQ(share.observation, "runout stopped");
+      EXPECT_EQ(share.id.observation(), "runout stopped");
       EXPECT_NEAR(share.simulated, (30.0 - lost) / 30.0, 1e-12);
       EXPECT_LT(share.value, 0.0);
     }
@@ -351,9 +351,9 @@ TEST(MisfitTest, RunoutPerMassClassSeesASizeTrend) {
   const Misfit trend = ComputeMisfit(obs, scene, simulate(true));
   std::vector<double> by_class;
   for (const Residual& r : trend.residuals) {
-    if (r.observation.rfind("runout distance, mass", 0) != 0) continue;
+    if (r.id.kind != ObservationKind::kRunoutMassClass) continue;
     by_class.push_back(r.value);
-    EXPECT_EQ(r.quantity, "p50");
+    EXPECT_EQ(r.id.quantity(), "p50");
   }
   ASSERT_EQ(by_class.size(), 4u);
   EXPECT_NEAR(same.value, 0.0, 1e-12);
@@ -380,8 +380,9 @@ TEST(MisfitTest, RunoutGivenAsDistancesHasNoLateralResiduals) {
   for (int i = 0; i < 3; ++i) result.rocks.push_back(StoppedRock(i, 50.0, 20.0 + 10 * i));
   const Misfit m = ComputeMisfit(obs, scene, result);
   ASSERT_EQ(m.residuals.size(), 11u);
-  for (std::size_t k = 0; k < 10; ++k) EXPECT_EQ(m.residuals[k].observation, "runout distance");
-  EXPECT_EQ(m.residuals[10].observation, "runout stopped");
+  for (std::size_t k = 0; k < 10; ++k)
+    EXPECT_EQ(m.residuals[k].id.observation(), "runout distance");
+  EXPECT_EQ(m.residuals[10].id.observation(), "runout stopped");
   EXPECT_EQ(m.value, 0.0);
 }
 
@@ -469,7 +470,7 @@ struct RunCase {
   // Run `id`'s residual (observation "" when it has none).
   Residual Run(const Misfit& m, const std::string& id) const {
     for (const Residual& res : m.residuals)
-      if (res.observation == RunObservation(id)) return res;
+      if (res.id.kind == ObservationKind::kRun && res.id.name == id) return res;
     return Residual{};
   }
 };
@@ -485,10 +486,11 @@ TEST(MisfitTest, PerRunResidualShrinksTheRunsSpreadTowardThePool) {
   const double pool = 14.826, pi = 3.14159265358979323846;
   const Residual a = c.Run(m, "r0");
   const Residual b = c.Run(m, "r1");
-  ASSERT_EQ(a.observation, "run r0") << m.Report();
-  ASSERT_EQ(b.observation, "run r1") << m.Report();
-  EXPECT_EQ(a.quantity, kRunQuantity);
-  EXPECT_TRUE(IsRunResidual(a));
+  ASSERT_EQ(a.id.observation(), "run r0") << m.Report();
+  ASSERT_EQ(b.id.observation(), "run r1") << m.Report();
+  EXPECT_EQ(a.id.quantity(), "runout");
+  EXPECT_EQ(a.id, ResidualId::Of(ObservationKind::kRun, 0, "r0").With(Statistic::kRunout));
+  EXPECT_EQ(b.id.index, 1);
   // r0: one rock, the pool's spread; its median is the rock.
   const double sigma_a = std::sqrt(1.0 + pool * pool * (1.0 + pi / 2.0));
   EXPECT_DOUBLE_EQ(a.simulated, 70.0);
@@ -520,12 +522,12 @@ TEST(MisfitTest, PerRunResidualOfASplitOrCensoredRunStaysModerate) {
   const Misfit m = ComputeMisfit(c.obs, c.scene, c.result);
   EXPECT_EQ(m.runs[0].stuck, 2);
   const Residual split = c.Run(m, "r0");
-  ASSERT_TRUE(IsRunResidual(split)) << m.Report();
+  ASSERT_TRUE(split.id.kind == ObservationKind::kRun) << m.Report();
   EXPECT_NEAR(split.simulated, 40.15, 1e-9);  // (0.3 + 80) / 2
   EXPECT_LT(std::abs(split.value), 2.0) << m.Report();
   EXPECT_GT(split.sigma, 20.0) << m.Report();
   const Residual censored = c.Run(m, "r1");
-  ASSERT_TRUE(IsRunResidual(censored)) << m.Report();
+  ASSERT_TRUE(censored.id.kind == ObservationKind::kRun) << m.Report();
   EXPECT_LT(std::abs(censored.value), 1.0) << m.Report();
   // The same split run with every rock stuck is far off, as it should be.
   const RunCase stuck({{0.2, 0.3, 0.2, 0.3}, {58.0, 60.0, 62.0, 61.0}, {90.0, 100.0}},
@@ -543,8 +545,8 @@ TEST(MisfitTest, RunTermsChooseTheComparisons) {
     const Misfit m = ComputeMisfit(c.obs, c.scene, c.result, o);
     *runs = *pooled = 0;
     for (const Residual& r : m.residuals) {
-      *runs += IsRunResidual(r) ? 1 : 0;
-      *pooled += r.observation == "runout distance" ? 1 : 0;
+      *runs += r.id.kind == ObservationKind::kRun ? 1 : 0;
+      *pooled += r.id.kind == ObservationKind::kRunoutDistance ? 1 : 0;
     }
   };
   int runs = 0, pooled = 0;
@@ -585,7 +587,7 @@ TEST(MisfitTest, PassingFractionWithBinomialError) {
 
   Misfit m = ComputeMisfit(obs, scene, result);
   ASSERT_EQ(m.residuals.size(), 1u);  // no scars, no runout: nothing else
-  EXPECT_EQ(m.residuals[0].quantity, "fraction");
+  EXPECT_EQ(m.residuals[0].id.quantity(), "fraction");
   EXPECT_DOUBLE_EQ(m.residuals[0].simulated, 0.4);
   EXPECT_NEAR(m.residuals[0].sigma, std::sqrt(0.05 * 0.05 + 0.4 * 0.6 / 10), 1e-12);
   EXPECT_EQ(m.value, 0.0);
@@ -686,8 +688,8 @@ TEST(MisfitOptionsTest, LevelsAndMaxAreChosen) {
   const Misfit m = ComputeMisfit(ScarsAt(0, SomeHeights(), 0.3), TwoPartitionScene(),
                                  CrossingAt(0, SomeHeights()), options);
   ASSERT_EQ(m.residuals.size(), 2u);
-  EXPECT_EQ(m.residuals[0].quantity, "p50");
-  EXPECT_EQ(m.residuals[1].quantity, "p97.5");
+  EXPECT_EQ(m.residuals[0].id.quantity(), "p50");
+  EXPECT_EQ(m.residuals[1].id.quantity(), "p97.5");
 }
 
 TEST(QuantileErrorTest, OrderStatisticsOfASample) {
@@ -715,6 +717,55 @@ TEST(QuantileErrorTest, LevelNames) {
   EXPECT_EQ(LevelName(0.0), "p0");
 }
 
+// A residual's identity prints as the outputs' names, and compares by its
+// typed fields: the same text from different identities never matches.
+TEST(ResidualIdTest, PrintsTheOutputsNamesAndComparesByItsFields) {
+  const ResidualId distance = ResidualId::Of(ObservationKind::kRunoutDistance);
+  EXPECT_EQ(distance.With(Statistic::kQuantile, 0.9).observation(), "runout distance");
+  EXPECT_EQ(distance.With(Statistic::kQuantile, 0.9).quantity(), "p90");
+  EXPECT_EQ(distance.With(Statistic::kQuantile, 0.025).quantity(), "p2.5");
+  EXPECT_EQ(distance.With(Statistic::kMax).quantity(), "max");
+  EXPECT_EQ(ResidualId::Of(ObservationKind::kRunoutMassClass, 1, "10-40").observation(),
+            "runout distance, mass 10-40 kg");
+  EXPECT_EQ(ResidualId::Of(ObservationKind::kRunoutLateral).observation(), "runout lateral");
+  const ResidualId stopped =
+      ResidualId::Of(ObservationKind::kRunoutStopped).With(Statistic::kShare);
+  EXPECT_EQ(stopped.observation() + " " + stopped.quantity(), "runout stopped share");
+  const ResidualId run = ResidualId::Of(ObservationKind::kRun, 2, "v083").With(Statistic::kRunout);
+  EXPECT_EQ(run.observation() + " " + run.quantity(), "run v083 runout");
+  const ResidualId passing =
+      ResidualId::Of(ObservationKind::kPassing, 0, "passing[0] BP-2").With(Statistic::kFraction);
+  EXPECT_EQ(passing.observation() + " " + passing.quantity(), "passing[0] BP-2 fraction");
+  EXPECT_EQ(ResidualId::Of(ObservationKind::kTreeScars, 1, "tree_scars[1] trees").observation(),
+            "tree_scars[1] trees");
+  const ResidualId none;
+  EXPECT_EQ(none.observation() + none.quantity(), "");
+  // A campaign site's: the site before the observation; a prior's: the
+  // site in the quantity.
+  ResidualId at_a = distance.With(Statistic::kQuantile, 0.5);
+  at_a.site = "a";
+  EXPECT_EQ(at_a.observation(), "a: runout distance");
+  EXPECT_EQ(at_a.quantity(), "p50");
+  ResidualId prior = ResidualId::Of(ObservationKind::kPrior, 0, "talus.hardness");
+  prior = prior.With(Statistic::kOffset);
+  prior.site = "a";
+  EXPECT_EQ(prior.observation(), "prior");
+  EXPECT_EQ(prior.quantity(), "a:talus.hardness_offset");
+  // Equality and order by the fields.
+  EXPECT_NE(at_a, distance.With(Statistic::kQuantile, 0.5)) << "another site";
+  EXPECT_EQ(at_a.observation_id(), [&] {
+    ResidualId of = distance;
+    of.site = "a";
+    return of;
+  }());
+  EXPECT_NE(ResidualId::Of(ObservationKind::kRun, 0, "x"),
+            ResidualId::Of(ObservationKind::kRun, 1, "x"));
+  const ResidualId p10 = distance.With(Statistic::kQuantile, 0.1);
+  const ResidualId p90 = distance.With(Statistic::kQuantile, 0.9);
+  EXPECT_NE(p10 < p90, p90 < p10);
+  EXPECT_FALSE(p10 < p10);
+}
+
 TEST(MisfitTest, ReportListsEveryResidual) {
   const Misfit m = ComputeMisfit(ScarsAt(0, SomeHeights(), 0.3), TwoPartitionScene(),
                                  CrossingAt(0, Shifted(SomeHeights(), 0.5)));
@@ -729,18 +780,18 @@ TEST(MisfitTest, ReportListsEveryResidual) {
 // fit poor when the stopped share or a quantity is far off.
 TEST(MisfitTest, VerdictSaysPlainlyWhenAFitIsPoor) {
   Misfit m;
-  auto add = [&](const std::string& obs, const std::string& q, double value) {
+  auto add = [&](const ResidualId& id, double value) {
     Residual r;
-    r.observation = obs;
-    r.quantity = q;
+    r.id = id;
     r.simulated = 40 + value;
     r.observed = 40;
     r.sigma = 1;
     r.value = value;
     m.residuals.push_back(r);
   };
-  for (int k = 0; k < 20; ++k) add("runout distance", "p" + std::to_string(k), 0.5);
-  add("runout stopped", "share", -1.0);
+  for (int k = 0; k < 20; ++k)
+    add(ResidualId::Of(ObservationKind::kRunoutDistance).With(Statistic::kQuantile, 0.05 * k), 0.5);
+  add(ResidualId::Of(ObservationKind::kRunoutStopped).With(Statistic::kShare), -1.0);
   FitVerdict good = AssessFit(m);
   EXPECT_FALSE(good.poor);
   EXPECT_TRUE(good.outside.empty());

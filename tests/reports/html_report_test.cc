@@ -203,11 +203,9 @@ TEST(HtmlReportTest, PartitionIdsBecomeSafeSectionIds) {
 
 // ---- calibration -------------------------------------------------------------
 
-observations::Residual MakeResidual(const std::string& obs, const std::string& q, double sim,
-                                    double seen) {
+observations::Residual MakeResidual(const observations::ResidualId& id, double sim, double seen) {
   observations::Residual r;
-  r.observation = obs;
-  r.quantity = q;
+  r.id = id;
   r.simulated = sim;
   r.observed = seen;
   r.sigma = 0.5;
@@ -215,16 +213,26 @@ observations::Residual MakeResidual(const std::string& obs, const std::string& q
   return r;
 }
 
+using observations::ObservationKind;
+using observations::ResidualId;
+using observations::Statistic;
+
 observations::Misfit MakeMisfit(double offset) {
   observations::Misfit m;
-  const char* levels[] = {"p10", "p50", "p90", "max"};
+  const ResidualId distance = ResidualId::Of(ObservationKind::kRunoutDistance);
+  const ResidualId scars = ResidualId::Of(ObservationKind::kTreeScars, 0, "tree_scars[0] BP-1");
+  const double levels[] = {0.1, 0.5, 0.9};
   for (int k = 0; k < 4; ++k) {
+    const auto statistic = k < 3 ? Statistic::kQuantile : Statistic::kMax;
+    const double level = k < 3 ? levels[k] : 0.0;
     m.residuals.push_back(
-        MakeResidual("runout distance", levels[k], 40.0 + 5 * k + offset, 40.0 + 5 * k));
+        MakeResidual(distance.With(statistic, level), 40.0 + 5 * k + offset, 40.0 + 5 * k));
     m.residuals.push_back(
-        MakeResidual("tree_scars[0] BP-1", levels[k], 1.0 + k * 0.5 + offset / 10, 1.0 + k * 0.5));
+        MakeResidual(scars.With(statistic, level), 1.0 + k * 0.5 + offset / 10, 1.0 + k * 0.5));
   }
-  m.residuals.push_back(MakeResidual("passing[0] BP-2", "fraction", 0.3 + offset / 100, 0.35));
+  m.residuals.push_back(MakeResidual(
+      ResidualId::Of(ObservationKind::kPassing, 0, "passing[0] BP-2").With(Statistic::kFraction),
+      0.3 + offset / 100, 0.35));
   for (const auto& r : m.residuals) m.value += 0.5 * r.value * r.value;
   return m;
 }
@@ -345,8 +353,9 @@ TEST(HtmlReportTest, CalibrationSectionsShowTheRecord) {
 TEST(HtmlReportTest, TheStoppedShareIsShownAsAFraction) {
   const SimulatedSite run = Simulated("tutorial", 4);
   CalibrationSummary record = MakeRecord(run.site, 1);
-  record.misfit_before.residuals.push_back(MakeResidual("runout stopped", "share", 0.85, 1.0));
-  record.misfit_after.residuals.push_back(MakeResidual("runout stopped", "share", 0.95, 1.0));
+  const ResidualId share = ResidualId::Of(ObservationKind::kRunoutStopped).With(Statistic::kShare);
+  record.misfit_before.residuals.push_back(MakeResidual(share, 0.85, 1.0));
+  record.misfit_after.residuals.push_back(MakeResidual(share, 0.95, 1.0));
   ReportInput in = Input(run);
   in.calibration = &record;
   const std::string text = FindSection(Render(in), "fit")->AllText();

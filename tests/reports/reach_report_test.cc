@@ -24,12 +24,10 @@ using testing::ParseReport;
 using testing::ParseXml;
 using testing::XmlNode;
 
-calibrate::ReachStatistic Stat(const std::string& observation, const std::string& quantity,
-                               double observed, double sigma, double min, double max,
-                               calibrate::ReachVerdict verdict) {
+calibrate::ReachStatistic Stat(const observations::ResidualId& id, double observed, double sigma,
+                               double min, double max, calibrate::ReachVerdict verdict) {
   calibrate::ReachStatistic s;
-  s.observation = observation;
-  s.quantity = quantity;
+  s.id = id;
   s.observed = observed;
   s.sigma = sigma;
   s.min = min;
@@ -58,11 +56,19 @@ calibrate::ReachResult HandResult() {
   p.lower = 0.1;
   p.upper = 0.7;
   r.parameters = {p};
+  using observations::ObservationKind;
+  using observations::ResidualId;
+  using observations::Statistic;
+  const ResidualId distance = ResidualId::Of(ObservationKind::kRunoutDistance);
   r.statistics = {
-      Stat("runout distance", "p50", 40.0, 2.5, 31.0, 57.0, calibrate::ReachVerdict::kInReach),
-      Stat("runout distance", "max", 500.0, 3.0, 60.0, 95.0, calibrate::ReachVerdict::kAbove),
-      Stat("passing[0] <P&1>", "fraction", 0.3, 0.05, NAN, NAN, calibrate::ReachVerdict::kNoValue),
-      Stat("runout lateral", "p90", 10.0, 2.0, 1.0, 9.0, calibrate::ReachVerdict::kInReach)};
+      Stat(distance.With(Statistic::kQuantile, 0.5), 40.0, 2.5, 31.0, 57.0,
+           calibrate::ReachVerdict::kInReach),
+      Stat(distance.With(Statistic::kMax), 500.0, 3.0, 60.0, 95.0, calibrate::ReachVerdict::kAbove),
+      Stat(ResidualId::Of(ObservationKind::kPassing, 0, "passing[0] <P&1>")
+               .With(Statistic::kFraction),
+           0.3, 0.05, NAN, NAN, calibrate::ReachVerdict::kNoValue),
+      Stat(ResidualId::Of(ObservationKind::kRunoutLateral).With(Statistic::kQuantile, 0.9), 10.0,
+           2.0, 1.0, 9.0, calibrate::ReachVerdict::kInReach)};
   calibrate::ReachStatistic& none = r.statistics[2];
   none.min_point = none.max_point = none.closest_point = -1;
   none.points_with_value = 0;

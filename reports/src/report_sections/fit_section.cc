@@ -13,7 +13,8 @@ namespace {
 // A residual of a fraction (a passing fraction, the stopped share), not of a
 // distance or height: no unit, one value rather than quantiles.
 bool IsFraction(const observations::Residual& r) {
-  return r.quantity == "fraction" || r.quantity == "share";
+  return r.id.statistic == observations::Statistic::kFraction ||
+         r.id.statistic == observations::Statistic::kShare;
 }
 
 }  // namespace
@@ -21,13 +22,13 @@ bool IsFraction(const observations::Residual& r) {
 std::string FitSection(const Context& c) {
   const CalibrationSummary& rec = *c.in.calibration;
   const auto& after = rec.misfit_after.residuals;
-  // Observation labels in order, and the "before" residual of each (label, quantity).
-  std::vector<std::string> labels;
+  // The observations in order, and the "before" residual of each identity.
+  std::vector<observations::ResidualId> observed;
   for (const auto& r : after)
-    if (std::find(labels.begin(), labels.end(), r.observation) == labels.end())
-      labels.push_back(r.observation);
-  std::map<std::pair<std::string, std::string>, const observations::Residual*> before;
-  for (const auto& r : rec.misfit_before.residuals) before[{r.observation, r.quantity}] = &r;
+    if (std::find(observed.begin(), observed.end(), r.id.observation_id()) == observed.end())
+      observed.push_back(r.id.observation_id());
+  std::map<observations::ResidualId, const observations::Residual*> before;
+  for (const auto& r : rec.misfit_before.residuals) before[r.id] = &r;
   std::string s =
       "<p>Each observed quantile against its simulated counterpart, at the start (rings) and at "
       "the "
@@ -37,16 +38,17 @@ std::string FitSection(const Context& c) {
       LegendItem(Swatch("#888", "ring"), "at the start") +
       LegendItem(Swatch(kStopColour, "point"), "calibrated, with its uncertainty") +
       LegendItem(Swatch("#999", "dash"), "1:1") + "</ul><div class=\"figs\">";
-  for (const std::string& label : labels) {
+  for (const observations::ResidualId& of : observed) {
+    const std::string label = of.observation();
     std::vector<double> ox, sy, bx, by;
     double lo = kInf, hi = -kInf;
     std::string bars;
     for (const auto& r : after) {
-      if (r.observation != label) continue;
+      if (r.id.observation_id() != of) continue;
       ox.push_back(r.observed), sy.push_back(r.simulated);
       lo = std::min({lo, r.observed, r.simulated - r.sigma}),
       hi = std::max({hi, r.observed, r.simulated + r.sigma});
-      const auto it = before.find({r.observation, r.quantity});
+      const auto it = before.find(r.id);
       if (it != before.end()) {
         bx.push_back(it->second->observed), by.push_back(it->second->simulated);
         lo = std::min(lo, it->second->simulated), hi = std::max(hi, it->second->simulated);
@@ -54,7 +56,7 @@ std::string FitSection(const Context& c) {
     }
     const bool fraction = after.empty() ? false : [&] {
       for (const auto& r : after)
-        if (r.observation == label) return IsFraction(r);
+        if (r.id.observation_id() == of) return IsFraction(r);
       return false;
     }();
     const double pad = 0.05 * (hi - lo > 0 ? hi - lo : 1.0);
@@ -67,7 +69,7 @@ std::string FitSection(const Context& c) {
     plot.Axes("observed" + unit, "simulated" + unit);
     plot.Polyline({lo, hi}, {lo, hi}, "stroke=\"#999\" stroke-dasharray=\"4 3\"");
     for (const auto& r : after) {
-      if (r.observation != label) continue;
+      if (r.id.observation_id() != of) continue;
       plot.Polyline({r.observed, r.observed}, {r.simulated - r.sigma, r.simulated + r.sigma},
                     "stroke=\"" + std::string(kStopColour) + "\" stroke-width=\"1\"");
     }
@@ -91,9 +93,9 @@ std::string FitSection(const Context& c) {
       if (fraction) return FormatNumber(v, "%.3f");
       return us ? Show(v) + " m (" + Show(v / kFoot) + " ft)" : Show(v) + " m";
     };
-    const auto it = before.find({r.observation, r.quantity});
+    const auto it = before.find(r.id);
     const std::string base = "/fit/" + Int(static_cast<long>(k)) + "/";
-    s += "<tr>" + Td(r.observation) + Td(r.quantity) +
+    s += "<tr>" + Td(r.id.observation()) + Td(r.id.quantity()) +
          RefCell(Ref("calibration.json", base + "observed"), r.observed, value(r.observed)) +
          Td(it != before.end() ? value(it->second->simulated) : "-", true) +
          RefCell(Ref("calibration.json", base + "simulated"), r.simulated, value(r.simulated)) +

@@ -123,9 +123,11 @@ std::string BandPlot(const std::string& label, const std::vector<const calibrate
   o.width = 360, o.height = 240, o.left = 58, o.right = 12, o.top = 14, o.bottom = 42;
   o.title = "Posterior predictive bands: " + label;
   for (std::size_t k = 0; k < bands.size(); ++k)
-    o.x_ticks.push_back({static_cast<double>(k), bands[k]->quantity});
+    o.x_ticks.push_back({static_cast<double>(k), bands[k]->id.quantity()});
   svg::Plot plot(-0.6, static_cast<double>(bands.size()) - 0.4, lo - pad, hi + pad, o);
-  const bool fraction = !bands.empty() && (bands[0]->quantity == "fraction" || bands[0]->quantity == "share");
+  const bool fraction =
+      !bands.empty() && (bands[0]->id.statistic == observations::Statistic::kFraction ||
+                         bands[0]->id.statistic == observations::Statistic::kShare);
   plot.Axes("quantity", fraction ? "value" : "value [m]");
   std::vector<double> xs, med, obs_in, x_in, obs_out, x_out;
   for (std::size_t k = 0; k < bands.size(); ++k) {
@@ -187,18 +189,19 @@ std::string PosteriorSection(const Context& c) {
          LegendItem(Swatch("#2171b5", "point"), "median") +
          LegendItem(Swatch("#000", "ring"), "observed, inside") +
          LegendItem(Swatch(kFenceColour, "ring"), "observed, outside") + "</ul><div class=\"figs\">";
-    std::vector<std::string> labels;
-    std::map<std::string, std::vector<const calibrate::PredictiveBand*>> by;
+    std::vector<observations::ResidualId> observed;
+    std::map<observations::ResidualId, std::vector<const calibrate::PredictiveBand*>> by;
     for (const auto& b : post.bands) {
-      if (!by.count(b.observation)) labels.push_back(b.observation);
-      by[b.observation].push_back(&b);
+      if (!by.count(b.id.observation_id())) observed.push_back(b.id.observation_id());
+      by[b.id.observation_id()].push_back(&b);
     }
-    for (const std::string& label : labels)
-      s += Figure(BandPlot(label, by[label]), "<b>" + Escape(label) + "</b>", 360);
+    for (const observations::ResidualId& of : observed)
+      s += Figure(BandPlot(of.observation(), by[of]), "<b>" + Escape(of.observation()) + "</b>",
+                  360);
     s += "</div><table><thead><tr>" + Th("observation") + Th("quantity") + Th("observed") +
          Th("5 %") + Th("median") + Th("95 %") + Th("inside") + "</tr></thead><tbody>";
     for (const auto& b : post.bands)
-      s += "<tr>" + Td(b.observation) + Td(b.quantity) + Td(Num(b.observed), true) +
+      s += "<tr>" + Td(b.id.observation()) + Td(b.id.quantity()) + Td(Num(b.observed), true) +
            Td(Num(b.p05), true) + Td(Num(b.median), true) + Td(Num(b.p95), true) +
            Td(b.inside() ? "yes" : "no") + "</tr>";
     s += "</tbody></table>";

@@ -19,6 +19,7 @@
 #include "rockcal/calibrate/calibration_run.h"
 #include "rockcal/calibrate/objective.h"
 #include "rockcal/calibrate/parameter_space.h"
+#include "rockcal/observations/misfit.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/sites/site.h"
 
@@ -123,7 +124,7 @@ class JointSpace final {
   struct Offset {
     std::vector<std::pair<int, double>> terms;
     double sigma = 0.0;
-    std::string label;  // "<site>:<class>.<parameter>_offset"
+    observations::ResidualId id;  // its prior residual's (a kPrior of its site)
     double Value(const std::vector<double>& joint) const;
   };
   // The constructor's work in progress, and its steps (campaign.cc): each

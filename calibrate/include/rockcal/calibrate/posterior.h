@@ -122,7 +122,7 @@ struct ParameterPosterior {
 
 // One compared statistic's posterior predictive band (PredictiveBands).
 struct PredictiveBand {
-  std::string observation, quantity;  // as observations::Residual's
+  observations::ResidualId id;        // the residual's: its observation and quantity
   double observed = 0.0;              // SI
   double p05 = 0.0, median = 0.0, p95 = 0.0;  // of the simulated value over the draws, SI
   bool inside() const { return observed >= p05 && observed <= p95; }

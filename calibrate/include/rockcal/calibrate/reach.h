@@ -22,6 +22,7 @@
 #include "rockcal/calibrate/objective.h"
 #include "rockcal/calibrate/parameter_space.h"
 #include "rockcal/calibrate/study.h"
+#include "rockcal/observations/misfit.h"
 
 namespace rockcal::calibrate {
 
@@ -86,8 +87,7 @@ const char* ReachVerdictText(ReachVerdict verdict);
 
 // One statistic (one residual of the misfit) over the design.
 struct ReachStatistic {
-  std::string observation;  // Residual::observation, e.g. "runout distance"
-  std::string quantity;     // Residual::quantity, e.g. "p90"
+  observations::ResidualId id;  // the residual's: its observation and quantity
   double observed = 0.0;    // SI
   // The median over the points with a value of the residual's sigma (SI):
   // the measurement error, the Monte Carlo error of the simulated value and

@@ -48,23 +48,77 @@ struct MisfitOptions {
   bool IsValid(std::string* error) const;
 };
 
+// What a residual compares: the kind of its observation. Each prints as the
+// residuals' "observation" text (ResidualId::observation()).
+enum class ObservationKind {
+  kNone,             // none: a penalty spread over the residuals of a failed evaluation ("")
+  kTreeScars,        // the heights of a tree-scar set: its label, "tree_scars[0] BP-1"
+  kRunoutDistance,   // the runout distances: "runout distance"
+  kRunoutMassClass,  // those of one mass class: "runout distance, mass 10-40 kg"
+  kRunoutLateral,    // the lateral offsets: "runout lateral"
+  kRunoutStopped,    // the share of rocks that stopped: "runout stopped"
+  kRun,              // one tracked run's runout: "run <id>"
+  kPassing,          // a passing fraction: its label, "passing[0] BP-2"
+  kPrior,            // a campaign's offset prior: "prior"
+};
+
+// Which number of an observation a residual compares. Each prints as the
+// residuals' "quantity" text (ResidualId::quantity()).
+enum class Statistic {
+  kNone,      // none (ObservationKind::kNone): ""
+  kQuantile,  // the quantile at ResidualId::level: "p10", "p2.5"
+  kMax,       // the largest value: "max"
+  kShare,     // a share of rocks with binomial errors on both sides: "share"
+  kFraction,  // a passing fraction: "fraction"
+  kRunout,    // a tracked run's median runout against its stop: "runout"
+  kOffset,    // a site's offset of a shared parameter: "<site>:<class>.<parameter>_offset"
+};
+
+// A residual's identity, typed: compare these fields, never the text.
+struct ResidualId {
+  ObservationKind kind = ObservationKind::kNone;
+  // Which observation of its kind: the index into the observations'
+  // tree_scars, passing or runs (Runout::run_ids), the mass class (0 the
+  // lightest) or the campaign's offset; -1 for a kind there is one of.
+  int index = -1;
+  // Its name: the scar set's or passing's label, the run's id, the mass
+  // class's range in kg ("< 10", "10-40", ">= 40"), the offset's
+  // "<class>.<parameter>"; empty for a kind there is one of.
+  std::string name;
+  Statistic statistic = Statistic::kNone;
+  double level = 0.0;  // Statistic::kQuantile: the quantile level, in [0, 1]
+  // The campaign site the observation (or the offset) belongs to; empty for
+  // one site's misfit.
+  std::string site;
+
+  // The identity of an observation (no statistic yet), and this one with
+  // `statistic` at `level`: Of(ObservationKind::kRunoutDistance).With(
+  // Statistic::kQuantile, 0.9) is "runout distance" "p90".
+  static ResidualId Of(ObservationKind kind, int index = -1, std::string name = {});
+  ResidualId With(Statistic statistic, double level = 0.0) const;
+
+  // The observation's text: "runout distance", with "<site>: " before it in
+  // a campaign (a prior's is "prior").
+  std::string observation() const;
+  // The quantity's text: "p10", "max", "share", "fraction", "runout", or an
+  // offset's "<site>:<class>.<parameter>_offset".
+  std::string quantity() const;
+  // This identity without its statistic: the key of its observation.
+  ResidualId observation_id() const;
+
+  bool operator==(const ResidualId& other) const;
+  bool operator!=(const ResidualId& other) const { return !(*this == other); }
+  bool operator<(const ResidualId& other) const;  // any strict order, for maps
+};
+
 // One scaled difference between a simulated and an observed quantity.
 struct Residual {
-  std::string observation;  // "tree_scars[0] BP-1", "runout distance", "passing[0] BP-2"
-  std::string quantity;     // "p10", "max", "fraction"
+  ResidualId id;            // what it compares
   double simulated = 0.0;   // SI (m, or a fraction)
   double observed = 0.0;    // SI
   double sigma = 1.0;       // SI, > 0
   double value = 0.0;       // (simulated - observed) / sigma
 };
-
-// The names of the per-run residuals, kept in one place: observation
-// "run <id>", quantity "runout" (never a quantile name, so no quantile
-// grouping takes it for one).
-inline constexpr const char* kRunObservationPrefix = "run ";
-inline constexpr const char* kRunQuantity = "runout";
-std::string RunObservation(const std::string& run_id);
-bool IsRunResidual(const Residual& residual);
 
 // How the simulations of one tracked run (Runout::has_runs) compare with it.
 struct RunFit {
