@@ -64,18 +64,23 @@ void ContinuableRun(const std::string& out, const std::function<void()>& work) {
   }
 }
 
-std::vector<std::string> MethodsFromArgs(const Args& args) {
+void MethodsFromArgs(const Args& args, std::vector<calibrate::Method>* methods) {
   if (args.Has("method") && args.Has("methods"))
     throw InputError("arguments", "give --method or --methods, not both");
-  std::vector<std::string> methods =
-      args.Has("methods") ? SplitList(args.Get("methods"))
-                          : std::vector<std::string>{args.Get("method", "nlopt:bobyqa")};
-  if (methods.empty()) throw InputError("argument --methods", "expected a comma separated list");
-  for (const std::string& m : methods)
-    if (!calibrate::IsMethod(m))
-      throw InputError("argument --method" + std::string(args.Has("methods") ? "s" : ""),
-                       "unknown method '" + m + "' (allowed: " + calibrate::MethodList() + ")");
-  return methods;
+  if (!args.Has("method") && !args.Has("methods")) return;
+  const std::string flag = args.Has("methods") ? "methods" : "method";
+  const std::vector<std::string> names = args.Has("methods")
+                                             ? SplitList(args.Get("methods"))
+                                             : std::vector<std::string>{args.Get("method")};
+  if (names.empty()) throw InputError("argument --methods", "expected a comma separated list");
+  methods->clear();
+  for (const std::string& name : names) {
+    calibrate::Method m;
+    if (!calibrate::StringToMethod(name, &m))
+      throw InputError("argument --" + flag,
+                       "unknown method '" + name + "' (allowed: " + calibrate::MethodNames() + ")");
+    methods->push_back(m);
+  }
 }
 
 calibrate::CalibrationOptions OptionsFromArgs(const Args& args, const std::string& out,
@@ -140,8 +145,8 @@ calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
     else if (!quiet)
       std::printf("%s\n", s.noise_check.message.c_str());
   };
-  callbacks.method_started = [quiet, progress](const std::string& method) {
-    progress->emplace("calibrate " + method, quiet);
+  callbacks.method_started = [quiet, progress](const calibrate::Stage& stage) {
+    progress->emplace("calibrate " + stage.name(), quiet);
   };
   callbacks.evaluated = [max_evals, progress](const calibrate::Evaluation& e, double best) {
     char extra[96];
@@ -152,8 +157,8 @@ calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
     progress->reset();
     if (!quiet)
       std::printf("  %-18s misfit %.4g after %d evaluations (%d simulated) in %.1f s: %s\n",
-                  result.method.c_str(), result.best_misfit, result.evaluations, result.simulated,
-                  result.wall_seconds, result.termination.message.c_str());
+                  result.stage.name().c_str(), result.best_misfit, result.evaluations,
+                  result.simulated, result.wall_seconds, result.termination.message.c_str());
   };
   return callbacks;
 }
@@ -323,7 +328,8 @@ int Calibrate(const std::vector<std::string>& argv) {
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   const std::string obs_path = args.Get("observations");
-  std::vector<std::string> methods = MethodsFromArgs(args);
+  std::vector<calibrate::Method> methods = calibrate::CalibrationOptions{}.methods;
+  MethodsFromArgs(args, &methods);
   if (args.Flag("resume") && args.Flag("force"))
     throw InputError("arguments", "give --resume or --force, not both");
 

@@ -31,8 +31,10 @@ void PrepareCalibrationFolder(const Args& args, const std::string& out, const Ru
 // with --resume continues it.
 void ContinuableRun(const std::string& out, const std::function<void()>& work);
 
-// --method or --methods, each checked against calibrate::MethodNames().
-std::vector<std::string> MethodsFromArgs(const Args& args);
+// --method or --methods onto *methods (left alone when neither is given),
+// each name parsed by calibrate::StringToMethod; an unknown one is an
+// InputError naming the flag, the name and the allowed names.
+void MethodsFromArgs(const Args& args, std::vector<calibrate::Method>* methods);
 
 // The calibration's options: `base` (the library's defaults unless given)
 // with the flags given mapped onto it (--rocks, --seed, --threads,

@@ -68,7 +68,8 @@ int Campaign(const std::vector<std::string>& argv) {
   const Args args(argv, FlagsOf("campaign"));
   const std::string path = args.OnlyPositional("CAMPAIGN.json");
   const std::string out = args.Get("out");
-  const std::vector<std::string> methods = MethodsFromArgs(args);
+  std::vector<calibrate::Method> methods = calibrate::CalibrationOptions::SingleStage().methods;
+  MethodsFromArgs(args, &methods);
   if (args.Flag("resume") && args.Flag("force"))
     throw InputError("arguments", "give --resume or --force, not both");
   const calibrate::Campaign campaign = calibrate::LoadCampaign(path);

@@ -1,8 +1,7 @@
 #include "rockcal/calibrate/calibration.h"
 
-#include <unistd.h>
-
 #include <ceres/ceres.h>
+#include <unistd.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -10,15 +9,17 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
 #include <memory>
-#include <optional>
 #include <nlohmann/json.hpp>
 #include <nlopt.hpp>
+#include <optional>
 #include <sstream>
+#include <tuple>
 
 #include "rockcal/core/error.h"
 #include "rockcal/parallel/parallel.h"
@@ -32,7 +33,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Ceres holds t + kCeresOffset, so its relative step becomes an absolute step in t.
 constexpr double kCeresOffset = 100.0;
 
+// The methods' one table: name, and how RunMethod runs each.
 struct MethodInfo {
+  Method method;
   const char* name;
   bool ceres;
   nlopt::algorithm algorithm;
@@ -40,27 +43,28 @@ struct MethodInfo {
 };
 
 const MethodInfo kMethods[] = {
-    {"nlopt:bobyqa", false, nlopt::LN_BOBYQA, false},
-    {"nlopt:sbplx", false, nlopt::LN_SBPLX, false},
-    {"nlopt:neldermead", false, nlopt::LN_NELDERMEAD, false},
-    {"nlopt:cobyla", false, nlopt::LN_COBYLA, false},
-    {"nlopt:direct_l", false, nlopt::GN_DIRECT_L, true},
-    {"nlopt:crs2", false, nlopt::GN_CRS2_LM, true},
-    {"nlopt:isres", false, nlopt::GN_ISRES, true},
-    {"nlopt:mlsl", false, nlopt::G_MLSL_LDS, true},
-    {"ceres", true, nlopt::LN_BOBYQA, false},
+    {Method::kBobyqa, "nlopt:bobyqa", false, nlopt::LN_BOBYQA, false},
+    {Method::kSbplx, "nlopt:sbplx", false, nlopt::LN_SBPLX, false},
+    {Method::kNelderMead, "nlopt:neldermead", false, nlopt::LN_NELDERMEAD, false},
+    {Method::kCobyla, "nlopt:cobyla", false, nlopt::LN_COBYLA, false},
+    {Method::kDirectL, "nlopt:direct_l", false, nlopt::GN_DIRECT_L, true},
+    {Method::kCrs2, "nlopt:crs2", false, nlopt::GN_CRS2_LM, true},
+    {Method::kIsres, "nlopt:isres", false, nlopt::GN_ISRES, true},
+    {Method::kMlsl, "nlopt:mlsl", false, nlopt::G_MLSL_LDS, true},
+    {Method::kCeres, "ceres", true, nlopt::LN_BOBYQA, false},
 };
 
-const MethodInfo* FindMethod(const std::string& name) {
+// The table's entry of `method`; null for a value not in it.
+const MethodInfo* InfoOf(Method method) {
   for (const auto& m : kMethods)
-    if (name == m.name) return &m;
+    if (m.method == method) return &m;
   return nullptr;
 }
 
 nlohmann::json ToJson(const Evaluation& e) {
-  return {{"method", e.method},     {"evaluation", e.index},   {"parameters", e.parameters},
-          {"misfit", e.misfit},     {"residuals", e.residuals}, {"penalised", e.penalised},
-          {"seconds", e.seconds},   {"elapsed", e.elapsed}};
+  return {{"method", e.stage.name()}, {"evaluation", e.index},    {"parameters", e.parameters},
+          {"misfit", e.misfit},       {"residuals", e.residuals}, {"penalised", e.penalised},
+          {"seconds", e.seconds},     {"elapsed", e.elapsed}};
 }
 
 // A whole-number field of a log record, from 0 to T's maximum. A fraction, a
@@ -82,13 +86,9 @@ T WholeField(const nlohmann::json& record, const char* key, const std::string& w
 // Everything a method asks of the objective: budget, log replay, trace, best.
 class Evaluator final {
  public:
-  Evaluator(std::string method, const ObjectiveFunction& objective, const MethodOptions& options,
+  Evaluator(Stage stage, const ObjectiveFunction& objective, const MethodOptions& options,
             EvaluationLog* log, const CalibrationProgress& progress)
-      : method_(std::move(method)),
-        objective_(objective),
-        options_(options),
-        log_(log),
-        progress_(progress) {}
+      : stage_(stage), objective_(objective), options_(options), log_(log), progress_(progress) {}
 
   // The search's budget: the options' less the evaluations kept back for
   // the smoothed estimate.
@@ -104,18 +104,19 @@ class Evaluator final {
   const Evaluation& Evaluate(const std::vector<double>& unit) {
     const std::vector<double> x = objective_.space().ToPhysical(unit);
     Evaluation e;
-    const Evaluation* logged = log_ ? log_->Find(method_, x) : nullptr;
+    const Evaluation* logged = log_ ? log_->Find(stage_, x) : nullptr;
     if (logged) {
       // Every evaluation has residual_count() residuals; a record with
       // another count (a log edited by hand) would overrun the methods'
       // residual arrays.
       if (logged->residuals.size() != static_cast<std::size_t>(objective_.residual_count()))
-        throw InputError(log_->path(),
-                         "cannot resume: the logged " + method_ + " evaluation " +
-                             std::to_string(logged->index) + " has " +
-                             std::to_string(logged->residuals.size()) + " residuals where this "
-                             "calibration has " + std::to_string(objective_.residual_count()) +
-                             "; start afresh with --force instead of --resume");
+        throw InputError(log_->path(), "cannot resume: the logged " + stage_.name() +
+                                           " evaluation " + std::to_string(logged->index) +
+                                           " has " + std::to_string(logged->residuals.size()) +
+                                           " residuals where this "
+                                           "calibration has " +
+                                           std::to_string(objective_.residual_count()) +
+                                           "; start afresh with --force instead of --resume");
       e = *logged;
       e.replayed = true;
       // New work continues the clock of the run this one resumes.
@@ -124,7 +125,7 @@ class Evaluator final {
     } else {
       const auto t0 = Clock::now();
       const observations::Misfit m = objective_.Evaluate(x);
-      e.method = method_;
+      e.stage = stage_;
       e.parameters = x;
       e.misfit = m.value;
       e.penalised = m.penalised;
@@ -154,7 +155,7 @@ class Evaluator final {
 
   MethodResult Finish(Termination termination) {
     MethodResult r;
-    r.method = method_;
+    r.stage = stage_;
     r.termination = std::move(termination);
     r.best = r.lowest = best_;
     r.best_misfit = r.lowest_misfit = best_misfit_;
@@ -174,7 +175,7 @@ class Evaluator final {
  private:
   int limit() const { return options_.max_evals - reserved_; }
 
-  std::string method_;
+  Stage stage_;
   const ObjectiveFunction& objective_;
   const MethodOptions& options_;
   EvaluationLog* log_;
@@ -857,22 +858,81 @@ bool StringToEstimate(const std::string& name, Estimate* estimate) {
 }
 std::string EstimateNames() { return NameList(kEstimates); }
 
-const std::vector<std::string>& MethodNames() {
-  static const std::vector<std::string> names = [] {
-    std::vector<std::string> v;
-    for (const auto& m : kMethods) v.push_back(m.name);
-    return v;
-  }();
-  return names;
+const char* MethodToString(Method method) {
+  const MethodInfo* info = InfoOf(method);
+  return info ? info->name : "";
 }
 
-std::string MethodList() {
+bool StringToMethod(const std::string& name, Method* method) {
+  for (const auto& m : kMethods)
+    if (name == m.name) {
+      *method = m.method;
+      return true;
+    }
+  return false;
+}
+
+std::string MethodNames() {
   std::string s;
-  for (const auto& n : MethodNames()) s += (s.empty() ? "" : ", ") + n;
+  for (const auto& m : kMethods) s += std::string(s.empty() ? "" : ", ") + m.name;
   return s;
 }
 
-bool IsMethod(const std::string& name) { return FindMethod(name) != nullptr; }
+const std::vector<Method>& AllMethods() {
+  static const std::vector<Method> methods = [] {
+    std::vector<Method> v;
+    for (const auto& m : kMethods) v.push_back(m.method);
+    return v;
+  }();
+  return methods;
+}
+
+namespace {
+constexpr const char* kPosteriorStage = "posterior";
+}  // namespace
+
+Stage Stage::Posterior() {
+  Stage s;
+  s.posterior = true;
+  return s;
+}
+
+std::string Stage::name() const {
+  if (posterior) return kPosteriorStage;
+  // No comma: the name is a field of trace.csv and comparison.csv.
+  return std::string(MethodToString(method)) +
+         (rocks > 0 ? " (" + std::to_string(rocks) + " rocks)" : "");
+}
+
+bool Stage::FromName(const std::string& name, Stage* stage) {
+  if (name == kPosteriorStage) {
+    *stage = Posterior();
+    return true;
+  }
+  Stage s;
+  const std::size_t space = name.find(' ');
+  if (!StringToMethod(name.substr(0, space), &s.method)) return false;
+  if (space != std::string::npos) {
+    // A refining stage's " (N rocks)": N read, and the name taken only when
+    // name() writes it back the same.
+    const long rocks = std::strtol(name.c_str() + std::min(name.size(), space + 2), nullptr, 10);
+    if (rocks < 1 || rocks > std::numeric_limits<int>::max()) return false;
+    s.rocks = static_cast<int>(rocks);
+    if (s.name() != name) return false;
+  }
+  *stage = s;
+  return true;
+}
+
+bool Stage::operator==(const Stage& o) const {
+  return posterior == o.posterior && (posterior || (method == o.method && rocks == o.rocks));
+}
+
+bool Stage::operator<(const Stage& o) const {
+  if (posterior != o.posterior) return posterior < o.posterior;
+  if (posterior) return false;
+  return std::tie(method, rocks) < std::tie(o.method, o.rocks);
+}
 
 const char* TerminationName(TerminationType type) {
   switch (type) {
@@ -959,7 +1019,10 @@ Evaluation ReadLogRecord(const std::string& line, const std::string& where, std:
     throw InputError(where, "record of another calibration (different parameters, --seed or "
                             "--rocks); start afresh with --force instead of --resume");
   Evaluation e;
-  e.method = j.at("method").get<std::string>();
+  const std::string method = j.at("method").get<std::string>();
+  if (!Stage::FromName(method, &e.stage))
+    throw InputError(where, "not an evaluation record: method '" + method + "' (expected one of " +
+                                MethodNames() + ", or posterior)");
   e.index = WholeField<int>(j, "evaluation", where);
   e.parameters = j.at("parameters").get<std::vector<double>>();
   e.misfit = j.at("misfit").get<double>();
@@ -992,7 +1055,7 @@ void EvaluationLog::ReadBack() {
   // evaluations in order, and a resumed run only after the last, so an
   // evaluation logged again or out of order is the line of another run
   // (two runs writing the same folder at once).
-  std::map<std::string, std::pair<int, int>> last;
+  std::map<Stage, std::pair<int, int>> last;
   while (std::getline(in, line)) {
     ++number;
     if (line.empty()) continue;
@@ -1005,9 +1068,9 @@ void EvaluationLog::ReadBack() {
     }
     try {
       Evaluation e = ReadLogRecord(line, where, seed_, rocks_, names_);
-      auto [before, inserted] = last.try_emplace(e.method, e.index, number);
+      auto [before, inserted] = last.try_emplace(e.stage, e.index, number);
       if (!inserted && e.index <= before->second.first)
-        throw InputError(where, e.method + " evaluation " + std::to_string(e.index) +
+        throw InputError(where, e.stage.name() + " evaluation " + std::to_string(e.index) +
                                     " after its evaluation " +
                                     std::to_string(before->second.first) + " (line " +
                                     std::to_string(before->second.second) +
@@ -1061,10 +1124,10 @@ void EvaluationLog::Rewrite() const {
   }
 }
 
-const Evaluation* EvaluationLog::Find(const std::string& method,
+const Evaluation* EvaluationLog::Find(const Stage& stage,
                                       const std::vector<double>& physical) const {
   for (const Evaluation& e : records_)
-    if (e.method == method && e.parameters == physical) return &e;
+    if (e.stage == stage && e.parameters == physical) return &e;
   return nullptr;
 }
 
@@ -1083,14 +1146,16 @@ void EvaluationLog::Append(const Evaluation& evaluation) {
   records_.push_back(evaluation);
 }
 
-MethodResult RunMethod(const std::string& method, const ObjectiveFunction& objective,
+MethodResult RunMethod(Method method, const ObjectiveFunction& objective,
                        const std::vector<double>& start, const MethodOptions& options,
                        EvaluationLog* log, const CalibrationProgress& progress) {
-  const MethodInfo* info = FindMethod(method);
-  if (!info) throw InputError("--method " + method, "unknown method (allowed: " + MethodList() + ")");
+  const MethodInfo* info = InfoOf(method);
+  if (!info)
+    throw InputError("calibration options", "method " + std::to_string(static_cast<int>(method)) +
+                                                ": must be one of " + MethodNames());
   std::string error;
   if (!options.IsValid(&error)) throw InputError("calibration options", error);
-  Evaluator ev(method, objective, options, log, progress);
+  Evaluator ev(Stage{method}, objective, options, log, progress);
   // The smoothed estimate keeps evaluations back from the search; a budget
   // too small for it goes to the search whole.
   const int n = objective.space().size();

@@ -32,7 +32,7 @@ bool ParsePosteriorStage(const std::string& name, PosteriorStage* stage) {
 bool CalibrationOptions::IsValid(std::string* error) const {
   std::ostringstream s;
   if (methods.empty()) {
-    s << "methods: empty; give at least one of " << MethodList();
+    s << "methods: empty; give at least one of " << MethodNames();
   } else if (rocks < 0) {
     s << "rocks = " << rocks << ": must be >= 0 (0: the site's counts)";
   } else if (threads < 0) {
@@ -58,9 +58,10 @@ bool CalibrationOptions::IsValid(std::string* error) const {
   } else if (resume && log_path.empty()) {
     s << "resume needs a log_path";
   } else {
-    for (const std::string& m : methods)
-      if (!IsMethod(m)) {
-        s << "methods: unknown method '" << m << "' (allowed: " << MethodList() << ")";
+    for (const Method m : methods)
+      if (!*MethodToString(m)) {
+        s << "methods: unknown method " << static_cast<int>(m) << " (allowed: " << MethodNames()
+          << ")";
         *error = s.str();
         return false;
       }
@@ -78,7 +79,7 @@ std::string CalibrationSummary::BriefReport() const {
       << " at the calibrated values";
   if (!methods.empty()) {
     const MethodResult& m = best_method();
-    out << " (" << m.method << ", " << m.evaluations << " evaluations, "
+    out << " (" << m.stage.name() << ", " << m.evaluations << " evaluations, "
         << TerminationName(termination.type) << ": " << termination.message << ")";
   }
   out << "; " << rocks << " rocks per evaluation, seed " << seed << ", " << wall_seconds << " s\n";
@@ -103,7 +104,7 @@ std::optional<EvaluationLog> OpenLog(const sites::Site& site, const observations
   std::optional<EvaluationLog> log;
   if (!options.log_path.empty())
     log.emplace(options.log_path, options.resume, space, scene.options.seed, scene.total_rocks(),
-                CalibrationFingerprint(site, obs, options));
+                CalibrationFingerprint(site, obs, options, space));
   return log;
 }
 
@@ -194,13 +195,12 @@ core::Scene RefineStage(const sites::Site& site, const observations::Observation
   method_options.max_evals =
       std::max(2, options.method.max_evals - FirstStageEvaluations(options));
   method_options.initial_step = options.refine_step;
-  const MethodResult& first = summary->best_method();
-  // No comma: the name is a field of trace.csv and comparison.csv.
-  const std::string name = first.method + " (" + std::to_string(scene.total_rocks()) + " rocks)";
-  if (callbacks.method_started) callbacks.method_started(name);
-  MethodResult result = RunMethod(first.method, objective, refine_start, method_options,
+  Stage stage = summary->best_method().stage;
+  stage.rocks = scene.total_rocks();
+  if (callbacks.method_started) callbacks.method_started(stage);
+  MethodResult result = RunMethod(stage.method, objective, refine_start, method_options,
                                   log ? &*log : nullptr, callbacks.evaluated);
-  result.method = name;
+  result.stage = stage;
   if (callbacks.method_finished) callbacks.method_finished(result);
   summary->methods.push_back(std::move(result));
   summary->best = static_cast<int>(summary->methods.size()) - 1;
@@ -363,7 +363,7 @@ int CalibrationOptions::DefaultReachPoints(int parameters, int max_evals) {
 }
 
 Fingerprint CalibrationFingerprint(const sites::Site& site, const observations::Observations& obs,
-                                   const CalibrationOptions& options) {
+                                   const CalibrationOptions& options, const ParameterSpace& space) {
   core::Scene scene = site.scene;
   if (options.rocks > 0) scene.SetTotalRocks(options.rocks);
   Fingerprint f;
@@ -389,7 +389,8 @@ Fingerprint CalibrationFingerprint(const sites::Site& site, const observations::
   f.Add("seed", std::to_string(options.seed ? *options.seed : scene.options.seed));
   f.Add("rocks", std::to_string(scene.total_rocks()));
   std::string methods;
-  for (const std::string& m : options.methods) methods += (methods.empty() ? "" : ",") + m;
+  for (const Method m : options.methods)
+    methods += std::string(methods.empty() ? "" : ",") + MethodToString(m);
   f.Add("methods", methods);
   const MethodOptions& m = options.method;
   std::ostringstream method;
@@ -405,7 +406,6 @@ Fingerprint CalibrationFingerprint(const sites::Site& site, const observations::
          << options.misfit.include_max << ", penalty " << options.misfit.penalty << ", sigma_floor "
          << options.misfit.sigma_floor;
   f.Add("misfit options", misfit.str());
-  const ParameterSpace space = ParameterSpace::FromSite(site);
   std::ostringstream parameters;
   parameters.precision(17);
   for (const Parameter& p : space.parameters())
@@ -419,12 +419,12 @@ Fingerprint CalibrationFingerprint(const sites::Site& site, const observations::
 }
 
 void SearchMethods(const ObjectiveFunction& objective, const std::vector<double>& start,
-                   const std::vector<std::string>& methods, const MethodOptions& options,
+                   const std::vector<Method>& methods, const MethodOptions& options,
                    EvaluationLog* log, const CalibrationCallbacks& callbacks,
                    CalibrationSummary* summary) {
   const std::size_t first = summary->methods.size();
-  for (const std::string& method : methods) {
-    if (callbacks.method_started) callbacks.method_started(method);
+  for (const Method method : methods) {
+    if (callbacks.method_started) callbacks.method_started(Stage{method});
     summary->methods.push_back(
         RunMethod(method, objective, start, options, log, callbacks.evaluated));
     if (callbacks.method_finished) callbacks.method_finished(summary->methods.back());

@@ -444,19 +444,22 @@ std::string CampaignSummary::BriefReport() const {
   return out.str();
 }
 
-Fingerprint CampaignFingerprint(const Campaign& campaign, const CalibrationOptions& options) {
+Fingerprint CampaignFingerprint(const Campaign& campaign, const JointSpace& joint,
+                                const CalibrationOptions& options) {
   Fingerprint f;
   if (!campaign.path.empty()) f.Add("campaign file", HashFile(campaign.path));
-  const JointSpace joint(campaign);
   std::ostringstream parameters;
   parameters.precision(17);
   for (const Parameter& p : joint.space().parameters())
     parameters << p.label() << " [" << p.lower << ", " << p.upper << "] ";
   f.Add("joint parameters", parameters.str());
-  for (const CampaignSite& site : campaign.sites) {
+  for (std::size_t s = 0; s < campaign.sites.size(); ++s) {
+    const CampaignSite& site = campaign.sites[s];
     CalibrationOptions o = options;
     o.rocks = SiteRocks(site, options);
-    for (const auto& [what, value] : CalibrationFingerprint(site.site, site.observations, o).parts)
+    const ParameterSpace& space = joint.site_space(static_cast<int>(s));
+    for (const auto& [what, value] :
+         CalibrationFingerprint(site.site, site.observations, o, space).parts)
       f.Add(site.name + ": " + what, value);
     std::ostringstream weight;
     weight.precision(17);
@@ -466,7 +469,11 @@ Fingerprint CampaignFingerprint(const Campaign& campaign, const CalibrationOptio
   return f;
 }
 
-void CheckCampaign(const Campaign& campaign, const CalibrationOptions& options) {
+namespace {
+
+// CheckCampaign's checks but the joint space's (which the run's objective
+// builds, throwing the same errors).
+void CheckCampaignOptions(const Campaign& campaign, const CalibrationOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("calibration options", error);
   const char* unsupported = options.reach_points > 0    ? "a reach check (reach_points)"
@@ -482,13 +489,19 @@ void CheckCampaign(const Campaign& campaign, const CalibrationOptions& options) 
   if (campaign.sites.empty())
     throw InputError(campaign.path.empty() ? std::string("campaign") : campaign.path,
                      "no sites; expected at least one in \"sites\"");
+}
+
+}  // namespace
+
+void CheckCampaign(const Campaign& campaign, const CalibrationOptions& options) {
+  CheckCampaignOptions(campaign, options);
   JointSpace{campaign};
 }
 
 CampaignSummary RunCampaign(const Campaign& campaign, const CalibrationOptions& options,
                             const CalibrationCallbacks& callbacks) {
   const auto start_time = std::chrono::steady_clock::now();
-  CheckCampaign(campaign, options);
+  CheckCampaignOptions(campaign, options);
   std::vector<core::Scene> scenes;
   int rocks = 0;
   for (const CampaignSite& site : campaign.sites) {
@@ -540,7 +553,7 @@ CampaignSummary RunCampaign(const Campaign& campaign, const CalibrationOptions& 
   std::optional<EvaluationLog> log;
   if (!options.log_path.empty())
     log.emplace(options.log_path, options.resume, joint.space(), seed, rocks,
-                CampaignFingerprint(campaign, options));
+                CampaignFingerprint(campaign, joint, options));
   MethodOptions method_options = options.method;
   method_options.seed = seed;
   SearchMethods(objective, cal.search_start, options.methods, method_options, log ? &*log : nullptr,

@@ -109,7 +109,7 @@ std::string Canonical(const std::string& path) {
 
 // Same calibration: same site, method, misfit, evaluations and values.
 bool SameCalibration(const CalibratedSite& a, const CalibratedSite& b) {
-  if (a.site != b.site || a.method != b.method || a.misfit != b.misfit ||
+  if (a.site != b.site || a.stage != b.stage || a.misfit != b.misfit ||
       a.evaluations != b.evaluations || a.parameters.size() != b.parameters.size())
     return false;
   for (std::size_t k = 0; k < a.parameters.size(); ++k) {
@@ -183,7 +183,12 @@ CalibratedSite ReadParametersFile(const std::string& path) {
     out.site = site.String();
     if (out.site.empty()) site.Fail("expected a site name (not empty)");
   }
-  out.method = root.Get("method").String();
+  {
+    const JsonNode method = root.Get("method");
+    if (!Stage::FromName(method.String(), &out.stage))
+      method.Fail("unknown method (expected one of " + MethodNames() +
+                  ", with \" (N rocks)\" after it for a refining stage)");
+  }
   out.misfit = root.Get("misfit").NonNegative();
   out.evaluations = static_cast<int>(root.Get("evaluations").Integer(0, 1'000'000'000));
   root.Get("wall_seconds").NonNegative();

@@ -23,8 +23,6 @@ constexpr double kMinusInf = -std::numeric_limits<double>::infinity();
 // Random streams (RandomStream(seed, stream)): one per chain from kChainStream on.
 constexpr std::uint64_t kChainStream = 0x504f535400000000ull;   // "POST"
 constexpr std::uint64_t kDesignSeedMix = 0x44455349474e0000ull;  // "DESIGN"
-// The method name of the posterior stage's evaluations in the log.
-constexpr const char* kMethod = "posterior";
 
 bool Inside(const Eigen::VectorXd& u) {
   for (Eigen::Index k = 0; k < u.size(); ++k)
@@ -361,7 +359,7 @@ std::vector<Evaluation> EvaluatePoints(const ObjectiveFunction& objective,
   std::vector<std::size_t> where;
   for (std::size_t k = 0; k < units.size(); ++k) {
     const std::vector<double> x = objective.space().ToPhysical(units[k]);
-    const Evaluation* logged = log ? log->Find(kMethod, x) : nullptr;
+    const Evaluation* logged = log ? log->Find(Stage::Posterior(), x) : nullptr;
     if (logged && logged->residuals.size() == static_cast<std::size_t>(objective.residual_count())) {
       out[k] = *logged;
       out[k].replayed = true;
@@ -375,7 +373,7 @@ std::vector<Evaluation> EvaluatePoints(const ObjectiveFunction& objective,
   const int base = log ? log->size() : 0;
   objective.EvaluateAll(missing, [&](int i, const observations::Misfit& m) {
     Evaluation& e = out[where[static_cast<std::size_t>(i)]];
-    e.method = kMethod;
+    e.stage = Stage::Posterior();
     e.index = base + i + 1;
     e.parameters = missing[static_cast<std::size_t>(i)];
     e.misfit = m.value;

@@ -90,7 +90,7 @@ nlohmann::json ParametersJson(const CalibrationSummary& record) {
     }
   }
   nlohmann::json out = {{"site", record.site},
-                        {"method", best.method},
+                        {"method", best.stage.name()},
                         {"misfit", best.best_misfit},
                         {"evaluations", best.evaluations},
                         {"wall_seconds", best.wall_seconds}};
@@ -139,7 +139,7 @@ std::string ParametersMarkdown(const CalibrationSummary& record) {
         << SiteValue(ps[k], ps[k].lower, record.units) << ", "
         << SiteValue(ps[k], ps[k].upper, record.units) << "] |\n";
   }
-  out << "\nSite " << record.site << "; method " << best.method << ", " << best.evaluations
+  out << "\nSite " << record.site << "; method " << best.stage.name() << ", " << best.evaluations
       << " evaluations in " << FormatNumber(best.wall_seconds, "%.1f") << " s; misfit "
       << FormatNumber(record.misfit_before.value, "%.4g") << " before, "
       << FormatNumber(best.best_misfit, "%.4g")
@@ -240,7 +240,7 @@ std::string TraceCsv(const CalibrationSummary& record) {
     double best = std::numeric_limits<double>::infinity();
     for (const auto& e : m.trace) {
       best = std::min(best, e.misfit);
-      out << m.method << ',' << e.index << ',' << FormatNumber(e.elapsed, "%.4f") << ','
+      out << m.stage.name() << ',' << e.index << ',' << FormatNumber(e.elapsed, "%.4f") << ','
           << FormatNumber(e.misfit, "%.8g") << ',' << FormatNumber(best, "%.8g");
       for (double v : e.parameters) out << ',' << FormatNumber(v, "%.10g");
       out << ',' << (e.replayed ? 1 : 0) << '\n';
@@ -282,7 +282,7 @@ nlohmann::json CalibrationJson(const CalibrationSummary& record) {
            {"singular_values", m.uncertainty.singular_values}};
     }
     const double reach = calibrate::TimeToReach(m, best_all, 0.1);
-    methods.push_back({{"method", m.method},
+    methods.push_back({{"method", m.stage.name()},
                        {"termination", m.termination.message},
                        {"misfit", m.best_misfit},
                        {"parameters", m.best},
@@ -311,7 +311,7 @@ nlohmann::json CalibrationJson(const CalibrationSummary& record) {
                     {"misfit", entry.misfit},
                     {"penalised", entry.penalised}});
   nlohmann::json out = {{"site", record.site},
-          {"method", best.method},
+          {"method", best.stage.name()},
           {"termination", best.termination.message},
           {"evaluations", best.evaluations},
           {"wall_seconds", record.wall_seconds},
@@ -351,7 +351,7 @@ std::string ComparisonCsv(const CalibrationSummary& record) {
     const double reach = calibrate::TimeToReach(m, best_all, 0.1);
     std::string term = m.termination.message;
     std::replace(term.begin(), term.end(), ',', ';');
-    out << m.method << ',' << FormatNumber(m.best_misfit, "%.6g") << ','
+    out << m.stage.name() << ',' << FormatNumber(m.best_misfit, "%.6g") << ','
         << FormatNumber(m.lowest_misfit, "%.6g") << ',' << m.evaluations << ',' << m.simulated
         << ',' << FormatNumber(m.wall_seconds, "%.2f") << ','
         << (reach >= 0 ? FormatNumber(reach, "%.2f") : "") << ",\"" << term << "\"\n";
@@ -367,7 +367,7 @@ std::string ComparisonMarkdown(const CalibrationSummary& record) {
       << "|---|---|---|---|---|---|---|\n";
   for (const MethodResult& m : record.methods) {
     const double reach = calibrate::TimeToReach(m, best_all, 0.1);
-    out << "| " << m.method << " | " << FormatNumber(m.best_misfit, "%.4g") << " | "
+    out << "| " << m.stage.name() << " | " << FormatNumber(m.best_misfit, "%.4g") << " | "
         << FormatNumber(m.lowest_misfit, "%.4g") << " | " << m.evaluations << " | "
         << FormatNumber(m.wall_seconds, "%.1f") << " | "
         << (reach >= 0 ? FormatNumber(reach, "%.1f") : std::string("never")) << " | "

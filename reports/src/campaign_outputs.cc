@@ -35,7 +35,7 @@ nlohmann::json CampaignJson(const CampaignSummary& summary) {
   const calibrate::MethodResult& best = cal.best_method();
   nlohmann::json methods = nlohmann::json::array();
   for (const calibrate::MethodResult& m : cal.methods)
-    methods.push_back({{"method", m.method},
+    methods.push_back({{"method", m.stage.name()},
                        {"termination", m.termination.message},
                        {"misfit", m.best_misfit},
                        {"lowest_misfit", m.lowest_misfit},
@@ -57,7 +57,7 @@ nlohmann::json CampaignJson(const CampaignSummary& summary) {
   for (const auto& p : cal.space.parameters()) names.push_back(p.label());
   return {{"campaign", summary.name},
           {"file", summary.path},
-          {"method", best.method},
+          {"method", best.stage.name()},
           {"termination", best.termination.message},
           {"evaluations", best.evaluations},
           {"wall_seconds", cal.wall_seconds},

@@ -116,7 +116,7 @@ nlohmann::json DefaultTableJson(const DefaultTable& table) {
     folders.push_back({{"folder", s.result_dir},
                        {"file", s.file},
                        {"site", s.site},
-                       {"method", s.method},
+                       {"method", s.stage.name()},
                        {"misfit", s.misfit},
                        {"evaluations", s.evaluations},
                        {"grid_spacing_m", Optional(s.grid_spacing_m)}});
@@ -263,8 +263,8 @@ std::string DefaultTableMarkdown(const DefaultTable& table) {
       << "| folder | site | method | evaluations | misfit | sphere spacing |\n"
       << "|---|---|---|---|---|---|\n";
   for (const calibrate::CalibratedSite& s : table.sites) {
-    out << "| " << Cell(s.result_dir) << " | " << Cell(s.site) << " | " << Cell(s.method) << " | "
-        << s.evaluations << " | " << FormatNumber(s.misfit, "%.4g") << " | "
+    out << "| " << Cell(s.result_dir) << " | " << Cell(s.site) << " | " << Cell(s.stage.name())
+        << " | " << s.evaluations << " | " << FormatNumber(s.misfit, "%.4g") << " | "
         << (s.grid_spacing_m ? FormatNumber(*s.grid_spacing_m, "%.4g") + " m" : std::string("-"))
         << " |\n";
   }

@@ -116,10 +116,10 @@ std::string Lead(const Context& c) {
     const observations::FitVerdict verdict = observations::AssessFit(rec.misfit_after);
     lead +=
         std::string(verdict.poor ? " Calibration searched with " : " Parameters calibrated with ") +
-        Escape(rec.methods[static_cast<std::size_t>(rec.best)].method) + ": misfit " +
+        Escape(rec.methods[static_cast<std::size_t>(rec.best)].stage.name()) + ": misfit " +
         Escape(Label(rec.misfit_before.value, 3)) + " at the start, " +
-        Escape(Label(rec.misfit_after.value, 3)) + " at the calibrated values" +
-        " (" + Int(rec.final_rocks) + " rocks)" + NoiseSentence(rec) + ". <b>Fit " +
+        Escape(Label(rec.misfit_after.value, 3)) + " at the calibrated values" + " (" +
+        Int(rec.final_rocks) + " rocks)" + NoiseSentence(rec) + ". <b>Fit " +
         Escape(verdict.Sentence()) + ".</b>" +
         (verdict.poor ? " The calibrated values do not reproduce the observations: do not use "
                         "them as if they did (widen the box, change the model, or check the "

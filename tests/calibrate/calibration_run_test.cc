@@ -29,7 +29,7 @@ TEST(CalibrationRun, SummaryHoldsTheBestMethodAndItsSimulation) {
   const sites::Site site = TwinSite(6);
   const observations::Observations obs = TwinObservations(TwinSite(20), kTruth, 5);
   CalibrationOptions options = CalibrationOptions::SingleStage();
-  options.methods = {"nlopt:bobyqa", "nlopt:sbplx"};
+  options.methods = {Method::kBobyqa, Method::kSbplx};
   options.method.max_evals = 4;
   options.seed = 3;
   int started = 0, evaluated = 0, finished = 0;
@@ -79,7 +79,9 @@ TEST(CalibrationRun, RefiningStageSearchesOnWithMoreRocksAndNoiseIsMeasured) {
   ASSERT_EQ(s.methods.size(), 2u);
   EXPECT_EQ(s.methods[0].evaluations, 8);
   EXPECT_EQ(s.methods[1].evaluations, 4);
-  EXPECT_EQ(s.methods[1].method, "nlopt:bobyqa (18 rocks)");
+  EXPECT_EQ(s.methods[1].stage.name(), "nlopt:bobyqa (18 rocks)");
+  EXPECT_EQ(s.methods[1].stage.method, Method::kBobyqa);
+  EXPECT_EQ(s.methods[1].stage.rocks, 18);
   EXPECT_EQ(s.best, 1);
   EXPECT_EQ(s.methods[1].trace.front().parameters, s.methods[0].best);
   EXPECT_EQ(s.rocks, 6);
@@ -225,9 +227,9 @@ TEST(CalibrationRun, OptionsAreChecked) {
   CalibrationOptions o;
   std::string error;
   EXPECT_TRUE(o.IsValid(&error)) << error;
-  o.methods = {"nlopt:nope"};
+  o.methods = {static_cast<Method>(99)};
   EXPECT_FALSE(o.IsValid(&error));
-  EXPECT_THAT(error, HasSubstr("'nlopt:nope'"));
+  EXPECT_THAT(error, HasSubstr("methods: unknown method 99 (allowed: nlopt:bobyqa, "));
   o = CalibrationOptions{};
   o.methods.clear();
   EXPECT_FALSE(o.IsValid(&error));

@@ -44,20 +44,20 @@ TEST(Calibration, ResumeEndsLikeAStraightRunWithFewerSimulations) {
   options.max_evals = 22;  // with the smoothed estimate's stencil (12 search, 10 kept back)
   const std::string straight_log = TempPath("straight.jsonl");
   EvaluationLog straight_log_file(straight_log, false, small.space, 1, 6);
-  const MethodResult straight = RunMethod("nlopt:bobyqa", small.objective,
-                                          small.space.Current(small.site.scene), options,
-                                          &straight_log_file);
+  const MethodResult straight =
+      RunMethod(Method::kBobyqa, small.objective, small.space.Current(small.site.scene), options,
+                &straight_log_file);
   // Stop after k = 6 evaluations, then resume with the full budget.
   const std::string log_path = TempPath("resumed.jsonl");
   MethodOptions first = options;
   first.max_evals = 6;
   {
     EvaluationLog log(log_path, false, small.space, 1, 6);
-    RunMethod("nlopt:bobyqa", small.objective, small.space.Current(small.site.scene), first, &log);
+    RunMethod(Method::kBobyqa, small.objective, small.space.Current(small.site.scene), first, &log);
   }
   EvaluationLog log(log_path, true, small.space, 1, 6);
   EXPECT_EQ(log.size(), 6);
-  const MethodResult resumed = RunMethod("nlopt:bobyqa", small.objective,
+  const MethodResult resumed = RunMethod(Method::kBobyqa, small.objective,
                                          small.space.Current(small.site.scene), options, &log);
   EXPECT_EQ(resumed.best, straight.best);
   EXPECT_EQ(resumed.best_misfit, straight.best_misfit);
@@ -76,7 +76,8 @@ TEST(Calibration, LogOfAnotherCalibrationIsRefused) {
     EvaluationLog log(path, false, small.space, 1, 6);
     MethodOptions options;
     options.max_evals = 2;
-    RunMethod("nlopt:sbplx", small.objective, small.space.Current(small.site.scene), options, &log);
+    RunMethod(Method::kSbplx, small.objective, small.space.Current(small.site.scene), options,
+              &log);
   }
   try {
     EvaluationLog log(path, true, small.space, 7, 6);  // another seed
@@ -100,7 +101,8 @@ TEST(Calibration, LoggedResidualsOfAnotherCountAreRefused) {
   options.max_evals = 2;
   {
     EvaluationLog log(path, false, small.space, 1, 6);
-    RunMethod("ceres", small.objective, small.space.Current(small.site.scene), options, &log);
+    RunMethod(Method::kCeres, small.objective, small.space.Current(small.site.scene), options,
+              &log);
   }
   std::ifstream in(path);
   std::string header, first, rest;
@@ -114,7 +116,8 @@ TEST(Calibration, LoggedResidualsOfAnotherCountAreRefused) {
   EvaluationLog log(path, true, small.space, 1, 6);
   options.max_evals = 4;
   try {
-    RunMethod("ceres", small.objective, small.space.Current(small.site.scene), options, &log);
+    RunMethod(Method::kCeres, small.objective, small.space.Current(small.site.scene), options,
+              &log);
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
     EXPECT_THAT(e.what(), HasSubstr("ceres evaluation 1 has " +
@@ -213,9 +216,10 @@ TEST(Calibration, EveryMethodRunsWithinItsBudget) {
   Small small;
   MethodOptions options;
   options.max_evals = 5;
-  for (const std::string& method : MethodNames()) {
+  for (const Method m : AllMethods()) {
+    const std::string method = MethodToString(m);
     const MethodResult r =
-        RunMethod(method, small.objective, small.space.Current(small.site.scene), options, nullptr);
+        RunMethod(m, small.objective, small.space.Current(small.site.scene), options, nullptr);
     EXPECT_LE(r.evaluations, 5) << method;
     EXPECT_GE(r.evaluations, 2) << method;
     EXPECT_TRUE(std::isfinite(r.best_misfit)) << method;
@@ -225,8 +229,8 @@ TEST(Calibration, EveryMethodRunsWithinItsBudget) {
       EXPECT_LE(r.best[k], small.space.parameters()[k].upper) << method;
     }
   }
-  EXPECT_THROW(RunMethod("nlopt:nope", small.objective, small.space.Current(small.site.scene),
-                         options, nullptr),
+  EXPECT_THROW(RunMethod(static_cast<Method>(99), small.objective,
+                         small.space.Current(small.site.scene), options, nullptr),
                InputError);
 }
 
@@ -264,6 +268,44 @@ TEST(Calibration, LossAndEstimateNamesRoundTrip) {
   EXPECT_EQ(estimate, Estimate::kSmoothed) << "left alone";
   EXPECT_EQ(CeresLossNames(), "none, huber, cauchy");
   EXPECT_EQ(EstimateNames(), "lowest, smoothed");
+}
+
+// The methods' one table parses and prints every name; a stage's name (the
+// log's "method") reads back to the same stage, and nothing else reads.
+TEST(Calibration, MethodAndStageNamesRoundTrip) {
+  ASSERT_EQ(AllMethods().size(), 9u);
+  for (const Method m : AllMethods()) {
+    Method read = Method::kCeres;
+    EXPECT_TRUE(StringToMethod(MethodToString(m), &read)) << MethodToString(m);
+    EXPECT_EQ(read, m) << MethodToString(m);
+    for (const int rocks : {0, 1, 160}) {
+      const Stage stage{m, rocks};
+      Stage back;
+      ASSERT_TRUE(Stage::FromName(stage.name(), &back)) << stage.name();
+      EXPECT_EQ(back, stage) << stage.name();
+    }
+  }
+  EXPECT_EQ(MethodNames(),
+            "nlopt:bobyqa, nlopt:sbplx, nlopt:neldermead, nlopt:cobyla, nlopt:direct_l, "
+            "nlopt:crs2, nlopt:isres, nlopt:mlsl, ceres");
+  EXPECT_EQ((Stage{Method::kDirectL, 160}).name(), "nlopt:direct_l (160 rocks)");
+  EXPECT_EQ(Stage::Posterior().name(), "posterior");
+  Stage read;
+  EXPECT_TRUE(Stage::FromName("posterior", &read));
+  EXPECT_EQ(read, Stage::Posterior());
+  EXPECT_NE(read, Stage{});
+  Method method = Method::kSbplx;
+  EXPECT_FALSE(StringToMethod("nlopt:nope", &method));
+  EXPECT_FALSE(StringToMethod("bobyqa", &method));
+  EXPECT_EQ(method, Method::kSbplx) << "left alone";
+  read = Stage{Method::kCeres, 7};
+  for (const char* bad :
+       {"nlopt:nope", "nlopt:bobyqa ", "nlopt:bobyqa (0 rocks)", "nlopt:bobyqa (-3 rocks)",
+        "nlopt:bobyqa (12 rocks", "nlopt:bobyqa (012 rocks)", "nlopt:bobyqa (12 rock)",
+        "nlopt:bobyqa (12 rocks) x", "Posterior", ""}) {
+    EXPECT_FALSE(Stage::FromName(bad, &read)) << bad;
+    EXPECT_EQ(read, (Stage{Method::kCeres, 7})) << "left alone: " << bad;
+  }
 }
 
 TEST(Calibration, OptionsAreChecked) {
@@ -453,9 +495,10 @@ TEST(Calibration, SmoothedEstimateIsEvaluatedAndReported) {
   // Four parameters: at least 10 for the search, 10 kept back for the
   // stencil (9) and the estimate (1).
   options.max_evals = 20;
-  for (const std::string& method : {std::string("nlopt:bobyqa"), std::string("ceres")}) {
-    const MethodResult r = RunMethod(method, small.objective,
-                                     small.space.Current(small.site.scene), options, nullptr);
+  for (const Method m : {Method::kBobyqa, Method::kCeres}) {
+    const std::string method = MethodToString(m);
+    const MethodResult r =
+        RunMethod(m, small.objective, small.space.Current(small.site.scene), options, nullptr);
     EXPECT_LE(r.evaluations, 20) << method;
     EXPECT_GE(r.smoothed.points, 10) << method << ": " << r.smoothed.message;
     EXPECT_THAT(r.smoothed.message, HasSubstr("then a stencil of 9 evaluations")) << method;
@@ -489,8 +532,8 @@ TEST(Calibration, SmoothedEstimateIsEvaluatedAndReported) {
   // Room for the first stage only (11 to 19 evaluations): the search's own
   // evaluations make the model, and one more evaluates its minimiser.
   options.max_evals = 12;
-  MethodResult r = RunMethod("nlopt:bobyqa", small.objective, small.space.Current(small.site.scene),
-                             options, nullptr);
+  MethodResult r = RunMethod(Method::kBobyqa, small.objective,
+                             small.space.Current(small.site.scene), options, nullptr);
   EXPECT_EQ(r.evaluations, 12);
   EXPECT_THAT(r.smoothed.message, HasSubstr("no stencil: a budget of 12 evaluations leaves no "
                                             "room for it (it needs 20)"));
@@ -504,15 +547,15 @@ TEST(Calibration, SmoothedEstimateIsEvaluatedAndReported) {
     EXPECT_EQ(r.best, r.lowest);
   }
   options.max_evals = 10;  // too small a budget: the lowest
-  r = RunMethod("nlopt:bobyqa", small.objective, small.space.Current(small.site.scene), options,
+  r = RunMethod(Method::kBobyqa, small.objective, small.space.Current(small.site.scene), options,
                 nullptr);
   EXPECT_FALSE(r.smoothed.used);
   EXPECT_THAT(r.smoothed.message, HasSubstr("too small for it (it needs 11)"));
   EXPECT_EQ(r.best, r.lowest);
   options.max_evals = 20;
   options.estimate = Estimate::kLowest;
-  r = RunMethod("nlopt:bobyqa", small.objective,
-                                   small.space.Current(small.site.scene), options, nullptr);
+  r = RunMethod(Method::kBobyqa, small.objective, small.space.Current(small.site.scene), options,
+                nullptr);
   EXPECT_FALSE(r.smoothed.used);
   EXPECT_EQ(r.best, r.lowest);
   EXPECT_EQ(r.best_misfit, r.lowest_misfit);

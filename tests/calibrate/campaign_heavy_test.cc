@@ -34,7 +34,7 @@ struct Recovery {
 
 CalibrationOptions Options() {
   CalibrationOptions options = CalibrationOptions::SingleStage();
-  options.methods = {"ceres"};
+  options.methods = {Method::kCeres};
   options.method.max_evals = 30;
   options.method.estimate = Estimate::kSmoothed;
   options.rocks = 250;

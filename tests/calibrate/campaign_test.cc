@@ -226,7 +226,7 @@ TEST(Campaign, OneSiteAloneIsThatSitesCalibration) {
   c.name = "one";
   c.sites.push_back({"twin", site, obs, 0, 1.0});
   CalibrationOptions options = CalibrationOptions::SingleStage();
-  options.methods = {"nlopt:bobyqa"};
+  options.methods = {Method::kBobyqa};
   options.method.max_evals = 6;
   options.seed = 3;
   const CampaignSummary joint = RunCampaign(c, options);
@@ -257,7 +257,7 @@ TEST(Campaign, ResumeReplaysTheLogAndGivesTheSameResult) {
   Campaign c = TwoTwins(5, true);
   c.offsets = {{"slope", "hardness", 0.05}};
   CalibrationOptions options = CalibrationOptions::SingleStage();
-  options.methods = {"nlopt:bobyqa"};
+  options.methods = {Method::kBobyqa};
   options.method.max_evals = 4;
   options.seed = 3;
   options.log_path = dir.path() + "/evaluations.jsonl";
@@ -288,9 +288,8 @@ TEST(Campaign, OptionsItDoesNotTakeAreBadInput) {
   options.reach_points = 8;
   EXPECT_THAT(ErrorOf([&] { CheckCampaign(c, options); }), HasSubstr("reach check"));
   options.reach_points = 0;
-  options.methods = {"nlopt:nope"};
-  EXPECT_THAT(ErrorOf([&] { CheckCampaign(c, options); }),
-              HasSubstr("unknown method 'nlopt:nope'"));
+  options.methods = {static_cast<Method>(99)};
+  EXPECT_THAT(ErrorOf([&] { CheckCampaign(c, options); }), HasSubstr("unknown method 99"));
 }
 
 // ---- the campaign file ------------------------------------------------------------

@@ -79,7 +79,7 @@ TEST(ReadCalibratedSite, ReadsEveryKey) {
   EXPECT_EQ(s.result_dir, folder);
   EXPECT_EQ(s.file, folder + "/parameters.json");
   EXPECT_EQ(s.site, "Tutorial slope");
-  EXPECT_EQ(s.method, "nlopt:bobyqa");
+  EXPECT_EQ(s.stage, Stage{Method::kBobyqa});
   EXPECT_DOUBLE_EQ(s.misfit, 12.5);
   EXPECT_EQ(s.evaluations, 40);
   ASSERT_TRUE(s.grid_spacing_m.has_value());
@@ -284,7 +284,7 @@ CalibratedSite Site(const std::string& site, const std::string& dir,
   s.site = site;
   s.result_dir = dir;
   s.file = dir + "/parameters.json";
-  s.method = "nlopt:bobyqa";
+  s.stage = Stage{Method::kBobyqa};
   s.misfit = static_cast<double>(dir.size());
   s.evaluations = 10;
   s.parameters = std::move(parameters);

@@ -48,9 +48,10 @@ double RangeError(const ParameterSpace& space, const std::vector<double>& x, int
 }
 
 std::string Describe(const MethodResult& r, const ParameterSpace& space) {
-  std::string s = r.method + ": misfit " + std::to_string(r.best_misfit) + " after " +
-                  std::to_string(r.evaluations) + " (" + r.termination.message + "; lowest evaluated " +
-                  std::to_string(r.lowest_misfit) + "; " + r.smoothed.message + ")";
+  std::string s = r.stage.name() + ": misfit " + std::to_string(r.best_misfit) + " after " +
+                  std::to_string(r.evaluations) + " (" + r.termination.message +
+                  "; lowest evaluated " + std::to_string(r.lowest_misfit) + "; " +
+                  r.smoothed.message + ")";
   for (int k = 0; k < space.size(); ++k)
     s += "\n  " + space.parameters()[k].label() + " = " + std::to_string(r.best[k]) + " (truth " +
          std::to_string(kTruth[k]) + ", error " + std::to_string(100 * RangeError(space, r.best, k)) +
@@ -121,7 +122,7 @@ TEST(Calibration, TwinExperimentBobyqa) {
   // at 1.9 and 2.7 times the truth's misfit for calibration seeds 2 and 3).
   options.max_evals = 150;
   const MethodResult r =
-      RunMethod("nlopt:bobyqa", twin.objective, SearchStart(twin), options, nullptr);
+      RunMethod(Method::kBobyqa, twin.objective, SearchStart(twin), options, nullptr);
   std::printf("%s\n", Describe(r, twin.space).c_str());
   ExpectTruthRecovered(r, twin);
 }
@@ -146,7 +147,7 @@ TEST(Calibration, TwinExperimentCeresWithUncertainty) {
     scene.options.seed = seed;
     const Objective objective{scene, twin.space, twin.obs, {}};
     const MethodResult r =
-        RunMethod("ceres", objective, SearchStart(twin, objective), options, nullptr);
+        RunMethod(Method::kCeres, objective, SearchStart(twin, objective), options, nullptr);
     std::printf("seed %d: %s\n", static_cast<int>(seed), Describe(r, twin.space).c_str());
     const bool ok = TruthRecovered(r, twin);
     recovered += ok;

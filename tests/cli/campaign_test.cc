@@ -112,7 +112,8 @@ TEST(CampaignCommand, BadInputExitsTwoNamingTheFileAndPathAndWritesNothing) {
                                     "], \"offsets\": [{\"class\": \"rock\", \"parameter\": "
                                     "\"hardness\", \"sigma\": 0.1}]}"),
        "", "bad_offset.json: $.offsets[0]: class 'rock' hardness: no site calibrates it"},
-      {TwinCampaign(), "--method nlopt:nope", "unknown method 'nlopt:nope'"},
+      {TwinCampaign(), "--method nlopt:nope",
+       "argument --method: unknown method 'nlopt:nope' (allowed: nlopt:bobyqa, "},
       {TwinCampaign(), "--loss l1",
        "argument --loss: unknown loss 'l1' (allowed: none, huber, cauchy)"},
       {TwinCampaign(), "--estimate mean",

@@ -20,6 +20,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_fixture.h"
@@ -358,6 +359,17 @@ TEST_F(Reliability, UsageSeedsAndExitClasses) {
   EXPECT_THAT(run.err, HasSubstr("give --rocks N"));
   EXPECT_THAT(run.err, HasSubstr("or --refine F"));
   EXPECT_FALSE(fs::exists(ws_ + "/r"));
+  // A method's name is parsed by the library's one table, before anything
+  // runs; the error names the flag given.
+  for (const auto& [flag, named] : std::vector<std::pair<std::string, std::string>>{
+           {"--method nlopt:nope", "argument --method: unknown method 'nlopt:nope'"},
+           {"--methods ceres,nope", "argument --methods: unknown method 'nope'"}}) {
+    run = Rockcal(calibrate + " " + flag + " --out " + ws_ + "/r");
+    EXPECT_EQ(run.status, 2) << run.err;
+    EXPECT_THAT(run.err, HasSubstr(named + " (allowed: nlopt:bobyqa, nlopt:sbplx, "));
+    EXPECT_THAT(run.err, HasSubstr("nlopt:mlsl, ceres)"));
+    EXPECT_FALSE(fs::exists(ws_ + "/r"));
+  }
 
   const std::string out = ws_ + "/seed";
   run =

@@ -27,7 +27,7 @@ DefaultTable Table(bool include_at_bound = false) {
   a.site = "Site A";
   a.result_dir = "out/a";
   a.file = "out/a/parameters.json";
-  a.method = "nlopt:bobyqa";
+  a.stage = calibrate::Stage{calibrate::Method::kBobyqa};
   a.grid_spacing_m = 1.0;
   a.parameters = {P("talus", "talus", "hardness", 0.3, 0.1, 0.7),
                   P("talus", "talus", "roughness", 0.2, 0.05, 0.5)};
@@ -35,7 +35,7 @@ DefaultTable Table(bool include_at_bound = false) {
   b.site = "Site B";
   b.result_dir = "out/b,c";  // a comma the CSV must quote
   b.file = "out/b,c/parameters.json";
-  b.method = "ceres";
+  b.stage = calibrate::Stage{calibrate::Method::kCeres};
   b.parameters = {P("red", "talus", "hardness", 0.5, 0.1, 0.8),
                   P("red", "talus", "roughness", 0.5, 0.05, 0.5),
                   P("blue", "soil", "contact_time", 0.006, 0.002, 0.01)};

@@ -237,16 +237,16 @@ observations::Misfit MakeMisfit(double offset) {
   return m;
 }
 
-calibrate::MethodResult MakeMethod(const std::string& name, const calibrate::ParameterSpace& space,
+calibrate::MethodResult MakeMethod(calibrate::Method method, const calibrate::ParameterSpace& space,
                                    double misfit) {
   calibrate::MethodResult m;
-  m.method = name;
+  m.stage = calibrate::Stage{method};
   m.termination = {calibrate::TerminationType::kBudgetUsed, "evaluation budget used"};
   for (const auto& p : space.parameters()) m.best.push_back(0.5 * (p.lower + p.upper));
   m.best_misfit = misfit;
   for (int k = 1; k <= 5; ++k) {
     calibrate::Evaluation e;
-    e.method = name;
+    e.stage = m.stage;
     e.index = k;
     e.parameters = m.best;
     e.misfit = misfit * (6 - k);
@@ -267,9 +267,9 @@ CalibrationSummary MakeRecord(const sites::Site& site, int methods) {
   record.start = record.space.Current(site.scene);
   record.misfit_before = MakeMisfit(8.0);
   record.misfit_after = MakeMisfit(1.0);
-  record.methods.push_back(MakeMethod("nlopt:bobyqa", record.space, 3.0));
+  record.methods.push_back(MakeMethod(calibrate::Method::kBobyqa, record.space, 3.0));
   if (methods > 1) {
-    calibrate::MethodResult ceres = MakeMethod("ceres", record.space, 2.0);
+    calibrate::MethodResult ceres = MakeMethod(calibrate::Method::kCeres, record.space, 2.0);
     const std::size_t n = record.space.parameters().size();
     ceres.uncertainty.computed = true;
     ceres.uncertainty.std_error.assign(n, 0.01);

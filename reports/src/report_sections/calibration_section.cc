@@ -46,7 +46,7 @@ std::string RunTable(const CalibrationSummary& rec) {
   const calibrate::MethodResult& best = rec.methods[static_cast<std::size_t>(rec.best)];
   const std::string cj = "calibration.json";
   std::string s = "<table class=\"kv\">";
-  s += Kv("Method", "<code>" + Escape(best.method) + "</code>" +
+  s += Kv("Method", "<code>" + Escape(best.stage.name()) + "</code>" +
                         (rec.methods.size() > 1
                              ? " (the best of " + Int(static_cast<long>(rec.methods.size())) +
                                    " methods, compared below)"
@@ -176,7 +176,7 @@ std::string MethodsTable(const CalibrationSummary& rec) {
       const auto& mr = rec.methods[m];
       const double reach = calibrate::TimeToReach(mr, best_all, 0.1);
       s += "<tr" + std::string(static_cast<int>(m) == rec.best ? " class=\"best\"" : "") +
-           "><td><code>" + Escape(mr.method) + "</code></td>" +
+           "><td><code>" + Escape(mr.stage.name()) + "</code></td>" +
            RefCell(Ref(cj, "/methods/" + Int(static_cast<long>(m)) + "/misfit"), mr.best_misfit,
                    Label(mr.best_misfit, 4)) +
            RefCell(Ref(cj, "/methods/" + Int(static_cast<long>(m)) + "/lowest_misfit"),

@@ -70,8 +70,8 @@ std::string TraceSection(const Context& c) {
   s += "</p><ul class=\"legend\">";
   for (std::size_t m = 0; m < rec.methods.size(); ++m) {
     const std::string colour = svg::Colour(static_cast<int>(m));
-    s += LegendItem(Swatch(colour, "line"), rec.methods[m].method + ": best so far");
-    s += LegendItem(Swatch(colour, "point"), rec.methods[m].method + ": each evaluation");
+    s += LegendItem(Swatch(colour, "line"), rec.methods[m].stage.name() + ": best so far");
+    s += LegendItem(Swatch(colour, "point"), rec.methods[m].stage.name() + ": each evaluation");
   }
   s += "</ul><div class=\"figs\">";
   s += Figure(TracePlot(rec, true), "<b>Misfit against wall time</b> since each method started.",

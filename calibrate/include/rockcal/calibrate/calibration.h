@@ -14,9 +14,52 @@
 
 namespace rockcal::calibrate {
 
+// The calibration methods: NLopt's local algorithms (BOBYQA, Subplex,
+// Nelder-Mead, COBYLA), its global ones (DIRECT-L, CRS2, ISRES, MLSL; each
+// polished by BOBYQA), and Ceres' least squares on the residuals.
+enum class Method {
+  kBobyqa,
+  kSbplx,
+  kNelderMead,
+  kCobyla,
+  kDirectL,
+  kCrs2,
+  kIsres,
+  kMlsl,
+  kCeres,
+};
+// Their names ("nlopt:bobyqa", "nlopt:sbplx", "nlopt:neldermead",
+// "nlopt:cobyla", "nlopt:direct_l", "nlopt:crs2", "nlopt:isres",
+// "nlopt:mlsl", "ceres") from one table for parsing and printing, as the
+// loss's. StringToMethod returns false (and leaves *method alone) for a name
+// not in the table; MethodNames lists the table, comma separated, for
+// messages; AllMethods lists the methods in its order.
+const char* MethodToString(Method method);
+bool StringToMethod(const std::string& name, Method* method);
+std::string MethodNames();
+const std::vector<Method>& AllMethods();
+
+// Which search made an evaluation or a result: a method at the run's rocks,
+// the same method again in a refining stage at more rocks, or the
+// posterior's sampling. Its name is what the evaluation log, trace.csv and
+// the reports show: "nlopt:bobyqa", "nlopt:bobyqa (160 rocks)", "posterior".
+struct Stage {
+  Method method = Method::kBobyqa;
+  int rocks = 0;           // a refining stage's rocks per evaluation; 0: the first stage
+  bool posterior = false;  // the posterior's evaluations (method and rocks unused)
+
+  static Stage Posterior();
+  std::string name() const;
+  // The stage of a name() (the log's "method"); false for another name.
+  static bool FromName(const std::string& name, Stage* stage);
+  bool operator==(const Stage& other) const;
+  bool operator!=(const Stage& other) const { return !(*this == other); }
+  bool operator<(const Stage& other) const;  // any strict order, for maps
+};
+
 // One evaluation of the objective.
 struct Evaluation {
-  std::string method;
+  Stage stage;                     // logged as its name ("method")
   int index = 0;                   // 1-based within the method
   std::vector<double> parameters;  // physical values
   double misfit = 0.0;
@@ -56,8 +99,8 @@ class EvaluationLog final {
   // calibration (other parameters, seed or rock count) is an InputError.
   EvaluationLog(std::string path, bool resume, const ParameterSpace& space, std::uint64_t seed,
                 int rocks, Fingerprint fingerprint = {});
-  // The logged evaluation of `method` at exactly `physical`, if any.
-  const Evaluation* Find(const std::string& method, const std::vector<double>& physical) const;
+  // The logged evaluation of `stage` at exactly `physical`, if any.
+  const Evaluation* Find(const Stage& stage, const std::vector<double>& physical) const;
   void Append(const Evaluation& evaluation);
   int size() const { return static_cast<int>(records_.size()); }
   const std::string& path() const { return path_; }
@@ -182,7 +225,7 @@ struct Termination {
 };
 
 struct MethodResult {
-  std::string method;
+  Stage stage;              // the method, and a refining stage's rocks
   Termination termination;  // why it stopped
   std::vector<double> best;  // the calibrated values (physical)
   double best_misfit = 0.0;  // the misfit evaluated at `best`
@@ -198,18 +241,12 @@ struct MethodResult {
   Uncertainty uncertainty;
 };
 
-// The method names RunMethod accepts.
-const std::vector<std::string>& MethodNames();
-// A comma separated list of MethodNames (for messages).
-std::string MethodList();
-bool IsMethod(const std::string& name);
-
 // Called after every evaluation with (method, evaluation, best misfit so far).
 using CalibrationProgress = std::function<void(const Evaluation&, double best)>;
 
 // Runs `method` from `start` (physical values) within the options' budget.
-// Throws InputError for an unknown method or invalid options.
-MethodResult RunMethod(const std::string& method, const ObjectiveFunction& objective,
+// Throws InputError for invalid options.
+MethodResult RunMethod(Method method, const ObjectiveFunction& objective,
                        const std::vector<double>& start, const MethodOptions& options,
                        EvaluationLog* log, const CalibrationProgress& progress = nullptr);
 

@@ -46,9 +46,9 @@ struct CalibrationOptions {
   // noise check or noise seeds (a campaign's search, and tests').
   static CalibrationOptions SingleStage();
 
-  // The methods to run, in order, each one of MethodNames() [nlopt:bobyqa];
-  // the one with the lowest misfit gives the calibrated values.
-  std::vector<std::string> methods = {"nlopt:bobyqa"};
+  // The methods to run, in order [nlopt:bobyqa]; the one with the lowest
+  // misfit gives the calibrated values.
+  std::vector<Method> methods = {Method::kBobyqa};
   // The budget and settings of every method; its `seed` is replaced by the
   // run's seed (below).
   MethodOptions method;
@@ -146,7 +146,7 @@ struct CalibrationCallbacks {
   std::function<void(const ReachResult&)> reach_done;
   // After the noise check (CalibrationOptions::noise_check_seeds), before the search.
   std::function<void(const CalibrationSummary&)> noise_checked;
-  std::function<void(const std::string& method)> method_started;
+  std::function<void(const Stage& stage)> method_started;
   CalibrationProgress evaluated;  // after every evaluation
   std::function<void(const MethodResult&)> method_finished;
   PosteriorProgress posterior;  // during the posterior stage
@@ -173,8 +173,9 @@ struct CalibrationSummary {
   double wall_seconds = 0.0;  // the whole calibration
   Termination termination;    // the best method's
   // With CalibrationOptions::refine_factor > 1: the first stage's rocks per
-  // evaluation are `rocks`, the refining stage's (the last of `methods`, named
-  // "<method> (<N> rocks)", and the best) `final_rocks`; else both are `rocks`.
+  // evaluation are `rocks`, the refining stage's (the last of `methods`, its
+  // Stage::rocks set, named "<method> (<N> rocks)", and the best)
+  // `final_rocks`; else both are `rocks`.
   int final_rocks = 0;
   // CalibrationOptions::race_points: the candidates raced at final_rocks
   // before the refining stage, in the order raced (the first stage's best,
@@ -232,11 +233,12 @@ struct CalibrationSummary {
 // the bytes of the site file and of every data file it read (Site::inputs),
 // of the observations file and its CSV files (Observations::inputs), the seed, the rock count, the
 // methods, the method options (not the budget: a resumed run may be given more evaluations or
-// time), the misfit options and the parameters' bounds and starting values. The thread count is
-// left out (it changes no result).
+// time), the misfit options and the parameters' bounds and starting values (`space`, the
+// site's ParameterSpace::FromSite, built once by the run). The thread count is left out (it
+// changes no result).
 Fingerprint CalibrationFingerprint(const sites::Site& site,
                                    const observations::Observations& observations,
-                                   const CalibrationOptions& options);
+                                   const CalibrationOptions& options, const ParameterSpace& space);
 
 // One fold of a cross-validation (CrossValidate).
 struct FoldResult {
@@ -279,7 +281,7 @@ HoldoutSummary CrossValidate(const sites::Site& site,
 // results to summary->methods and makes summary->best the lowest misfit's.
 // Throws std::runtime_error when no evaluation finished.
 void SearchMethods(const ObjectiveFunction& objective, const std::vector<double>& start,
-                   const std::vector<std::string>& methods, const MethodOptions& options,
+                   const std::vector<Method>& methods, const MethodOptions& options,
                    EvaluationLog* log, const CalibrationCallbacks& callbacks,
                    CalibrationSummary* summary);
 

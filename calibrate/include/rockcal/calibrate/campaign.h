@@ -210,9 +210,12 @@ struct CampaignSummary {
   std::string BriefReport() const;
 };
 
-// What determines a campaign's evaluations: the campaign file's bytes, and
-// per site (parts prefixed "<site>: ") what CalibrationFingerprint names.
-Fingerprint CampaignFingerprint(const Campaign& campaign, const CalibrationOptions& options);
+// What determines a campaign's evaluations: the campaign file's bytes, the
+// joint parameters (`joint`, the campaign's JointSpace, built once by the
+// run), and per site (parts prefixed "<site>: ") what CalibrationFingerprint
+// names.
+Fingerprint CampaignFingerprint(const Campaign& campaign, const JointSpace& joint,
+                                const CalibrationOptions& options);
 
 // Throws the InputError RunCampaign would throw before its first
 // evaluation (invalid options, options a campaign does not take, an

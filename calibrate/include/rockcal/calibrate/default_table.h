@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "rockcal/calibrate/calibration.h"
+
 namespace rockcal::calibrate {
 
 // Where a calibrated value sits against the bounds it was searched within.
@@ -41,7 +43,7 @@ struct CalibratedSite {
   std::string result_dir;  // as given
   std::string file;        // result_dir + "/parameters.json"
   std::string site;        // the site's name
-  std::string method;
+  Stage stage;             // "method": the best method, at a refining stage's rocks
   double misfit = 0.0;
   int evaluations = 0;
   std::optional<double> grid_spacing_m;  // absent in files written before it
@@ -55,8 +57,9 @@ struct CalibratedSite {
 
 // Reads RESULT_DIR/parameters.json strictly: a missing folder or file, bad
 // JSON, a missing, unknown or mistyped key, an unknown parameter name, bounds
-// with lower >= upper, a value outside its bounds, a negative standard error
-// or a parameter given twice are each an InputError naming the file, the JSON
+// with lower >= upper, a value outside its bounds, a negative standard error,
+// a method no rockcal names (Stage::FromName) or a parameter given twice are
+// each an InputError naming the file, the JSON
 // path, the value and what was expected.
 CalibratedSite ReadCalibratedSite(const std::string& result_dir);
 // The same for a parameters.json named by its path, or by its folder
