@@ -94,7 +94,14 @@ int Stability(const Args& args, sites::Site* site, const std::string& out) {
   if (args.Has("seed"))
     opt.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
   opt.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
-  if (args.Has("cases")) opt.cases = NameList(args.Get("cases"));
+  if (args.Has("cases"))
+    for (const std::string& name : NameList(args.Get("cases"))) {
+      calibrate::StabilityCaseId id;
+      if (!calibrate::StringToStabilityCase(name, &id))
+        throw InputError("argument --cases", "unknown case '" + name + "' (allowed: " +
+                                                 calibrate::StabilityCaseNames() + ")");
+      opt.cases.push_back(id);
+    }
   std::string error;
   if (!opt.IsValid(&error)) throw InputError("arguments", error);
 

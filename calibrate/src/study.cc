@@ -204,13 +204,6 @@ void CapTime(long steps, double dt, core::Scene* s) {
 
 // ---- Stability -------------------------------------------------------------------
 
-const std::vector<std::string>& StabilityCaseNames() {
-  static const std::vector<std::string> names = {kSite, kHardness0, kHardness1, kStiff,
-                                                 kSoft, kSizes,     kCliff,     kFace,
-                                                 kFlat, kSmooth,    kRoughest,  kFast};
-  return names;
-}
-
 bool StabilityOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& field, const std::string& value, const std::string& rule) {
     *error = "stability." + field + " = " + value + ": " + rule;
@@ -226,14 +219,10 @@ bool StabilityOptions::IsValid(std::string* error) const {
   if (max_case_steps < 1000)
     return fail("max_case_steps", std::to_string(max_case_steps), "must be >= 1000");
   if (threads < 0) return fail("threads", std::to_string(threads), "must be >= 0 (0: all cores)");
-  const auto& names = StabilityCaseNames();
-  for (const auto& c : cases) {
-    if (std::find(names.begin(), names.end(), c) == names.end()) {
-      std::string list;
-      for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-      return fail("cases", "'" + c + "'", "unknown case (allowed: " + list + ")");
-    }
-  }
+  for (const StabilityCaseId c : cases)
+    if (!*StabilityCaseToString(c))
+      return fail("cases", std::to_string(static_cast<int>(c)),
+                  "unknown case (allowed: " + StabilityCaseNames() + ")");
   return true;
 }
 
@@ -343,14 +332,56 @@ CaseScene FastCase(const core::Scene& base, const StabilityOptions&) {
           s};
 }
 
-// In StabilityCaseNames() order.
-const std::pair<const char*, CaseMaker> kCases[] = {
-    {kSite, SiteCase},   {kHardness0, Hardness0Case}, {kHardness1, Hardness1Case},
-    {kStiff, StiffCase}, {kSoft, SoftCase},           {kSizes, SizesCase},
-    {kCliff, CliffCase}, {kFace, FaceCase},           {kFlat, FlatCase},
-    {kSmooth, SmoothCase}, {kRoughest, RoughestCase}, {kFast, FastCase}};
+// The cases' one table, in StabilityCaseId order: name, and how its scene is made.
+struct CaseInfo {
+  StabilityCaseId id;
+  const char* name;
+  CaseMaker make;
+};
+const CaseInfo kCases[] = {{StabilityCaseId::kSite, kSite, SiteCase},
+                           {StabilityCaseId::kHardness0, kHardness0, Hardness0Case},
+                           {StabilityCaseId::kHardness1, kHardness1, Hardness1Case},
+                           {StabilityCaseId::kStiff, kStiff, StiffCase},
+                           {StabilityCaseId::kSoft, kSoft, SoftCase},
+                           {StabilityCaseId::kSizes, kSizes, SizesCase},
+                           {StabilityCaseId::kCliff, kCliff, CliffCase},
+                           {StabilityCaseId::kFace, kFace, FaceCase},
+                           {StabilityCaseId::kFlat, kFlat, FlatCase},
+                           {StabilityCaseId::kSmooth, kSmooth, SmoothCase},
+                           {StabilityCaseId::kRoughest, kRoughest, RoughestCase},
+                           {StabilityCaseId::kFast, kFast, FastCase}};
 
 }  // namespace
+
+const char* StabilityCaseToString(StabilityCaseId id) {
+  for (const CaseInfo& c : kCases)
+    if (c.id == id) return c.name;
+  return "";
+}
+
+bool StringToStabilityCase(const std::string& name, StabilityCaseId* id) {
+  for (const CaseInfo& c : kCases)
+    if (name == c.name) {
+      *id = c.id;
+      return true;
+    }
+  return false;
+}
+
+std::string StabilityCaseNames() {
+  std::string s;
+  for (const CaseInfo& c : kCases) s += std::string(s.empty() ? "" : ", ") + c.name;
+  return s;
+}
+
+const std::vector<StabilityCaseId>& AllStabilityCases() {
+  static const std::vector<StabilityCaseId> all = [] {
+    std::vector<StabilityCaseId> v;
+    for (const CaseInfo& c : kCases) v.push_back(c.id);
+    return v;
+  }();
+  return all;
+}
 
 std::vector<StabilityVariant> StabilityVariants(const core::Scene& site,
                                                 const StabilityOptions& opt) {
@@ -361,15 +392,15 @@ std::vector<StabilityVariant> StabilityVariants(const core::Scene& site,
   // Cases whose step is smaller than the site's get a budget of steps.
   const double site_dt = SmallestStep(base);
   std::vector<StabilityVariant> out;
-  for (const auto& [name, make] : kCases) {
-    const bool wanted =
-        opt.cases.empty() || std::find(opt.cases.begin(), opt.cases.end(), name) != opt.cases.end();
+  for (const CaseInfo& info : kCases) {
+    const bool wanted = opt.cases.empty() ||
+                        std::find(opt.cases.begin(), opt.cases.end(), info.id) != opt.cases.end();
     if (!wanted) continue;
-    CaseScene c = make(base, opt);
+    CaseScene c = info.make(base, opt);
     const double dt = SmallestStep(c.scene);
     if (dt < site_dt * (1.0 - 1e-9))
       CapTime(opt.max_case_steps / std::max(c.scene.total_rocks(), 1), dt, &c.scene);
-    out.push_back({name, std::move(c.description), std::move(c.scene), c.must_stop});
+    out.push_back({info.name, std::move(c.description), std::move(c.scene), c.must_stop});
   }
   return out;
 }

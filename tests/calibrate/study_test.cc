@@ -76,7 +76,7 @@ StabilityOptions QuickStability() {
 TEST(StabilitySuite, VariantsCoverTheIssueList) {
   const core::Scene site = SmallSlope();
   const std::vector<StabilityVariant> variants = StabilityVariants(site, QuickStability());
-  ASSERT_EQ(variants.size(), StabilityCaseNames().size());
+  ASSERT_EQ(variants.size(), AllStabilityCases().size());
   auto find = [&](const std::string& name) -> const StabilityVariant& {
     for (const auto& v : variants)
       if (v.name == name) return v;
@@ -140,7 +140,7 @@ TEST(StabilitySuite, VariantsCoverTheIssueList) {
 TEST(StabilitySuite, EveryCasePassesOnASmallScene) {
   const core::Scene site = SmallSlope();
   const std::vector<StabilityCase> cases = RunStabilitySuite(site, QuickStability());
-  ASSERT_EQ(cases.size(), StabilityCaseNames().size());
+  ASSERT_EQ(cases.size(), AllStabilityCases().size());
   for (const auto& c : cases) {
     EXPECT_TRUE(c.pass) << c.name << ": " << c.reason;
     EXPECT_EQ(c.non_finite, 0) << c.name;
@@ -173,7 +173,7 @@ TEST(StabilitySuite, EveryCasePassesOnASmallScene) {
 // catch surface is now continuous; this case must pass for every seed.
 TEST(StabilitySuite, SmallRocksOnTheRoughestSlope) {
   StabilityOptions opt = QuickStability();
-  opt.cases = {"roughness_max"};
+  opt.cases = {StabilityCaseId::kRoughest};
   for (std::uint64_t seed = 1; seed <= 5; ++seed) {
     opt.seed = seed;
     const StabilityCase c = RunStabilitySuite(SmallSlope(0.4, 0.8), opt).front();
@@ -184,7 +184,7 @@ TEST(StabilitySuite, SmallRocksOnTheRoughestSlope) {
 TEST(StabilitySuite, JudgesAgainstTheLimits) {
   const core::Scene site = SmallSlope();
   StabilityOptions opt = QuickStability();
-  opt.cases = {"flat_runout"};
+  opt.cases = {StabilityCaseId::kFlat};
   opt.max_time = 1.5;  // too short for rocks arriving at 10 m/s to stop
   opt.penetration_limit = 1e-9;
   const std::vector<StabilityCase> cases = RunStabilitySuite(site, opt);
@@ -197,6 +197,24 @@ TEST(StabilitySuite, JudgesAgainstTheLimits) {
   EXPECT_EQ(c.reason.find("overlap"), std::string::npos) << c.reason;
 }
 
+// The cases' one table parses and prints each name, in the order they run.
+TEST(StabilitySuite, CaseNamesRoundTrip) {
+  ASSERT_EQ(AllStabilityCases().size(), 12u);
+  for (const StabilityCaseId id : AllStabilityCases()) {
+    StabilityCaseId read = StabilityCaseId::kFast;
+    EXPECT_TRUE(StringToStabilityCase(StabilityCaseToString(id), &read))
+        << StabilityCaseToString(id);
+    EXPECT_EQ(read, id) << StabilityCaseToString(id);
+  }
+  EXPECT_EQ(StabilityCaseNames(),
+            "site, hardness_0, hardness_1, contact_time_0.05ms, contact_time_50ms, sizes_1cm_10m, "
+            "vertical_cliff, near_vertical_face, flat_runout, roughness_0, roughness_max, "
+            "fast_release_hard");
+  StabilityCaseId id = StabilityCaseId::kCliff;
+  EXPECT_FALSE(StringToStabilityCase("no_such_case", &id));
+  EXPECT_EQ(id, StabilityCaseId::kCliff) << "left alone";
+}
+
 TEST(StabilitySuite, OptionsAreValidated) {
   std::string error;
   StabilityOptions opt;
@@ -205,8 +223,9 @@ TEST(StabilitySuite, OptionsAreValidated) {
   EXPECT_FALSE(opt.IsValid(&error));
   EXPECT_NE(error.find("stability.rocks = 0"), std::string::npos) << error;
   opt = StabilityOptions{};
-  opt.cases = {"no_such_case"};
+  opt.cases = {static_cast<StabilityCaseId>(99)};
   EXPECT_FALSE(opt.IsValid(&error));
+  EXPECT_NE(error.find("stability.cases = 99: unknown case"), std::string::npos) << error;
   EXPECT_NE(error.find("flat_runout"), std::string::npos) << "lists the allowed names: " << error;
   EXPECT_THROW(StabilityVariants(SmallSlope(), opt), std::invalid_argument);
 }

@@ -62,7 +62,7 @@ TEST(Study, BadInputExitsTwoAndLeavesNothing) {
   const std::string out = FreshDir("bad");
   RunResult run = Rockcal("study stability " + Example("profile2d") + " --cases nope --out " + out);
   EXPECT_EQ(run.status, 2);
-  EXPECT_THAT(run.err, HasSubstr("nope"));
+  EXPECT_THAT(run.err, HasSubstr("argument --cases: unknown case 'nope' (allowed: site, "));
   run = Rockcal("study convergence " + Example("profile2d") + " --rocks 5 --out " + out);
   EXPECT_EQ(run.status, 2);
   EXPECT_THAT(run.err, HasSubstr("--rock-counts"));

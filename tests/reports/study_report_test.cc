@@ -362,7 +362,8 @@ TEST(StudyReportTest, ReportsOfTinyStudiesOfProfile2d) {
   stability.rocks = 2;
   stability.max_time = 10.0;
   stability.threads = 2;
-  stability.cases = {"site", "flat_runout", "roughness_max"};
+  stability.cases = {calibrate::StabilityCaseId::kSite, calibrate::StabilityCaseId::kFlat,
+                     calibrate::StabilityCaseId::kRoughest};
   CheckStabilityReport(site, stability, calibrate::RunStabilitySuite(site.scene, stability));
 
   calibrate::ConvergenceOptions convergence;

@@ -28,6 +28,30 @@ using StudyProgressFn = std::function<void(int done, int total, const std::strin
 
 // ---- Stability ---------------------------------------------------------------
 
+// The built-in stability cases, in the order they run (docs/studies.md).
+enum class StabilityCaseId {
+  kSite,       // "site": the site as it is
+  kHardness0,  // "hardness_0"
+  kHardness1,  // "hardness_1"
+  kStiff,      // "contact_time_0.05ms"
+  kSoft,       // "contact_time_50ms"
+  kSizes,      // "sizes_1cm_10m"
+  kCliff,      // "vertical_cliff"
+  kFace,       // "near_vertical_face"
+  kFlat,       // "flat_runout"
+  kSmooth,     // "roughness_0"
+  kRoughest,   // "roughness_max"
+  kFast,       // "fast_release_hard"
+};
+// Their names from one table (study.cc's, with how each case's scene is
+// made) for parsing and printing. StringToStabilityCase returns false (and
+// leaves *id alone) for a name not in the table; StabilityCaseNames lists
+// the names, comma separated; AllStabilityCases the cases in order.
+const char* StabilityCaseToString(StabilityCaseId id);
+bool StringToStabilityCase(const std::string& name, StabilityCaseId* id);
+std::string StabilityCaseNames();
+const std::vector<StabilityCaseId>& AllStabilityCases();
+
 struct StabilityOptions {
   // Rocks per case, spread over the case's rock groups in proportion to their
   // counts; >= 1. Few rocks keep the suite quick: it looks for failures, not
@@ -57,11 +81,11 @@ struct StabilityOptions {
   // Seed of the runs; empty: the site's seed.
   std::optional<std::uint64_t> seed;
   int threads = 0;  // 0: OpenMP default; >= 0
-  // Names of the cases to run (see StabilityCaseNames()); empty: all.
-  std::vector<std::string> cases;
+  // The cases to run (StabilityCaseId); empty: all.
+  std::vector<StabilityCaseId> cases;
   StudyProgressFn progress;  // after each rock of each case (may be empty)
 
-  // Checks fields (and case names); on failure sets *error naming the field,
+  // Checks fields (and cases); on failure sets *error naming the field,
   // its value and the rule, and returns false.
   bool IsValid(std::string* error) const;
 };
@@ -72,9 +96,6 @@ struct StabilityVariant {
   core::Scene scene;
   bool must_stop = false;  // PASS also requires every rock to stop (flat runout)
 };
-
-// The names of the built-in cases, in the order they run.
-const std::vector<std::string>& StabilityCaseNames();
 
 // Builds the variants of `site_scene` selected by options.cases (all when
 // empty). Throws std::invalid_argument when the options are not valid.
