@@ -77,129 +77,165 @@ void RankOutputDir::Commit() {
 
 // ---- simulate --------------------------------------------------------------
 
-int Simulate(const std::vector<std::string>& argv) {
-  const Args args(argv, FlagsOf("simulate"));
-  const std::string site_path = args.OnlyPositional("SITE.json");
-  const std::string out = args.Get("out");
-  const sites::Site loaded = sites::LoadSite(site_path);
-  // A calibration's values: its point values, or (when it has a posterior
-  // and --point-values is not given) parameter sets drawn from its samples.
+namespace {
+
+// What a simulate run reads from its arguments: the site, a calibration's
+// values (its point values, or, when it has a posterior and --point-values
+// is not given, parameter sets drawn from its samples) and what to record.
+struct SimulateInputs {
+  sites::Site loaded;
   std::optional<calibrate::CalibratedSite> parameters;
-  if (args.Has("parameters")) parameters = calibrate::ReadParametersFile(args.Get("parameters"));
+  bool drawn = false;  // parameter sets drawn from the posterior samples
+  std::vector<std::vector<double>> samples;
+  int draws = 0;                    // --draws, when drawn
+  calibrate::RecordingNeeds needs;  // summary.json, rocks.csv, diagnostics.json, trajectories.csv
+};
+
+SimulateInputs ReadSimulateInputs(const Args& args, const std::string& site_path) {
+  SimulateInputs in;
+  in.loaded = sites::LoadSite(site_path);
+  if (args.Has("parameters")) in.parameters = calibrate::ReadParametersFile(args.Get("parameters"));
+  const auto& parameters = in.parameters;
   if (args.Flag("point-values") && !parameters)
     throw InputError("argument --point-values",
                      "goes with --parameters (a calibration's parameters.json or its folder)");
-  const bool drawn = parameters && parameters->has_posterior() && !args.Flag("point-values");
-  if (args.Has("draws") && !drawn)
+  in.drawn = parameters && parameters->has_posterior() && !args.Flag("point-values");
+  if (args.Has("draws") && !in.drawn)
     throw InputError("argument --draws",
                      parameters && parameters->has_posterior()
                          ? "draws posterior parameter sets; --point-values takes the point values only"
                          : "needs --parameters of a calibration with a posterior (rockcal calibrate "
                            "--posterior)");
-  std::vector<std::vector<double>> samples;
-  if (drawn) samples = calibrate::ReadPosteriorSamples(*parameters);
-  calibrate::RecordingNeeds needs;  // summary.json, rocks.csv, diagnostics.json, trajectories.csv
-  needs.partitions = true;
-  needs.energy_check = true;
-  needs.trajectories = static_cast<int>(args.Integer("trajectories", 0, 0, 1000000));
+  if (in.drawn) {
+    in.samples = calibrate::ReadPosteriorSamples(*parameters);
+    in.draws =
+        static_cast<int>(args.Integer("draws", calibrate::PosteriorDrawOptions{}.draws, 1, 10000));
+  }
+  in.needs.partitions = true;
+  in.needs.energy_check = true;
+  in.needs.trajectories = static_cast<int>(args.Integer("trajectories", 0, 0, 1000000));
   if (args.Has("sample-seconds") && !args.Has("trajectories"))
     throw InputError("argument --sample-seconds", "goes with --trajectories N");
-  needs.sample_seconds = args.Number("sample-seconds", 0.05, 1e-6, 1e6);
-  // The scene at `values` (null: the site's own), as the options set it.
-  const auto make_scene = [&](const calibrate::CalibratedSite* values) {
-    sites::Site site = loaded;
-    if (values) calibrate::ApplyParameters(*values, &site.scene);
-    for (const std::string& kv : args.All("set")) sites::ApplySetting(kv, &site);
-    core::Scene scene = std::move(site.scene);
-    if (args.Has("rocks"))
-      scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, core::kMaxRocks)));
-    if (args.Has("seed"))
-      scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
-    scene.options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
-    scene.options.record = calibrate::RecordingFor(scene, needs);
-    return scene;
-  };
-  sites::Site site = loaded;
-  site.scene = make_scene(parameters ? &*parameters : nullptr);
-  core::Scene& scene = site.scene;
+  in.needs.sample_seconds = args.Number("sample-seconds", 0.05, 1e-6, 1e6);
+  return in;
+}
+
+// The scene at `values` (null: the site's own), as the options set it.
+core::Scene SimulateScene(const Args& args, const SimulateInputs& in,
+                          const calibrate::CalibratedSite* values) {
+  sites::Site site = in.loaded;
+  if (values) calibrate::ApplyParameters(*values, &site.scene);
+  for (const std::string& kv : args.All("set")) sites::ApplySetting(kv, &site);
+  core::Scene scene = std::move(site.scene);
+  if (args.Has("rocks"))
+    scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, core::kMaxRocks)));
+  if (args.Has("seed"))
+    scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
+  scene.options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+  scene.options.record = calibrate::RecordingFor(scene, in.needs);
+  return scene;
+}
+
+// The simulation of `scene` recorded as `recorded` (which adds what the
+// report needs), or of the posterior draws (rock i with the (i mod D)-th
+// draw, calibrate/posterior_draws.h) into *run.
+core::SimulationResult RunSimulate(const Args& args, const SimulateInputs& in,
+                                   const core::Scene& scene, const core::Scene& recorded,
+                                   Progress* progress,
+                                   std::optional<calibrate::PosteriorRun>* run) {
+  const auto update = [progress](int done, int total) { progress->Update(done, total); };
+  if (!in.drawn) return parallel::Simulate(recorded, core::BuildTerrain(scene), update);
+  calibrate::PosteriorDrawOptions draw_options;
+  draw_options.draws = in.draws;
+  draw_options.seed = scene.options.seed;
+  *run = calibrate::SimulatePosteriorDraws(
+      *in.parameters, in.samples, draw_options,
+      [&](const calibrate::CalibratedSite& values) {
+        core::Scene s = SimulateScene(args, in, &values);
+        s.options.record = recorded.options.record;
+        std::string why;
+        if (!s.IsValid(&why)) throw InputError(in.parameters->samples_file, why);
+        return s;
+      },
+      "argument --draws", update);
+  core::SimulationResult result = std::move((*run)->pooled);
+  (*run)->pooled = core::SimulationResult();
+  return result;
+}
+
+// summary.json's "parameters": the posterior run's, or the point values'
+// file (null without --parameters).
+nlohmann::json ParametersUsed(const SimulateInputs& in,
+                              const std::optional<calibrate::PosteriorRun>& run) {
+  if (run) return calibrate::PosteriorRunJson(*run);
+  if (!in.parameters) return nullptr;
+  return {{"file", in.parameters->file},
+          {"use", "point values"},
+          {"posterior", in.parameters->has_posterior()}};
+}
+
+// The console's lines on a simulate run.
+void PrintSimulate(const Args& args, const SimulateInputs& in, const core::Scene& scene,
+                   const core::SimulationResult& result,
+                   const std::optional<calibrate::PosteriorRun>& run, const sites::Site& site) {
+  std::printf("%s: %zu rocks in %.2f s (%ld steps, %ld flights): %d stopped, %d left, %d timeout\n",
+              scene.name.c_str(), result.rocks.size(), result.wall_seconds, result.steps,
+              result.flights, result.count(core::Outcome::kStopped),
+              result.count(core::Outcome::kLeft), result.count(core::Outcome::kTimeout));
+  if (run)
+    std::printf(
+        "parameters: %zu posterior draws from %d samples of %s (rock i with draw i mod "
+        "%zu; --point-values for the point values)\n",
+        run->draws.size(), run->samples, in.parameters->samples_file.c_str(), run->draws.size());
+  else if (in.parameters)
+    std::printf("parameters: the point values of %s%s\n", in.parameters->file.c_str(),
+                in.parameters->has_posterior() ? " (--point-values: its posterior not drawn)" : "");
+  std::printf("wrote %s/summary.json, rocks.csv, diagnostics.json, report.html%s%s%s\n",
+              args.Get("out").c_str(),
+              scene.options.record.trajectories > 0 ? ", trajectories.csv" : "",
+              run ? ", draws.csv" : "", RastersWritten(args.Flag("rasters"), site).c_str());
+}
+
+}  // namespace
+
+int Simulate(const std::vector<std::string>& argv) {
+  const Args args(argv, FlagsOf("simulate"));
+  const std::string site_path = args.OnlyPositional("SITE.json");
+  const std::string out = args.Get("out");
+  const SimulateInputs in = ReadSimulateInputs(args, site_path);
+  sites::Site site = in.loaded;
+  site.scene = SimulateScene(args, in, in.parameters ? &*in.parameters : nullptr);
+  const core::Scene& scene = site.scene;
   std::string error;
   if (!scene.IsValid(&error)) throw InputError(site_path, error);
-  calibrate::PosteriorDrawOptions draw_options;
-  if (drawn) {
-    draw_options.draws = static_cast<int>(args.Integer("draws", draw_options.draws, 1, 10000));
-    draw_options.seed = scene.options.seed;
-  }
 
   RunInputs inputs;
   inputs.Add(site).Add(args.Get("parameters", ""));
-  if (drawn) inputs.Add(parameters->samples_file);
+  if (in.drawn) inputs.Add(in.parameters->samples_file);
   RankOutputDir dir(out, args.Flag("force"), inputs.Origin("simulate"));
   Progress progress("simulate", args.Flag("quiet"));
   // The report's views need the passages per cell and a few trajectories;
   // they are recorded on a copy so that trajectories.csv is still written
   // only when --trajectories asks for it.
   core::Scene recorded = scene;
-  calibrate::RecordingNeeds report_needs = needs;
+  calibrate::RecordingNeeds report_needs = in.needs;
   report_needs.report = true;
   recorded.options.record = calibrate::RecordingFor(scene, report_needs);
   std::optional<calibrate::PosteriorRun> run;
-  core::SimulationResult result;
-  if (drawn) {
-    // Rock i with the (i mod D)-th posterior draw (calibrate/posterior_draws.h).
-    run = calibrate::SimulatePosteriorDraws(
-        *parameters, samples, draw_options,
-        [&](const calibrate::CalibratedSite& values) {
-          core::Scene s = make_scene(&values);
-          s.options.record = recorded.options.record;
-          std::string why;
-          if (!s.IsValid(&why)) throw InputError(parameters->samples_file, why);
-          return s;
-        },
-        "argument --draws", [&](int done, int total) { progress.Update(done, total); });
-    result = std::move(run->pooled);
-    run->pooled = core::SimulationResult();
-  } else {
-    const core::Terrain terrain = core::BuildTerrain(scene);
-    result = parallel::Simulate(recorded, terrain,
-                                [&](int done, int total) { progress.Update(done, total); });
-  }
+  const core::SimulationResult result = RunSimulate(args, in, scene, recorded, &progress, &run);
   // One set of maps for rasters.tif and the report's plan view.
   core::RasterSet rasters = core::ComputeRasters(recorded, result);
   if (run)
     for (const core::RasterBand& b : run->raster_bands) rasters.bands.push_back(b);
-  const bool write_rasters = args.Flag("rasters") || site.gis;
-  nlohmann::json used = nullptr;
-  if (run) {
-    used = calibrate::PosteriorRunJson(*run);
-  } else if (parameters) {
-    used = {{"file", parameters->file},
-            {"use", "point values"},
-            {"posterior", parameters->has_posterior()}};
-  }
-  reports::WriteSimulationFiles(dir.folder(), scene, result, used);
+  reports::WriteSimulationFiles(dir.folder(), scene, result, ParametersUsed(in, run));
   if (run) reports::WriteFileAtomically(dir.File("draws.csv"), calibrate::DrawsCsv(*run));
-  if (write_rasters) reports::WriteRasterFiles(dir.folder(), rasters, SiteRasterFrame(site));
+  if (args.Flag("rasters") || site.gis)
+    reports::WriteRasterFiles(dir.folder(), rasters, SiteRasterFrame(site));
   reports::ReportInput report = SiteReport(site, scene, result, &rasters);
   report.posterior_run = run ? &*run : nullptr;
   reports::WriteFileAtomically(dir.File("report.html"), reports::HtmlReport(report));
   dir.Commit();
-  if (!args.Flag("quiet")) {
-    std::printf("%s: %zu rocks in %.2f s (%ld steps, %ld flights): %d stopped, %d left, %d timeout\n",
-                scene.name.c_str(), result.rocks.size(), result.wall_seconds, result.steps,
-                result.flights, result.count(core::Outcome::kStopped),
-                result.count(core::Outcome::kLeft), result.count(core::Outcome::kTimeout));
-    if (run)
-      std::printf("parameters: %zu posterior draws from %d samples of %s (rock i with draw i mod "
-                  "%zu; --point-values for the point values)\n",
-                  run->draws.size(), run->samples, parameters->samples_file.c_str(),
-                  run->draws.size());
-    else if (parameters)
-      std::printf("parameters: the point values of %s%s\n", parameters->file.c_str(),
-                  parameters->has_posterior() ? " (--point-values: its posterior not drawn)" : "");
-    std::printf("wrote %s/summary.json, rocks.csv, diagnostics.json, report.html%s%s%s\n",
-                out.c_str(), scene.options.record.trajectories > 0 ? ", trajectories.csv" : "",
-                run ? ", draws.csv" : "", RastersWritten(args.Flag("rasters"), site).c_str());
-  }
+  if (!args.Flag("quiet")) PrintSimulate(args, in, scene, result, run, site);
   if (result.non_finite > 0) {
     std::fprintf(stderr, "rockcal: failed: %d rocks reached a non-finite state\n", result.non_finite);
     return 1;

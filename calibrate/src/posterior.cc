@@ -437,6 +437,60 @@ std::vector<std::vector<double>> RefinePoints(const Emulator& emulator, const Em
   return chosen;
 }
 
+// The summaries of result->samples from `chains`: each parameter's
+// posterior, their correlation and the message on R-hat and the emulator.
+void Summarise(const McmcResult& chains, const PosteriorOptions& options, PosteriorResult* result) {
+  const ParameterSpace& space = result->space;
+  const int d = space.size();
+  const std::size_t n = result->samples.size();
+  std::vector<double> means(static_cast<std::size_t>(d), 0.0),
+      sds(static_cast<std::size_t>(d), 0.0);
+  for (int k = 0; k < d; ++k) {
+    const auto kk = static_cast<std::size_t>(k);
+    std::vector<double> v;
+    for (const auto& s : result->samples) v.push_back(s[kk]);
+    ParameterPosterior p;
+    for (double x : v) p.mean += x / static_cast<double>(n);
+    for (double x : v) p.sd += (x - p.mean) * (x - p.mean);
+    p.sd = std::sqrt(p.sd / std::max<double>(1.0, static_cast<double>(n) - 1.0));
+    p.p05 = Quantile(&v, 0.05);
+    p.median = Quantile(&v, 0.5);
+    p.p95 = Quantile(&v, 0.95);
+    const Parameter& par = space.parameters()[kk];
+    p.width_share = (p.p95 - p.p05) / (0.9 * (par.upper - par.lower));
+    p.undetermined = p.width_share > options.undetermined_share;
+    p.rhat = chains.rhat[kk];
+    p.ess = chains.ess[kk];
+    result->max_rhat = std::max(result->max_rhat, p.rhat);
+    result->min_ess = k == 0 ? p.ess : std::min(result->min_ess, p.ess);
+    means[kk] = p.mean;
+    sds[kk] = p.sd;
+    result->parameters.push_back(p);
+  }
+  result->correlation.assign(static_cast<std::size_t>(d),
+                             std::vector<double>(static_cast<std::size_t>(d), 0.0));
+  for (int a = 0; a < d; ++a)
+    for (int b = 0; b < d; ++b) {
+      const auto ia = static_cast<std::size_t>(a), ib = static_cast<std::size_t>(b);
+      double c = 0.0;
+      for (const auto& s : result->samples) c += (s[ia] - means[ia]) * (s[ib] - means[ib]);
+      c /= std::max<double>(1.0, static_cast<double>(n) - 1.0);
+      result->correlation[ia][ib] = sds[ia] > 0 && sds[ib] > 0 ? c / (sds[ia] * sds[ib]) : (a == b);
+    }
+  std::ostringstream message;
+  if (!(result->max_rhat < 1.1))
+    message << "R-hat " << result->max_rhat
+            << " above 1.1: the chains disagree (a multimodal or poorly emulated posterior); "
+               "give more design points or rounds. ";
+  if (result->emulator_variance > 0.25)
+    message << "the emulator is unsure where the posterior is (variance "
+            << result->emulator_variance
+            << " sigma^2 per residual): the intervals are wider than the data alone give; "
+               "give more rounds or points. ";
+  result->message = message.str();
+  while (!result->message.empty() && result->message.back() == ' ') result->message.pop_back();
+}
+
 }  // namespace
 
 PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
@@ -517,51 +571,7 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
   }
   result.emulator_variance = Quantile(&variances, 0.5);
 
-  // The summaries.
-  const std::size_t n = result.samples.size();
-  std::vector<double> means(static_cast<std::size_t>(d), 0.0), sds(static_cast<std::size_t>(d), 0.0);
-  for (int k = 0; k < d; ++k) {
-    const auto kk = static_cast<std::size_t>(k);
-    std::vector<double> v;
-    for (const auto& s : result.samples) v.push_back(s[kk]);
-    ParameterPosterior p;
-    for (double x : v) p.mean += x / static_cast<double>(n);
-    for (double x : v) p.sd += (x - p.mean) * (x - p.mean);
-    p.sd = std::sqrt(p.sd / std::max<double>(1.0, static_cast<double>(n) - 1.0));
-    p.p05 = Quantile(&v, 0.05);
-    p.median = Quantile(&v, 0.5);
-    p.p95 = Quantile(&v, 0.95);
-    const Parameter& par = space.parameters()[kk];
-    p.width_share = (p.p95 - p.p05) / (0.9 * (par.upper - par.lower));
-    p.undetermined = p.width_share > options.undetermined_share;
-    p.rhat = chains.rhat[kk];
-    p.ess = chains.ess[kk];
-    result.max_rhat = std::max(result.max_rhat, p.rhat);
-    result.min_ess = k == 0 ? p.ess : std::min(result.min_ess, p.ess);
-    means[kk] = p.mean;
-    sds[kk] = p.sd;
-    result.parameters.push_back(p);
-  }
-  result.correlation.assign(static_cast<std::size_t>(d), std::vector<double>(static_cast<std::size_t>(d), 0.0));
-  for (int a = 0; a < d; ++a)
-    for (int b = 0; b < d; ++b) {
-      const auto ia = static_cast<std::size_t>(a), ib = static_cast<std::size_t>(b);
-      double c = 0.0;
-      for (const auto& s : result.samples) c += (s[ia] - means[ia]) * (s[ib] - means[ib]);
-      c /= std::max<double>(1.0, static_cast<double>(n) - 1.0);
-      result.correlation[ia][ib] = sds[ia] > 0 && sds[ib] > 0 ? c / (sds[ia] * sds[ib]) : (a == b);
-    }
-  std::ostringstream message;
-  if (!(result.max_rhat < 1.1))
-    message << "R-hat " << result.max_rhat
-            << " above 1.1: the chains disagree (a multimodal or poorly emulated posterior); "
-               "give more design points or rounds. ";
-  if (result.emulator_variance > 0.25)
-    message << "the emulator is unsure where the posterior is (variance " << result.emulator_variance
-            << " sigma^2 per residual): the intervals are wider than the data alone give; "
-               "give more rounds or points. ";
-  result.message = message.str();
-  while (!result.message.empty() && result.message.back() == ' ') result.message.pop_back();
+  Summarise(chains, options, &result);
   result.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
 }

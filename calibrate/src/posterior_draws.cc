@@ -72,6 +72,122 @@ std::vector<int> DrawSampleIndices(int samples, int draws, std::uint64_t seed) {
   return index;
 }
 
+namespace {
+
+// What each draw's simulation left behind: its rocks and, with passages
+// recorded, its maps; the scene of the first draw (the partitions').
+struct DrawResults {
+  std::vector<core::SimulationResult> results;
+  std::vector<core::RasterSet> maps;
+  core::Scene first_scene;
+};
+
+// Simulates rock i of scene_for's scenes with the (i mod D)-th of the
+// picked samples, filling run->draws; throws when a draw would get no rock.
+DrawResults SimulateDraws(const std::vector<std::vector<double>>& samples,
+                          const std::vector<int>& picked, const SceneForValues& scene_for,
+                          const std::string& what_draws, const core::ProgressFn& progress,
+                          PosteriorRun* run) {
+  const int d = static_cast<int>(picked.size());
+  DrawResults out;
+  int total = 0, done_before = 0;
+  for (int k = 0; k < d; ++k) {
+    PosteriorDraw draw;
+    draw.sample = picked[static_cast<std::size_t>(k)];
+    draw.values = samples[static_cast<std::size_t>(draw.sample)];
+    CalibratedSite values = run->parameters;
+    for (std::size_t j = 0; j < values.parameters.size(); ++j)
+      values.parameters[j].value = draw.values[j];
+    const core::Scene scene = scene_for(values);
+    if (k == 0) {
+      out.first_scene = scene;
+      total = scene.total_rocks();
+      if (total < d)
+        throw InputError(what_draws, std::to_string(d) + " draws for " + std::to_string(total) +
+                                         " rocks; expected at most one draw per rock (give more "
+                                         "rocks or fewer draws)");
+    }
+    const core::Terrain terrain = core::BuildTerrain(scene);
+    core::SimulationResult result = core::SimulateEveryNthRock(
+        scene, terrain, k, d, [&](int done, int) {
+          if (progress) progress(done_before + done, total);
+        });
+    done_before += static_cast<int>(result.rocks.size());
+    draw.rocks = static_cast<int>(result.rocks.size());
+    draw.stats = core::ComputeStats(scene, result);
+    if (result.cells_recorded) out.maps.push_back(core::ComputeRasters(scene, result));
+    run->draws.push_back(std::move(draw));
+    out.results.push_back(std::move(result));
+  }
+  return out;
+}
+
+// The bands of the statistics (PosteriorRun::bands) over run->draws.
+void StatisticBands(const core::Scene& scene, PosteriorRun* run) {
+  const auto over_draws = [&](const auto& get) {
+    std::vector<double> v;
+    for (const PosteriorDraw& draw : run->draws) v.push_back(get(draw));
+    return v;
+  };
+  const std::pair<const char*, double core::Stats::*> runout[] = {
+      {"x_m.p50", &core::Stats::p50},
+      {"x_m.p90", &core::Stats::p90},
+      {"x_m.p95", &core::Stats::p95},
+      {"x_m.max", &core::Stats::max}};
+  for (const auto& [name, value] : runout)
+    run->bands.push_back(
+        Band("runout", name, "m", over_draws([value = value](const PosteriorDraw& draw) {
+               return draw.stats.runout_x.*value;
+             })));
+  for (std::size_t p = 0; p < scene.partitions.size(); ++p) {
+    const std::string& id = scene.partitions[p].id;
+    run->bands.push_back(Band(
+        id, "passed_fraction", "1", over_draws([p](const PosteriorDraw& draw) {
+          return draw.rocks > 0 ? static_cast<double>(draw.stats.partitions[p].passed) / draw.rocks
+                                : 0.0;
+        })));
+    for (const PartitionQuantity& q : kPartitionQuantities)
+      run->bands.push_back(Band(id, q.name, q.unit, over_draws([p, &q](const PosteriorDraw& draw) {
+                                  return (draw.stats.partitions[p].*q.stats).*q.value * q.scale;
+                                })));
+  }
+}
+
+// The maps' bands (PosteriorRun::raster_bands) over the draws' maps.
+std::vector<core::RasterBand> MapBands(const std::vector<core::RasterSet>& maps) {
+  std::vector<core::RasterBand> out;
+  if (maps.empty()) return out;
+  const std::size_t cells = maps.front().bands.front().values.size();
+  for (const char* name : {"reach_probability", "energy_p95", "height_p95"}) {
+    const core::RasterBand* any = maps.front().Find(name);
+    core::RasterBand lo{std::string(name) + "_q05", any->unit,
+                        std::string("5 % quantile over the posterior draws of each draw's ") + name,
+                        std::vector<double>(cells, std::numeric_limits<double>::quiet_NaN())};
+    core::RasterBand hi = lo;
+    hi.name = std::string(name) + "_q95";
+    hi.description = std::string("95 % quantile over the posterior draws of each draw's ") + name;
+    const core::RasterBand* reach0 = maps.front().Find("reach_probability");
+    for (std::size_t c = 0; c < cells; ++c) {
+      if (std::isnan(reach0->values[c])) continue;  // a hole of the terrain
+      std::vector<double> v;
+      bool reached = false;
+      for (const core::RasterSet& m : maps) {
+        const double x = m.Find(name)->values[c];
+        reached = reached || m.Find("passages")->values[c] > 0.0;
+        v.push_back(std::isnan(x) ? 0.0 : x);
+      }
+      if (!reached && std::string(name) != "reach_probability") continue;
+      lo.values[c] = Quantile(&v, 0.05);
+      hi.values[c] = Quantile(&v, 0.95);
+    }
+    out.push_back(std::move(lo));
+    out.push_back(std::move(hi));
+  }
+  return out;
+}
+
+}  // namespace
+
 PosteriorRun SimulatePosteriorDraws(const CalibratedSite& parameters,
                                     const std::vector<std::vector<double>>& samples,
                                     const PosteriorDrawOptions& options,
@@ -89,104 +205,15 @@ PosteriorRun SimulatePosteriorDraws(const CalibratedSite& parameters,
   run.parameters = parameters;
   run.samples = static_cast<int>(samples.size());
   const std::vector<int> picked = DrawSampleIndices(run.samples, d, options.seed);
-  std::vector<core::SimulationResult> results;
-  std::vector<core::RasterSet> maps;
-  core::Scene first_scene;
-  int total = 0, done_before = 0;
-  for (int k = 0; k < d; ++k) {
-    PosteriorDraw draw;
-    draw.sample = picked[static_cast<std::size_t>(k)];
-    draw.values = samples[static_cast<std::size_t>(draw.sample)];
-    CalibratedSite values = parameters;
-    for (std::size_t j = 0; j < values.parameters.size(); ++j)
-      values.parameters[j].value = draw.values[j];
-    const core::Scene scene = scene_for(values);
-    if (k == 0) {
-      first_scene = scene;
-      total = scene.total_rocks();
-      if (total < d)
-        throw InputError(what_draws, std::to_string(d) + " draws for " + std::to_string(total) +
-                                         " rocks; expected at most one draw per rock (give more "
-                                         "rocks or fewer draws)");
-    }
-    const core::Terrain terrain = core::BuildTerrain(scene);
-    core::SimulationResult result = core::SimulateEveryNthRock(
-        scene, terrain, k, d, [&](int done, int) {
-          if (progress) progress(done_before + done, total);
-        });
-    done_before += static_cast<int>(result.rocks.size());
-    draw.rocks = static_cast<int>(result.rocks.size());
-    draw.stats = core::ComputeStats(scene, result);
-    if (result.cells_recorded) maps.push_back(core::ComputeRasters(scene, result));
-    run.draws.push_back(std::move(draw));
-    results.push_back(std::move(result));
-  }
+  DrawResults drawn = SimulateDraws(samples, picked, scene_for, what_draws, progress, &run);
   // The pooled run, in rock order.
-  run.pooled = core::JoinRockBlocks(std::move(results));
+  run.pooled = core::JoinRockBlocks(std::move(drawn.results));
   std::sort(run.pooled.rocks.begin(), run.pooled.rocks.end(),
             [](const core::RockRecord& a, const core::RockRecord& b) { return a.rock < b.rock; });
   run.pooled.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-  // The bands of the statistics.
-  const auto over_draws = [&](const auto& get) {
-    std::vector<double> v;
-    for (const PosteriorDraw& draw : run.draws) v.push_back(get(draw));
-    return v;
-  };
-  const std::pair<const char*, double core::Stats::*> runout[] = {
-      {"x_m.p50", &core::Stats::p50},
-      {"x_m.p90", &core::Stats::p90},
-      {"x_m.p95", &core::Stats::p95},
-      {"x_m.max", &core::Stats::max}};
-  for (const auto& [name, value] : runout)
-    run.bands.push_back(Band("runout", name, "m", over_draws([value = value](const PosteriorDraw& draw) {
-                               return draw.stats.runout_x.*value;
-                             })));
-  for (std::size_t p = 0; p < first_scene.partitions.size(); ++p) {
-    const std::string& id = first_scene.partitions[p].id;
-    run.bands.push_back(Band(id, "passed_fraction", "1", over_draws([p](const PosteriorDraw& draw) {
-                               return draw.rocks > 0 ? static_cast<double>(
-                                                           draw.stats.partitions[p].passed) /
-                                                           draw.rocks
-                                                     : 0.0;
-                             })));
-    for (const PartitionQuantity& q : kPartitionQuantities)
-      run.bands.push_back(Band(id, q.name, q.unit, over_draws([p, &q](const PosteriorDraw& draw) {
-                                 return (draw.stats.partitions[p].*q.stats).*q.value * q.scale;
-                               })));
-  }
-
-  // The maps' bands.
-  if (!maps.empty()) {
-    const std::size_t cells = maps.front().bands.front().values.size();
-    for (const char* name : {"reach_probability", "energy_p95", "height_p95"}) {
-      const core::RasterBand* any = maps.front().Find(name);
-      core::RasterBand lo{std::string(name) + "_q05", any->unit,
-                          std::string("5 % quantile over the posterior draws of each draw's ") +
-                              name,
-                          std::vector<double>(cells, std::numeric_limits<double>::quiet_NaN())};
-      core::RasterBand hi = lo;
-      hi.name = std::string(name) + "_q95";
-      hi.description = std::string("95 % quantile over the posterior draws of each draw's ") + name;
-      const core::RasterBand* reach0 = maps.front().Find("reach_probability");
-      for (std::size_t c = 0; c < cells; ++c) {
-        if (std::isnan(reach0->values[c])) continue;  // a hole of the terrain
-        std::vector<double> v;
-        bool reached = false;
-        for (const core::RasterSet& m : maps) {
-          const double x = m.Find(name)->values[c];
-          reached = reached || m.Find("passages")->values[c] > 0.0;
-          v.push_back(std::isnan(x) ? 0.0 : x);
-        }
-        if (!reached && std::string(name) != "reach_probability") continue;
-        lo.values[c] = Quantile(&v, 0.05);
-        hi.values[c] = Quantile(&v, 0.95);
-      }
-      run.raster_bands.push_back(std::move(lo));
-      run.raster_bands.push_back(std::move(hi));
-    }
-  }
+  StatisticBands(drawn.first_scene, &run);
+  run.raster_bands = MapBands(drawn.maps);
   return run;
 }
 

@@ -154,10 +154,91 @@ core::SimulationResult Simulate(const core::Scene& scene, const core::Terrain& t
   return result;
 }
 
+namespace {
+
+// Rank 0's side of Map under mpirun: hands the tasks out, two in hand per
+// worker (one to run, one to start on at once while rank 0, busy with a
+// task of its own, has not yet answered), runs tasks itself while none is
+// back, and collects the outcomes into *outcomes, reporting each; then
+// tells the workers to stop. Returns the outcomes packed for the broadcast.
+std::string HandOutTasks(int count, const std::function<std::string(int)>& run,
+                         const std::function<void(int)>& report,
+                         std::vector<std::string>* outcomes) {
+  const int size = Size();
+  std::vector<int> outstanding(static_cast<std::size_t>(size), 0);
+  int next = 0, finished = 0;
+  auto give = [&](int worker) {
+    Writer w;
+    w.Int(next);
+    transport::Send(worker, kTaskTag, w.bytes());
+    ++outstanding[static_cast<std::size_t>(worker)];
+    ++next;
+  };
+  for (int round = 0; round < 2; ++round)
+    for (int w = 1; w < size && next < count; ++w) give(w);
+  auto take = [&](int source, const std::string& message) {
+    Reader r(message);
+    const int index = static_cast<int>(r.Int());
+    if (index < 0 || index >= count) transport::Fail("a malformed task result");
+    (*outcomes)[static_cast<std::size_t>(index)] = r.String();
+    --outstanding[static_cast<std::size_t>(source)];
+    ++finished;
+    if (next < count) give(source);
+    report(index);
+  };
+  while (finished < count) {
+    int source = 0;
+    std::string message;
+    while (transport::TryReceive(kResultTag, &source, &message)) take(source, message);
+    if (finished >= count) break;
+    if (next < count) {
+      const int index = next++;
+      (*outcomes)[static_cast<std::size_t>(index)] = run(index);
+      ++finished;
+      report(index);
+      continue;
+    }
+    message = transport::Receive(-1, kResultTag, RankTimeout(), &source, [&] {
+      std::string who;
+      for (int w = 1; w < size; ++w)
+        if (outstanding[static_cast<std::size_t>(w)] > 0)
+          who += (who.empty() ? "" : ", ") + std::string("rank ") + std::to_string(w) + " (host " +
+                 Host(w) + ")";
+      return who + " running its tasks";
+    });
+    take(source, message);
+  }
+  for (int w = 1; w < size; ++w) {
+    Writer stop;
+    stop.Int(-1);
+    transport::Send(w, kTaskTag, stop.bytes());
+  }
+  Writer w;
+  for (const std::string& o : *outcomes) w.String(o);
+  return w.bytes();
+}
+
+// A worker's side of Map: runs the tasks rank 0 sends, each outcome sent
+// back with its index, until rank 0 says stop.
+void ServeTasks(const std::function<std::string(int)>& run) {
+  for (;;) {
+    Reader r(transport::Receive(0, kTaskTag, RankTimeout(), nullptr,
+                                [] { return "rank 0 (host " + Host(0) + ") handing out tasks"; }));
+    const int index = static_cast<int>(r.Int());
+    if (index < 0) break;
+    Writer w;
+    w.Int(index);
+    w.String(run(index));
+    transport::Send(0, kResultTag, w.bytes());
+  }
+}
+
+}  // namespace
+
 std::vector<std::string> Map(int count, const std::function<std::string(int)>& task,
                              const std::function<void(int, const std::string&)>& done) {
   std::vector<std::string> outcomes(static_cast<std::size_t>(std::max(count, 0)));
-  auto run = [&](int index) {
+  const std::function<std::string(int)> run = [&](int index) {
     const auto t0 = Clock::now();
     const bool outer = in_task;
     in_task = true;
@@ -166,87 +247,23 @@ std::vector<std::string> Map(int count, const std::function<std::string(int)>& t
     Note(Since(t0));
     return outcome;
   };
-  auto report = [&](int index) {
+  const std::function<void(int)> report = [&](int index) {
     if (!done) return;
     const std::string& o = outcomes[static_cast<std::size_t>(index)];
     Reader r(o);
     done(index, r.Int() == 0 ? r.String() : std::string());
   };
-  const int size = Size();
-  if (size == 1 || in_task) {
+  if (Size() == 1 || in_task) {
     for (int k = 0; k < count; ++k) {
       outcomes[static_cast<std::size_t>(k)] = run(k);
       report(k);
     }
   } else {
     std::string all;
-    if (IsRoot()) {
-      // Two tasks in hand per worker: one to run, one to start on at once
-      // while rank 0, busy with a task of its own, has not yet answered.
-      std::vector<int> outstanding(static_cast<std::size_t>(size), 0);
-      int next = 0, finished = 0;
-      auto give = [&](int worker) {
-        Writer w;
-        w.Int(next);
-        transport::Send(worker, kTaskTag, w.bytes());
-        ++outstanding[static_cast<std::size_t>(worker)];
-        ++next;
-      };
-      for (int round = 0; round < 2; ++round)
-        for (int w = 1; w < size && next < count; ++w) give(w);
-      auto take = [&](int source, const std::string& message) {
-        Reader r(message);
-        const int index = static_cast<int>(r.Int());
-        if (index < 0 || index >= count) transport::Fail("a malformed task result");
-        outcomes[static_cast<std::size_t>(index)] = r.String();
-        --outstanding[static_cast<std::size_t>(source)];
-        ++finished;
-        if (next < count) give(source);
-        report(index);
-      };
-      while (finished < count) {
-        int source = 0;
-        std::string message;
-        while (transport::TryReceive(kResultTag, &source, &message)) take(source, message);
-        if (finished >= count) break;
-        if (next < count) {
-          const int index = next++;
-          outcomes[static_cast<std::size_t>(index)] = run(index);
-          ++finished;
-          report(index);
-          continue;
-        }
-        message = transport::Receive(-1, kResultTag, RankTimeout(), &source, [&] {
-          std::string who;
-          for (int w = 1; w < size; ++w)
-            if (outstanding[static_cast<std::size_t>(w)] > 0)
-              who += (who.empty() ? "" : ", ") + std::string("rank ") + std::to_string(w) +
-                     " (host " + Host(w) + ")";
-          return who + " running its tasks";
-        });
-        take(source, message);
-      }
-      for (int w = 1; w < size; ++w) {
-        Writer stop;
-        stop.Int(-1);
-        transport::Send(w, kTaskTag, stop.bytes());
-      }
-      Writer w;
-      for (const std::string& o : outcomes) w.String(o);
-      all = w.bytes();
-    } else {
-      for (;;) {
-        Reader r(transport::Receive(0, kTaskTag, RankTimeout(), nullptr, [] {
-          return "rank 0 (host " + Host(0) + ") handing out tasks";
-        }));
-        const int index = static_cast<int>(r.Int());
-        if (index < 0) break;
-        Writer w;
-        w.Int(index);
-        w.String(run(index));
-        transport::Send(0, kResultTag, w.bytes());
-      }
-    }
+    if (IsRoot())
+      all = HandOutTasks(count, run, report, &outcomes);
+    else
+      ServeTasks(run);
     all = transport::Broadcast(all, RankTimeout());
     Reader r(all);
     for (std::string& o : outcomes) o = r.String();
