@@ -22,6 +22,7 @@
 #include <tuple>
 
 #include "rockcal/core/error.h"
+#include "rockcal/core/name_table.h"
 #include "rockcal/parallel/parallel.h"
 #include "rockcal/sites/input_file.h"
 
@@ -35,7 +36,7 @@ constexpr double kCeresOffset = 100.0;
 
 // The methods' one table: name, and how RunMethod runs each.
 struct MethodInfo {
-  Method method;
+  Method id;
   const char* name;
   bool ceres;
   nlopt::algorithm algorithm;
@@ -53,13 +54,6 @@ const MethodInfo kMethods[] = {
     {Method::kMlsl, "nlopt:mlsl", false, nlopt::G_MLSL_LDS, true},
     {Method::kCeres, "ceres", true, nlopt::LN_BOBYQA, false},
 };
-
-// The table's entry of `method`; null for a value not in it.
-const MethodInfo* InfoOf(Method method) {
-  for (const auto& m : kMethods)
-    if (m.method == method) return &m;
-  return nullptr;
-}
 
 nlohmann::json ToJson(const Evaluation& e) {
   return {{"method", e.stage.name()}, {"evaluation", e.index},    {"parameters", e.parameters},
@@ -816,74 +810,31 @@ bool MethodOptions::IsValid(std::string* error) const {
 
 namespace {
 
-constexpr std::pair<CeresLoss, const char*> kCeresLosses[] = {
+constexpr core::Named<CeresLoss> kCeresLosses[] = {
     {CeresLoss::kNone, "none"}, {CeresLoss::kHuber, "huber"}, {CeresLoss::kCauchy, "cauchy"}};
-constexpr std::pair<Estimate, const char*> kEstimates[] = {{Estimate::kLowest, "lowest"},
-                                                           {Estimate::kSmoothed, "smoothed"}};
-
-// The name of `value` in `table`; "" for a value not in it.
-template <typename Enum, std::size_t N>
-const char* ToName(const std::pair<Enum, const char*> (&table)[N], Enum value) {
-  for (const auto& [v, name] : table)
-    if (v == value) return name;
-  return "";
-}
-template <typename Enum, std::size_t N>
-bool FromName(const std::pair<Enum, const char*> (&table)[N], const std::string& name,
-              Enum* value) {
-  for (const auto& [v, n] : table)
-    if (name == n) {
-      *value = v;
-      return true;
-    }
-  return false;
-}
-template <typename Enum, std::size_t N>
-std::string NameList(const std::pair<Enum, const char*> (&table)[N]) {
-  std::string s;
-  for (const auto& entry : table) s += std::string(s.empty() ? "" : ", ") + entry.second;
-  return s;
-}
+constexpr core::Named<Estimate> kEstimates[] = {{Estimate::kLowest, "lowest"},
+                                                {Estimate::kSmoothed, "smoothed"}};
 
 }  // namespace
 
-const char* CeresLossToString(CeresLoss loss) { return ToName(kCeresLosses, loss); }
+const char* CeresLossToString(CeresLoss loss) { return core::NameOf(kCeresLosses, loss); }
 bool StringToCeresLoss(const std::string& name, CeresLoss* loss) {
-  return FromName(kCeresLosses, name, loss);
+  return core::IdOf(kCeresLosses, name, loss);
 }
-std::string CeresLossNames() { return NameList(kCeresLosses); }
-const char* EstimateToString(Estimate estimate) { return ToName(kEstimates, estimate); }
+std::string CeresLossNames() { return core::NameList(kCeresLosses); }
+const char* EstimateToString(Estimate estimate) { return core::NameOf(kEstimates, estimate); }
 bool StringToEstimate(const std::string& name, Estimate* estimate) {
-  return FromName(kEstimates, name, estimate);
+  return core::IdOf(kEstimates, name, estimate);
 }
-std::string EstimateNames() { return NameList(kEstimates); }
+std::string EstimateNames() { return core::NameList(kEstimates); }
 
-const char* MethodToString(Method method) {
-  const MethodInfo* info = InfoOf(method);
-  return info ? info->name : "";
-}
-
+const char* MethodToString(Method method) { return core::NameOf(kMethods, method); }
 bool StringToMethod(const std::string& name, Method* method) {
-  for (const auto& m : kMethods)
-    if (name == m.name) {
-      *method = m.method;
-      return true;
-    }
-  return false;
+  return core::IdOf(kMethods, name, method);
 }
-
-std::string MethodNames() {
-  std::string s;
-  for (const auto& m : kMethods) s += std::string(s.empty() ? "" : ", ") + m.name;
-  return s;
-}
-
+std::string MethodNames() { return core::NameList(kMethods); }
 const std::vector<Method>& AllMethods() {
-  static const std::vector<Method> methods = [] {
-    std::vector<Method> v;
-    for (const auto& m : kMethods) v.push_back(m.method);
-    return v;
-  }();
+  static const std::vector<Method> methods = core::IdList(kMethods);
   return methods;
 }
 
@@ -1149,7 +1100,7 @@ void EvaluationLog::Append(const Evaluation& evaluation) {
 MethodResult RunMethod(Method method, const ObjectiveFunction& objective,
                        const std::vector<double>& start, const MethodOptions& options,
                        EvaluationLog* log, const CalibrationProgress& progress) {
-  const MethodInfo* info = InfoOf(method);
+  const MethodInfo* info = core::FindEntry(kMethods, method);
   if (!info)
     throw InputError("calibration options", "method " + std::to_string(static_cast<int>(method)) +
                                                 ": must be one of " + MethodNames());

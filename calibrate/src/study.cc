@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rockcal/core/name_table.h"
 #include "rockcal/core/random.h"
 #include "rockcal/core/rock_shape.h"
 #include "rockcal/core/simulate.h"
@@ -353,33 +354,13 @@ const CaseInfo kCases[] = {{StabilityCaseId::kSite, kSite, SiteCase},
 
 }  // namespace
 
-const char* StabilityCaseToString(StabilityCaseId id) {
-  for (const CaseInfo& c : kCases)
-    if (c.id == id) return c.name;
-  return "";
-}
-
+const char* StabilityCaseToString(StabilityCaseId id) { return core::NameOf(kCases, id); }
 bool StringToStabilityCase(const std::string& name, StabilityCaseId* id) {
-  for (const CaseInfo& c : kCases)
-    if (name == c.name) {
-      *id = c.id;
-      return true;
-    }
-  return false;
+  return core::IdOf(kCases, name, id);
 }
-
-std::string StabilityCaseNames() {
-  std::string s;
-  for (const CaseInfo& c : kCases) s += std::string(s.empty() ? "" : ", ") + c.name;
-  return s;
-}
-
+std::string StabilityCaseNames() { return core::NameList(kCases); }
 const std::vector<StabilityCaseId>& AllStabilityCases() {
-  static const std::vector<StabilityCaseId> all = [] {
-    std::vector<StabilityCaseId> v;
-    for (const CaseInfo& c : kCases) v.push_back(c.id);
-    return v;
-  }();
+  static const std::vector<StabilityCaseId> all = core::IdList(kCases);
   return all;
 }
 
