@@ -295,6 +295,16 @@ int RemoveStaleTemporaries(const std::string& dir, const std::string& prefix) {
   return removed;
 }
 
+int RemoveStaleTemporariesInside(const std::string& folder) {
+  int removed = RemoveStaleTemporaries(folder, "");
+  std::error_code ec;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
+    if (it->is_directory(ec) && !it->is_symlink(ec) &&
+        TemporaryPid(it->path().filename().string(), "") == 0)
+      removed += RemoveStaleTemporariesInside(it->path().string());
+  return removed;
+}
+
 OutputDir::OutputDir(std::string path, bool force, OutputOrigin origin)
     : path_(WithoutTrailingSlashes(std::move(path))), force_(force), origin_(std::move(origin)) {
   CheckOutputFolder(path_, force_, origin_.inputs);
@@ -368,7 +378,7 @@ ResumableOutputDir::ResumableOutputDir(std::string path, bool resume, bool force
       CheckNoOtherRun(path_, "", true);  // a --force run preparing its replacement
       RemoveStaleTemporaries(p.parent_path().string(), name);
     }
-    RemoveStaleTemporaries(path_, "");
+    RemoveStaleTemporariesInside(path_);
     fs::remove(p / complete_file, ec);
     if (ec)
       throw std::runtime_error("cannot remove the old " + complete_file + " of " + path_ + ": " +

@@ -133,6 +133,17 @@ TEST(OutputDir, RemovesTheTemporariesOfKilledRuns) {
   std::ofstream(out + "/parameters.json.tmp-" + dead) << "half";
   EXPECT_EQ(RemoveStaleTemporaries(out, ""), 1);
   EXPECT_FALSE(fs::exists(out + "/parameters.json.tmp-" + dead));
+
+  // Inside an output's subfolders too (a campaign's sites/<name>/), not a
+  // live run's.
+  fs::create_directories(out + "/sites/a");
+  std::ofstream(out + "/sites/a/parameters.json.tmp-" + dead) << "half";
+  std::ofstream(out + "/sites/a/posterior.csv.tmp-" + alive) << "being written";
+  std::ofstream(out + "/summary.json.tmp-" + dead) << "half";
+  EXPECT_EQ(RemoveStaleTemporariesInside(out), 2);
+  EXPECT_FALSE(fs::exists(out + "/sites/a/parameters.json.tmp-" + dead));
+  EXPECT_FALSE(fs::exists(out + "/summary.json.tmp-" + dead));
+  EXPECT_TRUE(fs::exists(out + "/sites/a/posterior.csv.tmp-" + alive));
 }
 
 // A run holds the lock of its output folder for its life: a second one is

@@ -80,6 +80,10 @@ bool HasOutputMarker(const std::string& folder);
 // run holds (a folder shared between machines: the lock decides, not the
 // PID). Returns how many were removed.
 int RemoveStaleTemporaries(const std::string& dir, const std::string& prefix);
+// RemoveStaleTemporaries(folder, "") in an output folder and in every folder
+// under it (a calibration's rasters/, a campaign's sites/<name>/): what a
+// run killed while writing there left. Returns how many were removed.
+int RemoveStaleTemporariesInside(const std::string& folder);
 
 class OutputDir final {
  public:
@@ -111,6 +115,7 @@ class OutputDir final {
 // A folder a run writes in place and a stopped run resumes (a calibration):
 // the same checks as OutputDir, the same lock, held while this lives.
 //   resume: `path` must hold `log` (else InputError); its stale temporaries
+//           (in its subfolders too: RemoveStaleTemporariesInside)
 //           and `complete_file` (which marks the folder complete and is
 //           written last) are removed and the marker is rewritten.
 //   else:   a new folder appears whole, with its marker and an empty `log`
