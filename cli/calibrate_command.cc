@@ -164,13 +164,13 @@ calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
 }
 
 void PosteriorFromArgs(const Args& args, calibrate::CalibrationOptions* options) {
-  const bool any = args.Has("posterior-points") || args.Has("posterior-rounds") ||
-                   args.Has("posterior-stage") || args.Has("predictive");
   if (!args.Flag("posterior")) {
-    if (any)
-      throw InputError("arguments",
-                       "--posterior-points, --posterior-rounds, --posterior-stage and "
-                       "--predictive need --posterior");
+    std::string given;
+    for (const char* name :
+         {"posterior-points", "posterior-rounds", "posterior-stage", "predictive"})
+      if (args.Has(name)) given += std::string(given.empty() ? "--" : ", --") + name;
+    if (!given.empty())
+      throw InputError("arguments", "the posterior's options (" + given + ") need --posterior");
     return;
   }
   calibrate::PosteriorOptions p;

@@ -50,9 +50,10 @@ calibrate::CalibrationOptions OptionsFromArgs(
 calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
                                                   std::optional<Progress>* progress);
 
-// --posterior with --posterior-points, --posterior-rounds, --posterior-stage and --predictive
-// (20 draws by default) into options->posterior and predictive_draws; those
-// without --posterior are an InputError.
+// --posterior with --posterior-points, --posterior-rounds, --posterior-stage
+// (calibrate's; a campaign has one stage) and --predictive (20 draws by
+// default) into options->posterior, posterior_stage and predictive_draws;
+// those without --posterior are an InputError naming them.
 void PosteriorFromArgs(const Args& args, calibrate::CalibrationOptions* options);
 
 // What the posterior stage shows as it goes: a line per stage (the design,

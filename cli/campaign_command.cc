@@ -1,8 +1,9 @@
 // rockcal campaign: the joint calibration of several sites whose materials
 // share classes (calibrate::RunCampaign), with calibrate's search, methods,
-// evaluation log and resume.
+// evaluation log, resume and posterior.
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <optional>
 #include <string>
 
@@ -23,10 +24,32 @@
 namespace rockcal::cli {
 namespace {
 
+// Each site's values at the joint calibration (with its posterior) as a
+// calibration's parameters files in its folder (reports::CampaignSiteFolders),
+// for rockcal simulate --parameters and rockcal table.
+void WriteSiteFiles(const std::string& out, const calibrate::CampaignSummary& summary) {
+  const std::vector<std::string> folders = reports::CampaignSiteFolders(summary);
+  for (std::size_t k = 0; k < folders.size(); ++k) {
+    const std::string dir = out + "/" + folders[k];
+    std::filesystem::create_directories(dir);
+    const calibrate::CalibrationSummary site =
+        reports::CampaignSiteRecord(summary, static_cast<int>(k));
+    if (site.posterior)
+      reports::WriteFileAtomically(dir + "/posterior.csv",
+                                   calibrate::PosteriorCsv(*site.posterior));
+    reports::WriteFileAtomically(dir + "/parameters.csv", reports::ParametersCsv(site));
+    reports::WriteFileAtomically(dir + "/parameters.json",
+                                 reports::ParametersJson(site).dump(2) + "\n");
+  }
+}
+
 // Every file of a finished campaign in DIR `out`; summary.json, which marks
 // the folder complete, after every other file.
 void WriteCampaignFiles(const std::string& out, const calibrate::CampaignSummary& summary) {
   const calibrate::CalibrationSummary& cal = summary.calibration;
+  WriteSiteFiles(out, summary);
+  if (cal.posterior)
+    reports::WriteFileAtomically(out + "/posterior.csv", calibrate::PosteriorCsv(*cal.posterior));
   reports::WriteFileAtomically(out + "/parameters.json",
                                reports::ParametersJson(cal).dump(2) + "\n");
   reports::WriteFileAtomically(out + "/parameters.csv", reports::ParametersCsv(cal));
@@ -55,10 +78,22 @@ void PrintCampaign(const std::string& out, const calibrate::CampaignSummary& sum
   const calibrate::Uncertainty& u = cal.best_method().uncertainty;
   if (u.computed && !u.rank_deficient) std::printf("Standard errors: %s.\n", u.message.c_str());
   if (cal.methods.size() > 1) std::printf("\n%s", reports::ComparisonMarkdown(cal).c_str());
+  if (cal.posterior) {
+    for (const calibrate::CampaignSiteFit& fit : summary.sites) {
+      int inside = 0;
+      for (const calibrate::PredictiveBand& b : fit.posterior->bands) inside += b.inside();
+      std::printf(
+          "  %-16s predictive check: %d of %zu observed statistics inside their 5-95 %% "
+          "band\n",
+          fit.name.c_str(), inside, fit.posterior->bands.size());
+    }
+  }
   std::printf(
       "\nwrote %s/ in %.1f s: parameters.{json,csv,md}, sites.csv, trace.csv, "
-      "summary.json, evaluations.jsonl%s\n",
-      out.c_str(), wall_seconds, cal.methods.size() > 1 ? ", comparison.{csv,md}" : "");
+      "summary.json, evaluations.jsonl%s%s, and each site's parameters.{json,csv}%s in "
+      "sites/\n",
+      out.c_str(), wall_seconds, cal.methods.size() > 1 ? ", comparison.{csv,md}" : "",
+      cal.posterior ? ", posterior.csv" : "", cal.posterior ? " and posterior.csv" : "");
 }
 
 }  // namespace
@@ -77,6 +112,7 @@ int Campaign(const std::vector<std::string>& argv) {
   calibrate::CalibrationOptions options =
       OptionsFromArgs(args, out, calibrate::CalibrationOptions::SingleStage());
   options.methods = methods;
+  PosteriorFromArgs(args, &options);
   calibrate::CheckCampaign(campaign, options);
 
   const bool quiet = args.Flag("quiet");
@@ -90,8 +126,9 @@ int Campaign(const std::vector<std::string>& argv) {
   const std::string folder = RankCalibrationFolder(out);
   options.log_path = folder + "/evaluations.jsonl";
   std::optional<Progress> progress;
-  const calibrate::CalibrationCallbacks callbacks =
+  calibrate::CalibrationCallbacks callbacks =
       ProgressCallbacks(quiet, options.method.max_evals, &progress);
+  callbacks.posterior = PosteriorProgressPrinter(quiet, &progress);
   calibrate::CampaignSummary summary;
   ContinuableRun(out, [&] {
     summary = calibrate::RunCampaign(campaign, options, callbacks);

@@ -333,8 +333,9 @@ PosteriorResult RunPosteriorStage(const sites::Site& site, const observations::O
   PosteriorResult result =
       SamplePosterior(objective, reused, po, log ? &*log : nullptr, callbacks.posterior,
                       summary.misfit_before.residuals);
-  PredictiveBands(site, obs, options.misfit, scene.total_rocks(), scene.options.seed,
-                  options.threads, options.predictive_draws, &result, callbacks.posterior);
+  PredictiveBands(SiteDraw(site, obs, options.misfit, space, scene.total_rocks(), options.threads),
+                  scene.options.seed, scene.total_rocks(), options.predictive_draws, &result,
+                  callbacks.posterior);
   return result;
 }
 

@@ -374,6 +374,16 @@ std::vector<observations::Misfit> CampaignObjective::EvaluateSites(
 
 observations::Misfit CampaignObjective::Join(const std::vector<double>& joint,
                                              const std::vector<observations::Misfit>& sites) const {
+  observations::Misfit out = JoinSites(sites);
+  for (observations::Residual& r : joint_.PriorResiduals(joint)) {
+    out.value += 0.5 * r.value * r.value;
+    out.residuals.push_back(std::move(r));
+  }
+  return out;
+}
+
+observations::Misfit CampaignObjective::JoinSites(
+    const std::vector<observations::Misfit>& sites) const {
   observations::Misfit out;
   out.value = 0.0;
   for (std::size_t s = 0; s < sites.size(); ++s) {
@@ -390,17 +400,22 @@ observations::Misfit CampaignObjective::Join(const std::vector<double>& joint,
       out.residuals.push_back(std::move(r));
     }
   }
-  for (observations::Residual& r : joint_.PriorResiduals(joint)) {
-    out.value += 0.5 * r.value * r.value;
-    out.residuals.push_back(std::move(r));
-  }
   return out;
 }
 
-observations::Misfit CampaignObjective::Evaluate(const std::vector<double>& physical) const {
+std::vector<std::pair<int, std::vector<double>>> CampaignObjective::SiteTasks(
+    const std::vector<double>& joint) const {
   std::vector<std::pair<int, std::vector<double>>> tasks;
-  for (int s = 0; s < site_count(); ++s) tasks.emplace_back(s, joint_.SiteValues(s, physical));
-  return Join(physical, EvaluateSites(tasks));
+  for (int s = 0; s < site_count(); ++s) tasks.emplace_back(s, joint_.SiteValues(s, joint));
+  return tasks;
+}
+
+observations::Misfit CampaignObjective::Evaluate(const std::vector<double>& physical) const {
+  return Join(physical, EvaluateSites(SiteTasks(physical)));
+}
+
+observations::Misfit CampaignObjective::EvaluateSitesAt(const std::vector<double>& joint) const {
+  return JoinSites(EvaluateSites(SiteTasks(joint)));
 }
 
 std::vector<observations::Misfit> CampaignObjective::EvaluateAll(
@@ -409,7 +424,7 @@ std::vector<observations::Misfit> CampaignObjective::EvaluateAll(
   const std::size_t n = static_cast<std::size_t>(site_count());
   std::vector<std::pair<int, std::vector<double>>> tasks;
   for (const std::vector<double>& x : points)
-    for (int s = 0; s < site_count(); ++s) tasks.emplace_back(s, joint_.SiteValues(s, x));
+    for (auto& task : SiteTasks(x)) tasks.push_back(std::move(task));
   // `done` per point once all its sites have finished (rank 0).
   std::vector<std::vector<observations::Misfit>> partial(points.size());
   std::vector<std::size_t> finished(points.size(), 0);
@@ -498,6 +513,74 @@ void CheckCampaign(const Campaign& campaign, const CalibrationOptions& options) 
   JointSpace{campaign};
 }
 
+namespace {
+
+// The predictive draws of a campaign: every site simulated anew at the
+// draw's seed with its rocks, its residuals joined without the priors.
+PredictiveDraw CampaignDraw(const Campaign& campaign, const CalibrationOptions& options) {
+  return [&campaign, &options](const std::vector<double>& joint, std::uint64_t seed) {
+    std::vector<core::Scene> scenes;
+    for (const CampaignSite& site : campaign.sites)
+      scenes.push_back(RunScene(site.site, SiteRocks(site, options), seed, options.threads));
+    return CampaignObjective(campaign, std::move(scenes), options.misfit).EvaluateSitesAt(joint);
+  };
+}
+
+// The posterior of each site's values (the joint samples mapped) with the
+// bands of its own statistics, and of each offset.
+void SplitPosterior(const JointSpace& joint, double undetermined_share, CampaignSummary* summary) {
+  const PosteriorResult& post = *summary->calibration.posterior;
+  for (int s = 0; s < joint.site_count(); ++s) {
+    CampaignSiteFit& fit = summary->sites[static_cast<std::size_t>(s)];
+    PosteriorResult own = MapPosterior(
+        post, fit.space, [&](const std::vector<double>& x) { return joint.SiteValues(s, x); },
+        undetermined_share);
+    for (PredictiveBand band : post.bands)
+      if (band.id.site == fit.name && band.id.kind != observations::ObservationKind::kPrior) {
+        band.id.site.clear();  // named as in the site's own observations
+        own.bands.push_back(std::move(band));
+      }
+    own.band_draws = post.band_draws;
+    own.band_rocks = post.band_draws > 0 ? fit.rocks : 0;
+    fit.posterior = std::move(own);
+  }
+  std::vector<std::vector<double>> values(static_cast<std::size_t>(joint.prior_count()));
+  std::vector<observations::Residual> priors;
+  for (const std::vector<double>& x : post.samples) {
+    priors = joint.PriorResiduals(x);
+    for (std::size_t k = 0; k < priors.size(); ++k) values[k].push_back(priors[k].simulated);
+  }
+  // The Gaussian prior's 5-95 % width: 2 x 1.6449 sigma.
+  for (std::size_t k = 0; k < priors.size(); ++k)
+    summary->offsets.push_back(
+        {priors[k].id.quantity(), priors[k].sigma,
+         SummariseValues(values[k], post.chains, 2.0 * 1.6448536269514722 * priors[k].sigma,
+                         undetermined_share)});
+}
+
+// The posterior stage of RunCampaign (CalibrationOptions::posterior, after
+// the search): the joint posterior on `objective` (the search's
+// evaluations reused, the new ones appended to `log`, may be null), its
+// predictive bands from draws simulating every site at seeds the search
+// did not use, then each site's posterior and each offset's.
+void CampaignPosterior(const Campaign& campaign, const CalibrationOptions& options,
+                       const CampaignObjective& objective, EvaluationLog* log,
+                       const CalibrationCallbacks& callbacks, CampaignSummary* summary) {
+  CalibrationSummary& cal = summary->calibration;
+  std::vector<Evaluation> reused;
+  for (const MethodResult& m : cal.methods)
+    reused.insert(reused.end(), m.trace.begin(), m.trace.end());
+  PosteriorOptions po = *options.posterior;
+  po.mcmc.seed = cal.seed;
+  cal.posterior =
+      SamplePosterior(objective, reused, po, log, callbacks.posterior, cal.misfit_before.residuals);
+  PredictiveBands(CampaignDraw(campaign, options), cal.seed, cal.rocks, options.predictive_draws,
+                  &*cal.posterior, callbacks.posterior);
+  SplitPosterior(objective.joint(), po.undetermined_share, summary);
+}
+
+}  // namespace
+
 CampaignSummary RunCampaign(const Campaign& campaign, const CalibrationOptions& options,
                             const CalibrationCallbacks& callbacks) {
   const auto start_time = std::chrono::steady_clock::now();
@@ -530,8 +613,7 @@ CampaignSummary RunCampaign(const Campaign& campaign, const CalibrationOptions& 
   cal.start = cal.search_start = joint.FromSiteValues(own_start);
 
   // One round over the ranks: every site at the joint start, and at its own.
-  std::vector<std::pair<int, std::vector<double>>> tasks;
-  for (int s = 0; s < n_sites; ++s) tasks.emplace_back(s, joint.SiteValues(s, cal.start));
+  std::vector<std::pair<int, std::vector<double>>> tasks = objective.SiteTasks(cal.start);
   for (int s = 0; s < n_sites; ++s) tasks.emplace_back(s, own_start[static_cast<std::size_t>(s)]);
   std::vector<observations::Misfit> misfits = objective.EvaluateSites(tasks);
   cal.misfit_before = objective.Join(
@@ -544,6 +626,7 @@ CampaignSummary RunCampaign(const Campaign& campaign, const CalibrationOptions& 
     fit.weight = site.weight;
     fit.rocks = scenes[static_cast<std::size_t>(s)].total_rocks();
     fit.space = joint.site_space(s);
+    fit.grid_spacing_m = site.site.scene.grid.spacing;
     fit.start = own_start[static_cast<std::size_t>(s)];
     fit.misfit_start = misfits[static_cast<std::size_t>(n_sites + s)];
     summary.sites.push_back(std::move(fit));
@@ -566,8 +649,7 @@ CampaignSummary RunCampaign(const Campaign& campaign, const CalibrationOptions& 
     best.uncertainty = JacobianUncertaintyAt(objective, best.best, best.best_misfit);
   cal.termination = best.termination;
 
-  tasks.clear();
-  for (int s = 0; s < n_sites; ++s) tasks.emplace_back(s, joint.SiteValues(s, best.best));
+  tasks = objective.SiteTasks(best.best);
   misfits = objective.EvaluateSites(tasks);
   cal.misfit_after = objective.Join(best.best, misfits);
   for (int s = 0; s < n_sites; ++s) {
@@ -575,6 +657,8 @@ CampaignSummary RunCampaign(const Campaign& campaign, const CalibrationOptions& 
     fit.calibrated = tasks[static_cast<std::size_t>(s)].second;
     fit.misfit_joint = misfits[static_cast<std::size_t>(s)];
   }
+  if (options.posterior)
+    CampaignPosterior(campaign, options, objective, log ? &*log : nullptr, callbacks, &summary);
   cal.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return summary;

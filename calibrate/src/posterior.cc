@@ -437,46 +437,11 @@ std::vector<std::vector<double>> RefinePoints(const Emulator& emulator, const Em
   return chosen;
 }
 
-// The summaries of result->samples from `chains`: each parameter's
-// posterior, their correlation and the message on R-hat and the emulator.
+// The summaries of result->samples from `chains` (SummariseSamples, with
+// their unthinned R-hat and ESS) and the message on R-hat and the emulator.
 void Summarise(const McmcResult& chains, const PosteriorOptions& options, PosteriorResult* result) {
-  const ParameterSpace& space = result->space;
-  const int d = space.size();
-  const std::size_t n = result->samples.size();
-  std::vector<double> means(static_cast<std::size_t>(d), 0.0),
-      sds(static_cast<std::size_t>(d), 0.0);
-  for (int k = 0; k < d; ++k) {
-    const auto kk = static_cast<std::size_t>(k);
-    std::vector<double> v;
-    for (const auto& s : result->samples) v.push_back(s[kk]);
-    ParameterPosterior p;
-    for (double x : v) p.mean += x / static_cast<double>(n);
-    for (double x : v) p.sd += (x - p.mean) * (x - p.mean);
-    p.sd = std::sqrt(p.sd / std::max<double>(1.0, static_cast<double>(n) - 1.0));
-    p.p05 = Quantile(&v, 0.05);
-    p.median = Quantile(&v, 0.5);
-    p.p95 = Quantile(&v, 0.95);
-    const Parameter& par = space.parameters()[kk];
-    p.width_share = (p.p95 - p.p05) / (0.9 * (par.upper - par.lower));
-    p.undetermined = p.width_share > options.undetermined_share;
-    p.rhat = chains.rhat[kk];
-    p.ess = chains.ess[kk];
-    result->max_rhat = std::max(result->max_rhat, p.rhat);
-    result->min_ess = k == 0 ? p.ess : std::min(result->min_ess, p.ess);
-    means[kk] = p.mean;
-    sds[kk] = p.sd;
-    result->parameters.push_back(p);
-  }
-  result->correlation.assign(static_cast<std::size_t>(d),
-                             std::vector<double>(static_cast<std::size_t>(d), 0.0));
-  for (int a = 0; a < d; ++a)
-    for (int b = 0; b < d; ++b) {
-      const auto ia = static_cast<std::size_t>(a), ib = static_cast<std::size_t>(b);
-      double c = 0.0;
-      for (const auto& s : result->samples) c += (s[ia] - means[ia]) * (s[ib] - means[ib]);
-      c /= std::max<double>(1.0, static_cast<double>(n) - 1.0);
-      result->correlation[ia][ib] = sds[ia] > 0 && sds[ib] > 0 ? c / (sds[ia] * sds[ib]) : (a == b);
-    }
+  result->chains = options.mcmc.chains;
+  SummariseSamples(options.undetermined_share, &chains, result);
   std::ostringstream message;
   if (!(result->max_rhat < 1.1))
     message << "R-hat " << result->max_rhat
@@ -492,6 +457,76 @@ void Summarise(const McmcResult& chains, const PosteriorOptions& options, Poster
 }
 
 }  // namespace
+
+ParameterPosterior SummariseValues(std::vector<double> values, int chains, double prior_width,
+                                   double undetermined_share) {
+  ParameterPosterior p;
+  const std::size_t n = values.size();
+  for (double x : values) p.mean += x / static_cast<double>(n);
+  for (double x : values) p.sd += (x - p.mean) * (x - p.mean);
+  p.sd = std::sqrt(p.sd / std::max<double>(1.0, static_cast<double>(n) - 1.0));
+  p.rhat = p.ess = std::numeric_limits<double>::quiet_NaN();
+  if (chains >= 2 && n % static_cast<std::size_t>(chains) == 0) {
+    const std::size_t length = n / static_cast<std::size_t>(chains);
+    std::vector<std::vector<double>> split;
+    for (std::size_t c = 0; c < static_cast<std::size_t>(chains); ++c)
+      split.emplace_back(values.begin() + static_cast<std::ptrdiff_t>(c * length),
+                         values.begin() + static_cast<std::ptrdiff_t>((c + 1) * length));
+    p.rhat = SplitRhat(split);
+    p.ess = EffectiveSampleSize(split);
+  }
+  p.p05 = Quantile(&values, 0.05);
+  p.median = Quantile(&values, 0.5);
+  p.p95 = Quantile(&values, 0.95);
+  p.width_share = (p.p95 - p.p05) / prior_width;
+  p.undetermined = p.width_share > undetermined_share;
+  return p;
+}
+
+void SummariseSamples(double undetermined_share, const McmcResult* traces,
+                      PosteriorResult* result) {
+  const std::size_t d = result->space.parameters().size();
+  const std::size_t n = result->samples.size();
+  result->parameters.clear();
+  result->max_rhat = 0.0;
+  std::vector<double> means(d, 0.0), sds(d, 0.0);
+  for (std::size_t k = 0; k < d; ++k) {
+    std::vector<double> v;
+    for (const auto& s : result->samples) v.push_back(s[k]);
+    const Parameter& par = result->space.parameters()[k];
+    ParameterPosterior p = SummariseValues(std::move(v), traces ? 0 : result->chains,
+                                           0.9 * (par.upper - par.lower), undetermined_share);
+    if (traces) {
+      p.rhat = traces->rhat[k];
+      p.ess = traces->ess[k];
+    }
+    result->max_rhat = std::max(result->max_rhat, p.rhat);
+    result->min_ess = k == 0 ? p.ess : std::min(result->min_ess, p.ess);
+    means[k] = p.mean;
+    sds[k] = p.sd;
+    result->parameters.push_back(p);
+  }
+  result->correlation.assign(d, std::vector<double>(d, 0.0));
+  for (std::size_t a = 0; a < d; ++a)
+    for (std::size_t b = 0; b < d; ++b) {
+      double c = 0.0;
+      for (const auto& s : result->samples) c += (s[a] - means[a]) * (s[b] - means[b]);
+      c /= std::max<double>(1.0, static_cast<double>(n) - 1.0);
+      result->correlation[a][b] = sds[a] > 0 && sds[b] > 0 ? c / (sds[a] * sds[b]) : (a == b);
+    }
+}
+
+PosteriorResult MapPosterior(
+    const PosteriorResult& from, ParameterSpace space,
+    const std::function<std::vector<double>(const std::vector<double>&)>& map,
+    double undetermined_share) {
+  PosteriorResult out;
+  out.space = std::move(space);
+  out.chains = from.chains;
+  for (const std::vector<double>& s : from.samples) out.samples.push_back(map(s));
+  SummariseSamples(undetermined_share, nullptr, &out);
+  return out;
+}
 
 PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
                                 const std::vector<Evaluation>& reused,
@@ -609,10 +644,18 @@ Eigen::MatrixXd QuantileWhitening(const std::vector<observations::Residual>& lay
   return w;
 }
 
-void PredictiveBands(const sites::Site& site, const observations::Observations& obs,
-                     const observations::MisfitOptions& misfit, int rocks, std::uint64_t seed,
-                     int threads, int draws, PosteriorResult* result,
-                     const PosteriorProgress& progress) {
+PredictiveDraw SiteDraw(const sites::Site& site, const observations::Observations& obs,
+                        const observations::MisfitOptions& misfit, const ParameterSpace& space,
+                        int rocks, int threads) {
+  return [&site, &obs, misfit, space, rocks, threads](const std::vector<double>& physical,
+                                                      std::uint64_t seed) {
+    const Objective objective(RunScene(site, rocks, seed, threads), space, obs, misfit);
+    return objective.Evaluate(physical);
+  };
+}
+
+void PredictiveBands(const PredictiveDraw& draw, std::uint64_t seed, int rocks, int draws,
+                     PosteriorResult* result, const PosteriorProgress& progress) {
   result->bands.clear();
   if (draws <= 0 || result->samples.empty()) return;
   const std::size_t n = result->samples.size();
@@ -624,10 +667,8 @@ void PredictiveBands(const sites::Site& site, const observations::Observations& 
   const std::vector<observations::Misfit> misfits = MapMisfits(
       draws,
       [&](int k) {
-        const core::Scene scene =
-            RunScene(site, rocks, seed + 1000 + static_cast<std::uint64_t>(k), threads);
-        const Objective objective(scene, result->space, obs, misfit);
-        return objective.Evaluate(chosen[static_cast<std::size_t>(k)]);
+        return draw(chosen[static_cast<std::size_t>(k)],
+                    seed + 1000 + static_cast<std::uint64_t>(k));
       },
       [&](int, const observations::Misfit&) {
         if (progress) progress("predictive bands", ++done, draws);

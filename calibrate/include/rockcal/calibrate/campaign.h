@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "rockcal/calibrate/calibration_run.h"
 #include "rockcal/calibrate/objective.h"
 #include "rockcal/calibrate/parameter_space.h"
+#include "rockcal/calibrate/posterior.h"
 #include "rockcal/observations/misfit.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/sites/site.h"
@@ -173,6 +175,14 @@ class CampaignObjective final : public ObjectiveFunction {
   // The joint misfit at `joint` from the sites' misfits there (site order).
   observations::Misfit Join(const std::vector<double>& joint,
                             const std::vector<observations::Misfit>& sites) const;
+  // The sites' misfits (site order) joined without the prior residuals:
+  // what the sites show, each residual's observation named "<site>: ...".
+  observations::Misfit JoinSites(const std::vector<observations::Misfit>& sites) const;
+  // Every site simulated at its values of `joint`, joined by JoinSites.
+  observations::Misfit EvaluateSitesAt(const std::vector<double>& joint) const;
+  // The task of each site (EvaluateSites) at the joint values `joint`.
+  std::vector<std::pair<int, std::vector<double>>> SiteTasks(
+      const std::vector<double>& joint) const;
 
  private:
   JointSpace joint_;
@@ -193,6 +203,20 @@ struct CampaignSiteFit {
   std::vector<double> calibrated;     // its values at the joint calibration
   observations::Misfit misfit_start;  // at its own starting values
   observations::Misfit misfit_joint;  // at the joint calibrated values
+  double grid_spacing_m = 0.0;        // its terrain's (a roughness bound's limit)
+  // With CalibrationOptions::posterior: the posterior of its own values
+  // (its joint value plus its offset at each joint sample, MapPosterior)
+  // and its observed statistics' predictive bands (the observation named
+  // as in its own observations file).
+  std::optional<PosteriorResult> posterior;
+};
+
+// The posterior of one site's offset (OffsetPrior) at the joint samples.
+struct OffsetPosterior {
+  std::string label;   // "<site>:<class>.<parameter>_offset"
+  double sigma = 0.0;  // its prior's, SI
+  // width_share: the 5-95 % interval over the prior's (2 x 1.645 sigma).
+  ParameterPosterior posterior;
 };
 
 struct CampaignSummary {
@@ -206,6 +230,10 @@ struct CampaignSummary {
   std::vector<CampaignSiteFit> sites;
   std::vector<std::string> notes;  // JointSpace::notes()
   int prior_residuals = 0;
+  // With CalibrationOptions::posterior: calibration.posterior is the joint
+  // values' (their samples, the predictive bands of every site), each
+  // site's is in its CampaignSiteFit, and every site's offset's here.
+  std::vector<OffsetPosterior> offsets;
 
   std::string BriefReport() const;
 };
@@ -226,8 +254,13 @@ void CheckCampaign(const Campaign& campaign, const CalibrationOptions& options);
 // CampaignObjective from JointSpace::FromSiteValues of the sites' own
 // values, then the uncertainty at the best values and each site's fit there
 // and at its own start. Takes CalibrationOptions' methods, method options,
-// misfit, rocks, seed, threads, log_path and resume; a reach check, a
-// refining stage, a race or noise seeds are an InputError.
+// misfit, rocks, seed, threads, log_path and resume, and posterior and
+// predictive_draws: the joint posterior (SamplePosterior on the joint
+// objective, the search's evaluations reused, its own appended to the log
+// as for a calibration), each site's and each offset's from it, and the
+// predictive bands of every site's statistics from draws simulating every
+// site; a reach check, a refining stage, a race or noise seeds are an
+// InputError.
 CampaignSummary RunCampaign(const Campaign& campaign, const CalibrationOptions& options,
                             const CalibrationCallbacks& callbacks = {});
 

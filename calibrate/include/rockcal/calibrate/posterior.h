@@ -131,6 +131,7 @@ struct PredictiveBand {
 struct PosteriorResult {
   ParameterSpace space;
   std::vector<std::vector<double>> samples;  // physical values, chain after chain
+  int chains = 0;                            // the samples' chains, of equal length
   std::vector<ParameterPosterior> parameters;
   std::vector<std::vector<double>> correlation;  // d x d, of the samples
   double max_rhat = 0.0;
@@ -153,6 +154,26 @@ struct PosteriorResult {
   int band_rocks = 0;
   std::string message;  // warnings (R-hat, emulator), empty when none
 };
+
+// One value's posterior from its values at the samples (`chains` chains of
+// equal length, one after the other): mean, sd, median and 5-95 %
+// interval; R-hat and the effective sample size of those chains (NaN for
+// fewer than 2); width_share, the interval over `prior_width` (the
+// prior's 5-95 % width), and undetermined beyond `undetermined_share`.
+ParameterPosterior SummariseValues(std::vector<double> values, int chains, double prior_width,
+                                   double undetermined_share);
+// result->parameters, correlation, max_rhat and min_ess from its samples,
+// space (a uniform prior on the bounds) and chains (SummariseValues); R-hat
+// and ESS from `traces` (the unthinned chains) when given.
+void SummariseSamples(double undetermined_share, const McmcResult* traces, PosteriorResult* result);
+// The posterior of other values, `map` of the physical values, with the
+// bounds of `space`: each of from's samples mapped, summarised
+// (SummariseSamples); no bands. A campaign's site values are its joint
+// values mapped.
+PosteriorResult MapPosterior(
+    const PosteriorResult& from, ParameterSpace space,
+    const std::function<std::vector<double>(const std::vector<double>&)>& map,
+    double undetermined_share);
 
 // Progress of SamplePosterior: (what, done, total).
 using PosteriorProgress = std::function<void(const std::string& stage, int done, int total)>;
@@ -180,17 +201,28 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
 // The identity for residuals that are not quantiles.
 Eigen::MatrixXd QuantileWhitening(const std::vector<observations::Residual>& layout);
 
+// One posterior predictive draw: the compared statistics' residuals at the
+// physical values `physical`, simulated anew at `seed` (the posterior's
+// objective at another seed).
+using PredictiveDraw =
+    std::function<observations::Misfit(const std::vector<double>& physical, std::uint64_t seed)>;
+
+// The PredictiveDraw of one site: its scene with `rocks` rocks at the
+// draw's seed (RunScene, `threads`), `space` applied. Keeps references to
+// `site` and `observations`.
+PredictiveDraw SiteDraw(const sites::Site& site, const observations::Observations& observations,
+                        const observations::MisfitOptions& misfit, const ParameterSpace& space,
+                        int rocks, int threads);
+
 // The posterior predictive bands of the compared statistics: `draws`
 // posterior samples (evenly spaced through result.samples) each simulated
-// at its own seed (seed + 1000 + k, none of the calibration's) with `rocks`
-// rocks, so that the bands hold the parameters' uncertainty and the Monte
-// Carlo variation together; the simulated values' 5 %, 50 % and 95 %
-// quantiles per residual. Fills result->bands; spread over the ranks
-// under mpirun.
-void PredictiveBands(const sites::Site& site, const observations::Observations& observations,
-                     const observations::MisfitOptions& misfit, int rocks, std::uint64_t seed,
-                     int threads, int draws, PosteriorResult* result,
-                     const PosteriorProgress& progress = nullptr);
+// by `draw` at its own seed (seed + 1000 + k, none of the calibration's)
+// with `rocks` rocks in all, so that the bands hold the parameters'
+// uncertainty and the Monte Carlo variation together; the simulated
+// values' 5 %, 50 % and 95 % quantiles per residual (by observation and
+// quantity). Fills result->bands; spread over the ranks under mpirun.
+void PredictiveBands(const PredictiveDraw& draw, std::uint64_t seed, int rocks, int draws,
+                     PosteriorResult* result, const PosteriorProgress& progress = nullptr);
 
 // posterior.csv: a header of the parameters' labels, one sample per line (SI).
 std::string PosteriorCsv(const PosteriorResult& result);
