@@ -522,7 +522,10 @@ PredictiveDraw CampaignDraw(const Campaign& campaign, const CalibrationOptions& 
     std::vector<core::Scene> scenes;
     for (const CampaignSite& site : campaign.sites)
       scenes.push_back(RunScene(site.site, SiteRocks(site, options), seed, options.threads));
-    return CampaignObjective(campaign, std::move(scenes), options.misfit).EvaluateSitesAt(joint);
+    PredictiveOutcome out;
+    out.misfit =
+        CampaignObjective(campaign, std::move(scenes), options.misfit).EvaluateSitesAt(joint);
+    return out;
   };
 }
 

@@ -2,17 +2,19 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 
 #include "rockcal/calibrate/reach.h"
+#include "rockcal/calibrate/recording.h"
 #include "rockcal/calibrate/score.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/random.h"
+#include "rockcal/parallel/parallel.h"
 #include "table_text.h"
 
 namespace rockcal::calibrate {
@@ -649,14 +651,64 @@ PredictiveDraw SiteDraw(const sites::Site& site, const observations::Observation
                         int rocks, int threads) {
   return [&site, &obs, misfit, space, rocks, threads](const std::vector<double>& physical,
                                                       std::uint64_t seed) {
-    const Objective objective(RunScene(site, rocks, seed, threads), space, obs, misfit);
-    return objective.Evaluate(physical);
+    core::Scene scene = RunScene(site, rocks, seed, threads);
+    space.Apply(physical, &scene);
+    RecordingNeeds needs;
+    needs.observations = &obs;
+    needs.partitions = true;
+    needs.energy_check = scene.options.record.energy_check;
+    scene.options.record = RecordingFor(scene, needs);
+    PredictiveOutcome out;
+    try {
+      const core::SimulationResult sim = parallel::Simulate(scene);
+      out.misfit = observations::ComputeMisfit(obs, scene, sim, misfit);
+      out.statistics =
+          DrawStatistics(scene, core::ComputeStats(scene, sim), static_cast<int>(sim.rocks.size()));
+    } catch (const std::exception& e) {
+      out = PredictiveOutcome{};
+      out.misfit.penalised = true;
+      out.misfit.message = std::string("simulation failed: ") + e.what();
+    }
+    return out;
   };
 }
+
+namespace {
+
+// A predictive draw's outcome as bytes for parallel::Map, and back.
+std::string EncodeOutcome(const PredictiveOutcome& outcome) {
+  parallel::Writer w;
+  w.String(EncodeMisfit(outcome.misfit));
+  w.Int(static_cast<long long>(outcome.statistics.size()));
+  for (const DrawValue& v : outcome.statistics) {
+    w.String(v.where);
+    w.String(v.quantity);
+    w.String(v.unit);
+    w.Double(v.value);
+  }
+  return w.bytes();
+}
+
+PredictiveOutcome DecodeOutcome(const std::string& bytes) {
+  parallel::Reader r(bytes);
+  PredictiveOutcome out;
+  out.misfit = DecodeMisfit(r.String());
+  out.statistics.resize(static_cast<std::size_t>(r.Int()));
+  for (DrawValue& v : out.statistics) {
+    v.where = r.String();
+    v.quantity = r.String();
+    v.unit = r.String();
+    v.value = r.Double();
+  }
+  return out;
+}
+
+}  // namespace
 
 void PredictiveBands(const PredictiveDraw& draw, std::uint64_t seed, int rocks, int draws,
                      PosteriorResult* result, const PosteriorProgress& progress) {
   result->bands.clear();
+  result->statistic_bands.clear();
   if (draws <= 0 || result->samples.empty()) return;
   const std::size_t n = result->samples.size();
   std::vector<std::vector<double>> chosen;
@@ -664,15 +716,23 @@ void PredictiveBands(const PredictiveDraw& draw, std::uint64_t seed, int rocks, 
     chosen.push_back(result->samples[(static_cast<std::size_t>(k) * n + n / 2) / static_cast<std::size_t>(draws) % n]);
   int done = 0;
   if (progress) progress("predictive bands", 0, draws);
-  const std::vector<observations::Misfit> misfits = MapMisfits(
+  const std::vector<std::string> bytes = parallel::Map(
       draws,
       [&](int k) {
-        return draw(chosen[static_cast<std::size_t>(k)],
-                    seed + 1000 + static_cast<std::uint64_t>(k));
+        return EncodeOutcome(
+            draw(chosen[static_cast<std::size_t>(k)], seed + 1000 + static_cast<std::uint64_t>(k)));
       },
-      [&](int, const observations::Misfit&) {
+      [&](int, const std::string&) {
         if (progress) progress("predictive bands", ++done, draws);
       });
+  std::vector<observations::Misfit> misfits;
+  std::vector<std::vector<DrawValue>> statistics;
+  for (const std::string& b : bytes) {
+    PredictiveOutcome o = DecodeOutcome(b);
+    misfits.push_back(std::move(o.misfit));
+    if (!o.statistics.empty()) statistics.push_back(std::move(o.statistics));
+  }
+  result->statistic_bands = BandsOverDraws(statistics);
   // The residuals by their identity, in the first draw's order.
   std::vector<observations::ResidualId> keys;
   std::map<observations::ResidualId, std::vector<double>> values;
@@ -745,6 +805,10 @@ nlohmann::json PosteriorJson(const PosteriorResult& result) {
                      {"inside", b.inside()}});
   nlohmann::json length = nlohmann::json::array();
   for (double l : result.length_scales) length.push_back(JsonNum(l));
+  nlohmann::json predictive = {
+      {"draws", result.band_draws}, {"rocks", result.band_rocks}, {"bands", bands}};
+  if (!result.statistic_bands.empty())
+    predictive["statistics"] = DrawBandsJson(result.statistic_bands);
   return {{"parameters", parameters},
           {"correlation", correlation},
           {"samples", result.samples.size()},
@@ -760,7 +824,7 @@ nlohmann::json PosteriorJson(const PosteriorResult& result) {
           {"length_scales", length},
           {"nugget", JsonNum(result.nugget)},
           {"wall_seconds", JsonNum(result.wall_seconds)},
-          {"predictive", {{"draws", result.band_draws}, {"rocks", result.band_rocks}, {"bands", bands}}},
+          {"predictive", predictive},
           {"message", result.message}};
 }
 

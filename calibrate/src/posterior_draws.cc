@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include "rockcal/calibrate/posterior.h"
@@ -36,19 +37,44 @@ const PartitionQuantity kPartitionQuantities[] = {
     {"energy_kj.max", "kJ", 1e-3, &core::PartitionStats::energy, &core::Stats::max},
 };
 
-DrawBand Band(const std::string& where, const std::string& quantity, const std::string& unit,
-              std::vector<double> values) {
-  DrawBand b;
-  b.where = where;
-  b.quantity = quantity;
-  b.unit = unit;
-  b.p05 = Quantile(&values, 0.05);
-  b.median = Quantile(&values, 0.5);
-  b.p95 = Quantile(&values, 0.95);
-  return b;
+}  // namespace
+
+std::vector<DrawValue> DrawStatistics(const core::Scene& scene, const core::ResultStats& stats,
+                                      int rocks) {
+  std::vector<DrawValue> out;
+  const std::pair<const char*, double core::Stats::*> runout[] = {{"x_m.p50", &core::Stats::p50},
+                                                                  {"x_m.p90", &core::Stats::p90},
+                                                                  {"x_m.p95", &core::Stats::p95},
+                                                                  {"x_m.max", &core::Stats::max}};
+  for (const auto& [name, value] : runout)
+    out.push_back({"runout", name, "m", stats.runout_x.*value});
+  for (std::size_t p = 0; p < scene.partitions.size() && p < stats.partitions.size(); ++p) {
+    const std::string& id = scene.partitions[p].id;
+    out.push_back({id, "passed_fraction", "1",
+                   rocks > 0 ? static_cast<double>(stats.partitions[p].passed) / rocks : 0.0});
+    for (const PartitionQuantity& q : kPartitionQuantities)
+      out.push_back({id, q.name, q.unit, (stats.partitions[p].*q.stats).*q.value * q.scale});
+  }
+  return out;
 }
 
-}  // namespace
+std::vector<DrawBand> BandsOverDraws(const std::vector<std::vector<DrawValue>>& draws) {
+  std::vector<DrawBand> bands;
+  std::map<std::pair<std::string, std::string>, std::vector<double>> values;
+  for (const std::vector<DrawValue>& draw : draws)
+    for (const DrawValue& v : draw) {
+      std::vector<double>& of = values[{v.where, v.quantity}];
+      if (of.empty()) bands.push_back({v.where, v.quantity, v.unit, 0.0, 0.0, 0.0});
+      of.push_back(v.value);
+    }
+  for (DrawBand& b : bands) {
+    std::vector<double>& v = values[{b.where, b.quantity}];
+    b.p05 = Quantile(&v, 0.05);
+    b.median = Quantile(&v, 0.5);
+    b.p95 = Quantile(&v, 0.95);
+  }
+  return bands;
+}
 
 bool PosteriorDrawOptions::IsValid(std::string* error) const {
   if (draws < 1 || draws > 10000) {
@@ -124,33 +150,10 @@ DrawResults SimulateDraws(const std::vector<std::vector<double>>& samples,
 
 // The bands of the statistics (PosteriorRun::bands) over run->draws.
 void StatisticBands(const core::Scene& scene, PosteriorRun* run) {
-  const auto over_draws = [&](const auto& get) {
-    std::vector<double> v;
-    for (const PosteriorDraw& draw : run->draws) v.push_back(get(draw));
-    return v;
-  };
-  const std::pair<const char*, double core::Stats::*> runout[] = {
-      {"x_m.p50", &core::Stats::p50},
-      {"x_m.p90", &core::Stats::p90},
-      {"x_m.p95", &core::Stats::p95},
-      {"x_m.max", &core::Stats::max}};
-  for (const auto& [name, value] : runout)
-    run->bands.push_back(
-        Band("runout", name, "m", over_draws([value = value](const PosteriorDraw& draw) {
-               return draw.stats.runout_x.*value;
-             })));
-  for (std::size_t p = 0; p < scene.partitions.size(); ++p) {
-    const std::string& id = scene.partitions[p].id;
-    run->bands.push_back(Band(
-        id, "passed_fraction", "1", over_draws([p](const PosteriorDraw& draw) {
-          return draw.rocks > 0 ? static_cast<double>(draw.stats.partitions[p].passed) / draw.rocks
-                                : 0.0;
-        })));
-    for (const PartitionQuantity& q : kPartitionQuantities)
-      run->bands.push_back(Band(id, q.name, q.unit, over_draws([p, &q](const PosteriorDraw& draw) {
-                                  return (draw.stats.partitions[p].*q.stats).*q.value * q.scale;
-                                })));
-  }
+  std::vector<std::vector<DrawValue>> values;
+  for (const PosteriorDraw& draw : run->draws)
+    values.push_back(DrawStatistics(scene, draw.stats, draw.rocks));
+  run->bands = BandsOverDraws(values);
 }
 
 // The maps' bands (PosteriorRun::raster_bands) over the draws' maps.
@@ -217,16 +220,11 @@ PosteriorRun SimulatePosteriorDraws(const CalibratedSite& parameters,
   return run;
 }
 
-nlohmann::json PosteriorRunJson(const PosteriorRun& run) {
+nlohmann::json DrawBandsJson(const std::vector<DrawBand>& bands) {
   using text::JsonNum;
-  int lo = run.draws.empty() ? 0 : run.draws.front().rocks, hi = lo;
-  for (const PosteriorDraw& d : run.draws) {
-    lo = std::min(lo, d.rocks);
-    hi = std::max(hi, d.rocks);
-  }
   nlohmann::json runout = nlohmann::json::object();
   nlohmann::json partitions = nlohmann::json::array();
-  for (const DrawBand& b : run.bands) {
+  for (const DrawBand& b : bands) {
     const nlohmann::json band = {
         {"p05", JsonNum(b.p05)}, {"median", JsonNum(b.median)}, {"p95", JsonNum(b.p95)}};
     const std::size_t dot = b.quantity.find('.');
@@ -242,13 +240,22 @@ nlohmann::json PosteriorRunJson(const PosteriorRun& run) {
     else
       partitions.back()[head][b.quantity.substr(dot + 1)] = band;
   }
+  return {{"runout", runout}, {"partitions", partitions}};
+}
+
+nlohmann::json PosteriorRunJson(const PosteriorRun& run) {
+  int lo = run.draws.empty() ? 0 : run.draws.front().rocks, hi = lo;
+  for (const PosteriorDraw& d : run.draws) {
+    lo = std::min(lo, d.rocks);
+    hi = std::max(hi, d.rocks);
+  }
   return {{"file", run.parameters.file},
           {"use", "posterior draws"},
           {"samples_file", run.parameters.samples_file},
           {"samples", run.samples},
           {"draws", static_cast<int>(run.draws.size())},
           {"rocks_per_draw", {{"min", lo}, {"max", hi}}},
-          {"bands", {{"runout", runout}, {"partitions", partitions}}}};
+          {"bands", DrawBandsJson(run.bands)}};
 }
 
 std::string DrawsCsv(const PosteriorRun& run) {

@@ -195,6 +195,10 @@ std::string PosteriorMarkdown(const CalibrationSummary& record) {
     out << "Posterior predictive: " << inside << " of " << post.bands.size()
         << " observed statistics inside their 5-95 % band (" << post.band_draws
         << " posterior draws at " << post.band_rocks << " rocks, each at its own seed).\n";
+    if (!post.statistic_bands.empty())
+      out << "The same draws' bands of the runout and of every partition's passing share, "
+             "heights, velocity and energies: calibration.json (posterior.predictive.statistics) "
+             "and report.html.\n";
   }
   return out.str();
 }

@@ -1,6 +1,7 @@
 // rockcal calibrate --posterior end to end on the tutorial site (4 values):
-// the files and keys it adds, a resume that replays the posterior stage,
-// and its options' errors.
+// the files and keys it adds (with the predictive bands of every
+// partition), a resume that replays the posterior stage, and its options'
+// errors.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -123,9 +124,34 @@ TEST(CalibratePosterior, WritesTheIntervalsSamplesAndBandsResumesAndSimulateDraw
   EXPECT_FALSE(post["predictive"]["bands"].empty());
   const int simulated = post["simulated"];
   EXPECT_GT(simulated, 0);
+  // The same draws' bands of the runout and of both partitions: at BP-1 the
+  // height's maximum is the statistic the tree scars there compare.
+  const nlohmann::json& stats = post["predictive"]["statistics"];
+  ASSERT_EQ(stats["partitions"].size(), 2u) << stats.dump();
+  EXPECT_EQ(stats["partitions"][0]["id"], "BP-1");
+  for (const auto& partition : stats["partitions"]) {
+    const nlohmann::json& passed = partition["passed_fraction"];
+    EXPECT_LE(0.0, passed["p05"].get<double>()) << partition.dump();
+    EXPECT_LE(passed["p05"].get<double>(), passed["median"].get<double>()) << partition.dump();
+    EXPECT_LE(passed["median"].get<double>(), passed["p95"].get<double>()) << partition.dump();
+    EXPECT_LE(passed["p95"].get<double>(), 1.0) << partition.dump();
+    EXPECT_TRUE(partition["energy_kj"].contains("p95")) << partition.dump();
+  }
+  EXPECT_TRUE(stats["runout"]["x_m"].contains("p90")) << stats.dump();
+  bool compared = false;
+  for (const auto& b : post["predictive"]["bands"])
+    if (b["observation"] == "tree_scars[0] BP-1" && b["quantity"] == "max") {
+      compared = true;
+      const nlohmann::json& height = stats["partitions"][0]["height_m"]["max"];
+      EXPECT_EQ(height["p05"], b["p05"]);
+      EXPECT_EQ(height["median"], b["median"]);
+      EXPECT_EQ(height["p95"], b["p95"]);
+    }
+  EXPECT_TRUE(compared) << "no band of the tree scars' maximum at BP-1";
   const std::string report = ReadFile(out + "/report.html");
   EXPECT_THAT(report, HasSubstr("id=\"posterior\""));
   EXPECT_THAT(report, HasSubstr("Pairwise plot"));
+  EXPECT_THAT(report, HasSubstr("Predictive bands of the runout and of every partition"));
   EXPECT_THAT(ReadFile(out + "/parameters.md"), HasSubstr("Posterior (uniform prior"));
 
   // Resumed: every posterior evaluation replayed, the same samples.

@@ -28,13 +28,7 @@ std::string PosteriorDrawsSection(const Context& c) {
          "of so few rocks</b>: give more rocks (--rocks) for bands of the parameters' "
          "uncertainty.";
   s += " The point values alone: --point-values.</p>";
-  s += "<table><thead><tr>" + Th("where") + Th("quantity") + Th("unit") + Th("5 %") +
-       Th("median") + Th("95 %") + "</tr></thead><tbody>";
-  for (const calibrate::DrawBand& b : run.bands)
-    s += "<tr>" + Td(Escape(b.where)) + Td(Escape(b.quantity)) + Td(Escape(b.unit)) +
-         Td(FormatNumber(b.p05, "%.4g"), true) + Td(FormatNumber(b.median, "%.4g"), true) +
-         Td(FormatNumber(b.p95, "%.4g"), true) + "</tr>";
-  s += "</tbody></table>";
+  s += DrawBandsTable(run.bands);
   if (!run.raster_bands.empty())
     s += "<p>The maps (rasters.tif, rasters/*.asc with --rasters) add the bands " +
          Escape("reach_probability_q05/_q95, energy_p95_q05/_q95, height_p95_q05/_q95") +

@@ -206,6 +206,14 @@ std::string PosteriorSection(const Context& c) {
            Td(b.inside() ? "yes" : "no") + "</tr>";
     s += "</tbody></table>";
   }
+  if (!post.statistic_bands.empty())
+    s += "<h3>Predictive bands of the runout and of every partition</h3><p>The same " +
+         Int(post.band_draws) +
+         " draws: per draw the runout quantiles of its stopped rocks and, at every partition, "
+         "the share of its rocks that passed and their height, velocity and energy (0 where "
+         "none passed); the 5 % and 95 % quantiles over the draws, as rockcal simulate "
+         "--parameters of this folder gives them for a new release or slope.</p>" +
+         DrawBandsTable(post.statistic_bands);
   return s;
 }
 

@@ -19,6 +19,16 @@ std::string PartitionWhere(const core::Partition& p) {
   return "Z partition: where the ground is at elevation " + Length(p.value);
 }
 
+std::string DrawBandsTable(const std::vector<calibrate::DrawBand>& bands) {
+  std::string s = "<table><thead><tr>" + Th("where") + Th("quantity") + Th("unit") + Th("5 %") +
+                  Th("median") + Th("95 %") + "</tr></thead><tbody>";
+  for (const calibrate::DrawBand& b : bands)
+    s += "<tr>" + Td(Escape(b.where)) + Td(Escape(b.quantity)) + Td(Escape(b.unit)) +
+         Td(FormatNumber(b.p05, "%.4g"), true) + Td(FormatNumber(b.median, "%.4g"), true) +
+         Td(FormatNumber(b.p95, "%.4g"), true) + "</tr>";
+  return s + "</tbody></table>";
+}
+
 std::string Capitalised(std::string s) {
   if (!s.empty() && s[0] >= 'a' && s[0] <= 'z') s[0] = static_cast<char>(s[0] - 'a' + 'A');
   return s;

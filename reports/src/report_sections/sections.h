@@ -88,6 +88,10 @@ std::string Swatch(const std::string& colour, const std::string& kind = "bar");
 // A legend item: a swatch and its escaped label.
 std::string LegendItem(const std::string& swatch, const std::string& label);
 
+// A table of bands over posterior draws (where, quantity, unit, 5 %, median,
+// 95 %): rockcal simulate's of a posterior, calibrate --posterior's.
+std::string DrawBandsTable(const std::vector<calibrate::DrawBand>& bands);
+
 // A histogram of `values` (display units); `top_scale` converts to the
 // secondary units on top; a dashed line marks `mark` when finite.
 std::string Histogram(const std::vector<double>& values, const std::string& x_label,

@@ -22,6 +22,7 @@
 #include "rockcal/calibrate/calibration.h"
 #include "rockcal/calibrate/emulator.h"
 #include "rockcal/calibrate/objective.h"
+#include "rockcal/calibrate/posterior_draws.h"
 #include "rockcal/observations/misfit.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/sites/site.h"
@@ -148,8 +149,12 @@ struct PosteriorResult {
   std::vector<double> length_scales;  // unit box
   double nugget = 0.0;
   double wall_seconds = 0.0;
-  // The posterior predictive bands (PredictiveBands), when made.
+  // The posterior predictive bands (PredictiveBands), when made: of the
+  // compared statistics, and (a site's draws) of the runout quantiles and
+  // every partition's passing share, heights, velocity and energies
+  // (DrawStatistics, as rockcal simulate --parameters gives them).
   std::vector<PredictiveBand> bands;
+  std::vector<DrawBand> statistic_bands;
   int band_draws = 0;
   int band_rocks = 0;
   std::string message;  // warnings (R-hat, emulator), empty when none
@@ -203,13 +208,20 @@ Eigen::MatrixXd QuantileWhitening(const std::vector<observations::Residual>& lay
 
 // One posterior predictive draw: the compared statistics' residuals at the
 // physical values `physical`, simulated anew at `seed` (the posterior's
-// objective at another seed).
+// objective at another seed), and the simulation's other statistics
+// (DrawStatistics; empty when not made).
+struct PredictiveOutcome {
+  observations::Misfit misfit;
+  std::vector<DrawValue> statistics;
+};
 using PredictiveDraw =
-    std::function<observations::Misfit(const std::vector<double>& physical, std::uint64_t seed)>;
+    std::function<PredictiveOutcome(const std::vector<double>& physical, std::uint64_t seed)>;
 
 // The PredictiveDraw of one site: its scene with `rocks` rocks at the
-// draw's seed (RunScene, `threads`), `space` applied. Keeps references to
-// `site` and `observations`.
+// draw's seed (RunScene, `threads`), `space` applied, recording what the
+// observations need and every partition; a simulation that fails gives
+// no residuals and no statistics. Keeps references to `site` and
+// `observations`.
 PredictiveDraw SiteDraw(const sites::Site& site, const observations::Observations& observations,
                         const observations::MisfitOptions& misfit, const ParameterSpace& space,
                         int rocks, int threads);
@@ -220,7 +232,8 @@ PredictiveDraw SiteDraw(const sites::Site& site, const observations::Observation
 // with `rocks` rocks in all, so that the bands hold the parameters'
 // uncertainty and the Monte Carlo variation together; the simulated
 // values' 5 %, 50 % and 95 % quantiles per residual (by observation and
-// quantity). Fills result->bands; spread over the ranks under mpirun.
+// quantity), and of the draws' other statistics (BandsOverDraws). Fills
+// result->bands and statistic_bands; spread over the ranks under mpirun.
 void PredictiveBands(const PredictiveDraw& draw, std::uint64_t seed, int rocks, int draws,
                      PosteriorResult* result, const PosteriorProgress& progress = nullptr);
 

@@ -56,16 +56,35 @@ struct DrawBand {
   double p05 = 0.0, median = 0.0, p95 = 0.0;
 };
 
+// One statistic of one draw (a DrawBand's where, quantity and unit) and its value.
+struct DrawValue {
+  std::string where, quantity, unit;
+  double value = 0.0;
+};
+
+// The statistics the bands are of, from one draw's `stats` (core::ComputeStats
+// of `scene`, its partitions) and its `rocks`: the runout quantiles (p50,
+// p90, p95, max of the stopped rocks' x), and per partition the share of
+// the rocks that passed and the height, velocity and energy (p50, p95, max;
+// 0 where none passed).
+std::vector<DrawValue> DrawStatistics(const core::Scene& scene, const core::ResultStats& stats,
+                                      int rocks);
+// Per statistic (by where and quantity, in the order first met) the band
+// over the draws' values.
+std::vector<DrawBand> BandsOverDraws(const std::vector<std::vector<DrawValue>>& draws);
+// The bands as JSON: {"runout": {"x_m": {"p50": {"p05", "median", "p95"},
+// ...}}, "partitions": [{"id", "passed_fraction": {...}, "height_m": {...},
+// ...}]}.
+nlohmann::json DrawBandsJson(const std::vector<DrawBand>& bands);
+
 struct PosteriorRun {
   CalibratedSite parameters;  // the parameters file read (point values and posterior)
   int samples = 0;            // in its samples' file
   std::vector<PosteriorDraw> draws;
   // Every rock of the run in rock order, rock i simulated with draw i mod D's values.
   core::SimulationResult pooled;
-  // The runout quantiles (p50, p90, p95, max of the stopped rocks' x),
-  // and per partition the share of the draw's rocks that passed and the
-  // height, velocity and energy (p50, p95, max; 0 in a draw where none
-  // passed: nothing reaches it), each as a band over the draws.
+  // DrawStatistics of each draw's rocks, each as a band over the draws
+  // (BandsOverDraws).
   std::vector<DrawBand> bands;
   // The maps' bands when the scene records passages (else empty): per
   // cell, the 5 % and 95 % quantiles over the draws of each draw's
@@ -94,8 +113,7 @@ PosteriorRun SimulatePosteriorDraws(const CalibratedSite& parameters,
 
 // summary.json's "parameters" of a posterior run: the file, "use":
 // "posterior draws", the samples, draws, rocks per draw, and the bands
-// ({"runout": {"x_m": {"p50": {"p05", "median", "p95"}, ...}},
-// "partitions": [{"id", "passed_fraction": {...}, "height_m": {...}, ...}]}).
+// (DrawBandsJson).
 nlohmann::json PosteriorRunJson(const PosteriorRun& run);
 // draws.csv: draw, sample, rocks, then a column per parameter label (SI).
 std::string DrawsCsv(const PosteriorRun& run);
