@@ -26,6 +26,7 @@ namespace fs = std::filesystem;
 using testing::Differences;
 using testing::FileNames;
 using testing::FreshDir;
+using testing::Joined;
 using testing::KillPoint;
 using testing::List;
 using testing::Outcome;
@@ -53,12 +54,6 @@ std::vector<std::string> CalibrateArgs(const std::string& out, bool resume) {
                                    out};
   if (resume) args.push_back("--resume");
   return args;
-}
-
-std::string Joined(const std::vector<std::string>& args) {
-  std::string s;
-  for (std::size_t k = 1; k < args.size(); ++k) s += (k > 1 ? " " : "") + args[k];
-  return s;
 }
 
 // --- The test ----------------------------------------------------------------

@@ -23,6 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing::Differences;
 using testing::FreshDir;
+using testing::Joined;
 using testing::KillPoint;
 using testing::List;
 using testing::Outcome;
@@ -69,12 +70,6 @@ std::vector<std::string> CampaignArgs(const std::string& out, bool resume) {
                                    out};
   if (resume) args.push_back("--resume");
   return args;
-}
-
-std::string Joined(const std::vector<std::string>& args) {
-  std::string s;
-  for (std::size_t k = 1; k < args.size(); ++k) s += (k > 1 ? " " : "") + args[k];
-  return s;
 }
 
 nlohmann::json ReadJson(const std::string& path) { return nlohmann::json::parse(ReadFile(path)); }

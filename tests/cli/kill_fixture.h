@@ -72,6 +72,13 @@ struct KillPoint {
   }
 };
 
+// The command line of `args` (an argv: the executable first) without the executable.
+inline std::string Joined(const std::vector<std::string>& args) {
+  std::string s;
+  for (std::size_t k = 1; k < args.size(); ++k) s += (k > 1 ? " " : "") + args[k];
+  return s;
+}
+
 struct Outcome {
   bool killed = false;
   int status = -1;  // exit status when it was not killed
