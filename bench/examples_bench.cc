@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
       }
       std::printf("%-10s %6zu %8d %9.3f %9.1f %12ld %9ld %11s %8s %8s\n", n.name.c_str(),
                   t.result.rocks.size(), threads, w, static_cast<double>(t.result.rocks.size()) / w,
-                  t.result.steps, t.result.flights, same, speedup, balance);
+                  t.result.figures.steps, t.result.figures.flights, same, speedup, balance);
     }
     std::fflush(stdout);
   }

@@ -55,8 +55,9 @@ int main(int argc, char** argv) {
     const bench::TimedRuns t = bench::TimeSimulation(s, terrain, 1, runs);
     samples.push_back(bench::Collect(t.result));
     walls.push_back(t.median_wall);
-    std::printf("%-26s %8.3f %8s %11ld %10ld %9d\n", c.name, t.median_wall, "", t.result.steps,
-                t.result.flights, t.result.count(core::Outcome::kStopped));
+    std::printf("%-26s %8.3f %8s %11ld %10ld %9d\n", c.name, t.median_wall, "",
+                t.result.figures.steps, t.result.figures.flights,
+                t.result.count(core::Outcome::kStopped));
   }
   std::printf("speed-up against the reference path:");
   for (std::size_t k = 0; k + 1 < configs.size(); ++k)

@@ -522,8 +522,8 @@ RockcalRuns RunRockcal(const core::Scene& scene, const core::Terrain& terrain, i
     const double w = timed[k].median_wall;
     char speedup[32] = "";
     if (k == 1) std::snprintf(speedup, sizeof speedup, "%.2fx", timed[0].median_wall / w);
-    std::printf("%-8d %10.3f %12ld %9ld %14.3g %18.3g %9s\n", threads, w, r.steps, r.flights,
-                r.steps / w, bench::FixedStepRockSteps(r) / w, speedup);
+    std::printf("%-8d %10.3f %12ld %9ld %14.3g %18.3g %9s\n", threads, w, r.figures.steps,
+                r.figures.flights, r.figures.steps / w, bench::FixedStepRockSteps(r) / w, speedup);
     std::fflush(stdout);
   }
   const core::SimulationResult& result = timed[0].result;
@@ -539,7 +539,7 @@ RockcalRuns RunRockcal(const core::Scene& scene, const core::Terrain& terrain, i
   std::printf(
       "identical results at 1 and 2 threads: %s; contact step %.3g s; simulated rock time "
       "%.1f s in all, longest rock %.2f s\n\n",
-      same ? "yes" : "NO", result.dt_max, out.rock_seconds, out.max_time);
+      same ? "yes" : "NO", result.figures.dt_max, out.rock_seconds, out.max_time);
   return out;
 }
 
@@ -558,7 +558,7 @@ bool MakeDeck(const core::Scene& scene, const core::Terrain& terrain,
   deck->terrain_atoms = scene.grid.nx * scene.grid.ny;
   deck->gate_only = gate_only;
   deck->rock_atoms = static_cast<int>(result.rocks.size());
-  deck->dt = result.dt_max / dt_divisor;  // t_c / N_c for every rock of this scene, / K
+  deck->dt = result.figures.dt_max / dt_divisor;  // t_c / N_c for every rock of this scene, / K
   deck->chunk_steps = static_cast<int>(std::lround(kCheckSeconds / deck->dt));
   deck->chunks = static_cast<int>(std::ceil(max_time / kCheckSeconds - 1e-9));
   deck->time_limit = deck->chunks * deck->chunk_steps * deck->dt;

@@ -102,8 +102,8 @@ int main(int argc, char** argv) {
       for (int r = 0; r < runs; ++r) {
         const bench::TimedRuns a = bench::TimeSimulation(scanned, terrain, 1, 1);
         const bench::TimedRuns b = bench::TimeSimulation(boxes, terrain, 1, 1);
-        rate_s.push_back(a.result.steps / a.median_wall);
-        rate_b.push_back(b.result.steps / b.median_wall);
+        rate_s.push_back(a.result.figures.steps / a.median_wall);
+        rate_b.push_back(b.result.figures.steps / b.median_wall);
         ratio.push_back(rate_s.back() / rate_b.back());
         stopped = 0;
         for (const auto& rec : a.result.rocks) stopped += rec.outcome == core::Outcome::kStopped;

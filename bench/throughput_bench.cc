@@ -31,8 +31,8 @@ int main(int argc, char** argv) {
     const double w = timed.median_wall;
     const core::SimulationResult& last = timed.result;
     if (threads == 1) one = w;
-    std::printf("%-8d %10.3f %12ld %8ld %14.3g %10.1f\n", threads, w, last.steps, last.flights,
-                last.steps / w, rocks / w);
+    std::printf("%-8d %10.3f %12ld %8ld %14.3g %10.1f\n", threads, w, last.figures.steps,
+                last.figures.flights, last.figures.steps / w, rocks / w);
     if (threads > 1) std::printf("speed-up at %d threads: %.2fx\n", threads, one / w);
     if (threads == omp_get_max_threads() && threads == 1) break;
   }

@@ -179,8 +179,8 @@ void PrintSimulate(const Args& args, const SimulateInputs& in, const core::Scene
                    const core::SimulationResult& result,
                    const std::optional<calibrate::PosteriorRun>& run, const sites::Site& site) {
   std::printf("%s: %zu rocks in %.2f s (%ld steps, %ld flights): %d stopped, %d left, %d timeout\n",
-              scene.name.c_str(), result.rocks.size(), result.wall_seconds, result.steps,
-              result.flights, result.count(core::Outcome::kStopped),
+              scene.name.c_str(), result.rocks.size(), result.wall_seconds, result.figures.steps,
+              result.figures.flights, result.count(core::Outcome::kStopped),
               result.count(core::Outcome::kLeft), result.count(core::Outcome::kTimeout));
   if (run)
     std::printf(
@@ -236,8 +236,9 @@ int Simulate(const std::vector<std::string>& argv) {
   reports::WriteFileAtomically(dir.File("report.html"), reports::HtmlReport(report));
   dir.Commit();
   if (!args.Flag("quiet")) PrintSimulate(args, in, scene, result, run, site);
-  if (result.non_finite > 0) {
-    std::fprintf(stderr, "rockcal: failed: %d rocks reached a non-finite state\n", result.non_finite);
+  if (result.figures.non_finite > 0) {
+    std::fprintf(stderr, "rockcal: failed: %d rocks reached a non-finite state\n",
+                 result.figures.non_finite);
     return 1;
   }
   return 0;

@@ -655,7 +655,7 @@ std::vector<std::vector<double>> SimulateDesign(const std::vector<std::vector<do
         parallel::Writer w;
         w.Doubles(y);
         w.Double(r.wall_seconds);
-        w.Int(r.non_finite > 0 ? 1 : 0);
+        w.Int(r.figures.non_finite > 0 ? 1 : 0);
         return w.bytes();
       },
       [&](int, const std::string&) {
@@ -699,7 +699,7 @@ SensitivityResult RunSensitivity(const sites::Site& site, const observations::Ob
   // The site's current parameters: each output's value and its noise.
   {
     const auto [scene, r] = runner.Run(res.current);
-    CountRun(r.wall_seconds, r.non_finite > 0, &res);
+    CountRun(r.wall_seconds, r.figures.non_finite > 0, &res);
     if (opt.progress) opt.progress(res.simulations, total_runs, "current parameters");
     const std::vector<double> noise = OutputNoise(outputs, scene, r, opt.bootstrap, res.seed);
     for (std::size_t o = 0; o < outputs.size(); ++o)

@@ -397,37 +397,28 @@ StabilityCase RunVariant(const StabilityVariant& v, const StabilityOptions& opt,
   StabilityCase c;
   c.name = v.name;
   c.description = v.description;
-  c.rocks = static_cast<int>(r.rocks.size());
   c.max_time = v.scene.options.max_time;
-  c.dt_min = r.dt_min;
-  c.dt_max = r.dt_max;
-  c.dt_shrunk = r.dt_shrunk > 0;
-  c.shrunk_rocks = r.dt_shrunk;
-  c.steps = r.steps;
-  c.flights = r.flights;
+  c.figures = r.figures;
   c.wall_seconds = r.wall_seconds;
   c.stopped = r.count(core::Outcome::kStopped);
   c.left = r.count(core::Outcome::kLeft);
   c.timeout = r.count(core::Outcome::kTimeout);
-  c.max_energy_gain = r.max_relative_energy_gain;
-  c.max_penetration = r.max_penetration;
-  c.non_finite = r.non_finite;
-  c.tunneled = r.tunneled;
   c.must_stop = v.must_stop;
+  const core::RunFigures& f = c.figures;
   std::vector<std::string> reasons;
-  if (c.non_finite > 0) reasons.push_back(std::to_string(c.non_finite) + " rocks non-finite");
-  if (c.tunneled > 0) reasons.push_back(std::to_string(c.tunneled) + " rocks tunneled");
-  if (!(c.max_energy_gain <= opt.energy_tolerance))
-    reasons.push_back("energy gain " + Num(c.max_energy_gain, "%.3g") + " > tolerance " +
+  if (f.non_finite > 0) reasons.push_back(std::to_string(f.non_finite) + " rocks non-finite");
+  if (f.tunneled > 0) reasons.push_back(std::to_string(f.tunneled) + " rocks tunneled");
+  if (!(f.max_relative_energy_gain <= opt.energy_tolerance))
+    reasons.push_back("energy gain " + Num(f.max_relative_energy_gain, "%.3g") + " > tolerance " +
                       Num(opt.energy_tolerance, "%.3g"));
-  if (v.must_stop && c.stopped < c.rocks)
-    reasons.push_back(std::to_string(c.rocks - c.stopped) + " of " + std::to_string(c.rocks) +
+  if (v.must_stop && c.stopped < f.rocks)
+    reasons.push_back(std::to_string(f.rocks - c.stopped) + " of " + std::to_string(f.rocks) +
                       " rocks did not stop (" + std::to_string(c.left) + " left, " +
                       std::to_string(c.timeout) + " timeout)");
   for (const auto& reason : reasons) c.reason += (c.reason.empty() ? "" : "; ") + reason;
   c.pass = reasons.empty();
-  if (c.max_penetration > opt.penetration_limit)
-    c.warning = "overlap reached " + Num(c.max_penetration, "%.3g") +
+  if (f.max_penetration > opt.penetration_limit)
+    c.warning = "overlap reached " + Num(f.max_penetration, "%.3g") +
                 " element radii (advisory limit " + Num(opt.penetration_limit, "%.3g") + ")";
   return c;
 }
@@ -462,20 +453,20 @@ nlohmann::json StabilityJson(const std::string& site_name, const StabilityOption
     rows.push_back(
         {{"name", c.name},
          {"description", c.description},
-         {"rocks", c.rocks},
+         {"rocks", c.figures.rocks},
          {"max_time_seconds", c.max_time},
-         {"dt_min_seconds", c.dt_min},
-         {"dt_max_seconds", c.dt_max},
-         {"dt_shrunk", c.dt_shrunk},
-         {"rocks_with_step_shrunk", c.shrunk_rocks},
-         {"steps", c.steps},
-         {"flights", c.flights},
+         {"dt_min_seconds", c.figures.dt_min},
+         {"dt_max_seconds", c.figures.dt_max},
+         {"dt_shrunk", c.figures.dt_shrunk > 0},
+         {"rocks_with_step_shrunk", c.figures.dt_shrunk},
+         {"steps", c.figures.steps},
+         {"flights", c.figures.flights},
          {"wall_seconds", c.wall_seconds},
          {"outcomes", {{"stopped", c.stopped}, {"left", c.left}, {"timeout", c.timeout}}},
-         {"max_relative_energy_gain", JsonNum(c.max_energy_gain)},
-         {"max_penetration_over_radius", JsonNum(c.max_penetration)},
-         {"non_finite_rocks", c.non_finite},
-         {"tunneled_rocks", c.tunneled},
+         {"max_relative_energy_gain", JsonNum(c.figures.max_relative_energy_gain)},
+         {"max_penetration_over_radius", JsonNum(c.figures.max_penetration)},
+         {"non_finite_rocks", c.figures.non_finite},
+         {"tunneled_rocks", c.figures.tunneled},
          {"must_stop", c.must_stop},
          {"result", c.pass ? "PASS" : "FAIL"},
          {"reason", c.reason},
@@ -506,11 +497,13 @@ std::string StabilityCsv(const std::vector<StabilityCase>& cases) {
          "stopped,left,timeout,max_relative_energy_gain,max_penetration_over_radius,"
          "non_finite_rocks,tunneled_rocks,must_stop,result,reason,warning\n";
   for (const auto& c : cases) {
-    out << CsvField(c.name) << ',' << c.rocks << ',' << Num(c.max_time) << ',' << Num(c.dt_min)
-        << ',' << Num(c.dt_max) << ',' << (c.dt_shrunk ? "true" : "false") << ',' << c.shrunk_rocks
-        << ',' << c.steps << ',' << c.flights << ',' << Num(c.wall_seconds, "%.4g") << ','
-        << c.stopped << ',' << c.left << ',' << c.timeout << ',' << Num(c.max_energy_gain) << ','
-        << Num(c.max_penetration) << ',' << c.non_finite << ',' << c.tunneled << ','
+    out << CsvField(c.name) << ',' << c.figures.rocks << ',' << Num(c.max_time) << ','
+        << Num(c.figures.dt_min) << ',' << Num(c.figures.dt_max) << ','
+        << (c.figures.dt_shrunk > 0 ? "true" : "false") << ',' << c.figures.dt_shrunk << ','
+        << c.figures.steps << ',' << c.figures.flights << ',' << Num(c.wall_seconds, "%.4g") << ','
+        << c.stopped << ',' << c.left << ',' << c.timeout << ','
+        << Num(c.figures.max_relative_energy_gain) << ',' << Num(c.figures.max_penetration) << ','
+        << c.figures.non_finite << ',' << c.figures.tunneled << ','
         << (c.must_stop ? "true" : "false") << ',' << (c.pass ? "PASS" : "FAIL") << ','
         << CsvField(c.reason) << ',' << CsvField(c.warning) << '\n';
   }
@@ -525,11 +518,11 @@ std::string StabilityReport(const std::vector<StabilityCase>& cases) {
                 "left", "tout", "E_gain", "pen/r", "result");
   out << line;
   for (const auto& c : cases) {
-    std::snprintf(line, sizeof line,
-                  "%-20s %5d %10.3g %10.3g %6d %10ld %8.3g %5d %5d %5d %9.2g %9.3g  %s\n",
-                  c.name.c_str(), c.rocks, c.dt_min, c.dt_max, c.shrunk_rocks, c.steps,
-                  c.wall_seconds, c.stopped, c.left, c.timeout, c.max_energy_gain,
-                  c.max_penetration, c.pass ? "PASS" : "FAIL");
+    std::snprintf(
+        line, sizeof line, "%-20s %5d %10.3g %10.3g %6d %10ld %8.3g %5d %5d %5d %9.2g %9.3g  %s\n",
+        c.name.c_str(), c.figures.rocks, c.figures.dt_min, c.figures.dt_max, c.figures.dt_shrunk,
+        c.figures.steps, c.wall_seconds, c.stopped, c.left, c.timeout,
+        c.figures.max_relative_energy_gain, c.figures.max_penetration, c.pass ? "PASS" : "FAIL");
     out << line;
   }
   for (const auto& c : cases) {
@@ -817,12 +810,8 @@ ConvergenceRow RowOf(const RunData& run, const RunData& finest, const RunData& m
   ConvergenceRow row;
   row.steps_per_contact = run.steps_per_contact;
   row.rocks = run.rocks;
-  row.dt_min = run.result.dt_min;
-  row.dt_max = run.result.dt_max;
-  row.dt_shrunk = run.result.dt_shrunk;
+  row.figures = run.result.figures;
   row.wall_seconds = run.result.wall_seconds;
-  row.steps = run.result.steps;
-  row.flights = run.result.flights;
   row.stopped = run.result.count(core::Outcome::kStopped);
   row.left = run.result.count(core::Outcome::kLeft);
   row.timeout = run.result.count(core::Outcome::kTimeout);
@@ -943,12 +932,12 @@ nlohmann::json ConvergenceJson(const std::string& site_name, const ConvergenceRe
     rows.push_back(
         {{"steps_per_contact", r.steps_per_contact},
          {"rocks", r.rocks},
-         {"dt_min_seconds", r.dt_min},
-         {"dt_max_seconds", r.dt_max},
-         {"rocks_with_step_shrunk", r.dt_shrunk},
+         {"dt_min_seconds", r.figures.dt_min},
+         {"dt_max_seconds", r.figures.dt_max},
+         {"rocks_with_step_shrunk", r.figures.dt_shrunk},
          {"wall_seconds", r.wall_seconds},
-         {"steps", r.steps},
-         {"flights", r.flights},
+         {"steps", r.figures.steps},
+         {"flights", r.figures.flights},
          {"outcomes", {{"stopped", r.stopped}, {"left", r.left}, {"timeout", r.timeout}}},
          {"max_total_error", JsonNum(r.max_total_error)},
          {"max_mc_error", JsonNum(r.max_mc_error)},
@@ -1002,8 +991,8 @@ std::string ConvergenceCsv(const ConvergenceResult& result) {
   for (std::size_t k = 0; k < result.rows.size(); ++k) {
     const ConvergenceRow& r = result.rows[k];
     const std::string head = std::to_string(r.steps_per_contact) + ',' + std::to_string(r.rocks) +
-                             ',' + Num(r.dt_min) + ',' + Num(r.wall_seconds, "%.4g") + ',' +
-                             std::to_string(r.steps) + ',';
+                             ',' + Num(r.figures.dt_min) + ',' + Num(r.wall_seconds, "%.4g") + ',' +
+                             std::to_string(r.figures.steps) + ',';
     const std::string tail = std::string(",") + (r.meets_target ? "true" : "false") + ',' +
                              (static_cast<int>(k) == result.reference ? "true" : "false") + ',' +
                              (static_cast<int>(k) == result.recommended ? "true" : "false") + '\n';
@@ -1031,8 +1020,9 @@ std::string ConvergenceReport(const ConvergenceResult& result) {
     if (static_cast<int>(k) == result.recommended)
       mark += mark.empty() ? "recommended" : ", recommended";
     std::snprintf(line, sizeof line, "%6d %7d %9.3g %9.3g %7d %9.3g %9s %9s %9s %9s %9s  %s\n",
-                  r.steps_per_contact, r.rocks, r.dt_min, r.dt_max, r.dt_shrunk, r.wall_seconds,
-                  Percent(r.max_total_error).c_str(), Percent(r.max_discretisation_error).c_str(),
+                  r.steps_per_contact, r.rocks, r.figures.dt_min, r.figures.dt_max,
+                  r.figures.dt_shrunk, r.wall_seconds, Percent(r.max_total_error).c_str(),
+                  Percent(r.max_discretisation_error).c_str(),
                   Percent(r.max_discretisation_noise).c_str(), Percent(r.max_mc_error).c_str(),
                   Percent(r.max_estimate).c_str(), mark.c_str());
     out << line;

@@ -479,32 +479,6 @@ StepSizes RockSteps(const RockBody& body, const std::vector<ContactLaw>& laws, c
   return steps;
 }
 
-// The result's totals from its rocks (`shrunk`: per rock, its step was cut).
-void AddUpRocks(const std::vector<char>& shrunk, SimulationResult* out) {
-  SimulationResult& result = *out;
-  result.dt_min = kInf;
-  result.dt_max = 0.0;
-  for (std::size_t k = 0; k < result.rocks.size(); ++k) {
-    const RockRecord& r = result.rocks[k];
-    result.steps += r.steps;
-    result.gentle_steps += r.gentle_steps;
-    result.retried_steps += r.retried_steps;
-    result.flights += r.flights;
-    result.dt_min = std::min(result.dt_min, r.dt);
-    result.dt_max = std::max(result.dt_max, r.dt);
-    result.dt_shrunk += shrunk[k];
-    result.tunneled += r.tunneled;
-    if (!std::isfinite(r.max_relative_energy_gain) || !r.stop.allFinite()) {
-      ++result.non_finite;
-    } else {
-      result.max_relative_energy_gain =
-          std::max(result.max_relative_energy_gain, r.max_relative_energy_gain);
-    }
-    result.max_penetration = std::max(result.max_penetration, r.max_penetration);
-  }
-  if (result.rocks.empty()) result.dt_min = 0.0;
-}
-
 }  // namespace
 
 SimulationResult Simulate(const Scene& scene) { return Simulate(scene, BuildTerrain(scene)); }
@@ -601,7 +575,8 @@ SimulationResult SimulateStridedRocks(const Scene& scene, const Terrain& terrain
       progress(++done, static_cast<int>(n));
     }
   }
-  AddUpRocks(shrunk, &result);
+  for (std::size_t k = 0; k < result.rocks.size(); ++k)
+    result.figures += RunFigures::OfRock(result.rocks[k], shrunk[k] != 0);
   for (double b : busy) result.busy_seconds += b;
   result.cells_recorded = scene.options.record.passages;
   result.wall_seconds =
@@ -626,26 +601,49 @@ SimulationResult SimulateEveryNthRock(const Scene& scene, const Terrain& terrain
                               scene.total_rocks(), stride, progress);
 }
 
+RunFigures RunFigures::OfRock(const RockRecord& r, bool shrunk) {
+  RunFigures f;
+  f.rocks = 1;
+  f.steps = r.steps;
+  f.flights = r.flights;
+  f.gentle_steps = r.gentle_steps;
+  f.retried_steps = r.retried_steps;
+  f.dt_min = f.dt_max = r.dt;
+  f.dt_shrunk = shrunk ? 1 : 0;
+  f.tunneled = r.tunneled ? 1 : 0;
+  if (!std::isfinite(r.max_relative_energy_gain) || !r.stop.allFinite())
+    f.non_finite = 1;
+  else
+    f.max_relative_energy_gain = r.max_relative_energy_gain;
+  f.max_penetration = r.max_penetration;
+  return f;
+}
+
+RunFigures& RunFigures::operator+=(const RunFigures& o) {
+  if (o.rocks == 0) return *this;
+  dt_min = rocks == 0 ? o.dt_min : std::min(dt_min, o.dt_min);
+  dt_max = rocks == 0 ? o.dt_max : std::max(dt_max, o.dt_max);
+  rocks += o.rocks;
+  steps += o.steps;
+  flights += o.flights;
+  gentle_steps += o.gentle_steps;
+  retried_steps += o.retried_steps;
+  dt_shrunk += o.dt_shrunk;
+  max_relative_energy_gain = std::max(max_relative_energy_gain, o.max_relative_energy_gain);
+  max_penetration = std::max(max_penetration, o.max_penetration);
+  non_finite += o.non_finite;
+  tunneled += o.tunneled;
+  return *this;
+}
+
 SimulationResult JoinRockBlocks(std::vector<SimulationResult> blocks) {
   SimulationResult out;
-  bool any = false;
   for (SimulationResult& b : blocks) {
     out.wall_seconds = std::max(out.wall_seconds, b.wall_seconds);
     out.busy_seconds += b.busy_seconds;
     out.cells_recorded = out.cells_recorded || b.cells_recorded;
     if (b.rocks.empty()) continue;
-    out.steps += b.steps;
-    out.flights += b.flights;
-    out.gentle_steps += b.gentle_steps;
-    out.retried_steps += b.retried_steps;
-    out.dt_min = any ? std::min(out.dt_min, b.dt_min) : b.dt_min;
-    out.dt_max = any ? std::max(out.dt_max, b.dt_max) : b.dt_max;
-    out.dt_shrunk += b.dt_shrunk;
-    out.max_relative_energy_gain = std::max(out.max_relative_energy_gain, b.max_relative_energy_gain);
-    out.max_penetration = std::max(out.max_penetration, b.max_penetration);
-    out.non_finite += b.non_finite;
-    out.tunneled += b.tunneled;
-    any = true;
+    out.figures += b.figures;
     if (out.rocks.empty()) {
       out.rocks = std::move(b.rocks);
     } else {

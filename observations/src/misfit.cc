@@ -576,7 +576,7 @@ Misfit ComputeMisfit(const Observations& observations, const core::Scene& scene,
   if (!options.IsValid(&invalid)) throw std::invalid_argument("MisfitOptions: " + invalid);
 
   Misfit misfit;
-  const int non_finite = std::max(result.non_finite, CountNonFiniteRecords(result));
+  const int non_finite = std::max(result.figures.non_finite, CountNonFiniteRecords(result));
   if (non_finite > 0) {
     misfit.value = options.penalty;
     misfit.penalised = true;

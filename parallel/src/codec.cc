@@ -115,6 +115,38 @@ core::RockRecord Record(Reader* r) {
   return rec;
 }
 
+void Figures(Writer* w, const core::RunFigures& f) {
+  w->Int(f.rocks);
+  w->Int(f.steps);
+  w->Int(f.flights);
+  w->Int(f.gentle_steps);
+  w->Int(f.retried_steps);
+  w->Double(f.dt_min);
+  w->Double(f.dt_max);
+  w->Int(f.dt_shrunk);
+  w->Double(f.max_relative_energy_gain);
+  w->Double(f.max_penetration);
+  w->Int(f.non_finite);
+  w->Int(f.tunneled);
+}
+
+core::RunFigures Figures(Reader* r) {
+  core::RunFigures f;
+  f.rocks = static_cast<int>(r->Int());
+  f.steps = static_cast<long>(r->Int());
+  f.flights = static_cast<long>(r->Int());
+  f.gentle_steps = static_cast<long>(r->Int());
+  f.retried_steps = static_cast<long>(r->Int());
+  f.dt_min = r->Double();
+  f.dt_max = r->Double();
+  f.dt_shrunk = static_cast<int>(r->Int());
+  f.max_relative_energy_gain = r->Double();
+  f.max_penetration = r->Double();
+  f.non_finite = static_cast<int>(r->Int());
+  f.tunneled = static_cast<int>(r->Int());
+  return f;
+}
+
 }  // namespace
 
 void Writer::Int(long long v) { bytes_.append(reinterpret_cast<const char*>(&v), sizeof v); }
@@ -164,19 +196,10 @@ std::string EncodeResult(const core::SimulationResult& result) {
   Writer w;
   w.Int(static_cast<long long>(result.rocks.size()));
   for (const core::RockRecord& rec : result.rocks) Record(&w, rec);
-  w.Int(result.steps);
-  w.Int(result.flights);
-  w.Int(result.gentle_steps);
-  w.Int(result.retried_steps);
+  Figures(&w, result.figures);
   w.Double(result.wall_seconds);
-  w.Double(result.dt_min);
-  w.Double(result.dt_max);
-  w.Int(result.dt_shrunk);
-  w.Double(result.max_relative_energy_gain);
-  w.Double(result.max_penetration);
-  w.Int(result.non_finite);
+  w.Double(result.busy_seconds);
   w.Int(result.cells_recorded ? 1 : 0);
-  w.Int(result.tunneled);
   return w.bytes();
 }
 
@@ -187,19 +210,10 @@ core::SimulationResult DecodeResult(const std::string& bytes) {
   if (n < 0) throw std::runtime_error("parallel: a message ended early");
   result.rocks.reserve(std::min(static_cast<std::size_t>(n), bytes.size()));
   for (long long k = 0; k < n; ++k) result.rocks.push_back(Record(&r));
-  result.steps = static_cast<long>(r.Int());
-  result.flights = static_cast<long>(r.Int());
-  result.gentle_steps = static_cast<long>(r.Int());
-  result.retried_steps = static_cast<long>(r.Int());
+  result.figures = Figures(&r);
   result.wall_seconds = r.Double();
-  result.dt_min = r.Double();
-  result.dt_max = r.Double();
-  result.dt_shrunk = static_cast<int>(r.Int());
-  result.max_relative_energy_gain = r.Double();
-  result.max_penetration = r.Double();
-  result.non_finite = static_cast<int>(r.Int());
+  result.busy_seconds = r.Double();
   result.cells_recorded = r.Int() != 0;
-  result.tunneled = static_cast<int>(r.Int());
   if (!r.done()) throw std::runtime_error("parallel: a simulation message has extra bytes");
   return result;
 }

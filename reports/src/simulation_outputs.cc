@@ -61,31 +61,54 @@ nlohmann::json SummaryJson(const core::Scene& scene, const core::SimulationResul
           {"rocks", static_cast<int>(result.rocks.size())},
           {"seed", scene.options.seed},
           {"wall_seconds", result.wall_seconds},
-          {"steps", result.steps},
-          {"dt_seconds", result.dt_min},
+          {"steps", result.figures.steps},
+          {"dt_seconds", result.figures.dt_min},
           {"outcomes",
            {{"stopped", result.count(core::Outcome::kStopped)},
             {"left", result.count(core::Outcome::kLeft)},
             {"timeout", result.count(core::Outcome::kTimeout)}}},
           {"partitions", partitions},
           {"runout", {{"x_m", StatsJson(stats.runout_x)}}},
-          {"energy_check", {{"max_relative_gain", result.max_relative_energy_gain}}}};
+          {"energy_check", {{"max_relative_gain", result.figures.max_relative_energy_gain}}}};
+}
+
+std::vector<DiagnosticFigure> DiagnosticFigures(const core::Scene& scene,
+                                                const core::SimulationResult& result) {
+  using Check = DiagnosticFigure::Check;
+  const core::RunFigures& f = result.figures;
+  const core::SimulationOptions& opt = scene.options;
+  auto count = [](long v) { return static_cast<double>(v); };
+  return {
+      {"dt_min_seconds", "smallest contact time step [s]", f.dt_min, false},
+      {"dt_max_seconds", "largest contact time step [s]", f.dt_max, false},
+      {"steps_per_contact", "steps per contact duration (N_c)", count(opt.steps_per_contact), true},
+      {"rocks_with_step_shrunk_for_stability",
+       "rocks whose step was cut below t_c/N_c for stability", count(f.dt_shrunk), true},
+      {"gentle_steps_per_contact", "steps per contact duration in gentle contact (N_g; 0: off)",
+       count(opt.gentle_steps_per_contact), true},
+      {"contact_steps", "contact steps", count(f.steps), true},
+      {"gentle_steps", "of which at the gentle-contact step", count(f.gentle_steps), true},
+      {"retried_steps", "gentle steps taken back and redone short (an impact began)",
+       count(f.retried_steps), true},
+      {"flights", "exact free flights", count(f.flights), true},
+      {"max_penetration_over_radius",
+       "deepest overlap / element radius (about impact speed x t_c / pi)", f.max_penetration, false,
+       Check::kBelow, 0.5},
+      {"max_relative_energy_gain",
+       "largest rise of mechanical energy / largest kinetic energy of the rock",
+       f.max_relative_energy_gain, false, Check::kBelow, 1e-3},
+      {"non_finite_rocks", "rocks whose state became non-finite", count(f.non_finite), true,
+       Check::kZero},
+      {"tunneled_rocks", "rocks that fell through the terrain", count(f.tunneled), true,
+       Check::kZero},
+  };
 }
 
 nlohmann::json DiagnosticsJson(const core::Scene& scene, const core::SimulationResult& result) {
-  nlohmann::json j = {{"dt_min_seconds", result.dt_min},
-          {"dt_max_seconds", result.dt_max},
-          {"steps_per_contact", scene.options.steps_per_contact},
-          {"rocks_with_step_shrunk_for_stability", result.dt_shrunk},
-          {"gentle_steps_per_contact", scene.options.gentle_steps_per_contact},
-          {"contact_steps", result.steps},
-          {"gentle_steps", result.gentle_steps},
-          {"retried_steps", result.retried_steps},
-          {"flights", result.flights},
-          {"max_penetration_over_radius", result.max_penetration},
-          {"max_relative_energy_gain", result.max_relative_energy_gain},
-          {"non_finite_rocks", result.non_finite},
-          {"tunneled_rocks", result.tunneled}};
+  nlohmann::json j = nlohmann::json::object();
+  for (const DiagnosticFigure& f : DiagnosticFigures(scene, result))
+    j[f.key] =
+        f.integer ? nlohmann::json(static_cast<long long>(f.value)) : nlohmann::json(f.value);
   // Scanned shapes (docs/rock-shapes.md): each clump's worst fit to its hull.
   const std::vector<core::ShapeUse> shapes = scene.ScannedShapes();
   if (!shapes.empty()) {

@@ -159,13 +159,13 @@ std::string StabilityBody(const JsonFile& j, const calibrate::StabilityOptions& 
     const calibrate::StabilityCase& c = cases[k];
     const std::string p = "/cases/" + std::to_string(k) + "/";
     std::string step = j.Span(p + "dt_min_seconds", Show);
-    if (c.dt_max != c.dt_min) step += " to " + j.Span(p + "dt_max_seconds", Show);
-    const bool gain_bad = !(c.max_energy_gain <= opt.energy_tolerance);
-    const bool deep = c.max_penetration > opt.penetration_limit;
+    if (c.figures.dt_max != c.figures.dt_min) step += " to " + j.Span(p + "dt_max_seconds", Show);
+    const bool gain_bad = !(c.figures.max_relative_energy_gain <= opt.energy_tolerance);
+    const bool deep = c.figures.max_penetration > opt.penetration_limit;
     // A case that must stop fails on the rocks that did not.
     const std::string outcome =
-        std::string(c.must_stop && c.stopped < c.rocks ? "<td class=\"n bad\">"
-                                                       : "<td class=\"n\">") +
+        std::string(c.must_stop && c.stopped < c.figures.rocks ? "<td class=\"n bad\">"
+                                                               : "<td class=\"n\">") +
         j.Span(p + "outcomes/stopped", Int) + " / " + j.Span(p + "outcomes/left", Int) + " / " +
         j.Span(p + "outcomes/timeout", Int) + "</td>";
     std::string result =
@@ -182,8 +182,8 @@ std::string StabilityBody(const JsonFile& j, const calibrate::StabilityOptions& 
          outcome +
          j.Cell(p + "max_relative_energy_gain", Show, gain_bad ? "bad" : "", "non-finite") +
          j.Cell(p + "max_penetration_over_radius", Show, deep ? "warn" : "", "non-finite") +
-         j.Cell(p + "non_finite_rocks", Int, c.non_finite > 0 ? "bad" : "") +
-         j.Cell(p + "tunneled_rocks", Int, c.tunneled > 0 ? "bad" : "") + result + "</tr>";
+         j.Cell(p + "non_finite_rocks", Int, c.figures.non_finite > 0 ? "bad" : "") +
+         j.Cell(p + "tunneled_rocks", Int, c.figures.tunneled > 0 ? "bad" : "") + result + "</tr>";
   }
   s += "</tbody></table>";
   s += "<p class=\"note\">Time step: the smallest and largest contact step the engine chose; "
@@ -224,7 +224,7 @@ std::string ConvergenceRowHtml(const JsonFile& j, const calibrate::ConvergenceRe
   const bool is_ref = static_cast<int>(k) == result.reference;
   const bool is_rec = static_cast<int>(k) == result.recommended;
   std::string step = j.Span(p + "dt_min_seconds", Show);
-  if (r.dt_max != r.dt_min) step += " to " + j.Span(p + "dt_max_seconds", Show);
+  if (r.figures.dt_max != r.figures.dt_min) step += " to " + j.Span(p + "dt_max_seconds", Show);
   // The quantity with the largest estimate.
   int worst = -1;
   for (std::size_t q = 0; q < r.quantities.size(); ++q)

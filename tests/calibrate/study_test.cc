@@ -143,13 +143,13 @@ TEST(StabilitySuite, EveryCasePassesOnASmallScene) {
   ASSERT_EQ(cases.size(), AllStabilityCases().size());
   for (const auto& c : cases) {
     EXPECT_TRUE(c.pass) << c.name << ": " << c.reason;
-    EXPECT_EQ(c.non_finite, 0) << c.name;
-    EXPECT_EQ(c.tunneled, 0) << c.name;
-    EXPECT_LE(c.max_energy_gain, 1e-3) << c.name;
-    EXPECT_EQ(c.rocks, 2) << c.name;
-    EXPECT_EQ(c.stopped + c.left + c.timeout, c.rocks) << c.name;
-    EXPECT_GT(c.dt_min, 0.0) << c.name;
-    EXPECT_GT(c.steps, 0) << c.name;
+    EXPECT_EQ(c.figures.non_finite, 0) << c.name;
+    EXPECT_EQ(c.figures.tunneled, 0) << c.name;
+    EXPECT_LE(c.figures.max_relative_energy_gain, 1e-3) << c.name;
+    EXPECT_EQ(c.figures.rocks, 2) << c.name;
+    EXPECT_EQ(c.stopped + c.left + c.timeout, c.figures.rocks) << c.name;
+    EXPECT_GT(c.figures.dt_min, 0.0) << c.name;
+    EXPECT_GT(c.figures.steps, 0) << c.name;
   }
   // The engine picks the step by itself: t_c / N_c, or less where the
   // stability bound is tighter; the damping does not tighten it (the
@@ -157,12 +157,12 @@ TEST(StabilitySuite, EveryCasePassesOnASmallScene) {
   auto by_name = [&](const std::string& name) {
     return *std::find_if(cases.begin(), cases.end(), [&](const auto& c) { return c.name == name; });
   };
-  EXPECT_NEAR(by_name("contact_time_0.05ms").dt_max, 5e-5 / 50, 1e-18);
-  EXPECT_NEAR(by_name("contact_time_50ms").dt_max, 0.05 / 50, 1e-15);
-  EXPECT_FALSE(by_name("hardness_0").dt_shrunk);
-  EXPECT_FALSE(by_name("site").dt_shrunk);
+  EXPECT_NEAR(by_name("contact_time_0.05ms").figures.dt_max, 5e-5 / 50, 1e-18);
+  EXPECT_NEAR(by_name("contact_time_50ms").figures.dt_max, 0.05 / 50, 1e-15);
+  EXPECT_EQ(by_name("hardness_0").figures.dt_shrunk, 0);
+  EXPECT_EQ(by_name("site").figures.dt_shrunk, 0);
   // One step serves 1 cm and 10 m rocks: stiffness scales with the mass.
-  EXPECT_EQ(by_name("sizes_1cm_10m").dt_min, by_name("sizes_1cm_10m").dt_max);
+  EXPECT_EQ(by_name("sizes_1cm_10m").figures.dt_min, by_name("sizes_1cm_10m").figures.dt_max);
 }
 
 // With roughness R = s/2 the virtual spheres leave holes at cell centres;
@@ -233,7 +233,7 @@ TEST(StabilitySuite, OptionsAreValidated) {
 TEST(StabilitySuite, WritesTableAsJsonAndCsv) {
   StabilityCase a;
   a.name = "site";
-  a.rocks = 3;
+  a.figures.rocks = 3;
   a.pass = true;
   StabilityCase b = a;
   b.name = "hardness_1";
@@ -362,7 +362,7 @@ double RestitutionError(double e, int steps_per_contact, bool exact_flight, bool
   scene.options.record.trajectories = kPhases;
   scene.options.record.sample_seconds = 1.0;  // the first and the last state
   const core::SimulationResult result = core::Simulate(scene);
-  *shrunk = result.dt_shrunk > 0;
+  *shrunk = result.figures.dt_shrunk > 0;
   double sum = 0.0;
   for (int k = 0; k < kPhases; ++k) {
     const core::TrajectorySample& end = result.rocks[static_cast<std::size_t>(k)].trajectory.back();
@@ -459,9 +459,9 @@ TEST(Convergence, TinySceneGivesATableAndARecommendation) {
     EXPECT_GT(row.wall_seconds, 0.0);
     // t_c / N_c, or less where the stability bound of the soft soil (e = 0.2)
     // is tighter (N_c = 10 and 20).
-    EXPECT_LE(row.dt_max, 5e-3 / row.steps_per_contact * (1 + 1e-15));
-    if (row.dt_shrunk == 0) {
-      EXPECT_NEAR(row.dt_max, 5e-3 / row.steps_per_contact, 1e-15);
+    EXPECT_LE(row.figures.dt_max, 5e-3 / row.steps_per_contact * (1 + 1e-15));
+    if (row.figures.dt_shrunk == 0) {
+      EXPECT_NEAR(row.figures.dt_max, 5e-3 / row.steps_per_contact, 1e-15);
     }
     for (const QuantityError& q : row.quantities) {
       if (row.steps_per_contact == 20) {

@@ -1,6 +1,7 @@
 // SimulateRocks and JoinRockBlocks: a run split into blocks of rocks (as the
 // ranks of an MPI job simulate it) joins into exactly the whole run; and
-// SimulateEveryNthRock takes the whole run's rocks.
+// SimulateEveryNthRock takes the whole run's rocks. RunFigures: a run's
+// figures are its rocks' summed.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -69,17 +70,18 @@ TEST(SimulateRocks, BlocksJoinIntoTheWholeRunAndEveryNthRockIsTheWholeRunsRock) 
   ASSERT_EQ(joined.rocks.size(), whole.rocks.size());
   for (std::size_t k = 0; k < whole.rocks.size(); ++k)
     ExpectSameRecord(whole.rocks[k], joined.rocks[k]);
-  EXPECT_EQ(joined.steps, whole.steps);
-  EXPECT_EQ(joined.flights, whole.flights);
-  EXPECT_EQ(joined.gentle_steps, whole.gentle_steps);
-  EXPECT_EQ(joined.retried_steps, whole.retried_steps);
-  EXPECT_EQ(joined.dt_min, whole.dt_min);
-  EXPECT_EQ(joined.dt_max, whole.dt_max);
-  EXPECT_EQ(joined.dt_shrunk, whole.dt_shrunk);
-  EXPECT_EQ(joined.max_relative_energy_gain, whole.max_relative_energy_gain);
-  EXPECT_EQ(joined.max_penetration, whole.max_penetration);
-  EXPECT_EQ(joined.non_finite, whole.non_finite);
-  EXPECT_EQ(joined.tunneled, whole.tunneled);
+  EXPECT_EQ(joined.figures.rocks, whole.figures.rocks);
+  EXPECT_EQ(joined.figures.steps, whole.figures.steps);
+  EXPECT_EQ(joined.figures.flights, whole.figures.flights);
+  EXPECT_EQ(joined.figures.gentle_steps, whole.figures.gentle_steps);
+  EXPECT_EQ(joined.figures.retried_steps, whole.figures.retried_steps);
+  EXPECT_EQ(joined.figures.dt_min, whole.figures.dt_min);
+  EXPECT_EQ(joined.figures.dt_max, whole.figures.dt_max);
+  EXPECT_EQ(joined.figures.dt_shrunk, whole.figures.dt_shrunk);
+  EXPECT_EQ(joined.figures.max_relative_energy_gain, whole.figures.max_relative_energy_gain);
+  EXPECT_EQ(joined.figures.max_penetration, whole.figures.max_penetration);
+  EXPECT_EQ(joined.figures.non_finite, whole.figures.non_finite);
+  EXPECT_EQ(joined.figures.tunneled, whole.figures.tunneled);
 
   // SimulateEveryNthRock: stride 4 takes rocks {1, 5} (both groups: the
   // spheres are 0-4, the cubes 5-8), exactly as in the whole run.
@@ -97,6 +99,48 @@ TEST(SimulateRocks, RejectsARangeOutsideTheScene) {
   EXPECT_THROW(SimulateRocks(scene, terrain, 3, 2), std::invalid_argument);
   EXPECT_THROW(SimulateRocks(scene, terrain, 0, 10), std::invalid_argument);
   EXPECT_THROW(SimulateRocks(scene, terrain, -1, 2), std::invalid_argument);
+}
+
+// Two rocks by hand: the second took a shorter, shrunk step, tunneled and
+// ended non-finite (its energy gain is left out of the largest).
+TEST(RunFigures, ARunsFiguresAreItsRocksSummed) {
+  RockRecord a;
+  a.steps = 10, a.flights = 2, a.gentle_steps = 4, a.retried_steps = 1;
+  a.dt = 2e-4;
+  a.max_relative_energy_gain = 1e-5;
+  a.max_penetration = 0.1;
+  RockRecord b = a;
+  b.steps = 5;
+  b.dt = 1e-4;
+  b.max_relative_energy_gain = std::nan("");
+  b.max_penetration = 0.3;
+  b.tunneled = true;
+  RunFigures f;
+  f += RunFigures::OfRock(a, false);
+  f += RunFigures::OfRock(b, true);
+  EXPECT_EQ(f.rocks, 2);
+  EXPECT_EQ(f.steps, 15);
+  EXPECT_EQ(f.flights, 4);
+  EXPECT_EQ(f.gentle_steps, 8);
+  EXPECT_EQ(f.retried_steps, 2);
+  EXPECT_EQ(f.dt_min, 1e-4);
+  EXPECT_EQ(f.dt_max, 2e-4);
+  EXPECT_EQ(f.dt_shrunk, 1);
+  EXPECT_EQ(f.max_relative_energy_gain, 1e-5);
+  EXPECT_EQ(f.max_penetration, 0.3);
+  EXPECT_EQ(f.non_finite, 1);
+  EXPECT_EQ(f.tunneled, 1);
+  // No rocks add nothing, on either side (the steps' range is not widened to 0).
+  RunFigures g = f;
+  g += RunFigures{};
+  RunFigures h;
+  h += f;
+  for (const RunFigures& x : {g, h}) {
+    EXPECT_EQ(x.rocks, 2);
+    EXPECT_EQ(x.steps, 15);
+    EXPECT_EQ(x.dt_min, 1e-4);
+    EXPECT_EQ(x.dt_max, 2e-4);
+  }
 }
 
 }  // namespace

@@ -260,14 +260,14 @@ TEST(Simulate, ARockAtRestEndsAsTheFullWaitWouldEndIt) {
     EXPECT_LE(a.steps, b.steps) << "rock " << k;
   }
   EXPECT_GE(stopped, 6);
-  EXPECT_LT(ended.steps, 0.9 * waited.steps);
+  EXPECT_LT(ended.figures.steps, 0.9 * waited.figures.steps);
 }
 
 TEST(Simulate, RoughSlopeEndsCleanlyWithoutEnergyGain) {
   const Scene scene = RoughSlope(4);
   const SimulationResult result = Simulate(scene);
-  EXPECT_EQ(result.non_finite, 0);
-  EXPECT_EQ(result.tunneled, 0);
+  EXPECT_EQ(result.figures.non_finite, 0);
+  EXPECT_EQ(result.figures.tunneled, 0);
   for (const auto& r : result.rocks) {
     EXPECT_TRUE(r.stop.allFinite()) << "rock " << r.rock;
     EXPECT_FALSE(r.tunneled) << "rock " << r.rock << " " << ShapeName(r.shape) << " size " << r.size
@@ -293,10 +293,10 @@ TEST(Simulate, TheMostDampedSlopeKeepsItsStepAndAddsNoEnergy) {
   for (Material& m : scene.materials) m.hardness = 0.0;
   scene.options.max_time = 8.0;
   const SimulationResult result = Simulate(scene);
-  EXPECT_EQ(result.dt_shrunk, 0);
-  EXPECT_DOUBLE_EQ(result.dt_max,
+  EXPECT_EQ(result.figures.dt_shrunk, 0);
+  EXPECT_DOUBLE_EQ(result.figures.dt_max,
                    scene.materials[0].contact_time_s / scene.options.steps_per_contact);
-  EXPECT_EQ(result.non_finite, 0);
+  EXPECT_EQ(result.figures.non_finite, 0);
   for (const auto& r : result.rocks)
     EXPECT_LT(r.max_relative_energy_gain, 1e-6)
         << "rock " << r.rock << " shape " << ShapeName(r.shape) << " size " << r.size;
@@ -332,7 +332,7 @@ TEST(Simulate, ASphereBetweenTwoRowsOfVirtualSpheresAddsNoEnergyAtHardnessZero) 
   scene.groups = {spheres};
   scene.options.max_time = 20.0;
   const SimulationResult result = Simulate(scene);
-  EXPECT_EQ(result.non_finite, 0);
+  EXPECT_EQ(result.figures.non_finite, 0);
   for (const auto& r : result.rocks)
     EXPECT_LT(r.max_relative_energy_gain, 1e-6) << "rock " << r.rock << " size " << r.size;
 }
@@ -344,7 +344,7 @@ TEST(Simulate, VegetationOnARoughSlopeNeverAddsEnergy) {
   const SimulationResult bare = Simulate(scene);
   for (Material& m : scene.materials) m.vegetation_pa = 3000.0;
   const SimulationResult result = Simulate(scene);
-  EXPECT_EQ(result.non_finite, 0);
+  EXPECT_EQ(result.figures.non_finite, 0);
   double bare_run = 0.0, run = 0.0;
   for (std::size_t k = 0; k < result.rocks.size(); ++k) {
     const RockRecord& r = result.rocks[k];
@@ -551,9 +551,9 @@ BothPaths RunBothPaths(Scene scene, double sample) {
   scene.options.reference_path = true;
   out.reference = Simulate(scene);
   // The levers were on, then off.
-  EXPECT_GT(out.fast.gentle_steps, 0);
-  EXPECT_EQ(out.reference.gentle_steps, 0);
-  EXPECT_EQ(out.reference.flights, 0);
+  EXPECT_GT(out.fast.figures.gentle_steps, 0);
+  EXPECT_EQ(out.reference.figures.gentle_steps, 0);
+  EXPECT_EQ(out.reference.figures.flights, 0);
   return out;
 }
 
@@ -577,7 +577,7 @@ TEST(Simulate, BouncingSphereFastPathsMatchReference) {
   scene.groups = {PointGroup(Shape::kSphere, 0.4, 10.0, 10.0, 5.0)};
   scene.options.max_time = 4.0;
   const BothPaths p = RunBothPaths(scene, 0.005);
-  EXPECT_GT(p.fast.flights, 0);
+  EXPECT_GT(p.fast.figures.flights, 0);
   // Free fall: exact on both (constant acceleration).
   EXPECT_LT(PathDistance(p, 0.95), 1e-9);
   // The first rebound's apex (bottom above ground, 5 e^2 = 1.25 m): the fast
@@ -605,7 +605,7 @@ TEST(Simulate, RollingSphereFastPathsMatchReference) {
   // Within 1e-3 of the distance travelled (the two differ by the contact
   // spring's small oscillation, resolved differently).
   EXPECT_LT(PathDistance(p, 3.0), 1e-3 * (p.fast.rocks[0].stop - p.fast.rocks[0].start).norm());
-  EXPECT_LT(p.fast.steps, p.reference.steps / 2) << "the gentle step is longer";
+  EXPECT_LT(p.fast.figures.steps, p.reference.figures.steps / 2) << "the gentle step is longer";
 }
 
 // A cube (a sphere cluster) sliding down a smooth 30-degree incline.

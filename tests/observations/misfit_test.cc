@@ -170,7 +170,7 @@ TEST(MisfitTest, SigmaHasAPositiveFloor) {
 TEST(MisfitTest, NonFiniteResultIsPenalisedWithAFiniteValue) {
   const core::Scene scene = TwoPartitionScene();
   core::SimulationResult result = CrossingAt(0, SomeHeights());
-  result.non_finite = 1;
+  result.figures.non_finite = 1;
   MisfitOptions options;
   options.penalty = 42.0;
   const Misfit m = ComputeMisfit(ScarsAt(0, SomeHeights(), 0.3), scene, result, options);
@@ -180,7 +180,7 @@ TEST(MisfitTest, NonFiniteResultIsPenalisedWithAFiniteValue) {
   EXPECT_THAT(m.message, HasSubstr("non-finite"));
 
   // A non-finite value in a record counts too, even when non_finite is 0.
-  result.non_finite = 0;
+  result.figures.non_finite = 0;
   result.rocks[3].crossings[0].height = std::numeric_limits<double>::quiet_NaN();
   const Misfit n = ComputeMisfit(ScarsAt(0, SomeHeights(), 0.3), scene, result);
   EXPECT_TRUE(n.penalised);

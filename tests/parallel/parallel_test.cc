@@ -42,19 +42,21 @@ core::SimulationResult SampleResult() {
                                 Eigen::Vector3d(7, 8, 9), Eigen::Vector4d(1, 0, 0, 0)});
     r.rocks.push_back(rec);
   }
-  r.steps = 99;
-  r.flights = 98;
-  r.gentle_steps = 97;
-  r.retried_steps = 96;
+  r.figures.rocks = 3;
+  r.figures.steps = 99;
+  r.figures.flights = 98;
+  r.figures.gentle_steps = 97;
+  r.figures.retried_steps = 96;
   r.wall_seconds = 0.125;
-  r.dt_min = 1e-6;
-  r.dt_max = 2e-5;
-  r.dt_shrunk = 2;
-  r.max_relative_energy_gain = 3e-4;
-  r.max_penetration = 0.02;
-  r.non_finite = 0;
+  r.busy_seconds = 0.25;
+  r.figures.dt_min = 1e-6;
+  r.figures.dt_max = 2e-5;
+  r.figures.dt_shrunk = 2;
+  r.figures.max_relative_energy_gain = 3e-4;
+  r.figures.max_penetration = 0.02;
+  r.figures.non_finite = 0;
   r.cells_recorded = true;
-  r.tunneled = 1;
+  r.figures.tunneled = 1;
   return r;
 }
 
@@ -73,7 +75,9 @@ TEST(Codec, SimulationResultRoundTripsBitForBit) {
   EXPECT_EQ(back.rocks[1].trajectory.size(), 1u);
   EXPECT_EQ(back.rocks[2].cells[1].energy, 200.0 / 3.0);
   EXPECT_TRUE(back.cells_recorded);
-  EXPECT_EQ(back.tunneled, 1);
+  EXPECT_EQ(back.figures.tunneled, 1);
+  EXPECT_EQ(back.figures.rocks, 3);
+  EXPECT_EQ(back.busy_seconds, 0.25);
 }
 
 TEST(Codec, ACutMessageIsAnError) {

@@ -55,7 +55,7 @@ TEST(SimulationOutputs, ANonFiniteValueIsAnInternalFailureNeverWritten) {
   EXPECT_FALSE(fs::exists(folder + "/summary.json"));
 
   result.rocks[1].stop.x() = 11.0;
-  result.max_relative_energy_gain = NAN;
+  result.figures.max_relative_energy_gain = NAN;
   EXPECT_THAT(MessageOf([&] { WriteSimulationFiles(folder, scene, result); }),
               HasSubstr("summary.json $.energy_check.max_relative_gain is nan"));
   EXPECT_FALSE(fs::exists(folder + "/summary.json"));

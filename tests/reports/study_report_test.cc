@@ -77,15 +77,15 @@ calibrate::StabilityCase Case(const std::string& name, bool pass) {
   calibrate::StabilityCase c;
   c.name = name;
   c.description = "a case & its <description>";
-  c.rocks = 20;
+  c.figures.rocks = 20;
   c.max_time = 60.0;
-  c.dt_min = c.dt_max = 1e-4;
-  c.steps = 452092;
-  c.flights = 76547;
+  c.figures.dt_min = c.figures.dt_max = 1e-4;
+  c.figures.steps = 452092;
+  c.figures.flights = 76547;
   c.wall_seconds = 0.1234;
   c.stopped = 13, c.left = 7, c.timeout = 0;
-  c.max_energy_gain = 2.8e-11;
-  c.max_penetration = 0.0516;
+  c.figures.max_relative_energy_gain = 2.8e-11;
+  c.figures.max_penetration = 0.0516;
   c.pass = pass;
   return c;
 }
@@ -96,17 +96,16 @@ calibrate::StabilityCase Case(const std::string& name, bool pass) {
 std::vector<calibrate::StabilityCase> HandCases() {
   std::vector<calibrate::StabilityCase> cases = {Case("site", true), Case("hardness_1", false),
                                                  Case("flat_runout", false)};
-  cases[1].dt_min = 2.61e-5;
-  cases[1].dt_shrunk = true;
-  cases[1].shrunk_rocks = 20;
-  cases[1].tunneled = 2;
-  cases[1].max_energy_gain = 0.5;
+  cases[1].figures.dt_min = 2.61e-5;
+  cases[1].figures.dt_shrunk = 20;
+  cases[1].figures.tunneled = 2;
+  cases[1].figures.max_relative_energy_gain = 0.5;
   cases[1].reason = "2 rocks tunneled; energy gain 0.5 > tolerance 0.001";
   cases[2].must_stop = true;
   cases[2].stopped = 18, cases[2].left = 0, cases[2].timeout = 2;
-  cases[2].non_finite = 1;
-  cases[2].max_energy_gain = std::nan("");
-  cases[2].max_penetration = 3.68;
+  cases[2].figures.non_finite = 1;
+  cases[2].figures.max_relative_energy_gain = std::nan("");
+  cases[2].figures.max_penetration = 3.68;
   cases[2].reason = "1 rocks non-finite; 2 of 20 rocks did not stop (0 left, 2 timeout)";
   cases[2].warning = "overlap reached 3.68 element radii (advisory limit 0.5)";
   return cases;
@@ -125,7 +124,7 @@ void CheckStabilityReport(const sites::Site& site, const calibrate::StabilityOpt
   for (const char* leaf : {"/site", "/passed"}) expected.insert(leaf);
   if (json["failed"] > 0) expected.insert("/failed");  // "12 cases: 12 PASS" when none failed
   for (std::size_t k = 0; k < cases.size(); ++k)       // one step shown when the steps are equal
-    if (cases[k].dt_min == cases[k].dt_max)
+    if (cases[k].figures.dt_min == cases[k].figures.dt_max)
       expected.erase("/cases/" + std::to_string(k) + "/dt_max_seconds");
   for (const std::string& leaf : expected)
     EXPECT_TRUE(seen["stability.json"].count(leaf)) << "stability.json" << leaf << " not shown";
@@ -221,11 +220,11 @@ calibrate::ConvergenceResult HandConvergence(bool recommend) {
       calibrate::ConvergenceRow row;
       row.steps_per_contact = nc;
       row.rocks = rocks;
-      row.dt_min = 5e-3 / nc;
-      row.dt_max = nc == 10 ? 2 * row.dt_min : row.dt_min;
-      row.dt_shrunk = nc == 10 ? rocks : 0;
+      row.figures.dt_min = 5e-3 / nc;
+      row.figures.dt_max = nc == 10 ? 2 * row.figures.dt_min : row.figures.dt_min;
+      row.figures.dt_shrunk = nc == 10 ? rocks : 0;
       row.wall_seconds = 0.001 * nc * rocks;
-      row.steps = 1000L * nc * rocks;
+      row.figures.steps = 1000L * nc * rocks;
       row.stopped = rocks;
       const double mc = 0.3 * std::sqrt(50.0 / rocks), d = nc == 10 ? 0.04 : 0.0;
       row.quantities = {Quantity(r.quantities[0], 5.28, d + 0.01, mc, d),
@@ -271,7 +270,8 @@ void CheckConvergenceReport(const sites::Site& site, const calibrate::Convergenc
   }
   for (std::size_t k = 0; k < r.rows.size(); ++k) {
     const std::string row = "/rows/" + std::to_string(k) + "/";
-    if (r.rows[k].dt_min == r.rows[k].dt_max) expected.erase(row + "dt_max_seconds");
+    if (r.rows[k].figures.dt_min == r.rows[k].figures.dt_max)
+      expected.erase(row + "dt_max_seconds");
     for (const char* key : {"stopped", "left", "timeout"}) expected.erase(row + "outcomes/" + key);
     expected.erase(row + "flights");
   }

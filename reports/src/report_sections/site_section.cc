@@ -12,6 +12,7 @@ std::string SiteSection(const Context& c) {
   // The run.
   const core::SimulationOptions& opt = c.scene.options;
   const core::SimulationResult& r = c.result;
+  const core::RunFigures& f = r.figures;
   s += "<h3>Simulation</h3><table class=\"kv\">";
   s += Kv("Random seed", RefSpan(Ref("summary.json", "/seed"), static_cast<double>(opt.seed),
                                  std::to_string(opt.seed)));
@@ -34,20 +35,20 @@ std::string SiteSection(const Context& c) {
           Escape("speed below " + Label(opt.stop_speed) + " m/s for " + Label(opt.stop_duration) +
                  " s" + rest + "; time limit " + Label(opt.max_time) + " s per rock"));
   s += Kv("Contact time step",
-          RefSpan(Ref("summary.json", "/dt_seconds"), r.dt_min, Label(r.dt_min, 3)) +
-              (r.dt_max > r.dt_min ? " to " + Escape(Label(r.dt_max, 3)) : std::string()) +
+          RefSpan(Ref("summary.json", "/dt_seconds"), f.dt_min, Label(f.dt_min, 3)) +
+              (f.dt_max > f.dt_min ? " to " + Escape(Label(f.dt_max, 3)) : std::string()) +
               " s (at most t_c/" + Int(opt.steps_per_contact) + ", " + Escape(Label(opt.safety)) +
               " of the critical step); free flight advanced exactly");
   s += Kv("Work",
-          RefSpan(Ref("summary.json", "/steps"), static_cast<double>(r.steps), Int(r.steps)) +
-              " contact steps and " + Escape(Int(r.flights)) + " free flights");
+          RefSpan(Ref("summary.json", "/steps"), static_cast<double>(f.steps), Int(f.steps)) +
+              " contact steps and " + Escape(Int(f.flights)) + " free flights");
   s += Kv(
       "Wall time",
       RefSpan(Ref("summary.json", "/wall_seconds"), r.wall_seconds, Show(r.wall_seconds)) + " s");
   s += Kv("Energy check",
           "largest rise of mechanical energy " +
               RefSpan(Ref("summary.json", "/energy_check/max_relative_gain"),
-                      r.max_relative_energy_gain, Label(r.max_relative_energy_gain, 3)) +
+                      f.max_relative_energy_gain, Label(f.max_relative_energy_gain, 3)) +
               " of the rock's largest kinetic energy (see the diagnostics)");
   s += "</table>";
   s += html::SiteNotes(c.in.notes);

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "rockcal/core/scene.h"
+#include "rockcal/core/simulate.h"
 
 namespace rockcal::calibrate {
 
@@ -104,17 +105,14 @@ std::vector<StabilityVariant> StabilityVariants(const core::Scene& site_scene,
 
 struct StabilityCase {
   std::string name, description;
-  int rocks = 0;
-  double max_time = 0.0;              // s of simulated time allowed per rock in this case
-  double dt_min = 0.0, dt_max = 0.0;  // s, contact steps chosen by the engine
-  bool dt_shrunk = false;             // some rock's step was cut below t_c / N_c
-  int shrunk_rocks = 0;               // how many
-  long steps = 0, flights = 0;        // contact steps and exact flights, all rocks
-  double wall_seconds = 0.0;          // simulation, all rocks
+  double max_time = 0.0;  // s of simulated time allowed per rock in this case
+  // The run's rocks, steps the engine chose (and the rocks whose step was
+  // cut below t_c / N_c), contact steps and exact flights, the largest
+  // relative energy gain (finite rocks), the deepest overlap / element
+  // radius, non-finite and tunneled rocks.
+  core::RunFigures figures;
+  double wall_seconds = 0.0;  // simulation, all rocks
   int stopped = 0, left = 0, timeout = 0;
-  double max_energy_gain = 0.0;  // largest relative energy gain (finite rocks)
-  double max_penetration = 0.0;  // deepest overlap / element radius
-  int non_finite = 0, tunneled = 0;
   bool must_stop = false;
   bool pass = false;
   std::string reason;   // why it failed ("" when it passed)
@@ -180,10 +178,10 @@ struct QuantityError {
 
 struct ConvergenceRow {
   int steps_per_contact = 0, rocks = 0;
-  double dt_min = 0.0, dt_max = 0.0;  // s, steps the engine chose
-  int dt_shrunk = 0;                  // rocks whose step the stability bound cut below t_c / N_c
+  // The run's steps the engine chose (and the rocks whose step the
+  // stability bound cut below t_c / N_c), contact steps and flights.
+  core::RunFigures figures;
   double wall_seconds = 0.0;
-  long steps = 0, flights = 0;
   int stopped = 0, left = 0, timeout = 0;
   std::vector<QuantityError> quantities;  // ConvergenceResult::quantities order
   // Largest of each error over the quantities.

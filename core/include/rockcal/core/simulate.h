@@ -62,22 +62,40 @@ struct RockRecord {
   std::vector<TrajectorySample> trajectory;
 };
 
+// The figures of a run that add up over its rocks: what the engine did
+// (steps, flights, the steps it chose) and its health checks (energy,
+// overlap, non-finite and tunneled rocks). One rock's are OfRock; a run's
+// are its rocks' summed with +=, whether the rocks ran in one block or in
+// several (JoinRockBlocks, the ranks of an MPI run).
+struct RunFigures {
+  int rocks = 0;                             // rocks counted
+  long steps = 0, flights = 0;               // contact steps, exact flights
+  long gentle_steps = 0, retried_steps = 0;  // see RockRecord
+  double dt_min = 0.0, dt_max = 0.0;         // contact steps used (0 without rocks)
+  // Rocks whose step was cut below t_c/N_c for stability.
+  int dt_shrunk = 0;
+  // The largest relative energy gain of a rock with a finite state, and the
+  // deepest overlap / element radius.
+  double max_relative_energy_gain = 0.0, max_penetration = 0.0;
+  int non_finite = 0;  // rocks whose state became non-finite (must be 0)
+  int tunneled = 0;    // rocks that fell through the terrain
+
+  // The figures of one rock (`shrunk`: its step was cut below t_c/N_c).
+  static RunFigures OfRock(const RockRecord& rock, bool shrunk);
+  // Adds `other`'s rocks: counts summed, the steps' range and the largest
+  // gain and overlap widened; a figure of no rocks changes nothing.
+  RunFigures& operator+=(const RunFigures& other);
+};
+
 struct SimulationResult {
   std::vector<RockRecord> rocks;  // in rock order
-  long steps = 0, flights = 0;
-  long gentle_steps = 0, retried_steps = 0;  // see RockRecord
+  RunFigures figures;             // of `rocks`
   double wall_seconds = 0.0;
   // Wall time the threads spent inside rocks, summed over rocks: at T
   // threads busy_seconds / (T wall_seconds) is the share of the run the
   // schedule kept every thread busy (1: no thread waited for another).
   double busy_seconds = 0.0;
-  double dt_min = 0.0, dt_max = 0.0;  // contact steps used
-  int dt_shrunk = 0;   // rocks whose step was cut below t_c/N_c for stability
-  double max_relative_energy_gain = 0.0;
-  double max_penetration = 0.0;
-  int non_finite = 0;  // rocks whose state became non-finite (must be 0)
   bool cells_recorded = false;  // RecordOptions::passages was on: RockRecord::cells hold the paths
-  int tunneled = 0;
   int count(Outcome o) const;
 };
 

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "rockcal/core/simulate.h"
 
@@ -12,8 +13,28 @@ namespace rockcal::reports {
 
 // summary.json, exactly the schema of DESIGN.md.
 nlohmann::json SummaryJson(const core::Scene& scene, const core::SimulationResult& result);
-// Numerical diagnostics: time steps, flights, shrunk steps, penetration,
-// energy gain, non-finite and tunneled rocks.
+// One figure of diagnostics.json: its key, what it is, its value and how
+// the report judges it.
+struct DiagnosticFigure {
+  enum class Check {
+    kNone,   // information
+    kBelow,  // small is good: at most `limit`
+    kZero,   // must be 0
+  };
+  const char* key;   // diagnostics.json's key
+  const char* what;  // for the report's table
+  double value = 0.0;
+  bool integer = false;  // a count, written as a whole number
+  Check check = Check::kNone;
+  double limit = 0.0;  // of kBelow
+};
+// The run's numerical diagnostics from its core::RunFigures and the scene's
+// steps per contact: time steps, shrunk steps, contact steps and flights,
+// penetration, energy gain, non-finite and tunneled rocks; in the report's
+// order.
+std::vector<DiagnosticFigure> DiagnosticFigures(const core::Scene& scene,
+                                                const core::SimulationResult& result);
+// diagnostics.json: DiagnosticFigures, and the scanned shapes' fit.
 nlohmann::json DiagnosticsJson(const core::Scene& scene, const core::SimulationResult& result);
 // One row per rock; partition columns in site order (empty where not crossed).
 // A non-finite value throws std::runtime_error (an internal failure) naming
