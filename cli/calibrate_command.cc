@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 
@@ -25,6 +25,7 @@
 #include "rockcal/reports/html_report.h"
 #include "rockcal/reports/output_dir.h"
 #include "rockcal/reports/raster_outputs.h"
+#include "rockcal/reports/result_files.h"
 #include "rockcal/reports/simulation_outputs.h"
 #include "rockcal/sites/site.h"
 
@@ -269,8 +270,7 @@ void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
     reports::WriteFileAtomically(out + "/holdout.csv", reports::HoldoutCsv(*holdout, summary));
   }
   if (summary.reach)
-    reports::WriteFileAtomically(out + "/reach.json",
-                                 calibrate::ReachJson(summary.site, *summary.reach).dump(2) + "\n");
+    reports::WriteFileAtomically(out + "/reach.json", reports::JsonText(*summary.reach));
   reports::ReportInput report = SiteReport(site, summary.calibrated, summary.simulation, &maps);
   report.calibration = &summary;
   report.observations = &obs;

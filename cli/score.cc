@@ -3,7 +3,6 @@
 #include "rockcal/calibrate/score.h"
 
 #include <cstdio>
-#include <nlohmann/json.hpp>
 
 #include "args.h"
 #include "commands.h"
@@ -13,6 +12,7 @@
 #include "rockcal/observations/observations.h"
 #include "rockcal/reports/html_report.h"
 #include "rockcal/reports/output_dir.h"
+#include "rockcal/reports/result_files.h"
 #include "rockcal/reports/simulation_outputs.h"
 #include "rockcal/sites/site.h"
 #include "run_inputs.h"
@@ -39,30 +39,9 @@ int Score(const std::vector<std::string>& argv) {
   RankOutputDir dir(out, args.Flag("force"), inputs.Origin("score"));
   const calibrate::ScoreSummary score = calibrate::Score(scene, obs);
   const core::SimulationResult& sim = score.simulation;
-  nlohmann::json residuals = nlohmann::json::array();
-  for (const auto& r : score.misfit.residuals)
-    residuals.push_back({{"observation", r.id.observation()},
-                         {"quantity", r.id.quantity()},
-                         {"simulated", r.simulated},
-                         {"observed", r.observed},
-                         {"sigma", r.sigma},
-                         {"residual", r.value}});
-  const nlohmann::json json = {
-      {"site", scene.name},
-      {"observations", obs.path},
-      {"parameters", args.Has("parameters") ? nlohmann::json(args.Get("parameters")) : nullptr},
-      {"rocks", scene.total_rocks()},
-      {"seed", scene.options.seed},
-      {"misfit", score.misfit.value},
-      {"penalised", score.misfit.penalised},
-      {"message", score.misfit.message},
-      {"outcomes",
-       {{"stopped", sim.count(core::Outcome::kStopped)},
-        {"left", sim.count(core::Outcome::kLeft)},
-        {"timeout", sim.count(core::Outcome::kTimeout)}}},
-      {"residuals", residuals}};
   reports::WriteSimulationFiles(dir.folder(), score.scene, sim);
-  reports::WriteFileAtomically(dir.File("score.json"), json.dump(2) + "\n");
+  reports::WriteScoreFile(dir.folder(),
+                          calibrate::ScoreResultOf(score, obs.path, options.parameters_file));
   const core::RasterSet rasters = core::ComputeRasters(score.scene, sim);
   reports::ReportInput report = SiteReport(site, score.scene, sim, &rasters);
   report.observations = &obs;

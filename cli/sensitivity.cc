@@ -15,7 +15,7 @@
 #include "rockcal/core/limits.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/reports/output_dir.h"
-#include "rockcal/reports/study_report.h"
+#include "rockcal/reports/result_files.h"
 #include "rockcal/sites/site.h"
 #include "run_inputs.h"
 
@@ -67,16 +67,12 @@ int Sensitivity(const std::vector<std::string>& argv) {
     result = calibrate::RunSensitivity(site, obs ? &*obs : nullptr, opt);
   }
   const std::string& name = site.scene.name;
-  reports::WriteFileAtomically(dir.File("sensitivity.json"),
-                               calibrate::SensitivityJson(name, result).dump(2) + "\n");
-  reports::WriteFileAtomically(dir.File("sensitivity.csv"), calibrate::SensitivityCsv(result));
   reports::StudyReportInput report;
   report.scene = &site.scene;
   report.site_file = site.path;
   report.units = site.units;
   report.notes = site.notes;
-  reports::WriteFileAtomically(dir.File("report.html"),
-                               reports::SensitivityHtmlReport(report, result));
+  reports::WriteSensitivityFiles(dir.folder(), report, result);
   dir.Commit();
   if (!args.Flag("quiet")) {
     std::printf("%s: sensitivity study (%s), %zu parameters, %zu outputs, %d rocks per run\n",

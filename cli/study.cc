@@ -14,8 +14,7 @@
 #include "rockcal/core/limits.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/reports/output_dir.h"
-#include "rockcal/reports/reach_report.h"
-#include "rockcal/reports/study_report.h"
+#include "rockcal/reports/result_files.h"
 #include "rockcal/sites/site.h"
 #include "run_inputs.h"
 
@@ -110,17 +109,11 @@ int Stability(const Args& args, sites::Site* site, const std::string& out) {
   opt.progress = [&](int done, int total, const std::string& what) {
     progress.Update(done, total, what);
   };
-  const std::vector<calibrate::StabilityCase> cases =
-      calibrate::RunStabilitySuite(site->scene, opt);
-  reports::WriteFileAtomically(
-      dir.File("stability.json"),
-      calibrate::StabilityJson(site->scene.name, opt, cases).dump(2) + "\n");
-  reports::WriteFileAtomically(dir.File("stability.csv"), calibrate::StabilityCsv(cases));
-  reports::WriteFileAtomically(dir.File("report.html"),
-                               reports::StabilityHtmlReport(ReportInput(*site), opt, cases));
+  const calibrate::StabilityStudy study = calibrate::RunStabilitySuite(site->scene, opt);
+  reports::WriteStabilityFiles(dir.folder(), ReportInput(*site), study);
   dir.Commit();
-  int failed = 0;
-  for (const auto& c : cases) failed += !c.pass;
+  const std::vector<calibrate::StabilityCase>& cases = study.cases;
+  const int failed = study.failed();
   if (!args.Flag("quiet")) {
     std::printf("%s: stability suite, %d rocks per case\n", site->scene.name.c_str(), opt.rocks);
     std::fputs(calibrate::StabilityReport(cases).c_str(), stdout);
@@ -164,12 +157,7 @@ int Convergence(const Args& args, sites::Site* site, const std::string& out) {
     result = calibrate::RunConvergence(site->scene, opt);
   }
   const std::string& name = site->scene.name;
-  reports::WriteFileAtomically(dir.File("convergence.json"),
-                               calibrate::ConvergenceJson(name, result).dump(2) + "\n");
-  reports::WriteFileAtomically(dir.File("convergence.csv"), calibrate::ConvergenceCsv(result));
-  reports::WriteFileAtomically(dir.File("convergence.svg"), reports::ConvergenceSvg(name, result));
-  reports::WriteFileAtomically(dir.File("report.html"),
-                               reports::ConvergenceHtmlReport(ReportInput(*site), result));
+  reports::WriteConvergenceFiles(dir.folder(), ReportInput(*site), result);
   dir.Commit();
   if (!args.Flag("quiet")) {
     std::printf("%s: convergence study, %d threads\n", name.c_str(), result.threads);
@@ -226,11 +214,7 @@ int Reach(const Args& args, sites::Site* site, const std::string& out) {
     result = calibrate::RunReach(objective, opt);
   }
   const std::string& name = scene.name;
-  reports::WriteFileAtomically(dir.File("reach.json"),
-                               calibrate::ReachJson(name, result).dump(2) + "\n");
-  reports::WriteFileAtomically(dir.File("reach.csv"), calibrate::ReachCsv(result));
-  reports::WriteFileAtomically(dir.File("report.html"),
-                               reports::ReachHtmlReport(ReportInput(*site), result));
+  reports::WriteReachFiles(dir.folder(), ReportInput(*site), result);
   dir.Commit();
   if (!args.Flag("quiet")) {
     std::printf("%s: reach check, %d parameters\n", name.c_str(), space.size());

@@ -11,14 +11,9 @@
 #include <utility>
 
 #include "rockcal/core/random.h"
-#include "table_text.h"
 
 namespace rockcal::calibrate {
 namespace {
-
-using text::CsvField;
-using text::JsonNum;
-using text::Num;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Random streams of the designs (RandomStream(seed, stream)): one per Latin
@@ -156,15 +151,6 @@ std::string G(double v, const char* format = "%.4g") {
   if (std::isnan(v)) return "-";
   return core::FormatNumber(v, format);
 }
-
-constexpr const char* kRule =
-    "A statistic is in reach when its observed value lies within [min - sigma, max + sigma], "
-    "where min and max are the smallest and largest simulated values over the design points and "
-    "sigma is the median over those points of the residual's sigma (measurement error, Monte "
-    "Carlo error of the simulated value, sampling error of the observed one). Out of reach "
-    "(below): the observed value is below min - sigma; (above): above max + sigma; (no value): "
-    "no design point gave a value (each was penalised for it). at_edge: in reach only by the "
-    "sigma allowance (the observed value lies outside [min, max]).";
 
 }  // namespace
 
@@ -331,6 +317,7 @@ ReachResult RunReach(const Objective& objective, const ReachOptions& options) {
   const int count = options.EffectivePoints(n);
 
   ReachResult result;
+  result.site = objective.scene().name;
   result.design = options.design;
   result.candidates = options.design == DesignKind::kLatinHypercube ? options.candidates : 0;
   result.design_seed = options.seed;
@@ -414,76 +401,6 @@ std::vector<std::string> OutOfReachWarnings(const ReachResult& result) {
     out.push_back(w);
   }
   return out;
-}
-
-nlohmann::json ReachJson(const std::string& site_name, const ReachResult& r) {
-  nlohmann::json params = nlohmann::json::array();
-  for (const Parameter& p : r.parameters)
-    params.push_back({{"label", p.label()}, {"lower", p.lower}, {"upper", p.upper}});
-  nlohmann::json stats = nlohmann::json::array();
-  for (const ReachStatistic& s : r.statistics)
-    stats.push_back({{"name", s.name()},
-                     {"observation", s.id.observation()},
-                     {"quantity", s.id.quantity()},
-                     {"observed", JsonNum(s.observed)},
-                     {"sigma", JsonNum(s.sigma)},
-                     {"min", JsonNum(s.min)},
-                     {"max", JsonNum(s.max)},
-                     {"min_point", s.min_point},
-                     {"max_point", s.max_point},
-                     {"closest_point", s.closest_point},
-                     {"closest_simulated", JsonNum(s.closest_simulated)},
-                     {"closest_sigmas", JsonNum(s.closest_sigmas)},
-                     {"points_with_value", s.points_with_value},
-                     {"in_reach", s.in_reach()},
-                     {"at_edge", s.at_edge()},
-                     {"verdict", ReachVerdictText(s.verdict)}});
-  nlohmann::json points = nlohmann::json::array();
-  for (const ReachPoint& p : r.points) {
-    nlohmann::json sim = nlohmann::json::array(), sig = nlohmann::json::array();
-    for (double v : p.simulated) sim.push_back(JsonNum(v));
-    for (double v : p.sigma) sig.push_back(JsonNum(v));
-    points.push_back({{"unit", p.unit},
-                      {"physical", p.physical},
-                      {"misfit", JsonNum(p.misfit)},
-                      {"penalised", p.penalised},
-                      {"message", p.message},
-                      {"simulated", sim},
-                      {"sigma", sig}});
-  }
-  nlohmann::json design = {
-      {"kind", DesignKindName(r.design)}, {"points", r.points.size()}, {"seed", r.design_seed}};
-  if (r.design == DesignKind::kLatinHypercube) design["candidates"] = r.candidates;
-  return {{"site", site_name},
-          {"study", "reach"},
-          {"design", design},
-          {"simulation_seed", r.simulation_seed},
-          {"rocks", r.rocks},
-          {"wall_seconds", r.wall_seconds},
-          {"rule", kRule},
-          {"units", "SI (m, or a fraction)"},
-          {"parameters", params},
-          {"statistics", stats},
-          {"in_reach", static_cast<int>(r.statistics.size()) - r.out_of_reach()},
-          {"out_of_reach", r.out_of_reach()},
-          {"best_point", r.best_point},
-          {"points", points},
-          {"warnings", OutOfReachWarnings(r)}};
-}
-
-std::string ReachCsv(const ReachResult& r) {
-  std::ostringstream out;
-  out << "statistic,observation,quantity,observed,sigma,min,max,min_point,max_point,"
-         "closest_point,closest_simulated,closest_sigmas,points_with_value,verdict,at_edge\n";
-  for (const ReachStatistic& s : r.statistics)
-    out << CsvField(s.name()) << ',' << CsvField(s.id.observation()) << ','
-        << CsvField(s.id.quantity()) << ',' << Num(s.observed, "%.10g") << ','
-        << Num(s.sigma, "%.10g") << ',' << Num(s.min, "%.10g") << ',' << Num(s.max, "%.10g") << ','
-        << s.min_point << ',' << s.max_point << ',' << s.closest_point << ','
-        << Num(s.closest_simulated, "%.10g") << ',' << Num(s.closest_sigmas, "%.10g") << ','
-        << s.points_with_value << ',' << ReachVerdictText(s.verdict) << ','
-        << (s.at_edge() ? "true" : "false") << '\n';
-  return out.str();
 }
 
 }  // namespace rockcal::calibrate

@@ -66,4 +66,19 @@ ScoreSummary Score(const core::Scene& scene, const observations::Observations& o
   return out;
 }
 
+ScoreResult ScoreResultOf(const ScoreSummary& score, const std::string& observations_file,
+                          const std::string& parameters_file) {
+  ScoreResult out;
+  out.site = score.scene.name;
+  out.observations_file = observations_file;
+  out.parameters_file = parameters_file;
+  out.rocks = score.scene.total_rocks();
+  out.seed = score.scene.options.seed;
+  out.stopped = score.simulation.count(core::Outcome::kStopped);
+  out.left = score.simulation.count(core::Outcome::kLeft);
+  out.timeout = score.simulation.count(core::Outcome::kTimeout);
+  out.misfit = score.misfit;
+  return out;
+}
+
 }  // namespace rockcal::calibrate

@@ -22,13 +22,9 @@
 namespace rockcal::calibrate {
 namespace {
 
-using text::CsvField;
-using text::JsonNum;
 using text::Num;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-// An effect "stands out of the noise" at this effect / noise ratio or more.
-constexpr double kResolved = 2.0;
 // Random streams of the sampling, apart from the rocks' streams (rock index).
 constexpr std::uint64_t kMorrisStream = (std::uint64_t{1} << 52) + 1;
 constexpr std::uint64_t kSobolStream = (std::uint64_t{1} << 52) + 2;
@@ -478,8 +474,8 @@ std::vector<double> OutputNoise(const std::vector<SiteOutput>& outputs, const co
 namespace {
 
 // The reducer: one entry per parameter and output, with its effect over the
-// output's Monte Carlo noise (delta: the Morris step, in unit-box units).
-void AddEntries(SensitivityMethod method, double delta, SensitivityResult* result) {
+// output's Monte Carlo noise.
+void AddEntries(SensitivityMethod method, SensitivityResult* result) {
   SensitivityResult& res = *result;
   const int k = static_cast<int>(res.parameters.size()), m = static_cast<int>(res.outputs.size());
   for (int i = 0; i < k; ++i) {
@@ -490,7 +486,7 @@ void AddEntries(SensitivityMethod method, double delta, SensitivityResult* resul
       const double noise = res.outputs[static_cast<std::size_t>(o)].noise;
       if (method == SensitivityMethod::kMorris) {
         e.morris = res.morris.index[static_cast<std::size_t>(o)][static_cast<std::size_t>(i)];
-        const double ee_noise = std::sqrt(2.0) * noise / delta;
+        const double ee_noise = res.EffectNoise(static_cast<std::size_t>(o));
         e.effect_over_noise = ee_noise > 0 ? e.morris.mu_star / ee_noise : kNaN;
       } else {
         e.sobol = res.sobol.index[static_cast<std::size_t>(o)][static_cast<std::size_t>(i)];
@@ -501,7 +497,6 @@ void AddEntries(SensitivityMethod method, double delta, SensitivityResult* resul
       res.entries.push_back(e);
     }
   }
-
 }
 
 // Notes on outputs without a value, without noise, or that no parameter moves.
@@ -538,20 +533,20 @@ std::string Summary(SensitivityMethod method, const SensitivityResult& res) {
   s << SensitivityMethodName(method) << ", "
     << (method == SensitivityMethod::kMorris ? "r = " : "N = ") << res.samples << ": "
     << res.simulations << " simulations of " << res.rocks << " rocks in "
-    << Num(res.wall_seconds, "%.3g") << " s ("
-    << Num(res.simulations / std::max(res.wall_seconds, 1e-9), "%.3g") << " simulations/s). ";
+    << Num(res.wall_seconds, "%.3g") << " s (" << Num(res.SimulationsPerSecond(), "%.3g")
+    << " simulations/s). ";
   int resolved = 0;
   std::vector<std::string> unresolved;
   for (int i = 0; i < k; ++i) {
     bool any = false;
     for (int o = 0; o < m; ++o) {
       const double ratio = res.at(i, o).effect_over_noise;
-      if (ratio >= kResolved) ++resolved, any = true;
+      if (ratio >= kResolvedEffectOverNoise) ++resolved, any = true;
     }
     if (!any) unresolved.push_back(res.parameters[static_cast<std::size_t>(i)].label());
   }
   s << resolved << " of " << k * m << " parameter-output pairs have an effect of at least "
-    << Num(kResolved, "%g") << " times the Monte Carlo noise";
+    << Num(kResolvedEffectOverNoise, "%g") << " times the Monte Carlo noise";
   if (!unresolved.empty()) {
     s << "; not above the noise on any output: ";
     for (std::size_t u = 0; u < unresolved.size(); ++u) s << (u ? ", " : "") << unresolved[u];
@@ -617,16 +612,15 @@ core::Scene StudyScene(const sites::Site& site, const observations::Observations
 }
 
 // One pass of the study's method over k parameters and m outputs with
-// `model`, into *res; *delta: Morris's step.
+// `model`, into *res.
 void RunDesign(const SensitivityOptions& opt, int k, int m, const SensitivityModel& model,
-               SensitivityResult* res, double* delta) {
+               SensitivityResult* res) {
   if (opt.method == SensitivityMethod::kMorris) {
     MorrisOptions mo;
     mo.trajectories = res->samples;
     mo.levels = opt.levels;
     mo.seed = res->seed;
     res->morris = RunMorris(k, m, model, mo);
-    *delta = res->morris.delta;
   } else {
     SobolOptions so;
     so.samples = res->samples;
@@ -673,6 +667,14 @@ std::vector<std::vector<double>> SimulateDesign(const std::vector<std::vector<do
 
 }  // namespace
 
+double SensitivityResult::EffectNoise(std::size_t output) const {
+  return std::sqrt(2.0) * outputs[output].noise / morris.delta;
+}
+
+double SensitivityResult::SimulationsPerSecond() const {
+  return simulations / std::max(wall_seconds, 1e-9);
+}
+
 SensitivityResult RunSensitivity(const sites::Site& site, const observations::Observations* obs,
                                  const SensitivityOptions& opt) {
   const auto start = std::chrono::steady_clock::now();
@@ -684,6 +686,7 @@ SensitivityResult RunSensitivity(const sites::Site& site, const observations::Ob
   const int k = space.size(), m = static_cast<int>(outputs.size());
 
   SensitivityResult res;
+  res.site = base.name;
   res.method = opt.method;
   res.samples = opt.EffectiveSamples();
   res.seed = base.options.seed;
@@ -710,22 +713,27 @@ SensitivityResult RunSensitivity(const sites::Site& site, const observations::Ob
   // The design's points do not depend on the outputs: a first pass of the
   // method with a model that only notes them gives the list, which is
   // simulated; the second pass reads the outputs back in the same order.
-  double delta = 0.0;
   std::vector<std::vector<double>> points;
-  RunDesign(opt, k, m, [&](const std::vector<double>& unit) {
-    points.push_back(unit);
-    return std::vector<double>(static_cast<std::size_t>(m), 0.0);
-  }, &res, &delta);
+  RunDesign(
+      opt, k, m,
+      [&](const std::vector<double>& unit) {
+        points.push_back(unit);
+        return std::vector<double>(static_cast<std::size_t>(m), 0.0);
+      },
+      &res);
   const std::vector<std::vector<double>> ys =
       SimulateDesign(points, space, outputs, opt, total_runs, &runner, &res);
   std::size_t next = 0;
-  RunDesign(opt, k, m, [&](const std::vector<double>& unit) {
-    if (next >= ys.size() || unit != points[next])
-      throw std::logic_error("sensitivity: the design changed between its two passes");
-    return ys[next++];
-  }, &res, &delta);
+  RunDesign(
+      opt, k, m,
+      [&](const std::vector<double>& unit) {
+        if (next >= ys.size() || unit != points[next])
+          throw std::logic_error("sensitivity: the design changed between its two passes");
+        return ys[next++];
+      },
+      &res);
 
-  AddEntries(opt.method, delta, &res);
+  AddEntries(opt.method, &res);
   AddNotes(opt.method, &res);
   res.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -734,134 +742,6 @@ SensitivityResult RunSensitivity(const sites::Site& site, const observations::Ob
 }
 
 // ---- Tables ----------------------------------------------------------------------------
-
-nlohmann::json SensitivityJson(const std::string& site_name, const SensitivityResult& r) {
-  const bool morris = r.method == SensitivityMethod::kMorris;
-  nlohmann::json params = nlohmann::json::array();
-  for (std::size_t i = 0; i < r.parameters.size(); ++i) {
-    const Parameter& p = r.parameters[i];
-    params.push_back({{"label", p.label()},
-                      {"material", p.material},
-                      {"name", p.name()},
-                      {"lower", p.lower},
-                      {"upper", p.upper},
-                      {"current", r.current[i]}});
-  }
-  nlohmann::json outs = nlohmann::json::array();
-  for (std::size_t o = 0; o < r.outputs.size(); ++o) {
-    const SensitivityOutputInfo& out = r.outputs[o];
-    nlohmann::json j = {{"name", out.name},
-                        {"unit", out.unit},
-                        {"description", out.description},
-                        {"value", JsonNum(out.value)},
-                        {"noise", JsonNum(out.noise)}};
-    if (morris) {
-      j["effect_noise"] = JsonNum(std::sqrt(2.0) * out.noise / r.morris.delta);
-    } else {
-      j["variance"] = JsonNum(r.sobol.variance[o]);
-      j["rows"] = r.sobol.rows[o];
-    }
-    outs.push_back(j);
-  }
-  nlohmann::json entries = nlohmann::json::array();
-  for (const SensitivityEntry& e : r.entries) {
-    nlohmann::json j = {{"parameter", r.parameters[static_cast<std::size_t>(e.parameter)].label()},
-                        {"output", r.outputs[static_cast<std::size_t>(e.output)].name}};
-    if (morris) {
-      j["mu"] = JsonNum(e.morris.mu);
-      j["mu_star"] = JsonNum(e.morris.mu_star);
-      j["sigma"] = JsonNum(e.morris.sigma);
-      j["effects"] = e.morris.effects;
-    } else {
-      j["first"] = JsonNum(e.sobol.first);
-      j["first_low"] = JsonNum(e.sobol.first_low);
-      j["first_high"] = JsonNum(e.sobol.first_high);
-      j["total"] = JsonNum(e.sobol.total);
-      j["total_low"] = JsonNum(e.sobol.total_low);
-      j["total_high"] = JsonNum(e.sobol.total_high);
-    }
-    j["effect_over_noise"] = JsonNum(e.effect_over_noise);
-    entries.push_back(j);
-  }
-  nlohmann::json design;
-  if (morris) {
-    design = {{"trajectories", r.morris.trajectories},
-              {"levels", r.morris.levels},
-              {"delta", r.morris.delta},
-              {"evaluations", r.morris.evaluations}};
-  } else {
-    design = {{"samples", r.sobol.samples},
-              {"bootstrap", r.sobol.bootstrap},
-              {"confidence", r.sobol.confidence},
-              {"evaluations", r.sobol.evaluations},
-              {"sampling", "pseudo-random (xoshiro256**), seeded"}};
-  }
-  const std::string definitions =
-      morris ? "Morris elementary effects on a grid of `levels` levels with step delta (unit "
-               "box): effect = change of the output / change of the parameter as a fraction of "
-               "its range (output units per full range). mu: mean effect; mu_star: mean |effect|; "
-               "sigma: standard deviation of the effects (interactions and curvature). noise: "
-               "bootstrap standard error of the output over the rocks of one run at the current "
-               "parameters; effect_noise = sqrt(2) noise / delta, the spread one elementary "
-               "effect would have from independent noise; effect_over_noise = mu_star / "
-               "effect_noise (pure noise gives about 0.8). null: unknown."
-             : "Sobol indices from Saltelli sampling: first = S_i (Saltelli 2010 estimator), the "
-               "share of the output's variance over the parameter box due to the parameter "
-               "alone; total = ST_i (Jansen estimator), including its interactions; *_low and "
-               "*_high: bootstrap percentile interval over the rows. variance: of the output over "
-               "the box. noise: bootstrap standard error of the output over the rocks of one run "
-               "at the current parameters; effect_over_noise = sqrt(max(first, 0) variance) / "
-               "noise. null: unknown.";
-  const double per_second = r.simulations / std::max(r.wall_seconds, 1e-9);
-  return {{"site", site_name},
-          {"study", "sensitivity"},
-          {"method", SensitivityMethodName(r.method)},
-          {"design", design},
-          {"seed", r.seed},
-          {"rocks", r.rocks},
-          {"threads", r.threads},
-          {"simulations", r.simulations},
-          {"wall_seconds", r.wall_seconds},
-          {"simulation_seconds", r.simulation_seconds},
-          {"simulations_per_second", per_second},
-          {"non_finite_runs", r.non_finite_runs},
-          {"resolved_ratio", kResolved},
-          {"definitions", definitions},
-          {"parameters", params},
-          {"outputs", outs},
-          {"entries", entries},
-          {"notes", r.notes},
-          {"summary", r.summary}};
-}
-
-std::string SensitivityCsv(const SensitivityResult& r) {
-  const bool morris = r.method == SensitivityMethod::kMorris;
-  std::ostringstream out;
-  out << "method,parameter,output,unit,value,noise,";
-  out << (morris ? "mu,mu_star,sigma,effects,"
-                 : "first,first_low,first_high,total,total_low,"
-                   "total_high,variance,rows,");
-  out << "effect_over_noise\n";
-  for (const SensitivityEntry& e : r.entries) {
-    const SensitivityOutputInfo& o = r.outputs[static_cast<std::size_t>(e.output)];
-    out << SensitivityMethodName(r.method) << ','
-        << CsvField(r.parameters[static_cast<std::size_t>(e.parameter)].label()) << ','
-        << CsvField(o.name) << ',' << CsvField(o.unit) << ',' << Num(o.value) << ',' << Num(o.noise)
-        << ',';
-    if (morris) {
-      out << Num(e.morris.mu) << ',' << Num(e.morris.mu_star) << ',' << Num(e.morris.sigma) << ','
-          << e.morris.effects << ',';
-    } else {
-      out << Num(e.sobol.first) << ',' << Num(e.sobol.first_low) << ',' << Num(e.sobol.first_high)
-          << ',' << Num(e.sobol.total) << ',' << Num(e.sobol.total_low) << ','
-          << Num(e.sobol.total_high) << ','
-          << Num(r.sobol.variance[static_cast<std::size_t>(e.output)]) << ','
-          << r.sobol.rows[static_cast<std::size_t>(e.output)] << ',';
-    }
-    out << Num(e.effect_over_noise) << '\n';
-  }
-  return out.str();
-}
 
 std::string SensitivityReport(const SensitivityResult& r) {
   const bool morris = r.method == SensitivityMethod::kMorris;

@@ -20,8 +20,6 @@
 namespace rockcal::calibrate {
 namespace {
 
-using text::CsvField;
-using text::JsonNum;
 using text::Num;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -429,85 +427,28 @@ StabilityCase RunStabilityVariant(const StabilityVariant& v, const StabilityOpti
   return RunVariant(v, opt, nullptr);
 }
 
-std::vector<StabilityCase> RunStabilitySuite(const core::Scene& site, const StabilityOptions& opt) {
+StabilityStudy RunStabilitySuite(const core::Scene& site, const StabilityOptions& opt) {
   const std::vector<StabilityVariant> variants = StabilityVariants(site, opt);
   int total = 0, done_before = 0;
   for (const auto& v : variants) total += v.scene.total_rocks();
-  std::vector<StabilityCase> cases;
+  StabilityStudy study;
+  study.site = site.name;
+  study.seed = opt.seed.value_or(site.options.seed);
+  study.limits = opt;
   for (const auto& v : variants) {
     core::ProgressFn progress;
     if (opt.progress)
       progress = [&](int done, int) { opt.progress(done_before + done, total, v.name); };
-    cases.push_back(RunVariant(v, opt, progress));
+    study.cases.push_back(RunVariant(v, opt, progress));
     done_before += v.scene.total_rocks();
   }
-  return cases;
+  return study;
 }
 
-nlohmann::json StabilityJson(const std::string& site_name, const StabilityOptions& opt,
-                             const std::vector<StabilityCase>& cases) {
-  nlohmann::json rows = nlohmann::json::array();
-  int passed = 0;
-  for (const auto& c : cases) {
-    passed += c.pass;
-    rows.push_back(
-        {{"name", c.name},
-         {"description", c.description},
-         {"rocks", c.figures.rocks},
-         {"max_time_seconds", c.max_time},
-         {"dt_min_seconds", c.figures.dt_min},
-         {"dt_max_seconds", c.figures.dt_max},
-         {"dt_shrunk", c.figures.dt_shrunk > 0},
-         {"rocks_with_step_shrunk", c.figures.dt_shrunk},
-         {"steps", c.figures.steps},
-         {"flights", c.figures.flights},
-         {"wall_seconds", c.wall_seconds},
-         {"outcomes", {{"stopped", c.stopped}, {"left", c.left}, {"timeout", c.timeout}}},
-         {"max_relative_energy_gain", JsonNum(c.figures.max_relative_energy_gain)},
-         {"max_penetration_over_radius", JsonNum(c.figures.max_penetration)},
-         {"non_finite_rocks", c.figures.non_finite},
-         {"tunneled_rocks", c.figures.tunneled},
-         {"must_stop", c.must_stop},
-         {"result", c.pass ? "PASS" : "FAIL"},
-         {"reason", c.reason},
-         {"warning", c.warning}});
-  }
-  return {{"site", site_name},
-          {"study", "stability"},
-          {"limits",
-           {{"energy_tolerance", opt.energy_tolerance},
-            {"penetration_limit_over_radius", opt.penetration_limit},
-            {"max_time_seconds", opt.max_time},
-            {"max_case_steps", opt.max_case_steps},
-            {"rocks_per_case", opt.rocks}}},
-          {"criteria",
-           "PASS: no rock non-finite, no rock tunneled (centre below the terrain's floor by more "
-           "than its radius), largest relative energy gain <= energy_tolerance, and for cases with "
-           "must_stop every rock stopped. Penetration above penetration_limit is a warning only: "
-           "it follows from the contact law (overlap ~ v t_c / pi whatever the rock size)."},
-          {"passed", passed},
-          {"failed", static_cast<int>(cases.size()) - passed},
-          {"cases", rows}};
-}
-
-std::string StabilityCsv(const std::vector<StabilityCase>& cases) {
-  std::ostringstream out;
-  out << "case,rocks,max_time_s,dt_min_s,dt_max_s,dt_shrunk,rocks_with_step_shrunk,steps,flights,"
-         "wall_seconds,"
-         "stopped,left,timeout,max_relative_energy_gain,max_penetration_over_radius,"
-         "non_finite_rocks,tunneled_rocks,must_stop,result,reason,warning\n";
-  for (const auto& c : cases) {
-    out << CsvField(c.name) << ',' << c.figures.rocks << ',' << Num(c.max_time) << ','
-        << Num(c.figures.dt_min) << ',' << Num(c.figures.dt_max) << ','
-        << (c.figures.dt_shrunk > 0 ? "true" : "false") << ',' << c.figures.dt_shrunk << ','
-        << c.figures.steps << ',' << c.figures.flights << ',' << Num(c.wall_seconds, "%.4g") << ','
-        << c.stopped << ',' << c.left << ',' << c.timeout << ','
-        << Num(c.figures.max_relative_energy_gain) << ',' << Num(c.figures.max_penetration) << ','
-        << c.figures.non_finite << ',' << c.figures.tunneled << ','
-        << (c.must_stop ? "true" : "false") << ',' << (c.pass ? "PASS" : "FAIL") << ','
-        << CsvField(c.reason) << ',' << CsvField(c.warning) << '\n';
-  }
-  return out.str();
+int StabilityStudy::passed() const {
+  int n = 0;
+  for (const StabilityCase& c : cases) n += c.pass ? 1 : 0;
+  return n;
 }
 
 std::string StabilityReport(const std::vector<StabilityCase>& cases) {
@@ -886,6 +827,7 @@ ConvergenceResult RunConvergence(const core::Scene& site, const ConvergenceOptio
   const core::Terrain terrain = core::BuildTerrain(base);
 
   ConvergenceResult out;
+  out.site = site.name;
   out.target = opt.target;
   out.bootstrap = opt.bootstrap;
   out.confidence = opt.confidence;
@@ -913,98 +855,6 @@ ConvergenceResult RunConvergence(const core::Scene& site, const ConvergenceOptio
   }
   Recommend(opt, &out);
   return out;
-}
-
-nlohmann::json ConvergenceJson(const std::string& site_name, const ConvergenceResult& result) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (std::size_t k = 0; k < result.rows.size(); ++k) {
-    const ConvergenceRow& r = result.rows[k];
-    nlohmann::json qs = nlohmann::json::array();
-    for (const auto& q : r.quantities)
-      qs.push_back({{"name", q.name},
-                    {"value", JsonNum(q.value)},
-                    {"count", q.count},
-                    {"total_error", JsonNum(q.total_error)},
-                    {"mc_error", JsonNum(q.mc_error)},
-                    {"discretisation_error", JsonNum(q.discretisation_error)},
-                    {"discretisation_noise", JsonNum(q.discretisation_noise)},
-                    {"estimate", JsonNum(q.estimate)}});
-    rows.push_back(
-        {{"steps_per_contact", r.steps_per_contact},
-         {"rocks", r.rocks},
-         {"dt_min_seconds", r.figures.dt_min},
-         {"dt_max_seconds", r.figures.dt_max},
-         {"rocks_with_step_shrunk", r.figures.dt_shrunk},
-         {"wall_seconds", r.wall_seconds},
-         {"steps", r.figures.steps},
-         {"flights", r.figures.flights},
-         {"outcomes", {{"stopped", r.stopped}, {"left", r.left}, {"timeout", r.timeout}}},
-         {"max_total_error", JsonNum(r.max_total_error)},
-         {"max_mc_error", JsonNum(r.max_mc_error)},
-         {"max_discretisation_error", JsonNum(r.max_discretisation_error)},
-         {"max_discretisation_noise", JsonNum(r.max_discretisation_noise)},
-         {"max_estimate", JsonNum(r.max_estimate)},
-         {"meets_target", r.meets_target},
-         {"reference", static_cast<int>(k) == result.reference},
-         {"recommended", static_cast<int>(k) == result.recommended},
-         {"quantities", qs}});
-  }
-  const auto& ref = result.rows[static_cast<std::size_t>(result.reference)];
-  nlohmann::json recommended;
-  if (result.recommended >= 0) {
-    const auto& r = result.rows[static_cast<std::size_t>(result.recommended)];
-    recommended = {{"steps_per_contact", r.steps_per_contact},
-                   {"rocks", r.rocks},
-                   {"wall_seconds", r.wall_seconds},
-                   {"max_estimate", JsonNum(r.max_estimate)}};
-  }
-  return {{"site", site_name},
-          {"study", "convergence"},
-          {"target", result.target},
-          {"bootstrap", result.bootstrap},
-          {"confidence", result.confidence},
-          {"seed", result.seed},
-          {"threads", result.threads},
-          {"reference", {{"steps_per_contact", ref.steps_per_contact}, {"rocks", ref.rocks}}},
-          {"errors",
-           "relative to each quantity's value in the reference run (finest N_c, most rocks); "
-           "total_error = |value - reference|; discretisation_error = |value - value at the "
-           "finest N_c with the same rocks and seed|; discretisation_noise = half-width of the "
-           "paired bootstrap interval of that difference (a discretisation_error below it is not "
-           "resolved from the chaotic spread of single trajectories); mc_error = half-width of "
-           "the bootstrap interval of the quantile (rocks resampled) at this rock count; "
-           "estimate = the discretisation_error of this N_c at the largest rock count (where it "
-           "is best resolved; it does not depend on the count) + mc_error, used for the "
-           "recommendation; null = unknown"},
-          {"quantities", result.quantities},
-          {"notes", result.notes},
-          {"recommended", recommended},
-          {"recommendation", result.recommendation},
-          {"rows", rows}};
-}
-
-std::string ConvergenceCsv(const ConvergenceResult& result) {
-  std::ostringstream out;
-  out << "steps_per_contact,rocks,dt_min_s,wall_seconds,steps,quantity,value,count,total_error,"
-         "mc_error,discretisation_error,discretisation_noise,estimate,meets_target,reference,"
-         "recommended\n";
-  for (std::size_t k = 0; k < result.rows.size(); ++k) {
-    const ConvergenceRow& r = result.rows[k];
-    const std::string head = std::to_string(r.steps_per_contact) + ',' + std::to_string(r.rocks) +
-                             ',' + Num(r.figures.dt_min) + ',' + Num(r.wall_seconds, "%.4g") + ',' +
-                             std::to_string(r.figures.steps) + ',';
-    const std::string tail = std::string(",") + (r.meets_target ? "true" : "false") + ',' +
-                             (static_cast<int>(k) == result.reference ? "true" : "false") + ',' +
-                             (static_cast<int>(k) == result.recommended ? "true" : "false") + '\n';
-    for (const auto& q : r.quantities)
-      out << head << CsvField(q.name) << ',' << Num(q.value) << ',' << q.count << ','
-          << Num(q.total_error) << ',' << Num(q.mc_error) << ',' << Num(q.discretisation_error)
-          << ',' << Num(q.discretisation_noise) << ',' << Num(q.estimate) << tail;
-    out << head << "max,,," << Num(r.max_total_error) << ',' << Num(r.max_mc_error) << ','
-        << Num(r.max_discretisation_error) << ',' << Num(r.max_discretisation_noise) << ','
-        << Num(r.max_estimate) << tail;
-  }
-  return out.str();
 }
 
 std::string ConvergenceReport(const ConvergenceResult& result) {

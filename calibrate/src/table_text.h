@@ -1,5 +1,6 @@
-// Number and field formatting shared by calibrate's JSON and CSV writers
-// (study.cc, sensitivity.cc). Private to calibrate/src.
+// Number and field formatting shared by calibrate's JSON and CSV text
+// (results_json.cc, posterior.cc, posterior_draws.cc) and its console
+// reports. Private to calibrate/src.
 #ifndef ROCKCAL_CALIBRATE_SRC_TABLE_TEXT_H_
 #define ROCKCAL_CALIBRATE_SRC_TABLE_TEXT_H_
 

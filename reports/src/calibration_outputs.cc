@@ -68,7 +68,7 @@ nlohmann::json ResidualsJson(const observations::Misfit& m) {
 
 }  // namespace
 
-nlohmann::json ParametersJson(const CalibrationSummary& record) {
+nlohmann::json ParameterListJson(const CalibrationSummary& record) {
   const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
   nlohmann::json params = nlohmann::json::array();
   const auto& ps = record.space.parameters();
@@ -89,13 +89,18 @@ nlohmann::json ParametersJson(const CalibrationSummary& record) {
                                     {"determined", !q.undetermined}};
     }
   }
+  return params;
+}
+
+nlohmann::json ParametersJson(const CalibrationSummary& record) {
+  const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
   nlohmann::json out = {{"site", record.site},
                         {"method", best.stage.name()},
                         {"misfit", best.best_misfit},
                         {"evaluations", best.evaluations},
                         {"wall_seconds", best.wall_seconds}};
   if (record.grid_spacing_m > 0) out["grid_spacing_m"] = record.grid_spacing_m;
-  out["parameters"] = params;
+  out["parameters"] = ParameterListJson(record);
   // rockcal simulate --parameters draws from these (ReadPosteriorSamples).
   if (record.posterior) out["posterior_samples"] = "posterior.csv";
   return out;

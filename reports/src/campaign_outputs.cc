@@ -153,7 +153,7 @@ nlohmann::json CampaignJson(const CampaignSummary& summary) {
                         {"parameter_names", names},
                         {"start", cal.start},
                         {"calibrated", best.best},
-                        {"parameters", ParametersJson(cal)["parameters"]},
+                        {"parameters", ParameterListJson(cal)},
                         {"uncertainty",
                          {{"computed", u.computed},
                           {"rank_deficient", u.rank_deficient},

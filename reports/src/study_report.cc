@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
-#include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "rockcal/reports/html_page.h"
@@ -26,42 +25,31 @@ constexpr const char* kTargetColour = "#d62728";
 
 std::string Int(double v) { return std::to_string(static_cast<long long>(std::llround(v))); }
 
-// The numbers of one JSON file of a study, as the report shows them: each
-// shown number carries data-json="FILE#POINTER" and its exact data-value.
-class JsonFile final {
+// The numbers and texts of a study's struct as the report shows them: each
+// carries data-json="FILE#POINTER", its place in the study's JSON file (the
+// struct's to_json), and its exact data-value.
+class Anchors final {
  public:
   using Format = std::string (*)(double);
 
-  JsonFile(std::string file, nlohmann::json json)
-      : file_(std::move(file)), json_(std::move(json)) {}
+  explicit Anchors(std::string file) : file_(std::move(file)) {}
 
-  const nlohmann::json& at(const std::string& pointer) const {
-    return json_.at(nlohmann::json::json_pointer(pointer));
-  }
-  bool IsNumber(const std::string& pointer) const { return at(pointer).is_number(); }
-  double Number(const std::string& pointer) const {
-    const nlohmann::json& v = at(pointer);
-    return v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN();
-  }
-
-  // The number at `pointer` shown by `format`; `unknown` (plain) when null.
-  std::string Span(const std::string& pointer, const Format& format,
+  // `v` shown by `format`; `unknown` (plain) when it is not finite (null in the file).
+  std::string Span(const std::string& pointer, double v, const Format& format,
                    const std::string& unknown = "unknown") const {
-    if (!IsNumber(pointer)) return Escape(unknown);
-    const double v = Number(pointer);
+    if (!std::isfinite(v)) return Escape(unknown);
     return "<span" + Attributes(pointer, v) + ">" + Escape(format(v)) + "</span>";
   }
-  // A numeric table cell of the number at `pointer`, with extra classes.
-  std::string Cell(const std::string& pointer, const Format& format,
+  // A numeric table cell of `v`, with extra classes.
+  std::string Cell(const std::string& pointer, double v, const Format& format,
                    const std::string& classes = "", const std::string& unknown = "unknown") const {
     const std::string cls = "n" + (classes.empty() ? "" : " " + classes);
-    if (!IsNumber(pointer)) return "<td class=\"" + cls + "\">" + Escape(unknown) + "</td>";
-    const double v = Number(pointer);
+    if (!std::isfinite(v)) return "<td class=\"" + cls + "\">" + Escape(unknown) + "</td>";
     return "<td class=\"" + cls + "\"" + Attributes(pointer, v) + ">" + Escape(format(v)) + "</td>";
   }
-  // The string at `pointer`, marked with it.
-  std::string Text(const std::string& pointer) const {
-    return html::RefText(html::Ref(file_, pointer), at(pointer).get<std::string>());
+  // The text `value`, marked with `pointer`.
+  std::string Text(const std::string& pointer, const std::string& value) const {
+    return html::RefText(html::Ref(file_, pointer), value);
   }
 
  private:
@@ -71,7 +59,6 @@ class JsonFile final {
   }
 
   std::string file_;
-  nlohmann::json json_;
 };
 
 // A fraction that was set (a target, a confidence level) in percent, no trailing zeros.
@@ -96,95 +83,112 @@ std::string Footer(const std::string& command, std::uint64_t seed) {
 
 // ---- stability -------------------------------------------------------------------
 
-std::string StabilityVerdict(const JsonFile& j,
-                             const std::vector<calibrate::StabilityCase>& cases) {
-  std::string s = std::to_string(cases.size()) + " cases: " + j.Span("/passed", Int) + " PASS";
-  if (j.Number("/failed") > 0) {
-    s += ", " + j.Span("/failed", Int) + " FAIL (";
+std::string StabilityVerdict(const Anchors& a, const calibrate::StabilityStudy& study) {
+  std::string s = std::to_string(study.cases.size()) +
+                  " cases: " + a.Span("/passed", study.passed(), Int) + " PASS";
+  if (study.failed() > 0) {
+    s += ", " + a.Span("/failed", study.failed(), Int) + " FAIL (";
     std::string names;
-    for (const auto& c : cases)
+    for (const auto& c : study.cases)
       if (!c.pass) names += (names.empty() ? "" : ", ") + Escape(c.name);
     s += names + ")";
   }
   return s;
 }
 
-std::string StabilityBody(const JsonFile& j, const calibrate::StabilityOptions& opt,
-                          const std::vector<calibrate::StabilityCase>& cases) {
-  const bool all_pass = j.Number("/failed") == 0;
-  std::string s = "<p class=\"verdict " + std::string(all_pass ? "ok" : "bad") + "\">" +
-                  StabilityVerdict(j, cases) + "</p>";
-  s += "<p>The site's scene and extreme variants of it (hardness and contact time at their "
-       "extremes, tiny and huge rocks, cliffs, a flat runout, smooth and roughest slopes, a fast "
-       "release), each run with few rocks and only the energy check recorded. The engine picks "
-       "its own time step in every case; the table shows the steps it chose and how many rocks "
-       "had their step cut below t_c/N_c by the stability bound.</p>";
-
-  s += "<h3>Limits</h3><table class=\"kv\">";
+std::string StabilityLimits(const Anchors& a, const calibrate::StabilityLimits& l) {
+  std::string s = "<h3>Limits</h3><table class=\"kv\">";
   s += Kv("Energy tolerance",
-          j.Span("/limits/energy_tolerance", Show) +
+          a.Span("/limits/energy_tolerance", l.energy_tolerance, Show) +
               ": the largest relative energy gain allowed for any rock (rise of mechanical "
               "energy, contact springs included, above its running minimum, over the largest "
               "kinetic energy seen)");
   s += Kv("Penetration advisory limit",
-          j.Span("/limits/penetration_limit_over_radius", Show) +
+          a.Span("/limits/penetration_limit_over_radius", l.penetration_limit, Show) +
               " element radii of overlap: a warning, not a failure (the overlap of an impact is "
               "about v t_c / &#960; whatever the rock's size)");
-  s += Kv("Rocks per case", j.Span("/limits/rocks_per_case", Int) +
+  s += Kv("Rocks per case", a.Span("/limits/rocks_per_case", l.rocks, Int) +
                                 ", spread over the case's rock groups in proportion");
-  s += Kv("Simulated time per rock", "at most " + j.Span("/limits/max_time_seconds", Show) +
+  s += Kv("Simulated time per rock", "at most " +
+                                         a.Span("/limits/max_time_seconds", l.max_time, Show) +
                                          " s, or the site's time limit when shorter");
-  s += Kv("Contact steps per case",
-          "at most " + j.Span("/limits/max_case_steps", Int) +
-              " for the cases whose step is smaller than the site's; they run a shorter time per "
-              "rock (the table's max time)");
+  s +=
+      Kv("Contact steps per case",
+         "at most " + a.Span("/limits/max_case_steps", static_cast<double>(l.max_case_steps), Int) +
+             " for the cases whose step is smaller than the site's; they run a shorter time per "
+             "rock (the table's max time)");
   s += "</table>";
-
   s += "<h3>A case passes when</h3><ul>"
        "<li>no rock reached a non-finite state;</li>"
        "<li>no rock tunneled: its centre did not stay below the terrain's floor (the facets, or "
        "the catch surface of a rough cell) by more than its radius for longer than two contact "
        "times;</li>"
        "<li>the largest relative energy gain of any rock is at most " +
-       Escape(Label(opt.energy_tolerance)) +
+       Escape(Label(l.energy_tolerance)) +
        ";</li>"
        "<li>on cases that must stop (the flat runout), every rock stopped.</li></ul>";
+  return s;
+}
 
+// Case k's row of the table.
+std::string StabilityCaseRow(const Anchors& a, const calibrate::StabilityStudy& study,
+                             std::size_t k) {
+  const calibrate::StabilityCase& c = study.cases[k];
+  const core::RunFigures& f = c.figures;
+  const calibrate::StabilityLimits& l = study.limits;
+  const std::string p = "/cases/" + std::to_string(k) + "/";
+  std::string step = a.Span(p + "dt_min_seconds", f.dt_min, Show);
+  if (f.dt_max != f.dt_min) step += " to " + a.Span(p + "dt_max_seconds", f.dt_max, Show);
+  const bool gain_bad = !(f.max_relative_energy_gain <= l.energy_tolerance);
+  const bool deep = f.max_penetration > l.penetration_limit;
+  // A case that must stop fails on the rocks that did not.
+  const std::string outcome =
+      std::string(c.must_stop && c.stopped < f.rocks ? "<td class=\"n bad\">"
+                                                     : "<td class=\"n\">") +
+      a.Span(p + "outcomes/stopped", c.stopped, Int) + " / " +
+      a.Span(p + "outcomes/left", c.left, Int) + " / " +
+      a.Span(p + "outcomes/timeout", c.timeout, Int) + "</td>";
+  std::string result = "<td class=\"result " + std::string(c.pass ? "ok" : "bad") + "\">" +
+                       a.Text(p + "result", c.pass ? "PASS" : "FAIL");
+  if (!c.reason.empty())
+    result += "<span class=\"desc\">" + a.Text(p + "reason", c.reason) + "</span>";
+  if (!c.warning.empty())
+    result += "<span class=\"desc warn\">warning: " + a.Text(p + "warning", c.warning) + "</span>";
+  result += "</td>";
+  auto count = [](long v) { return static_cast<double>(v); };
+  return std::string(c.pass ? "<tr>" : "<tr class=\"fail\">") + "<td class=\"case\"><b>" +
+         a.Text(p + "name", c.name) + "</b><span class=\"desc\">" +
+         a.Text(p + "description", c.description) + "</span></td>" +
+         a.Cell(p + "rocks", f.rocks, Int) + a.Cell(p + "max_time_seconds", c.max_time, Show) +
+         "<td class=\"n\">" + step + "</td>" +
+         a.Cell(p + "rocks_with_step_shrunk", f.dt_shrunk, Int) +
+         a.Cell(p + "steps", count(f.steps), Int) + a.Cell(p + "flights", count(f.flights), Int) +
+         a.Cell(p + "wall_seconds", c.wall_seconds, Show) + outcome +
+         a.Cell(p + "max_relative_energy_gain", f.max_relative_energy_gain, Show,
+                gain_bad ? "bad" : "", "non-finite") +
+         a.Cell(p + "max_penetration_over_radius", f.max_penetration, Show, deep ? "warn" : "",
+                "non-finite") +
+         a.Cell(p + "non_finite_rocks", f.non_finite, Int, f.non_finite > 0 ? "bad" : "") +
+         a.Cell(p + "tunneled_rocks", f.tunneled, Int, f.tunneled > 0 ? "bad" : "") + result +
+         "</tr>";
+}
+
+std::string StabilityBody(const Anchors& a, const calibrate::StabilityStudy& study) {
+  const bool all_pass = study.failed() == 0;
+  std::string s = "<p class=\"verdict " + std::string(all_pass ? "ok" : "bad") + "\">" +
+                  StabilityVerdict(a, study) + "</p>";
+  s += "<p>The site's scene and extreme variants of it (hardness and contact time at their "
+       "extremes, tiny and huge rocks, cliffs, a flat runout, smooth and roughest slopes, a fast "
+       "release), each run with few rocks and only the energy check recorded. The engine picks "
+       "its own time step in every case; the table shows the steps it chose and how many rocks "
+       "had their step cut below t_c/N_c by the stability bound.</p>";
+  s += StabilityLimits(a, study.limits);
   s += "<h3>Cases</h3><table class=\"wide\"><thead><tr>" + Th("case") + Th("rocks") +
        Th("max time [s]") + Th("time step [s]") + Th("shrunk") + Th("contact steps") +
        Th("flights") + Th("wall [s]") + Th("stopped / left / timeout") + Th("energy gain") +
        Th("overlap / radius") + Th("non-finite") + Th("tunneled") + Th("result") +
        "</tr></thead><tbody>";
-  for (std::size_t k = 0; k < cases.size(); ++k) {
-    const calibrate::StabilityCase& c = cases[k];
-    const std::string p = "/cases/" + std::to_string(k) + "/";
-    std::string step = j.Span(p + "dt_min_seconds", Show);
-    if (c.figures.dt_max != c.figures.dt_min) step += " to " + j.Span(p + "dt_max_seconds", Show);
-    const bool gain_bad = !(c.figures.max_relative_energy_gain <= opt.energy_tolerance);
-    const bool deep = c.figures.max_penetration > opt.penetration_limit;
-    // A case that must stop fails on the rocks that did not.
-    const std::string outcome =
-        std::string(c.must_stop && c.stopped < c.figures.rocks ? "<td class=\"n bad\">"
-                                                               : "<td class=\"n\">") +
-        j.Span(p + "outcomes/stopped", Int) + " / " + j.Span(p + "outcomes/left", Int) + " / " +
-        j.Span(p + "outcomes/timeout", Int) + "</td>";
-    std::string result =
-        "<td class=\"result " + std::string(c.pass ? "ok" : "bad") + "\">" + j.Text(p + "result");
-    if (!c.reason.empty()) result += "<span class=\"desc\">" + j.Text(p + "reason") + "</span>";
-    if (!c.warning.empty())
-      result += "<span class=\"desc warn\">warning: " + j.Text(p + "warning") + "</span>";
-    result += "</td>";
-    s += std::string(c.pass ? "<tr>" : "<tr class=\"fail\">") + "<td class=\"case\"><b>" +
-         j.Text(p + "name") + "</b><span class=\"desc\">" + j.Text(p + "description") +
-         "</span></td>" + j.Cell(p + "rocks", Int) + j.Cell(p + "max_time_seconds", Show) +
-         "<td class=\"n\">" + step + "</td>" + j.Cell(p + "rocks_with_step_shrunk", Int) +
-         j.Cell(p + "steps", Int) + j.Cell(p + "flights", Int) + j.Cell(p + "wall_seconds", Show) +
-         outcome +
-         j.Cell(p + "max_relative_energy_gain", Show, gain_bad ? "bad" : "", "non-finite") +
-         j.Cell(p + "max_penetration_over_radius", Show, deep ? "warn" : "", "non-finite") +
-         j.Cell(p + "non_finite_rocks", Int, c.figures.non_finite > 0 ? "bad" : "") +
-         j.Cell(p + "tunneled_rocks", Int, c.figures.tunneled > 0 ? "bad" : "") + result + "</tr>";
-  }
+  for (std::size_t k = 0; k < study.cases.size(); ++k) s += StabilityCaseRow(a, study, k);
   s += "</tbody></table>";
   s += "<p class=\"note\">Time step: the smallest and largest contact step the engine chose; "
        "shrunk: rocks whose step the stability bound cut below t_c/N_c. Wall time of the "
@@ -217,14 +221,15 @@ void CheckResult(const calibrate::ConvergenceResult& result) {
 }
 
 // Row k of the settings table.
-std::string ConvergenceRowHtml(const JsonFile& j, const calibrate::ConvergenceResult& result,
+std::string ConvergenceRowHtml(const Anchors& a, const calibrate::ConvergenceResult& result,
                                std::size_t k) {
   const calibrate::ConvergenceRow& r = result.rows[k];
   const std::string p = "/rows/" + std::to_string(k) + "/";
   const bool is_ref = static_cast<int>(k) == result.reference;
   const bool is_rec = static_cast<int>(k) == result.recommended;
-  std::string step = j.Span(p + "dt_min_seconds", Show);
-  if (r.figures.dt_max != r.figures.dt_min) step += " to " + j.Span(p + "dt_max_seconds", Show);
+  const core::RunFigures& f = r.figures;
+  std::string step = a.Span(p + "dt_min_seconds", f.dt_min, Show);
+  if (f.dt_max != f.dt_min) step += " to " + a.Span(p + "dt_max_seconds", f.dt_max, Show);
   // The quantity with the largest estimate.
   int worst = -1;
   for (std::size_t q = 0; q < r.quantities.size(); ++q)
@@ -235,22 +240,25 @@ std::string ConvergenceRowHtml(const JsonFile& j, const calibrate::ConvergenceRe
   std::string role = is_ref ? "reference" : "";
   if (is_rec) role += role.empty() ? "recommended" : ", recommended";
   return std::string(is_rec ? "<tr class=\"best\">" : "<tr>") +
-         j.Cell(p + "steps_per_contact", Int) + j.Cell(p + "rocks", Int) + "<td class=\"n\">" +
-         step + "</td>" + j.Cell(p + "rocks_with_step_shrunk", Int) +
-         j.Cell(p + "wall_seconds", Show) + j.Cell(p + "steps", Int) +
-         j.Cell(p + "max_discretisation_error", ShowPercent) +
-         j.Cell(p + "max_discretisation_noise", ShowPercent) +
-         j.Cell(p + "max_mc_error", ShowPercent) +
-         j.Cell(p + "max_estimate", ShowPercent, r.meets_target ? "ok" : "") +
+         a.Cell(p + "steps_per_contact", r.steps_per_contact, Int) +
+         a.Cell(p + "rocks", r.rocks, Int) + "<td class=\"n\">" + step + "</td>" +
+         a.Cell(p + "rocks_with_step_shrunk", f.dt_shrunk, Int) +
+         a.Cell(p + "wall_seconds", r.wall_seconds, Show) +
+         a.Cell(p + "steps", static_cast<double>(f.steps), Int) +
+         a.Cell(p + "max_discretisation_error", r.max_discretisation_error, ShowPercent) +
+         a.Cell(p + "max_discretisation_noise", r.max_discretisation_noise, ShowPercent) +
+         a.Cell(p + "max_mc_error", r.max_mc_error, ShowPercent) +
+         a.Cell(p + "max_estimate", r.max_estimate, ShowPercent, r.meets_target ? "ok" : "") +
          "<td class=\"name\">" +
-         (worst >= 0 ? j.Text(p + "quantities/" + std::to_string(worst) + "/name")
+         (worst >= 0 ? a.Text(p + "quantities/" + std::to_string(worst) + "/name",
+                              r.quantities[static_cast<std::size_t>(worst)].name)
                      : std::string("-")) +
-         "</td>" + j.Cell(p + "max_total_error", ShowPercent) + Td(r.meets_target ? "yes" : "no") +
-         Td(role) + "</tr>";
+         "</td>" + a.Cell(p + "max_total_error", r.max_total_error, ShowPercent) +
+         Td(r.meets_target ? "yes" : "no") + Td(role) + "</tr>";
 }
 
 // The quantities at the reference run, and the study's notes.
-std::string ConvergenceQuantities(const JsonFile& j, const calibrate::ConvergenceResult& result) {
+std::string ConvergenceQuantities(const Anchors& a, const calibrate::ConvergenceResult& result) {
   const auto& rows = result.rows;
   const std::size_t ref = static_cast<std::size_t>(result.reference);
   const std::string rp = "/rows/" + std::to_string(ref) + "/quantities/";
@@ -265,22 +273,24 @@ std::string ConvergenceQuantities(const JsonFile& j, const calibrate::Convergenc
     s += "<table><thead><tr>" + Th("quantity") + Th("value [m]") + Th("rocks counted") +
          Th("Monte Carlo error") + "</tr></thead><tbody>";
     for (std::size_t q = 0; q < rows[ref].quantities.size(); ++q) {
+      const calibrate::QuantityError& e = rows[ref].quantities[q];
       const std::string p = rp + std::to_string(q) + "/";
-      s += "<tr><td>" + j.Text(p + "name") + "</td>" + j.Cell(p + "value", Show, "", "-") +
-           j.Cell(p + "count", Int) + j.Cell(p + "mc_error", ShowPercent) + "</tr>";
+      s += "<tr><td>" + a.Text(p + "name", e.name) + "</td>" +
+           a.Cell(p + "value", e.value, Show, "", "-") + a.Cell(p + "count", e.count, Int) +
+           a.Cell(p + "mc_error", e.mc_error, ShowPercent) + "</tr>";
     }
     s += "</tbody></table>";
   }
   if (!result.notes.empty()) {
     s += "<h3>Notes</h3><ul class=\"notes\">";
     for (std::size_t k = 0; k < result.notes.size(); ++k)
-      s += "<li>" + j.Text("/notes/" + std::to_string(k)) + "</li>";
+      s += "<li>" + a.Text("/notes/" + std::to_string(k), result.notes[k]) + "</li>";
     s += "</ul>";
   }
   return s;
 }
 
-std::string ConvergenceBody(const JsonFile& j, const calibrate::ConvergenceResult& result) {
+std::string ConvergenceBody(const Anchors& a, const calibrate::ConvergenceResult& result) {
   const auto& rows = result.rows;
   const std::vector<int> ncs = StepsPerContact(result);
   std::vector<int> counts;
@@ -293,20 +303,24 @@ std::string ConvergenceBody(const JsonFile& j, const calibrate::ConvergenceResul
   };
   const bool recommended = result.recommended >= 0;
   std::string s = "<p class=\"verdict " + std::string(recommended ? "ok" : "bad") +
-                  "\">Recommendation: " + j.Text("/recommendation") + "</p>";
-  s += "<p>Target: a largest error estimate of at most " + j.Span("/target", SetPercent) +
+                  "\">Recommendation: " + a.Text("/recommendation", result.recommendation) + "</p>";
+  const calibrate::ConvergenceRow& ref = rows[static_cast<std::size_t>(result.reference)];
+  s += "<p>Target: a largest error estimate of at most " +
+       a.Span("/target", result.target, SetPercent) +
        " of each quantity. The site was run with every combination of N_c = " + list(ncs) +
        " steps per contact and " + list(counts) + " rocks, with the same seed " +
-       j.Span("/seed", Int) +
+       a.Span("/seed", static_cast<double>(result.seed), Int) +
        "; the rocks of one count are the same in every N_c. The reference "
        "is the finest N_c with the most rocks (N_c = " +
-       j.Span("/reference/steps_per_contact", Int) + ", " + j.Span("/reference/rocks", Int) +
+       a.Span("/reference/steps_per_contact", ref.steps_per_contact, Int) + ", " +
+       a.Span("/reference/rocks", ref.rocks, Int) +
        " rocks). Monte Carlo errors are half-widths of the bootstrap " +
-       j.Span("/confidence", SetPercent) + " interval over " + j.Span("/bootstrap", Int) +
-       " resamples of the rocks. " + j.Span("/threads", Int) + " threads.</p>";
+       a.Span("/confidence", result.confidence, SetPercent) + " interval over " +
+       a.Span("/bootstrap", result.bootstrap, Int) + " resamples of the rocks. " +
+       a.Span("/threads", result.threads, Int) + " threads.</p>";
 
   s += html::Figure(
-      ConvergenceSvg(j.at("/site").get<std::string>(), result),
+      ConvergenceSvg(result),
       "<b>Error against run time.</b> The largest error estimate over the quantities "
       "(discretisation error of the N_c at the most rocks + Monte Carlo error at the row's rock "
       "count) against the wall time of each setting, one line per N_c through its rock counts; "
@@ -319,7 +333,7 @@ std::string ConvergenceBody(const JsonFile& j, const calibrate::ConvergenceResul
        Th("discretisation error") + Th("its noise") + Th("Monte Carlo error") + Th("estimate") +
        Th("largest for") + Th("error against the reference") + Th("within target") + Th("row") +
        "</tr></thead><tbody>";
-  for (std::size_t k = 0; k < rows.size(); ++k) s += ConvergenceRowHtml(j, result, k);
+  for (std::size_t k = 0; k < rows.size(); ++k) s += ConvergenceRowHtml(a, result, k);
   s += "</tbody></table>";
   s += "<p class=\"note\">Errors are relative to each quantity's value in the reference run and "
        "are the largest over the quantities. Discretisation error: |value &#8722; value at the "
@@ -331,30 +345,28 @@ std::string ConvergenceBody(const JsonFile& j, const calibrate::ConvergenceResul
        "cheapest setting whose estimate is within the target. Wall times depend on the machine "
        "and its load: compare rows of one run only. The finest N_c is taken as exact.</p>";
 
-  return s + ConvergenceQuantities(j, result);
+  return s + ConvergenceQuantities(a, result);
 }
 
 }  // namespace
 
 std::string StabilityHtmlReport(const StudyReportInput& in,
-                                const calibrate::StabilityOptions& options,
-                                const std::vector<calibrate::StabilityCase>& cases) {
+                                const calibrate::StabilityStudy& study) {
   const core::Scene& scene = SceneOf(in, "StabilityHtmlReport");
-  const JsonFile j("stability.json", calibrate::StabilityJson(scene.name, options, cases));
+  const Anchors a("stability.json");
   double wall = 0.0;
-  for (const auto& c : cases) wall += c.wall_seconds;
+  for (const auto& c : study.cases) wall += c.wall_seconds;
   html::Page page;
   page.title = "rockcal stability study: " + scene.name;
-  page.heading_html = "Numerical stability study: " + j.Text("/site");
-  page.lead_html = StabilityVerdict(j, cases) + ". The site and its extreme variants, " +
-                   std::to_string(options.rocks) + " rocks per case, " + Escape(Show(wall)) +
+  page.heading_html = "Numerical stability study: " + a.Text("/site", study.site);
+  page.lead_html = StabilityVerdict(a, study) + ". The site and its extreme variants, " +
+                   std::to_string(study.limits.rocks) + " rocks per case, " + Escape(Show(wall)) +
                    " s of simulation wall time in all.";
   page.note_html =
       "SI units. The machine-readable record is stability.json and stability.csv; "
       "calibrate/STUDIES.md describes the cases and the criteria.";
-  page.sections = {SiteSection(in),
-                   {"stability", "Stability suite", "", StabilityBody(j, options, cases)}};
-  page.footer_html = Footer("rockcal study stability", options.seed.value_or(scene.options.seed));
+  page.sections = {SiteSection(in), {"stability", "Stability suite", "", StabilityBody(a, study)}};
+  page.footer_html = Footer("rockcal study stability", study.seed);
   return html::PageHtml(page);
 }
 
@@ -362,12 +374,12 @@ std::string ConvergenceHtmlReport(const StudyReportInput& in,
                                   const calibrate::ConvergenceResult& result) {
   const core::Scene& scene = SceneOf(in, "ConvergenceHtmlReport");
   CheckResult(result);
-  const JsonFile j("convergence.json", calibrate::ConvergenceJson(scene.name, result));
+  const Anchors a("convergence.json");
   double wall = 0.0;
   for (const auto& r : result.rows) wall += r.wall_seconds;
   html::Page page;
   page.title = "rockcal convergence study: " + scene.name;
-  page.heading_html = "Convergence study: " + j.Text("/site");
+  page.heading_html = "Convergence study: " + a.Text("/site", result.site);
   page.lead_html = std::to_string(result.rows.size()) +
                    " settings of steps per contact and rock count, " + Escape(Show(wall)) +
                    " s of simulation wall time in all. ";
@@ -386,13 +398,13 @@ std::string ConvergenceHtmlReport(const StudyReportInput& in,
       "machine-readable record is convergence.json and convergence.csv; calibrate/STUDIES.md "
       "defines the errors.";
   page.sections = {SiteSection(in),
-                   {"convergence", "Error against run time", "", ConvergenceBody(j, result)}};
+                   {"convergence", "Error against run time", "", ConvergenceBody(a, result)}};
   page.footer_html = Footer("rockcal study convergence", result.seed);
   return html::PageHtml(page);
 }
 
-std::string ConvergenceSvg(const std::string& site_name,
-                           const calibrate::ConvergenceResult& result) {
+std::string ConvergenceSvg(const calibrate::ConvergenceResult& result) {
+  const std::string& site_name = result.site;
   // Errors are drawn in percent.
   const double target = 100.0 * result.target;
   double xlo = std::numeric_limits<double>::infinity(), xhi = 0.0, ylo = target, yhi = target;
@@ -493,54 +505,57 @@ bool IsMorris(const calibrate::SensitivityResult& r) {
 
 double Finite(double v) { return std::isfinite(v) ? v : 0.0; }
 
-// The noise of one Morris elementary effect of output o (see SensitivityJson).
-double EffectNoise(const calibrate::SensitivityResult& r, std::size_t o) {
-  return std::sqrt(2.0) * r.outputs[o].noise / r.morris.delta;
-}
-
 // The verdict, the design and the cost.
-std::string SensitivityIntro(const JsonFile& j, const calibrate::SensitivityResult& r) {
+std::string SensitivityIntro(const Anchors& a, const calibrate::SensitivityResult& r) {
   const bool morris = IsMorris(r);
-  std::string s = "<p class=\"verdict\">" + j.Text("/summary") + "</p>";
+  const calibrate::MorrisResult& m = r.morris;
+  const calibrate::SobolResult& sobol = r.sobol;
+  std::string s = "<p class=\"verdict\">" + a.Text("/summary", r.summary) + "</p>";
   if (morris) {
-    s += "<p>Morris elementary effects: " + j.Span("/design/trajectories", Int) +
-         " trajectories through the parameter box on a grid of " + j.Span("/design/levels", Int) +
-         " levels, each step moving one parameter by &#916; = " + j.Span("/design/delta", Show) +
-         " of its range; " + j.Span("/design/evaluations", Int) +
+    s += "<p>Morris elementary effects: " + a.Span("/design/trajectories", m.trajectories, Int) +
+         " trajectories through the parameter box on a grid of " +
+         a.Span("/design/levels", m.levels, Int) +
+         " levels, each step moving one parameter by &#916; = " +
+         a.Span("/design/delta", m.delta, Show) + " of its range; " +
+         a.Span("/design/evaluations", m.evaluations, Int) +
          " simulations. An effect is the change of the output per full range of the "
          "parameter: &#956;* is the mean of its size (how much the parameter matters), &#963; its "
          "spread (interactions with other parameters, or curvature).</p>";
   } else {
-    s += "<p>Sobol indices from Saltelli sampling: " + j.Span("/design/samples", Int) +
-         " rows in each of the matrices A and B, " + j.Span("/design/evaluations", Int) +
-         " simulations (" + j.Text("/design/sampling") +
+    s += "<p>Sobol indices from Saltelli sampling: " +
+         a.Span("/design/samples", sobol.samples, Int) + " rows in each of the matrices A and B, " +
+         a.Span("/design/evaluations", sobol.evaluations, Int) + " simulations (" +
+         a.Text("/design/sampling", calibrate::kSobolSampling) +
          "). S<sub>i</sub> is the share of the output's variance over the parameter box due to "
          "the parameter alone, ST<sub>i</sub> the share it takes part in, interactions "
          "included. Intervals: bootstrap " +
-         j.Span("/design/confidence", SetPercent) + " percentile intervals over " +
-         j.Span("/design/bootstrap", Int) + " resamples of the rows.</p>";
+         a.Span("/design/confidence", sobol.confidence, SetPercent) +
+         " percentile intervals over " + a.Span("/design/bootstrap", sobol.bootstrap, Int) +
+         " resamples of the rows.</p>";
   }
-  s += "<p>Every simulation used the same seed " + j.Span("/seed", Int) + " and " +
-       j.Span("/rocks", Int) +
+  s += "<p>Every simulation used the same seed " +
+       a.Span("/seed", static_cast<double>(r.seed), Int) + " and " +
+       a.Span("/rocks", r.rocks, Int) +
        " rocks (common random numbers): differences come from the parameters. Cost: " +
-       j.Span("/simulations", Int) +
+       a.Span("/simulations", r.simulations, Int) +
        " simulations (the design and one at the site's current "
        "parameters) in " +
-       j.Span("/wall_seconds", Show) + " s of wall time, " +
-       j.Span("/simulations_per_second", Show) + " simulations per second, " +
-       j.Span("/threads", Int) + " threads.</p>";
+       a.Span("/wall_seconds", r.wall_seconds, Show) + " s of wall time, " +
+       a.Span("/simulations_per_second", r.SimulationsPerSecond(), Show) +
+       " simulations per second, " + a.Span("/threads", r.threads, Int) + " threads.</p>";
   return s;
 }
 
 // The parameters and their box.
-std::string SensitivityParameters(const JsonFile& j, const calibrate::SensitivityResult& r) {
+std::string SensitivityParameters(const Anchors& a, const calibrate::SensitivityResult& r) {
   std::string s = "<h3>Parameters</h3><table><thead><tr>" + Th("") + Th("parameter") + Th("lower") +
                   Th("upper") + Th("current") + "</tr></thead><tbody>";
   for (std::size_t i = 0; i < r.parameters.size(); ++i) {
     const std::string p = "/parameters/" + std::to_string(i) + "/";
-    s += "<tr>" + Td(std::to_string(i + 1), true) + "<td>" + j.Text(p + "label") + "</td>" +
-         j.Cell(p + "lower", Show) + j.Cell(p + "upper", Show) + j.Cell(p + "current", Show) +
-         "</tr>";
+    const calibrate::Parameter& par = r.parameters[i];
+    s += "<tr>" + Td(std::to_string(i + 1), true) + "<td>" + a.Text(p + "label", par.label()) +
+         "</td>" + a.Cell(p + "lower", par.lower, Show) + a.Cell(p + "upper", par.upper, Show) +
+         a.Cell(p + "current", r.current[i], Show) + "</tr>";
   }
   s += "</tbody></table><p class=\"note\">SI units (roughness in m, contact time in s). Charts "
        "number the parameters as here.</p>";
@@ -548,7 +563,7 @@ std::string SensitivityParameters(const JsonFile& j, const calibrate::Sensitivit
 }
 
 // The outputs with their Monte Carlo noise.
-std::string SensitivityOutputs(const JsonFile& j, const calibrate::SensitivityResult& r) {
+std::string SensitivityOutputs(const Anchors& a, const calibrate::SensitivityResult& r) {
   const bool morris = IsMorris(r);
   std::string s =
       "<h3>Outputs and their Monte Carlo noise</h3><table><thead><tr>" + Th("output") + Th("unit") +
@@ -557,13 +572,16 @@ std::string SensitivityOutputs(const JsonFile& j, const calibrate::SensitivityRe
       "</tr></thead><tbody>";
   for (std::size_t o = 0; o < r.outputs.size(); ++o) {
     const std::string p = "/outputs/" + std::to_string(o) + "/";
-    s += "<tr><td>" + j.Text(p + "name") + "<span class=\"desc\">" + j.Text(p + "description") +
-         "</span></td><td>" + j.Text(p + "unit") + "</td>" + j.Cell(p + "value", Show, "", "-") +
-         j.Cell(p + "noise", Show, "", "unknown");
+    const calibrate::SensitivityOutputInfo& out = r.outputs[o];
+    s += "<tr><td>" + a.Text(p + "name", out.name) + "<span class=\"desc\">" +
+         a.Text(p + "description", out.description) + "</span></td><td>" +
+         a.Text(p + "unit", out.unit) + "</td>" + a.Cell(p + "value", out.value, Show, "", "-") +
+         a.Cell(p + "noise", out.noise, Show, "", "unknown");
     if (morris)
-      s += j.Cell(p + "effect_noise", Show, "", "unknown");
+      s += a.Cell(p + "effect_noise", r.EffectNoise(o), Show, "", "unknown");
     else
-      s += j.Cell(p + "variance", Show, "", "-") + j.Cell(p + "rows", Int);
+      s += a.Cell(p + "variance", r.sobol.variance[o], Show, "", "-") +
+           a.Cell(p + "rows", r.sobol.rows[o], Int);
     s += "</tr>";
   }
   s += "</tbody></table><p class=\"note\">Noise: the bootstrap standard error of the output "
@@ -595,7 +613,7 @@ std::string SensitivityCharts(const calibrate::SensitivityResult& r) {
 }
 
 // Every (parameter, output) pair, and the notes.
-std::string SensitivityEntries(const JsonFile& j, const calibrate::SensitivityResult& r) {
+std::string SensitivityEntries(const Anchors& a, const calibrate::SensitivityResult& r) {
   const bool morris = IsMorris(r);
   std::string s = "<h3>Every parameter and output</h3><table class=\"wide\"><thead><tr>" +
                   Th("parameter") + Th("output");
@@ -605,40 +623,49 @@ std::string SensitivityEntries(const JsonFile& j, const calibrate::SensitivityRe
   for (std::size_t e = 0; e < r.entries.size(); ++e) {
     const std::string p = "/entries/" + std::to_string(e) + "/";
     const calibrate::SensitivityEntry& entry = r.entries[e];
-    const bool resolved = entry.effect_over_noise >= j.Number("/resolved_ratio");
-    s += "<tr><td>" + j.Text(p + "parameter") + "</td><td>" + j.Text(p + "output") + "</td>";
+    const bool resolved = entry.effect_over_noise >= calibrate::kResolvedEffectOverNoise;
+    const calibrate::MorrisIndex& mi = entry.morris;
+    const calibrate::SobolIndex& si = entry.sobol;
+    s += "<tr><td>" +
+         a.Text(p + "parameter", r.parameters[static_cast<std::size_t>(entry.parameter)].label()) +
+         "</td><td>" +
+         a.Text(p + "output", r.outputs[static_cast<std::size_t>(entry.output)].name) + "</td>";
     if (morris) {
-      s += j.Cell(p + "mu", Show, "", "-") + j.Cell(p + "mu_star", Show, "", "-") +
-           j.Cell(p + "sigma", Show, "", "-") + j.Cell(p + "effects", Int);
+      s += a.Cell(p + "mu", mi.mu, Show, "", "-") +
+           a.Cell(p + "mu_star", mi.mu_star, Show, "", "-") +
+           a.Cell(p + "sigma", mi.sigma, Show, "", "-") + a.Cell(p + "effects", mi.effects, Int);
     } else {
-      s += j.Cell(p + "first", Show, "", "-") + "<td class=\"n\">" +
-           j.Span(p + "first_low", Show, "-") + " to " + j.Span(p + "first_high", Show, "-") +
-           "</td>" + j.Cell(p + "total", Show, "", "-") + "<td class=\"n\">" +
-           j.Span(p + "total_low", Show, "-") + " to " + j.Span(p + "total_high", Show, "-") +
-           "</td>";
+      s += a.Cell(p + "first", si.first, Show, "", "-") + "<td class=\"n\">" +
+           a.Span(p + "first_low", si.first_low, Show, "-") + " to " +
+           a.Span(p + "first_high", si.first_high, Show, "-") + "</td>" +
+           a.Cell(p + "total", si.total, Show, "", "-") + "<td class=\"n\">" +
+           a.Span(p + "total_low", si.total_low, Show, "-") + " to " +
+           a.Span(p + "total_high", si.total_high, Show, "-") + "</td>";
     }
-    s += j.Cell(p + "effect_over_noise", Show, resolved ? "ok" : "", "unknown") + "</tr>";
+    s += a.Cell(p + "effect_over_noise", entry.effect_over_noise, Show, resolved ? "ok" : "",
+                "unknown") +
+         "</tr>";
   }
   s += "</tbody></table><p class=\"note\">Effect / noise: ";
   s += morris ? "&#956;* over the noise of one effect; Monte Carlo noise alone gives about 0.8."
               : "the standard deviation the parameter causes alone, &#8730;(S<sub>i</sub> V), "
                 "over the noise of one run.";
-  s += " Marked green at " + j.Span("/resolved_ratio", Show) +
+  s += " Marked green at " + a.Span("/resolved_ratio", calibrate::kResolvedEffectOverNoise, Show) +
        " or more: the effect stands out of the noise, so data on that output can pin the "
        "parameter down at this rock count. A parameter that stands out on no output cannot be "
        "calibrated from these quantities. See calibrate/STUDIES.md.</p>";
   if (!r.notes.empty()) {
     s += "<h3>Notes</h3><ul class=\"notes\">";
     for (std::size_t k = 0; k < r.notes.size(); ++k)
-      s += "<li>" + j.Text("/notes/" + std::to_string(k)) + "</li>";
+      s += "<li>" + a.Text("/notes/" + std::to_string(k), r.notes[k]) + "</li>";
     s += "</ul>";
   }
   return s;
 }
 
-std::string SensitivityBody(const JsonFile& j, const calibrate::SensitivityResult& r) {
-  return SensitivityIntro(j, r) + SensitivityParameters(j, r) + SensitivityOutputs(j, r) +
-         SensitivityCharts(r) + SensitivityEntries(j, r);
+std::string SensitivityBody(const Anchors& a, const calibrate::SensitivityResult& r) {
+  return SensitivityIntro(a, r) + SensitivityParameters(a, r) + SensitivityOutputs(a, r) +
+         SensitivityCharts(r) + SensitivityEntries(a, r);
 }
 
 // A bar of the chart from y = 0 to v between data x0 and x1.
@@ -678,7 +705,7 @@ std::string SensitivitySvg(const calibrate::SensitivityResult& r, int output) {
       for (double v : {e.sobol.first_high, e.sobol.total_high}) yhi = std::max(yhi, Finite(v));
     }
   }
-  const double noise = morris ? EffectNoise(r, o) : 0.0;
+  const double noise = morris ? r.EffectNoise(o) : 0.0;
   if (morris && std::isfinite(noise)) yhi = std::max(yhi, noise);
   if (!(yhi > ylo)) yhi = ylo + 1.0;
   yhi += 0.3 * (yhi - ylo);  // room for the legend above the bars
@@ -735,10 +762,10 @@ std::string SensitivitySvg(const calibrate::SensitivityResult& r, int output) {
 std::string SensitivityHtmlReport(const StudyReportInput& in,
                                   const calibrate::SensitivityResult& result) {
   const core::Scene& scene = SceneOf(in, "SensitivityHtmlReport");
-  const JsonFile j("sensitivity.json", calibrate::SensitivityJson(scene.name, result));
+  const Anchors a("sensitivity.json");
   html::Page page;
   page.title = "rockcal sensitivity study: " + scene.name;
-  page.heading_html = "Sensitivity study: " + j.Text("/site");
+  page.heading_html = "Sensitivity study: " + a.Text("/site", result.site);
   page.lead_html = std::string(IsMorris(result) ? "Morris elementary effects" : "Sobol indices") +
                    " of " + std::to_string(result.parameters.size()) + " parameters on " +
                    std::to_string(result.outputs.size()) +
@@ -748,7 +775,7 @@ std::string SensitivityHtmlReport(const StudyReportInput& in,
   page.note_html =
       "SI units. The machine-readable record is sensitivity.json and sensitivity.csv; "
       "calibrate/STUDIES.md gives the formulas and how to read effect against noise.";
-  page.sections = {SiteSection(in), {"sensitivity", "Sensitivity", "", SensitivityBody(j, result)}};
+  page.sections = {SiteSection(in), {"sensitivity", "Sensitivity", "", SensitivityBody(a, result)}};
   page.footer_html = Footer("rockcal sensitivity", result.seed);
   return html::PageHtml(page);
 }

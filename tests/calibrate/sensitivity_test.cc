@@ -299,11 +299,9 @@ TEST(SensitivitySite, SobolWithObservationsHasTheMisfitAndIsRepeatable) {
       EXPECT_EQ(a.at(1, o).sobol.total, 0.0) << o;
     }
   }
-  const nlohmann::json j = SensitivityJson("twin", a);
+  const nlohmann::json j = a;
   EXPECT_EQ(j["method"], "sobol");
   EXPECT_EQ(j["entries"].size(), 2u * a.outputs.size());
-  const std::string csv = SensitivityCsv(a);
-  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 2 * static_cast<long>(a.outputs.size()));
 }
 
 TEST(SensitivitySite, ASiteWithoutBoundsIsAnInputError) {

@@ -13,12 +13,19 @@
 #include <string>
 #include <vector>
 
+#include "hand_results.h"
 #include "report_check.h"
 #include "rockcal/sites/site.h"
 #include "xml_check.h"
 
 namespace rockcal::reports {
 namespace {
+
+using testing::Case;
+using testing::HandCases;
+using testing::HandConvergence;
+using testing::SmallStudy;
+using testing::Study;
 
 using testing::CheckNumbers;
 using testing::ExpectSelfContained;
@@ -73,50 +80,12 @@ std::set<std::string> Expected(const nlohmann::json& json, const std::string& pr
 
 // ---- stability -------------------------------------------------------------------
 
-calibrate::StabilityCase Case(const std::string& name, bool pass) {
-  calibrate::StabilityCase c;
-  c.name = name;
-  c.description = "a case & its <description>";
-  c.figures.rocks = 20;
-  c.max_time = 60.0;
-  c.figures.dt_min = c.figures.dt_max = 1e-4;
-  c.figures.steps = 452092;
-  c.figures.flights = 76547;
-  c.wall_seconds = 0.1234;
-  c.stopped = 13, c.left = 7, c.timeout = 0;
-  c.figures.max_relative_energy_gain = 2.8e-11;
-  c.figures.max_penetration = 0.0516;
-  c.pass = pass;
-  return c;
-}
-
-// Three cases by hand: a PASS, a FAIL with a reason and different steps, and
-// a must-stop FAIL whose energy gain is not finite (null in the JSON), with a
-// warning.
-std::vector<calibrate::StabilityCase> HandCases() {
-  std::vector<calibrate::StabilityCase> cases = {Case("site", true), Case("hardness_1", false),
-                                                 Case("flat_runout", false)};
-  cases[1].figures.dt_min = 2.61e-5;
-  cases[1].figures.dt_shrunk = 20;
-  cases[1].figures.tunneled = 2;
-  cases[1].figures.max_relative_energy_gain = 0.5;
-  cases[1].reason = "2 rocks tunneled; energy gain 0.5 > tolerance 0.001";
-  cases[2].must_stop = true;
-  cases[2].stopped = 18, cases[2].left = 0, cases[2].timeout = 2;
-  cases[2].figures.non_finite = 1;
-  cases[2].figures.max_relative_energy_gain = std::nan("");
-  cases[2].figures.max_penetration = 3.68;
-  cases[2].reason = "1 rocks non-finite; 2 of 20 rocks did not stop (0 left, 2 timeout)";
-  cases[2].warning = "overlap reached 3.68 element radii (advisory limit 0.5)";
-  return cases;
-}
-
-void CheckStabilityReport(const sites::Site& site, const calibrate::StabilityOptions& opt,
-                          const std::vector<calibrate::StabilityCase>& cases) {
-  const Parsed p = ParseReport(StabilityHtmlReport(Input(site), opt, cases));
+void CheckStabilityReport(const sites::Site& site, const calibrate::StabilityStudy& study) {
+  const std::vector<calibrate::StabilityCase>& cases = study.cases;
+  const Parsed p = ParseReport(StabilityHtmlReport(Input(site), study));
   ExpectSelfContained(p);
   EXPECT_EQ(p.sections, (std::vector<std::string>{"site", "stability"}));
-  const nlohmann::json json = calibrate::StabilityJson(site.scene.name, opt, cases);
+  const nlohmann::json json = study;
   auto seen = CheckNumbers(p, {{"stability.json", json}});
   std::set<std::string> expected =
       Expected(json, "/cases/", {"name", "description", "result", "reason", "warning"});
@@ -150,10 +119,9 @@ void CheckStabilityReport(const sites::Site& site, const calibrate::StabilityOpt
 
 TEST(StudyReportTest, StabilityReportShowsTheCasesOfStabilityJson) {
   const sites::Site site = Example("profile2d");
-  const std::vector<calibrate::StabilityCase> cases = HandCases();
-  calibrate::StabilityOptions opt;
-  CheckStabilityReport(site, opt, cases);
-  const Parsed p = ParseReport(StabilityHtmlReport(Input(site), opt, cases));
+  const calibrate::StabilityStudy study = Study(site, {}, HandCases());
+  CheckStabilityReport(site, study);
+  const Parsed p = ParseReport(StabilityHtmlReport(Input(site), study));
   const XmlNode* section = FindSection(p, "stability");
   // The reasons and the warning are in the table; the failing cells are marked.
   const std::string text = Unescape(section->AllText());
@@ -175,11 +143,10 @@ TEST(StudyReportTest, StabilityReportShowsTheCasesOfStabilityJson) {
 
 TEST(StudyReportTest, StabilityReportOfAllPassingCasesSaysSo) {
   const sites::Site site = Example("tutorial");  // US units
-  const std::vector<calibrate::StabilityCase> cases = {Case("site", true),
-                                                       Case("roughness_0", true)};
-  const Parsed p =
-      ParseReport(StabilityHtmlReport(Input(site), calibrate::StabilityOptions{}, cases));
-  CheckStabilityReport(site, calibrate::StabilityOptions{}, cases);
+  const calibrate::StabilityStudy study =
+      Study(site, {}, {Case("site", true), Case("roughness_0", true)});
+  const Parsed p = ParseReport(StabilityHtmlReport(Input(site), study));
+  CheckStabilityReport(site, study);
   const XmlNode* section = FindSection(p, "stability");
   ASSERT_NE(section, nullptr);
   EXPECT_NE(Unescape(section->AllText()).find("2 cases: 2 PASS"), std::string::npos);
@@ -189,78 +156,11 @@ TEST(StudyReportTest, StabilityReportOfAllPassingCasesSaysSo) {
 
 // ---- convergence -----------------------------------------------------------------
 
-calibrate::QuantityError Quantity(const std::string& name, double value, double total, double mc,
-                                  double discretisation) {
-  calibrate::QuantityError q;
-  q.name = name;
-  q.value = value;
-  q.count = 100;
-  q.total_error = total;
-  q.mc_error = mc;
-  q.discretisation_error = discretisation;
-  q.discretisation_noise = 0.5 * discretisation;
-  q.estimate = discretisation + mc;
-  return q;
-}
-
-// N_c 10 and 20 at 50 and 100 rocks, two quantities; the runout of the
-// cheapest setting rests on too few values (unknown errors).
-calibrate::ConvergenceResult HandConvergence(bool recommend) {
-  calibrate::ConvergenceResult r;
-  r.quantities = {"P-talus.height.p90", "runout.p50"};
-  r.notes = {"runout quantities are distances & more"};
-  r.target = 0.2;
-  r.bootstrap = 200;
-  r.confidence = 0.9;
-  r.seed = 7;
-  r.threads = 2;
-  const int ncs[] = {10, 20}, counts[] = {50, 100};
-  for (int nc : ncs)
-    for (int rocks : counts) {
-      calibrate::ConvergenceRow row;
-      row.steps_per_contact = nc;
-      row.rocks = rocks;
-      row.figures.dt_min = 5e-3 / nc;
-      row.figures.dt_max = nc == 10 ? 2 * row.figures.dt_min : row.figures.dt_min;
-      row.figures.dt_shrunk = nc == 10 ? rocks : 0;
-      row.wall_seconds = 0.001 * nc * rocks;
-      row.figures.steps = 1000L * nc * rocks;
-      row.stopped = rocks;
-      const double mc = 0.3 * std::sqrt(50.0 / rocks), d = nc == 10 ? 0.04 : 0.0;
-      row.quantities = {Quantity(r.quantities[0], 5.28, d + 0.01, mc, d),
-                        Quantity(r.quantities[1], 91.8, d, 0.5 * mc, d)};
-      if (nc == 10 && rocks == 50) {
-        row.quantities[1].value = std::nan("");
-        row.quantities[1].count = 3;
-        row.quantities[1].total_error = row.quantities[1].mc_error = kInf;
-        row.quantities[1].estimate = kInf;
-      }
-      row.max_total_error = row.max_mc_error = row.max_discretisation_error = 0.0;
-      row.max_discretisation_noise = row.max_estimate = 0.0;
-      for (const auto& q : row.quantities) {
-        row.max_total_error = std::max(row.max_total_error, q.total_error);
-        row.max_mc_error = std::max(row.max_mc_error, q.mc_error);
-        row.max_discretisation_error =
-            std::max(row.max_discretisation_error, q.discretisation_error);
-        row.max_discretisation_noise =
-            std::max(row.max_discretisation_noise, q.discretisation_noise);
-        row.max_estimate = std::max(row.max_estimate, q.estimate);
-      }
-      row.meets_target = row.max_estimate <= r.target;
-      r.rows.push_back(row);
-    }
-  r.reference = 3;
-  r.recommended = recommend ? 3 : -1;
-  r.recommendation = recommend ? "N_c = 20 with 100 rocks: error estimate 21.2 % <= target"
-                               : "none: no setting's error estimate is within the target";
-  return r;
-}
-
 void CheckConvergenceReport(const sites::Site& site, const calibrate::ConvergenceResult& r) {
   const Parsed p = ParseReport(ConvergenceHtmlReport(Input(site), r));
   ExpectSelfContained(p);
   EXPECT_EQ(p.sections, (std::vector<std::string>{"site", "convergence"}));
-  const nlohmann::json json = calibrate::ConvergenceJson(site.scene.name, r);
+  const nlohmann::json json = r;
   auto seen = CheckNumbers(p, {{"convergence.json", json}});
   // Every setting's numbers (the per-quantity detail only at the reference).
   std::set<std::string> expected;
@@ -290,7 +190,7 @@ void CheckConvergenceReport(const sites::Site& site, const calibrate::Convergenc
   // The plot inline, the same as convergence.svg.
   const XmlNode* section = FindSection(p, "convergence");
   ASSERT_NE(section, nullptr);
-  std::string svg = ConvergenceSvg(site.scene.name, r);
+  std::string svg = ConvergenceSvg(r);
   while (!svg.empty() && svg.back() == '\n') svg.pop_back();
   EXPECT_NE(p.html.find(svg), std::string::npos) << "the inline plot is convergence.svg";
   int svgs = 0;
@@ -314,7 +214,7 @@ TEST(StudyReportTest, ConvergenceReportShowsEverySettingOfConvergenceJson) {
 
 TEST(StudyReportTest, ConvergenceSvgIsALogLogPlotWithTheTarget) {
   calibrate::ConvergenceResult r = HandConvergence(true);
-  const std::string svg = ConvergenceSvg("small <slope>", r);
+  const std::string svg = ConvergenceSvg(r);
   std::string error;
   const auto root = ParseXml(svg, &error);
   ASSERT_NE(root, nullptr) << error;
@@ -337,16 +237,17 @@ TEST(StudyReportTest, ConvergenceSvgIsALogLogPlotWithTheTarget) {
     EXPECT_TRUE(labels.count(label)) << label;
   // Without a recommendation no ring; with no finite estimate, an empty plot that says so.
   r.recommended = -1;
-  EXPECT_EQ(ConvergenceSvg("s", r).find("recommended"), std::string::npos);
+  EXPECT_EQ(ConvergenceSvg(r).find("recommended"), std::string::npos);
   for (auto& row : r.rows) row.max_estimate = kInf;
-  const std::string empty = ConvergenceSvg("s", r);
+  const std::string empty = ConvergenceSvg(r);
   ASSERT_NE(ParseXml(empty, &error), nullptr) << error;
   EXPECT_NE(empty.find("no setting has a finite error estimate"), std::string::npos);
 }
 
 TEST(StudyReportTest, RejectsAMissingSceneOrReference) {
   const calibrate::ConvergenceResult r = HandConvergence(true);
-  EXPECT_THROW(StabilityHtmlReport(StudyReportInput{}, {}, HandCases()), std::invalid_argument);
+  EXPECT_THROW(StabilityHtmlReport(StudyReportInput{}, calibrate::StabilityStudy{}),
+               std::invalid_argument);
   EXPECT_THROW(ConvergenceHtmlReport(StudyReportInput{}, r), std::invalid_argument);
   const sites::Site site = Example("profile2d");
   calibrate::ConvergenceResult no_reference = r;
@@ -364,7 +265,7 @@ TEST(StudyReportTest, ReportsOfTinyStudiesOfProfile2d) {
   stability.threads = 2;
   stability.cases = {calibrate::StabilityCaseId::kSite, calibrate::StabilityCaseId::kFlat,
                      calibrate::StabilityCaseId::kRoughest};
-  CheckStabilityReport(site, stability, calibrate::RunStabilitySuite(site.scene, stability));
+  CheckStabilityReport(site, calibrate::RunStabilitySuite(site.scene, stability));
 
   calibrate::ConvergenceOptions convergence;
   convergence.steps_per_contact = {10, 20};
@@ -384,16 +285,6 @@ TEST(StudyReportTest, ReportsOfTinyStudiesOfProfile2d) {
 
 // ---- sensitivity -------------------------------------------------------------------
 
-// A small real study of profile2d (4 rocks a run).
-calibrate::SensitivityResult SmallStudy(const sites::Site& site, calibrate::SensitivityMethod m) {
-  calibrate::SensitivityOptions opt;
-  opt.method = m;
-  opt.samples = m == calibrate::SensitivityMethod::kMorris ? 2 : 4;
-  opt.bootstrap = 20;
-  opt.threads = 2;
-  return calibrate::RunSensitivity(site, nullptr, opt);
-}
-
 TEST(SensitivityReport, EveryNumberComesFromSensitivityJson) {
   sites::Site site = Example("profile2d");
   site.scene.SetTotalRocks(2);
@@ -406,7 +297,7 @@ TEST(SensitivityReport, EveryNumberComesFromSensitivityJson) {
     const Parsed p = ParseReport(SensitivityHtmlReport(Input(site), r));
     ExpectSelfContained(p);
     EXPECT_EQ(p.sections, (std::vector<std::string>{"site", "sensitivity"}));
-    const nlohmann::json json = calibrate::SensitivityJson(site.scene.name, r);
+    const nlohmann::json json = r;
     auto seen = CheckNumbers(p, {{"sensitivity.json", json}});
     std::set<std::string> expected = Expected(json, "/entries/", {"parameter", "output"});
     for (const std::string& leaf : Expected(json, "/outputs/", {"name", "description"}))

@@ -9,8 +9,10 @@
 //    scar heights, passing fractions, ...) is checked, with no list of its own.
 //    For each: the range of the simulated value over the design, the observed
 //    value, its sigma, the point that came closest in sigmas, and a verdict.
-// The JSON and CSV tables and the console report are written here; the plot
-// and report.html by rockcal/reports/reach_report.h. See calibrate/STUDIES.md.
+// The result is a struct, read from and written to reach.json by to_json /
+// from_json; the console report is written here; the files (reach.json,
+// reach.csv, the plot and report.html) by rockcal/reports/reach_report.h.
+// See calibrate/STUDIES.md.
 #ifndef ROCKCAL_CALIBRATE_REACH_H_
 #define ROCKCAL_CALIBRATE_REACH_H_
 
@@ -121,6 +123,7 @@ struct ReachPoint {
 };
 
 struct ReachResult {
+  std::string site;  // the Objective's scene's name
   DesignKind design = DesignKind::kLatinHypercube;
   int candidates = 0;
   std::uint64_t design_seed = 0;
@@ -154,10 +157,10 @@ ReachResult RunReach(const Objective& objective, const ReachOptions& options);
 // the calibrate command to print before it searches.
 std::vector<std::string> OutOfReachWarnings(const ReachResult& result);
 
-// reach.json: the design, the rule, one object per statistic and per point.
-nlohmann::json ReachJson(const std::string& site_name, const ReachResult& result);
-// reach.csv: one row per statistic (SI units).
-std::string ReachCsv(const ReachResult& result);
+// reach.json: the design, the rule, one object per statistic and per point
+// (calibrate/src/results_json.cc; reports/ writes the file and reach.csv).
+void to_json(nlohmann::json& j, const ReachResult& result);
+void from_json(const nlohmann::json& j, ReachResult& result);
 
 }  // namespace rockcal::calibrate
 

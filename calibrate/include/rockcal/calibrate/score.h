@@ -5,6 +5,7 @@
 #define ROCKCAL_CALIBRATE_SCORE_H_
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -63,6 +64,30 @@ struct ScoreSummary {
 // computes the misfit against `observations`.
 ScoreSummary Score(const core::Scene& scene, const observations::Observations& observations,
                    const observations::MisfitOptions& misfit = {});
+
+// What `rockcal score` records of a score: score.json (to_json and
+// from_json below; reports/ writes the file).
+struct ScoreResult {
+  std::string site;               // the scene's name
+  std::string observations_file;  // as given
+  // The parameters.json whose values the site took, as given; empty: the
+  // site's own values (null in score.json).
+  std::string parameters_file;
+  int rocks = 0;
+  std::uint64_t seed = 0;
+  int stopped = 0, left = 0, timeout = 0;  // the rocks' outcomes
+  // Its value, penalised and message, and the residuals (the runs'
+  // figures are not in score.json).
+  observations::Misfit misfit;
+};
+
+// The record of `score` with the files it was given (ScoreOptions::parameters_file).
+ScoreResult ScoreResultOf(const ScoreSummary& score, const std::string& observations_file,
+                          const std::string& parameters_file);
+
+// score.json (calibrate/src/results_json.cc).
+void to_json(nlohmann::json& j, const ScoreResult& result);
+void from_json(const nlohmann::json& j, ScoreResult& result);
 
 }  // namespace rockcal::calibrate
 

@@ -11,8 +11,9 @@
 //    stopped, the calibration misfit), every run with the same seed; and the
 //    Monte Carlo noise of each output at the site's current parameters, so
 //    each effect can be read against it.
-// The JSON and CSV tables and the console report are written here; the bar
-// charts and report.html by rockcal/reports/study_report.h. See
+// The result is a struct, read from and written to its JSON by to_json /
+// from_json; the console report is written here; the files (JSON, CSV, the
+// bar charts and report.html) by rockcal/reports/study_report.h. See
 // calibrate/STUDIES.md for the formulas.
 #ifndef ROCKCAL_CALIBRATE_SENSITIVITY_H_
 #define ROCKCAL_CALIBRATE_SENSITIVITY_H_
@@ -110,6 +111,10 @@ struct SobolIndex {
   double total = 0.0, total_low = 0.0, total_high = 0.0;
 };
 
+// How RunSobol draws the matrices A and B, in words (sensitivity.json's
+// design.sampling).
+constexpr const char* kSobolSampling = "pseudo-random (xoshiro256**), seeded";
+
 struct SobolResult {
   int parameters = 0, outputs = 0;
   int samples = 0, bootstrap = 0;
@@ -188,7 +193,12 @@ struct SensitivityEntry {
   double effect_over_noise = 0.0;
 };
 
+// An effect stands out of the Monte Carlo noise when its effect_over_noise
+// is at least this (sensitivity.json's "resolved_ratio").
+constexpr double kResolvedEffectOverNoise = 2.0;
+
 struct SensitivityResult {
+  std::string site;  // the scene's name
   SensitivityMethod method = SensitivityMethod::kMorris;
   int samples = 0;  // r or N
   std::uint64_t seed = 0;
@@ -210,6 +220,10 @@ struct SensitivityResult {
     return entries[static_cast<std::size_t>(parameter) * outputs.size() +
                    static_cast<std::size_t>(output)];
   }
+  // Morris: the noise of one elementary effect of `output`, sqrt(2) noise /
+  // Delta (two runs a step Delta apart).
+  double EffectNoise(std::size_t output) const;
+  double SimulationsPerSecond() const;  // simulations / wall_seconds
 };
 
 // Runs the study on `site` (its scene with the run's rock count; the
@@ -220,10 +234,11 @@ SensitivityResult RunSensitivity(const sites::Site& site,
                                  const observations::Observations* observations,
                                  const SensitivityOptions& options);
 
-// sensitivity.json, sensitivity.csv (one row per parameter and output) and a
-// human table (one line per parameter and output, then the summary).
-nlohmann::json SensitivityJson(const std::string& site_name, const SensitivityResult& result);
-std::string SensitivityCsv(const SensitivityResult& result);
+// sensitivity.json (calibrate/src/results_json.cc; reports/ writes the file
+// and its CSV).
+void to_json(nlohmann::json& j, const SensitivityResult& result);
+void from_json(const nlohmann::json& j, SensitivityResult& result);
+// A human table (one line per parameter and output, then the summary).
 std::string SensitivityReport(const SensitivityResult& result);
 
 }  // namespace rockcal::calibrate

@@ -7,8 +7,10 @@
 //    the rock count, and reports the error of the summary quantiles against
 //    the finest run, split into discretisation and Monte Carlo error, with
 //    the wall time of each setting and a recommendation.
-// The JSON and CSV tables and the console report are written here; the plot
-// and report.html by rockcal/reports/study_report.h. See calibrate/STUDIES.md.
+// The results are structs, read from and written to their JSON by to_json /
+// from_json; the console report is written here; the files (JSON, CSV, the
+// plot and report.html) by rockcal/reports/study_report.h. See
+// calibrate/STUDIES.md.
 #ifndef ROCKCAL_CALIBRATE_STUDY_H_
 #define ROCKCAL_CALIBRATE_STUDY_H_
 
@@ -53,7 +55,8 @@ bool StringToStabilityCase(const std::string& name, StabilityCaseId* id);
 std::string StabilityCaseNames();
 const std::vector<StabilityCaseId>& AllStabilityCases();
 
-struct StabilityOptions {
+// What each case may use and must meet: stability.json's "limits".
+struct StabilityLimits {
   // Rocks per case, spread over the case's rock groups in proportion to their
   // counts; >= 1. Few rocks keep the suite quick: it looks for failures, not
   // for statistics.
@@ -79,6 +82,9 @@ struct StabilityOptions {
   // contact law itself; what would be numerically wrong (passing through the
   // slope) is caught by the tunnelling check.
   double penetration_limit = 0.5;
+};
+
+struct StabilityOptions : StabilityLimits {
   // Seed of the runs; empty: the site's seed.
   std::optional<std::uint64_t> seed;
   int threads = 0;  // 0: OpenMP default; >= 0
@@ -119,18 +125,31 @@ struct StabilityCase {
   std::string warning;  // advisory findings (penetration), "" when none
 };
 
+// The suite's result: what stability.json holds (with the limits, the
+// criteria in words and the counts of PASS and FAIL beside it; to_json and
+// from_json below), and the seed of its runs.
+struct StabilityStudy {
+  std::string site;  // the scene's name
+  // The runs' seed (the options' or the site's); not in stability.json (the
+  // report's footer names it).
+  std::uint64_t seed = 0;
+  StabilityLimits limits;
+  std::vector<StabilityCase> cases;  // in AllStabilityCases() order
+
+  int passed() const;  // cases that passed
+  int failed() const { return static_cast<int>(cases.size()) - passed(); }
+};
+
 // Runs the suite on `site_scene`. Throws std::invalid_argument when the
 // options are not valid (the caller checks IsValid first to report it).
-std::vector<StabilityCase> RunStabilitySuite(const core::Scene& site_scene,
-                                             const StabilityOptions& options);
+StabilityStudy RunStabilitySuite(const core::Scene& site_scene, const StabilityOptions& options);
 // Runs one variant and judges it against the options' limits.
 StabilityCase RunStabilityVariant(const StabilityVariant& variant, const StabilityOptions& options);
 
-// stability.json: the limits, the criteria in words, and one object per case.
-nlohmann::json StabilityJson(const std::string& site_name, const StabilityOptions& options,
-                             const std::vector<StabilityCase>& cases);
-// stability.csv: one row per case (SI units).
-std::string StabilityCsv(const std::vector<StabilityCase>& cases);
+// stability.json (calibrate/src/results_json.cc; reports/ writes the file
+// and its CSV).
+void to_json(nlohmann::json& j, const StabilityStudy& study);
+void from_json(const nlohmann::json& j, StabilityStudy& study);
 // A human table, one line per case with PASS/FAIL, then reasons and warnings.
 std::string StabilityReport(const std::vector<StabilityCase>& cases);
 
@@ -191,6 +210,7 @@ struct ConvergenceRow {
 };
 
 struct ConvergenceResult {
+  std::string site;                     // the scene's name
   std::vector<ConvergenceRow> rows;     // N_c ascending, then rock count ascending
   std::vector<std::string> quantities;  // measured (present at the reference)
   std::vector<std::string> notes;       // quantities left out and why, other remarks
@@ -208,11 +228,10 @@ struct ConvergenceResult {
 // Throws std::invalid_argument when the options are not valid.
 ConvergenceResult RunConvergence(const core::Scene& scene, const ConvergenceOptions& options);
 
-// convergence.json / convergence.csv (one row per setting and quantity, plus
-// a "max" row per setting). The plot, convergence.svg, is
-// reports::ConvergenceSvg.
-nlohmann::json ConvergenceJson(const std::string& site_name, const ConvergenceResult& result);
-std::string ConvergenceCsv(const ConvergenceResult& result);
+// convergence.json (calibrate/src/results_json.cc; reports/ writes the
+// file, its CSV and the plot, reports::ConvergenceSvg).
+void to_json(nlohmann::json& j, const ConvergenceResult& result);
+void from_json(const nlohmann::json& j, ConvergenceResult& result);
 // A human table, one line per setting, and the recommendation.
 std::string ConvergenceReport(const ConvergenceResult& result);
 

@@ -23,6 +23,9 @@ using calibrate::CalibrationSummary;
 // known; the virtual spheres' spacing) added: a roughness means the same
 // ground only at the same sphere spacing.
 nlohmann::json ParametersJson(const CalibrationSummary& record);
+// Its "parameters" list: per parameter its material, class, name, value,
+// bounds, standard error and (with a posterior) the posterior's quantiles.
+nlohmann::json ParameterListJson(const CalibrationSummary& record);
 // parameters.csv: material,class,name,value,lower,upper,std_error,unit.
 std::string ParametersCsv(const CalibrationSummary& record);
 // parameters.md: a Markdown table ready for a report (site units beside SI).

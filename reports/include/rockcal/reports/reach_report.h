@@ -1,7 +1,8 @@
-// What `rockcal study reach` leaves besides reach.json and reach.csv:
-// report.html, built on the page of html_page.h, with the table of every
-// statistic and the plot of the reached ranges. ReachSection is the same
-// table and plot for another report (the calibration's first stage).
+// What `rockcal study reach` leaves besides reach.json (the result's
+// to_json) and reach.csv (result_files.h): report.html, built on the page of
+// html_page.h, with the table of every statistic and the plot of the reached
+// ranges. ReachSection is the same table and plot for another report (the
+// calibration's first stage).
 #ifndef ROCKCAL_REPORTS_REACH_REPORT_H_
 #define ROCKCAL_REPORTS_REACH_REPORT_H_
 
@@ -21,9 +22,10 @@ std::string ReachSvg(const calibrate::ReachResult& result);
 
 // The section's body (HTML): the verdict, the rule, the table (statistic,
 // observed +- sigma, reached min to max, closest point, verdict, coloured),
-// the plot, the best design point and the design. Every shown number carries
-// data-json="json_file#/pointer" into calibrate::ReachJson's layout, so a
-// caller that writes reach.json under another name passes that name.
+// the plot, the best design point and the design. Every shown number is the
+// result's field, marked data-json="json_file#/pointer" with its place in
+// reach.json (the result's to_json), so a caller that writes reach.json under
+// another name passes that name.
 std::string ReachSection(const calibrate::ReachResult& result,
                          const std::string& json_file = "reach.json");
 

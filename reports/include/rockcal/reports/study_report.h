@@ -1,8 +1,10 @@
-// What `rockcal study stability|convergence` and `rockcal sensitivity` leave
-// besides their JSON and CSV tables: report.html, built on the same page as
-// the simulation report (html_page.h); convergence.svg, the
-// error-against-run-time plot that the convergence report shows inline; and
-// the sensitivity report's bar charts. See reports/README.md.
+// What `rockcal study stability|convergence` and `rockcal sensitivity` leave:
+// their JSON (the result's to_json) and CSV tables; report.html, built on
+// the same page as the simulation report (html_page.h), its numbers read
+// from the result's fields and marked with their place in the JSON;
+// convergence.svg, the error-against-run-time plot that the convergence
+// report shows inline; and the sensitivity report's bar charts. See
+// reports/README.md.
 #ifndef ROCKCAL_REPORTS_STUDY_REPORT_H_
 #define ROCKCAL_REPORTS_STUDY_REPORT_H_
 
@@ -26,17 +28,14 @@ struct StudyReportInput {
 
 // report.html of the stability suite: sections `site` and `stability` (the
 // limits and criteria, one row per case with PASS or FAIL, and the verdict).
-// Its numbers refer to stability.json as calibrate::StabilityJson(scene name,
-// options, cases) writes it. Throws std::invalid_argument when in.scene is
-// missing.
-std::string StabilityHtmlReport(const StudyReportInput& in,
-                                const calibrate::StabilityOptions& options,
-                                const std::vector<calibrate::StabilityCase>& cases);
+// Its numbers are marked with their place in stability.json (the study's
+// to_json). Throws std::invalid_argument when in.scene is missing.
+std::string StabilityHtmlReport(const StudyReportInput& in, const calibrate::StabilityStudy& study);
 
 // report.html of the convergence study: sections `site` and `convergence`
 // (the plot of ConvergenceSvg, the table of every setting, the quantities and
-// the recommendation). Its numbers refer to convergence.json as
-// calibrate::ConvergenceJson(scene name, result) writes it. Throws
+// the recommendation). Its numbers are marked with their place in
+// convergence.json (the result's to_json). Throws
 // std::invalid_argument when in.scene is missing or the result has no
 // reference row.
 std::string ConvergenceHtmlReport(const StudyReportInput& in,
@@ -45,16 +44,16 @@ std::string ConvergenceHtmlReport(const StudyReportInput& in,
 // convergence.svg: the largest error estimate of each setting against its
 // wall seconds, log-log, one line per N_c through its rock counts (points
 // labelled with the count), the target as a dashed red line and the
-// recommendation circled. Self-contained SVG, no scripts.
-std::string ConvergenceSvg(const std::string& site_name,
-                           const calibrate::ConvergenceResult& result);
+// recommendation circled; titled with the result's site. Self-contained
+// SVG, no scripts.
+std::string ConvergenceSvg(const calibrate::ConvergenceResult& result);
 
 // report.html of the sensitivity study: sections `site` and `sensitivity`
 // (the design and its cost, the parameters, each output with its value and
 // Monte Carlo noise, one bar chart per output, the table of every parameter
-// and output, the notes). Its numbers refer to sensitivity.json as
-// calibrate::SensitivityJson(scene name, result) writes it. Throws
-// std::invalid_argument when in.scene is missing.
+// and output, the notes). Its numbers are marked with their place in
+// sensitivity.json (the result's to_json). Throws std::invalid_argument when
+// in.scene is missing.
 std::string SensitivityHtmlReport(const StudyReportInput& in,
                                   const calibrate::SensitivityResult& result);
 
