@@ -660,15 +660,19 @@ void from_json(const json& j, ReachResult& r) {
   for (const json& p : j.at("points")) r.points.push_back(PointOf(p));
 }
 
+json ResidualsJson(const observations::Misfit& misfit) {
+  json out = json::array();
+  for (const observations::Residual& r : misfit.residuals)
+    out.push_back({{"observation", r.id.observation()},
+                   {"quantity", r.id.quantity()},
+                   {"simulated", r.simulated},
+                   {"observed", r.observed},
+                   {"sigma", r.sigma},
+                   {"residual", r.value}});
+  return out;
+}
+
 void to_json(json& j, const ScoreResult& s) {
-  json residuals = json::array();
-  for (const observations::Residual& r : s.misfit.residuals)
-    residuals.push_back({{"observation", r.id.observation()},
-                         {"quantity", r.id.quantity()},
-                         {"simulated", r.simulated},
-                         {"observed", r.observed},
-                         {"sigma", r.sigma},
-                         {"residual", r.value}});
   j = {{"site", s.site},
        {"observations", s.observations_file},
        {"parameters", s.parameters_file.empty() ? json(nullptr) : json(s.parameters_file)},
@@ -678,7 +682,7 @@ void to_json(json& j, const ScoreResult& s) {
        {"penalised", s.misfit.penalised},
        {"message", s.misfit.message},
        {"outcomes", Outcomes(s.stopped, s.left, s.timeout)},
-       {"residuals", residuals}};
+       {"residuals", ResidualsJson(s.misfit)}};
 }
 
 void from_json(const json& j, ScoreResult& s) {

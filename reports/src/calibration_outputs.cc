@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "rockcal/calibrate/score.h"
 #include "rockcal/core/format.h"
 #include "rockcal/core/scene.h"
 #include "rockcal/observations/misfit.h"
@@ -52,18 +53,6 @@ std::string SiteValue(const Parameter& p, double v, sites::Units units) {
 const double* StdError(const MethodResult& m, std::size_t k) {
   const auto& u = m.uncertainty;
   return u.computed && !u.rank_deficient && k < u.std_error.size() ? &u.std_error[k] : nullptr;
-}
-
-nlohmann::json ResidualsJson(const observations::Misfit& m) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const auto& r : m.residuals)
-    out.push_back({{"observation", r.id.observation()},
-                   {"quantity", r.id.quantity()},
-                   {"simulated", r.simulated},
-                   {"observed", r.observed},
-                   {"sigma", r.sigma},
-                   {"residual", r.value}});
-  return out;
 }
 
 }  // namespace
@@ -343,8 +332,8 @@ nlohmann::json CalibrationJson(const CalibrationSummary& record) {
           {"calibrated", best.best},
           {"misfit_before", record.misfit_before.value},
           {"misfit_after", record.misfit_after.value},
-          {"fit_before", ResidualsJson(record.misfit_before)},
-          {"fit", ResidualsJson(record.misfit_after)},
+          {"fit_before", calibrate::ResidualsJson(record.misfit_before)},
+          {"fit", calibrate::ResidualsJson(record.misfit_after)},
           {"verdict", VerdictJson(record)},
           {"methods", methods}};
   if (record.posterior) out["posterior"] = calibrate::PosteriorJson(*record.posterior);

@@ -37,6 +37,14 @@ Result RoundTrip(const Result& result) {
 
 bool Same(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
 
+Parameter ParameterOf(const std::string& material, ParameterKind kind, double lower, double upper) {
+  Parameter p;
+  p.material = material;
+  p.kind = kind;
+  p.lower = lower, p.upper = upper;
+  return p;
+}
+
 TEST(ResultsJson, StabilityStudyRoundTrips) {
   StabilityStudy study;
   study.site = "slope";
@@ -166,16 +174,9 @@ SensitivityResult Sensitivity(SensitivityMethod method) {
   r.seed = 3;
   r.rocks = 4;
   r.threads = 2;
-  Parameter hardness;
-  hardness.material = "talus";
-  hardness.kind = ParameterKind::kHardness;
-  hardness.lower = 0.1, hardness.upper = 0.9;
-  Parameter roughness = hardness;
-  roughness.material = "site:rock";
-  roughness.kind = ParameterKind::kRoughness;
+  Parameter roughness = ParameterOf("site:rock", ParameterKind::kRoughness, -0.05, 0.05);
   roughness.offset = true;
-  roughness.lower = -0.05, roughness.upper = 0.05;
-  r.parameters = {hardness, roughness};
+  r.parameters = {ParameterOf("talus", ParameterKind::kHardness, 0.1, 0.9), roughness};
   r.current = {0.5, 0.0};
   r.outputs = {{"runout.p50", "m", "the median", 41.5, 0.75},
                {"stopped", "fraction", "stopped rocks", kNaN, kNaN}};
@@ -257,11 +258,7 @@ TEST(ResultsJson, ReachResultRoundTrips) {
   r.design_seed = 5;
   r.simulation_seed = 6;
   r.rocks = 12;
-  Parameter p;
-  p.material = "talus";
-  p.kind = ParameterKind::kContactTime;
-  p.lower = 0.005, p.upper = 0.05;
-  r.parameters = {p};
+  r.parameters = {ParameterOf("talus", ParameterKind::kContactTime, 0.005, 0.05)};
   ReachStatistic s;
   s.id = ResidualId::Of(ObservationKind::kRunoutDistance).With(Statistic::kQuantile, 0.5);
   s.observed = 40.0, s.sigma = 4.5, s.min = 20.0, s.max = 38.0;

@@ -1,6 +1,6 @@
 // Results by hand for the report tests: stability cases and studies, a
 // convergence result and a reach check with unknown values among them, and
-// a small real sensitivity study.
+// a small real sensitivity study; an example site and its report input.
 #ifndef ROCKCAL_TESTS_REPORTS_HAND_RESULTS_H_
 #define ROCKCAL_TESTS_REPORTS_HAND_RESULTS_H_
 
@@ -14,9 +14,26 @@
 #include "rockcal/calibrate/reach.h"
 #include "rockcal/calibrate/sensitivity.h"
 #include "rockcal/calibrate/study.h"
+#include "rockcal/reports/study_report.h"
 #include "rockcal/sites/site.h"
 
 namespace rockcal::reports::testing {
+
+// sites/examples/<name>/site.json.
+inline sites::Site Example(const std::string& name) {
+  return sites::LoadSite(std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/" + name +
+                         "/site.json");
+}
+
+// The site section's input of a study's report on `site`.
+inline StudyReportInput Input(const sites::Site& site) {
+  StudyReportInput in;
+  in.scene = &site.scene;
+  in.site_file = site.path;
+  in.units = site.units;
+  in.notes = site.notes;
+  return in;
+}
 
 inline calibrate::StabilityCase Case(const std::string& name, bool pass) {
   calibrate::StabilityCase c;

@@ -22,26 +22,15 @@ namespace rockcal::reports {
 namespace {
 
 namespace fs = std::filesystem;
+using ::testing::HasSubstr;
 using testing::Case;
+using testing::Example;
 using testing::HandCases;
 using testing::HandConvergence;
 using testing::HandReach;
-using ::testing::HasSubstr;
+using testing::Input;
 using testing::SmallStudy;
 using testing::Study;
-
-sites::Site Example(const std::string& name) {
-  return sites::LoadSite(std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/" + name +
-                         "/site.json");
-}
-
-StudyReportInput Input(const sites::Site& site) {
-  StudyReportInput in;
-  in.scene = &site.scene;
-  in.site_file = site.path;
-  in.units = site.units;
-  return in;
-}
 
 long Lines(const std::string& text) { return std::count(text.begin(), text.end(), '\n'); }
 

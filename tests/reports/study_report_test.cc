@@ -22,36 +22,23 @@ namespace rockcal::reports {
 namespace {
 
 using testing::Case;
-using testing::HandCases;
-using testing::HandConvergence;
-using testing::SmallStudy;
-using testing::Study;
-
 using testing::CheckNumbers;
+using testing::Example;
 using testing::ExpectSelfContained;
 using testing::FindSection;
+using testing::HandCases;
+using testing::HandConvergence;
+using testing::Input;
 using testing::Leaves;
 using testing::Parsed;
 using testing::ParseReport;
 using testing::ParseXml;
+using testing::SmallStudy;
+using testing::Study;
 using testing::Unescape;
 using testing::XmlNode;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-sites::Site Example(const std::string& name) {
-  return sites::LoadSite(std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/" + name +
-                         "/site.json");
-}
-
-StudyReportInput Input(const sites::Site& site) {
-  StudyReportInput in;
-  in.scene = &site.scene;
-  in.site_file = site.path;
-  in.units = site.units;
-  in.notes = site.notes;
-  return in;
-}
 
 // The elements of `root` below section `id` with class `cls` among their classes.
 std::vector<const XmlNode*> WithClass(const XmlNode& root, const std::string& cls) {

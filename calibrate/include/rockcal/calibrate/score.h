@@ -88,6 +88,9 @@ ScoreResult ScoreResultOf(const ScoreSummary& score, const std::string& observat
 // score.json (calibrate/src/results_json.cc).
 void to_json(nlohmann::json& j, const ScoreResult& result);
 void from_json(const nlohmann::json& j, ScoreResult& result);
+// The residuals of `misfit` as score.json and calibration.json list them:
+// observation, quantity, simulated, observed, sigma and residual of each.
+nlohmann::json ResidualsJson(const observations::Misfit& misfit);
 
 }  // namespace rockcal::calibrate
 
