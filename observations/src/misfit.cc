@@ -131,8 +131,12 @@ void Comparer::Quantiles(const ResidualId& of, std::vector<double> simulated,
             QuantileStandardError(simulated, level), QuantileStandardError(observed, level));
   }
   if (include_max) {
-    const double sim = simulated.empty() ? 0.0 : simulated.back();
-    compare(Statistic::kMax, 0.0, sim, observed.back(), MaxStandardError(simulated),
+    // The observed maximum of m values against the simulated order statistic
+    // that exceeds it with probability 1/2 under the model: the simulated
+    // maximum of more rocks than observed would be biased high.
+    const double k = simulated.empty() ? 0.0 : MaxOrderPosition(simulated.size(), observed.size());
+    const double sim = simulated.empty() ? 0.0 : AtPosition(simulated, k);
+    compare(Statistic::kMax, 0.0, sim, observed.back(), OrderStatisticError(simulated, k),
             MaxStandardError(observed));
   }
 }
@@ -450,6 +454,10 @@ bool ResidualId::operator<(const ResidualId& o) const {
          std::tie(o.site, o.kind, o.index, o.name, o.statistic, o.level);
 }
 
+std::vector<double> MisfitOptions::DefaultLevels() {
+  return {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9};
+}
+
 bool MisfitOptions::IsValid(std::string* error) const {
   auto fail = [error](const std::string& message) {
     if (error != nullptr) *error = message;
@@ -559,6 +567,33 @@ double MaxStandardError(const std::vector<double>& sorted) {
   const std::size_t n = sorted.size();
   if (n < 2) return 0.0;
   return sorted[n - 1] - sorted[n - 2];
+}
+
+double MaxOrderPosition(std::size_t simulated, std::size_t observed) {
+  const double n = static_cast<double>(simulated), m = static_cast<double>(observed);
+  // P_k for k = 1, 2, ...: the chance that the k-th largest simulated value
+  // exceeds the observed maximum; it falls with k, to 0 at k = n + 1.
+  double before = 1.0, p = n / (n + m);
+  double k = 1.0;
+  while (p > 0.5) {
+    before = p;
+    p *= (n - k) / (n + m - k);
+    k += 1.0;
+  }
+  if (k == 1.0) return n - 1.0;
+  // P_{k-1} = before > 1/2 >= P_k = p.
+  return n - (k - 1.0 + (before - 0.5) / (before - p));
+}
+
+double OrderStatisticError(const std::vector<double>& sorted, double position) {
+  const std::size_t n = sorted.size();
+  if (n < 2) return 0.0;
+  const double last = static_cast<double>(n - 1);
+  const double p = std::clamp(position / last, 0.0, 1.0);
+  const double h = std::max(1.0, std::sqrt(static_cast<double>(n) * p * (1.0 - p)));
+  const double lo = std::clamp(position - h, 0.0, last);
+  const double hi = std::clamp(position + h, 0.0, last);
+  return hi > lo ? h * (AtPosition(sorted, hi) - AtPosition(sorted, lo)) / (hi - lo) : 0.0;
 }
 
 std::string LevelName(double level) {

@@ -140,10 +140,17 @@ TEST(MisfitTest, SigmaCombinesMeasurementMonteCarloAndSamplingErrors) {
   EXPECT_NEAR(p50.simulated, 2.475, 1e-12);
   EXPECT_NEAR(p50.observed, 0.3 * (16 + 0.5 * 9) / 9.0, 1e-12);
   EXPECT_NEAR(p50.value, (p50.simulated - p50.observed) / p50.sigma, 1e-12);
-  // max: gaps between the two largest values, 0.05 and 0.3 * 17 / 9.
+  // max: the observed maximum of 10 against the simulated order statistic
+  // that exceeds it with probability 1/2 (MaxOrderPosition(100, 10) =
+  // 92.93780262374514, checked below): 0.05 * 92.9378...; its error the
+  // slope 0.05 over h = sqrt(100 p (1 - p)) positions, p = 92.9378... / 99;
+  // the observed side's the gap between its two largest, 0.3 * 17 / 9.
   const Residual& max = m.residuals[9];
-  EXPECT_NEAR(max.sigma, std::sqrt(e * e + 0.05 * 0.05 + std::pow(0.3 * 17 / 9.0, 2)), 1e-12);
-  EXPECT_NEAR(max.simulated, 4.95, 1e-12);
+  const double k = 92.93780262374514, p = k / 99.0;
+  const double sim_error = 0.05 * std::sqrt(100.0 * p * (1.0 - p));
+  EXPECT_NEAR(max.sigma, std::sqrt(e * e + sim_error * sim_error + std::pow(0.3 * 17 / 9.0, 2)),
+              1e-12);
+  EXPECT_NEAR(max.simulated, 0.05 * k, 1e-12);
   EXPECT_NEAR(max.observed, 0.3 * 9, 1e-12);
   double sum = 0.0;
   for (const Residual& r : m.residuals) sum += r.value * r.value;
@@ -707,6 +714,44 @@ TEST(QuantileErrorTest, OrderStatisticsOfASample) {
 
   EXPECT_EQ(MaxStandardError({1.0, 2.0, 7.0}), 5.0);
   EXPECT_EQ(MaxStandardError({7.0}), 0.0);
+}
+
+// The simulated order statistic compared with an observed maximum: the
+// k-th largest of n exceeds the largest of m with probability
+// P_k = prod_{i<k} (n - i) / (n + m - i).
+TEST(QuantileErrorTest, MaxOrderPositionExceedsTheObservedMaximumHalfTheTime) {
+  // As many values or fewer: P_1 = n / (n + m) <= 1/2, the simulated maximum.
+  EXPECT_EQ(MaxOrderPosition(41, 41), 40.0);
+  EXPECT_EQ(MaxOrderPosition(8, 8), 7.0);
+  EXPECT_EQ(MaxOrderPosition(10, 20), 9.0);
+  EXPECT_EQ(MaxOrderPosition(1, 5), 0.0);
+  // n = 2m = 120: P_1 = 2/3, P_2 = 120 * 119 / (180 * 179) = 14280 / 32220;
+  // k = 1 + (2/3 - 1/2) / (2/3 - P_2), the position n - k.
+  const double p2 = 14280.0 / 32220.0;
+  EXPECT_NEAR(MaxOrderPosition(120, 60), 120.0 - (1.0 + (2.0 / 3 - 0.5) / (2.0 / 3 - p2)), 1e-12);
+  // n = 4m = 164, m = 41: P_1 = 0.8, P_2 = 0.8 * 163 / 204,
+  // P_3 = P_2 * 162 / 203 (0.5101 > 1/2), P_4 = P_3 * 161 / 202 (0.4066).
+  const double q3 = 0.8 * 163 / 204 * 162 / 203, q4 = q3 * 161 / 202;
+  EXPECT_NEAR(MaxOrderPosition(164, 41), 164.0 - (3.0 + (q3 - 0.5) / (q3 - q4)), 1e-12);
+  EXPECT_NEAR(MaxOrderPosition(100, 10), 92.93780262374514, 1e-11);
+}
+
+TEST(QuantileErrorTest, OrderStatisticErrorIsTheLocalSlopeOverItsSpread) {
+  std::vector<double> s;
+  for (int i = 0; i < 100; ++i) s.push_back(2.0 * i);
+  // Interior: QuantileStandardError's (slope 2, h = 5 at the median).
+  EXPECT_NEAR(OrderStatisticError(s, 49.5), QuantileStandardError(s, 0.5), 1e-12);
+  EXPECT_NEAR(OrderStatisticError(s, 49.5), 10.0, 1e-12);
+  // At the top, h = 1 over the one position below: the gap of the two largest.
+  std::vector<double> t = {1.0, 2.0, 7.0};
+  EXPECT_NEAR(OrderStatisticError(t, 2.0), MaxStandardError(t), 1e-12);
+  // Near the top: p = 97.5 / 99, h = sqrt(100 p (1 - p)) = 1.2215, slope 2.
+  EXPECT_NEAR(OrderStatisticError(s, 97.5), 2.0 * std::sqrt(100.0 * 97.5 / 99 * 1.5 / 99), 1e-12);
+  // p = 98.5 / 99: h = sqrt(0.5025) < 1, so h = 1, the span [97.5, 99] clamped.
+  std::vector<double> u = s;
+  u.back() = 201.0;  // slope (201 - 195) / 1.5 = 4 over the clamped span
+  EXPECT_NEAR(OrderStatisticError(u, 98.5), 4.0, 1e-12);
+  EXPECT_EQ(OrderStatisticError({3.0}, 0.0), 0.0);
 }
 
 TEST(QuantileErrorTest, LevelNames) {

@@ -24,10 +24,15 @@ const char* RunTermsName(RunTerms terms);  // "pooled", "per_run", "both"
 bool ParseRunTerms(const std::string& name, RunTerms* terms);
 
 struct MisfitOptions {
+  // 0.1, 0.2, ..., 0.9 (out of line: an initializer list here trips GCC 12's
+  // -Wdangling-pointer in the inlined copy).
+  static std::vector<double> DefaultLevels();
   // Quantile levels compared for every distribution (heights, runout distance
   // and lateral offset), each in [0, 1].
-  std::vector<double> levels = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9};
-  // Also compare the largest simulated and observed values.
+  std::vector<double> levels = DefaultLevels();  // 0.1, 0.2, ..., 0.9
+  // Also compare the observed maximum with the simulated order statistic
+  // that exceeds it with probability 1/2 under the model (MaxOrderPosition):
+  // the simulated maximum when both sides have as many values.
   bool include_max = true;
   // Misfit of a result that cannot be compared (non-finite rock state), and
   // the contribution of each distribution with fewer than 2 simulated values.
@@ -187,6 +192,23 @@ FitVerdict AssessFit(const Misfit& misfit);
 double QuantileStandardError(const std::vector<double>& sorted, double level);
 // Standard error of the maximum: the gap between the two largest values (0 for n < 2).
 double MaxStandardError(const std::vector<double>& sorted);
+// The 0-based fractional position, in an ascending sample of `simulated`
+// values, of the order statistic that exceeds the maximum of `observed`
+// values with probability 1/2 when both are draws of one continuous
+// distribution. The k-th largest of n simulated values exceeds the largest
+// of m observed ones when the k largest of the n + m values pooled are all
+// simulated: P_k = prod_{i<k} (n - i) / (n + m - i). k = 1 (the simulated
+// maximum, n - 1) when P_1 = n / (n + m) <= 1/2 (as many values or fewer);
+// else k interpolates linearly between the last k with P_k > 1/2 and the
+// next, and the position is n - k. Both counts >= 1.
+double MaxOrderPosition(std::size_t simulated, std::size_t observed);
+// Standard error of the order statistic at 0-based fractional position
+// `position` of an ascending sample of n values: the local slope of the
+// order statistics over h = max(1, sqrt(n p (1 - p))) positions either side
+// (p = position / (n - 1), the span clamped to [0, n - 1]) times h. In the
+// interior it is QuantileStandardError's; at the top it is the gap between
+// the two largest values (MaxStandardError). 0 for n < 2.
+double OrderStatisticError(const std::vector<double>& sorted, double position);
 // "p10" for 0.1, "p2.5" for 0.025, "p100" for 1.
 std::string LevelName(double level);
 
