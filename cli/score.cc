@@ -9,6 +9,7 @@
 #include "progress.h"
 #include "rockcal/core/limits.h"
 #include "rockcal/core/rasters.h"
+#include "rockcal/observations/misfit.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/reports/html_report.h"
 #include "rockcal/reports/output_dir.h"
@@ -39,6 +40,7 @@ int Score(const std::vector<std::string>& argv) {
   RankOutputDir dir(out, args.Flag("force"), inputs.Origin("score"));
   const calibrate::ScoreSummary score = calibrate::Score(scene, obs);
   const core::SimulationResult& sim = score.simulation;
+  const observations::FitVerdict fit = observations::AssessFit(score.misfit);
   reports::WriteSimulationFiles(dir.folder(), score.scene, sim);
   reports::WriteScoreFile(dir.folder(),
                           calibrate::ScoreResultOf(score, obs.path, options.parameters_file));
@@ -53,6 +55,7 @@ int Score(const std::vector<std::string>& argv) {
                 static_cast<unsigned long long>(scene.options.seed),
                 sim.count(core::Outcome::kStopped), sim.count(core::Outcome::kLeft),
                 sim.count(core::Outcome::kTimeout));
+    std::printf("fit %s\n", fit.Sentence().c_str());
     std::printf("wrote %s/score.json, summary.json, rocks.csv, diagnostics.json, report.html\n",
                 out.c_str());
   }

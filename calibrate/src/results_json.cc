@@ -44,6 +44,15 @@ std::vector<double> Numbers(const json& j) {
   return out;
 }
 
+// The verdict as score.json's fit (read back, it follows from the residuals).
+json FitJson(const observations::FitVerdict& fit) {
+  return {{"verdict", fit.poor ? "poor" : fit.fair ? "fair" : "good"},
+          {"sentence", fit.Sentence()},
+          {"count_chance", fit.count_chance},
+          {"largest_chance", fit.largest_chance},
+          {"outside_2_sigma", fit.outside}};
+}
+
 json Outcomes(int stopped, int left, int timeout) {
   return {{"stopped", stopped}, {"left", left}, {"timeout", timeout}};
 }
@@ -682,6 +691,7 @@ void to_json(json& j, const ScoreResult& s) {
        {"penalised", s.misfit.penalised},
        {"message", s.misfit.message},
        {"outcomes", Outcomes(s.stopped, s.left, s.timeout)},
+       {"fit", FitJson(observations::AssessFit(s.misfit))},
        {"residuals", ResidualsJson(s.misfit)}};
 }
 

@@ -518,11 +518,39 @@ int Misfit::StuckRocks() const {
   return n;
 }
 
+namespace {
+
+// P(|Z| >= x) for a standard normal Z.
+double TwoSidedTail(double x) { return std::erfc(std::abs(x) / std::sqrt(2.0)); }
+
+// P(K >= k) for K ~ Binomial(n, p), 0 < p < 1.
+double BinomialTail(int n, int k, double p) {
+  if (k <= 0) return 1.0;
+  if (k > n) return 0.0;
+  double sum = 0.0;
+  for (int j = k; j <= n; ++j)
+    sum += std::exp(std::lgamma(n + 1.0) - std::lgamma(j + 1.0) - std::lgamma(n - j + 1.0) +
+                    j * std::log(p) + (n - j) * std::log1p(-p));
+  return std::min(1.0, sum);
+}
+
+std::string Chance(double p) {
+  return p < 1e-4 ? "< 0.01 %" : FormatNumber(100.0 * p, "%.2g") + " %";
+}
+
+}  // namespace
+
 std::string FitVerdict::Sentence() const {
-  if (outside.empty() && !poor)
+  if (penalised) return "poor: the misfit was penalised (see its message)";
+  if (outside.empty() && !poor && !fair)
     return "good: every compared quantity (" + std::to_string(compared) + ") within 2 sigma";
-  std::string s = std::string(poor ? "poor" : "fair") + ": " + std::to_string(outside.size()) +
-                  " of " + std::to_string(compared) + " compared quantities outside 2 sigma";
+  std::string s = std::string(poor ? "poor" : fair ? "fair" : "good") + ": " +
+                  std::to_string(outside.size()) + " of " + std::to_string(compared) +
+                  " compared quantities outside 2 sigma";
+  const std::string chances = "at least as many with probability " + Chance(count_chance) +
+                              ", a largest as far with probability " + Chance(largest_chance);
+  s += poor || fair ? " (a correct model gives " + chances + ")"
+                    : ", as a correct model gives (" + chances + ")";
   for (std::size_t k = 0; k < outside.size() && k < 3; ++k)
     s += (k ? "; " : ", the worst ") + outside[k];
   return s;
@@ -531,12 +559,12 @@ std::string FitVerdict::Sentence() const {
 FitVerdict AssessFit(const Misfit& misfit) {
   FitVerdict v;
   v.compared = static_cast<int>(misfit.residuals.size());
+  v.penalised = misfit.penalised;
   std::vector<const Residual*> far;
-  bool very_far = false;
+  double largest = 0.0;
   for (const Residual& r : misfit.residuals) {
     if (std::abs(r.value) > 2.0) far.push_back(&r);
-    very_far = very_far || std::abs(r.value) > 3.0 ||
-               (r.id.statistic == Statistic::kShare && std::abs(r.value) > 2.0);
+    largest = std::max(largest, std::abs(r.value));
   }
   std::sort(far.begin(), far.end(), [](const Residual* a, const Residual* b) {
     return std::abs(a->value) > std::abs(b->value);
@@ -547,8 +575,15 @@ FitVerdict AssessFit(const Misfit& misfit) {
                   r->simulated, r->observed, r->value);
     v.outside.push_back(r->id.observation() + " " + r->id.quantity() + line);
   }
-  const std::size_t allowed = std::max<std::size_t>(1, misfit.residuals.size() / 10);
-  v.poor = misfit.penalised || very_far || far.size() > allowed;
+  if (v.compared > 0) {
+    v.count_chance =
+        BinomialTail(v.compared, static_cast<int>(far.size()), TwoSidedTail(2.0));
+    // 1 - (1 - q)^N without cancellation for a small q.
+    v.largest_chance = -std::expm1(v.compared * std::log1p(-TwoSidedTail(largest)));
+  }
+  const double chance = std::min(v.count_chance, v.largest_chance);
+  v.poor = misfit.penalised || chance < FitVerdict::kPoorChance;
+  v.fair = !v.poor && chance < FitVerdict::kFairChance;
   return v;
 }
 

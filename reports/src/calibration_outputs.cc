@@ -257,6 +257,9 @@ nlohmann::json VerdictJson(const CalibrationSummary& record) {
   const observations::FitVerdict v = observations::AssessFit(record.misfit_after);
   const core::SimulationResult& sim = record.simulation;
   return {{"poor", v.poor},
+          {"verdict", v.poor ? "poor" : v.fair ? "fair" : "good"},
+          {"count_chance", v.count_chance},
+          {"largest_chance", v.largest_chance},
           {"sentence", v.Sentence()},
           {"outside_2_sigma", v.outside},
           {"compared", v.compared},

@@ -821,9 +821,12 @@ TEST(MisfitTest, ReportListsEveryResidual) {
   EXPECT_THAT(report, HasSubstr("misfit "));
 }
 
-// The verdict names the quantities outside their uncertainty and calls the
-// fit poor when the stopped share or a quantity is far off.
-TEST(MisfitTest, VerdictSaysPlainlyWhenAFitIsPoor) {
+// The verdict names the quantities outside their uncertainty and judges
+// them by the chance that a correct model does as badly: the count beyond 2
+// sigma (a binomial tail at q = P(|Z| > 2) = 0.0455003) and the largest
+// (1 - (1 - P(|Z| >= x))^N); poor below 1 %, fair below 5 %. The chances
+// below were computed apart (math.comb and math.erfc).
+TEST(MisfitTest, VerdictJudgesByTheChanceOfACorrectModel) {
   Misfit m;
   auto add = [&](const ResidualId& id, double value) {
     Residual r;
@@ -837,24 +840,66 @@ TEST(MisfitTest, VerdictSaysPlainlyWhenAFitIsPoor) {
   for (int k = 0; k < 20; ++k)
     add(ResidualId::Of(ObservationKind::kRunoutDistance).With(Statistic::kQuantile, 0.05 * k), 0.5);
   add(ResidualId::Of(ObservationKind::kRunoutStopped).With(Statistic::kShare), -1.0);
-  FitVerdict good = AssessFit(m);
-  EXPECT_FALSE(good.poor);
-  EXPECT_TRUE(good.outside.empty());
-  EXPECT_THAT(good.Sentence(), HasSubstr("good: every compared quantity (21) within 2 sigma"));
-  m.residuals[3].value = 2.5;  // one beyond 2 sigma of 21: fair
-  EXPECT_FALSE(AssessFit(m).poor);
-  EXPECT_THAT(AssessFit(m).Sentence(), HasSubstr("fair: 1 of 21"));
+  FitVerdict v = AssessFit(m);
+  EXPECT_FALSE(v.poor || v.fair);
+  EXPECT_TRUE(v.outside.empty());
+  EXPECT_EQ(v.count_chance, 1.0);
+  EXPECT_THAT(v.Sentence(), HasSubstr("good: every compared quantity (21) within 2 sigma"));
+  // One of 21 at 2.5 sigma: 62 % of correct models have one beyond 2 sigma,
+  // 23 % a largest of 2.5 or more: good, and said so.
+  m.residuals[3].value = 2.5;
+  v = AssessFit(m);
+  EXPECT_NEAR(v.count_chance, 0.6239097576503987, 1e-12);
+  EXPECT_NEAR(v.largest_chance, 0.23082671467858062, 1e-12);
+  EXPECT_FALSE(v.poor || v.fair);
+  EXPECT_THAT(v.Sentence(), HasSubstr("good: 1 of 21 compared quantities outside 2 sigma, as a "
+                                      "correct model gives"));
+  // Four beyond 2 sigma of 21: P(K >= 4) = 1.4 %: fair; five: 0.21 %: poor.
   m.residuals[4].value = -2.2;
-  m.residuals[5].value = 2.1;  // three beyond 2 sigma of 21: poor
+  m.residuals[5].value = 2.1;
+  m.residuals[6].value = 2.05;
+  v = AssessFit(m);
+  EXPECT_NEAR(v.count_chance, 0.013772612871617582, 1e-12);
+  EXPECT_TRUE(v.fair);
+  EXPECT_FALSE(v.poor);
+  EXPECT_THAT(v.Sentence(), HasSubstr("fair: 4 of 21 compared quantities outside 2 sigma (a "
+                                      "correct model gives at least as many with probability "
+                                      "1.4 %"));
+  m.residuals[7].value = -2.3;
+  v = AssessFit(m);
+  EXPECT_NEAR(v.count_chance, 0.0021498699479894265, 1e-12);
+  EXPECT_TRUE(v.poor);
+  // One far residual alone: 3.2 sigma of 21 (2.8 %) fair, 4 sigma (0.13 %) poor.
+  for (int k = 4; k < 8; ++k) m.residuals[static_cast<std::size_t>(k)].value = 0.0;
+  m.residuals.back().value = -3.2;  // the stopped share, as any other quantity
+  v = AssessFit(m);
+  EXPECT_NEAR(v.largest_chance, 0.028466610986159647, 1e-12);
+  EXPECT_TRUE(v.fair);
+  EXPECT_THAT(v.outside.front(), HasSubstr("runout stopped share"));
+  m.residuals.back().value = -4.0;
+  v = AssessFit(m);
+  EXPECT_NEAR(v.largest_chance, 0.0013293499181606645, 1e-12);
+  EXPECT_TRUE(v.poor);
+  EXPECT_THAT(v.Sentence(),
+              HasSubstr("poor: 2 of 21 compared quantities outside 2 sigma (a correct model gives "
+                        "at least as many with probability 25 %, a largest as far with "
+                        "probability 0.13 %), the worst runout stopped share"));
+  // The thresholds follow the count: 8 of 73 beyond 2 sigma is fair (1.8 %),
+  // 9 poor (0.58 %), where 8 of 21 would be poor.
+  Misfit many;
+  for (int k = 0; k < 73; ++k) many.residuals.push_back(m.residuals[0]);
+  for (int k = 0; k < 8; ++k) many.residuals[static_cast<std::size_t>(k)].value = 2.1;
+  v = AssessFit(many);
+  EXPECT_NEAR(v.count_chance, 0.017796117900413768, 1e-12);
+  EXPECT_TRUE(v.fair);
+  many.residuals[8].value = -2.1;
+  EXPECT_NEAR(AssessFit(many).count_chance, 0.005828516649954717, 1e-12);
+  EXPECT_TRUE(AssessFit(many).poor);
+  // A penalised misfit is poor whatever its residuals.
+  m.residuals.back().value = 0.0;
+  m.penalised = true;
   EXPECT_TRUE(AssessFit(m).poor);
-  m.residuals[4].value = m.residuals[5].value = 0;
-  m.residuals.back().value = -2.8;  // the stopped share
-  const FitVerdict lost = AssessFit(m);
-  EXPECT_TRUE(lost.poor);
-  EXPECT_THAT(lost.outside.front(), HasSubstr("runout stopped share"));
-  EXPECT_THAT(lost.Sentence(),
-              HasSubstr("poor: 2 of 21 compared quantities outside 2 sigma, the worst "
-                        "runout stopped share"));
+  EXPECT_THAT(AssessFit(m).Sentence(), HasSubstr("poor: the misfit was penalised"));
 }
 
 }  // namespace

@@ -169,18 +169,35 @@ Misfit ComputeMisfit(const Observations& observations, const core::Scene& scene,
                      const core::SimulationResult& result, const MisfitOptions& options = {});
 
 // A plain verdict on a fit: which compared quantities lie outside their
-// uncertainty, and whether the fit is poor.
+// uncertainty, and whether so many, or one so far, are what a correct model
+// gives. Under a correct model each residual is a standard normal draw, so
+// with N of them some lie beyond 2 sigma by chance (each with probability
+// 0.0455) and the largest grows with N. Two tests, each the chance that a
+// correct model does at least as badly (residuals taken as independent):
+// - the count beyond 2 sigma, a binomial tail P(K >= k), K ~ B(N, 0.0455);
+// - the largest |residual| x, 1 - (1 - P(|Z| >= x))^N (Sidak).
+// Poor when either chance is below kPoorChance (or the misfit was
+// penalised), fair when below kFairChance, good otherwise.
 struct FitVerdict {
+  static constexpr double kFairChance = 0.05;
+  static constexpr double kPoorChance = 0.01;
   // A residual beyond 2 sigma, one line each: "runout distance p50: simulated
   // 52.1 against 40 observed (+3.1 sigma)", the largest first.
   std::vector<std::string> outside;
   int compared = 0;  // residuals compared
-  // Poor: the stopped share (when compared) or any quantity beyond 3 sigma,
-  // or more than one in ten of them (at least 2) beyond 2 sigma; always
-  // when the misfit was penalised.
-  bool poor = false;
-  // One sentence: "good: every compared quantity within 2 sigma" or "poor:
-  // 5 of 31 compared quantities outside 2 sigma, the worst ...".
+  // The chance that a correct model puts at least outside.size() of
+  // `compared` residuals beyond 2 sigma (1 when none are).
+  double count_chance = 1.0;
+  // The chance that a correct model's largest |residual| of `compared` is at
+  // least the largest here (1 without residuals).
+  double largest_chance = 1.0;
+  bool fair = false;  // either chance below kFairChance, neither below kPoorChance
+  bool poor = false;  // either chance below kPoorChance, or penalised
+  bool penalised = false;
+  // One sentence: "good: every compared quantity (25) within 2 sigma",
+  // "good: 3 of 73 compared quantities outside 2 sigma, as many as a correct
+  // model gives (...)" or "poor: 24 of 73 ... (a correct model: ...), the
+  // worst ...".
   std::string Sentence() const;
 };
 FitVerdict AssessFit(const Misfit& misfit);
