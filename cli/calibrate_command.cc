@@ -240,6 +240,7 @@ void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
     calibration["noise_check"] = {{"start_misfits", c.start_misfits},
                                   {"start_sd", c.start_sd},
                                   {"design_spread", c.design_spread},
+                                  {"contenders", c.contenders},
                                   {"ratio", std::isfinite(c.ratio) ? nlohmann::json(c.ratio)
                                                                    : nlohmann::json(nullptr)},
                                   {"noise_dominates", c.noise_dominates},

@@ -86,6 +86,18 @@ std::string CalibrationSummary::BriefReport() const {
   return out.str();
 }
 
+ContenderSpread SpreadOfContenders(std::vector<double> misfits) {
+  ContenderSpread out;
+  if (misfits.size() < 2) return out;
+  std::sort(misfits.begin(), misfits.end());
+  const std::size_t n = misfits.size();
+  const std::size_t k = std::min(n, std::max<std::size_t>(4, (n + 3) / 4));
+  misfits.resize(k);
+  out.points = static_cast<int>(k);
+  out.spread = core::SampleStandardDeviation(misfits);
+  return out;
+}
+
 namespace {
 
 std::string Numbers(const std::vector<double>& values) {
@@ -251,14 +263,9 @@ void CheckNoise(const sites::Site& site, const observations::Observations& obs,
   std::vector<double> design;
   for (const ReachPoint& p : summary->reach->points)
     if (!p.penalised) design.push_back(p.misfit);
-  if (design.size() >= 2) {
-    std::sort(design.begin(), design.end());
-    const double median = core::Quantile(design, 0.5);
-    std::vector<double> dev;
-    for (double m : design) dev.push_back(std::abs(m - median));
-    std::sort(dev.begin(), dev.end());
-    check.design_spread = 1.4826 * core::Quantile(dev, 0.5);
-  }
+  const ContenderSpread spread = SpreadOfContenders(design);
+  check.design_spread = spread.spread;
+  check.contenders = spread.points;
   check.ratio = check.design_spread > 0 ? check.start_sd / check.design_spread
                                         : std::numeric_limits<double>::infinity();
   check.noise_dominates = check.ratio > options.noise_check_ratio;
@@ -271,16 +278,18 @@ void CheckNoise(const sites::Site& site, const observations::Observations& obs,
     check.rocks_needed = static_cast<int>(std::ceil(summary->rocks * std::min(factor, 100.0)));
     std::snprintf(line, sizeof line,
                   "noise dominates: the misfit at the start varies by %.3g (sd over %zu seeds) "
-                  "against a spread of %.3g over the design (ratio %.2f > %.2f); about %d rocks "
-                  "per evaluation (--rocks %d) would bring the ratio to %.2f",
-                  check.start_sd, check.start_misfits.size(), check.design_spread, check.ratio,
+                  "against a spread of %.3g over the design's best %d points (ratio %.2f > %.2f); "
+                  "about %d rocks per evaluation (--rocks %d) would bring the ratio to %.2f",
+                  check.start_sd, check.start_misfits.size(), check.design_spread,
+                  check.contenders, check.ratio,
                   options.noise_check_ratio, check.rocks_needed, check.rocks_needed,
                   options.noise_check_ratio);
   } else {
     std::snprintf(line, sizeof line,
                   "noise small: the misfit at the start varies by %.3g (sd over %zu seeds) "
-                  "against a spread of %.3g over the design (ratio %.2f <= %.2f)",
-                  check.start_sd, check.start_misfits.size(), check.design_spread, check.ratio,
+                  "against a spread of %.3g over the design's best %d points (ratio %.2f <= %.2f)",
+                  check.start_sd, check.start_misfits.size(), check.design_spread,
+                  check.contenders, check.ratio,
                   options.noise_check_ratio);
   }
   check.message = line;

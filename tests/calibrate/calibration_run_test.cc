@@ -352,5 +352,27 @@ TEST(CalibrationOptions, DefaultReachDesignGrowsWithTheBudget) {
   EXPECT_NE(error.find("noise_check_ratio = 0"), std::string::npos) << error;
 }
 
+// The noise check's yardstick is the spread among the design's best quarter
+// (at least 4 points): a far point changes nothing, and with fewer than 4
+// points all count.
+TEST(NoiseCheck, ComparesWithTheSpreadOfTheDesignsBestQuarter) {
+  std::vector<double> design;
+  for (int i = 40; i >= 1; --i) design.push_back(i);  // 1 ... 40, unsorted
+  ContenderSpread s = SpreadOfContenders(design);
+  EXPECT_EQ(s.points, 10);
+  // 1 ... 10: variance (10^2 - 1) / 12 * 10 / 9 = 9.1667.
+  EXPECT_NEAR(s.spread, std::sqrt(55.0 / 6.0), 1e-12);
+  design.push_back(1e6);  // a far point: 41 misfits, the best 11
+  s = SpreadOfContenders(design);
+  EXPECT_EQ(s.points, 11);
+  EXPECT_NEAR(s.spread, std::sqrt(11.0), 1e-12);  // 1 ... 11: (121 - 1) / 12 * 11 / 10
+  s = SpreadOfContenders({5.0, 1.0, 3.0});
+  EXPECT_EQ(s.points, 3);
+  EXPECT_NEAR(s.spread, 2.0, 1e-12);
+  s = SpreadOfContenders({7.0});
+  EXPECT_EQ(s.points, 0);
+  EXPECT_EQ(s.spread, 0.0);
+}
+
 }  // namespace
 }  // namespace rockcal::calibrate

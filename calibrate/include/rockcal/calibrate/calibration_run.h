@@ -202,9 +202,11 @@ struct CalibrationSummary {
     bool done = false;
     std::vector<double> start_misfits;  // at the start, the run's seed first, then the others
     double start_sd = 0.0;   // their sample standard deviation
-    // The design's misfits' spread: 1.4826 x their median absolute
-    // deviation (unpenalised points), robust to a few far points.
+    // The spread of the misfits the search ranks between: the sample
+    // standard deviation of the best quarter of the design's unpenalised
+    // misfits (SpreadOfContenders; `contenders` points).
     double design_spread = 0.0;
+    int contenders = 0;
     double ratio = 0.0;      // start_sd / design_spread (inf when the design has no spread)
     bool noise_dominates = false;  // ratio > noise_check_ratio
     // The rocks per evaluation at which the ratio would fall to
@@ -289,6 +291,17 @@ void SearchMethods(const ObjectiveFunction& objective, const std::vector<double>
 // (invalid options, a site without calibrated parameters), so that a caller
 // can check before it writes anything.
 void CheckCalibration(const sites::Site& site, const CalibrationOptions& options);
+
+// The noise check's yardstick: the misfits the search ranks between are the
+// design's best, not its far points (which set a spread that any noise looks
+// small against). `spread` is the sample standard deviation of the lowest
+// quarter of `misfits` (at least 4 of them, all when fewer); `points` how
+// many; both 0 with fewer than 2 misfits.
+struct ContenderSpread {
+  double spread = 0.0;
+  int points = 0;
+};
+ContenderSpread SpreadOfContenders(std::vector<double> misfits);
 
 // Calibrates `site` against `observations`. Throws InputError for invalid
 // options, a site without calibrated parameters or a log that cannot be
