@@ -236,7 +236,7 @@ void CompareRuns(const Runout& runout, double error, const core::SimulationResul
         run.push_back(stop ? d : farthest);
         fit.stopped += stop ? 1 : 0;
         const double moved = (rock->stop.head<2>() - rock->start.head<2>()).norm();
-        if (moved < RunFit::kStuckDistance && fit.observed > RunFit::kStuckDistance) ++fit.stuck;
+        if (RunFit::StuckNearRelease(moved, fit.observed)) ++fit.stuck;
       }
     }
     fit.rocks = static_cast<int>(run.size());

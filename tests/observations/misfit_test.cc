@@ -438,6 +438,12 @@ TEST(MisfitTest, RunsAreMeasuredFromTheirOwnRelease) {
   EXPECT_EQ(m.StuckRocks(), 2);
   EXPECT_NEAR(m.runs[1].simulated, 0.35, 1e-9);
   EXPECT_NEAR(m.MeanRunError(), (50 - 0.35) / 2, 1e-9);
+  // Near the release means within a tenth of the run's own runout (b: 5 m),
+  // and at least RunFit::kStuckDistance.
+  result.rocks[1] = rock(1, 1, 0, 44.9, 0, 40);
+  result.rocks[2] = rock(2, 1, 0, 45.1, 0, 40);
+  m = ComputeMisfit(obs, scene, result);
+  EXPECT_EQ(m.runs[1].stuck, 1);
   EXPECT_GT(m.value, 10.0) << m.Report();
 }
 

@@ -4,6 +4,7 @@
 #ifndef ROCKCAL_OBSERVATIONS_MISFIT_H_
 #define ROCKCAL_OBSERVATIONS_MISFIT_H_
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -133,14 +134,23 @@ struct RunFit {
   double simulated = 0.0;      // m, the median runout of its group's rocks (censored ones at the far end)
   int rocks = 0;               // simulated rocks of its group
   int stopped = 0;             // of which stopped
-  // Simulated rocks whose centre ended within kStuckDistance of where it
-  // started (in plan) while the run itself moved farther than that.
+  // Simulated rocks that stopped near their release while the run itself
+  // ran on (StuckNearRelease).
   int stuck = 0;
   // The per-run residual's scale [m]: measurement error, predictive spread
   // and the median's Monte Carlo error (RunTerms kPerRun, kBoth; else 0).
   double sigma = 0.0;
   double spread = 0.0;  // m, the run's predictive spread (shrunk toward the pool)
   static constexpr double kStuckDistance = 1.0;  // m
+  static constexpr double kStuckShare = 0.1;
+  // A rock that moved `moved` m (in plan, centre to centre) stuck near its
+  // release in a run observed to move `observed` m: it stopped within a
+  // tenth of the run's runout (kStuckShare), and within no less than
+  // kStuckDistance, of where it started: it never got going.
+  static bool StuckNearRelease(double moved, double observed) {
+    const double near = std::max(kStuckDistance, kStuckShare * observed);
+    return moved < near && observed > near;
+  }
 };
 
 struct Misfit {
