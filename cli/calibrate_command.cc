@@ -235,35 +235,6 @@ void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
   if (summary.posterior)
     reports::WriteFileAtomically(out + "/posterior.csv", calibrate::PosteriorCsv(*summary.posterior));
   nlohmann::json calibration = reports::CalibrationJson(summary);
-  if (summary.noise_check.done) {
-    const auto& c = summary.noise_check;
-    calibration["noise_check"] = {{"start_misfits", c.start_misfits},
-                                  {"start_sd", c.start_sd},
-                                  {"design_spread", c.design_spread},
-                                  {"contenders", c.contenders},
-                                  {"ratio", std::isfinite(c.ratio) ? nlohmann::json(c.ratio)
-                                                                   : nlohmann::json(nullptr)},
-                                  {"noise_dominates", c.noise_dominates},
-                                  {"rocks", summary.rocks},
-                                  {"rocks_needed", c.rocks_needed},
-                                  {"message", c.message}};
-  }
-  if (!summary.misfit_after.runs.empty()) {
-    // Tracked runs: each run's runout against the median of its group's rocks.
-    nlohmann::json runs = nlohmann::json::array();
-    for (const observations::RunFit& r : summary.misfit_after.runs)
-      runs.push_back({{"id", r.id},
-                      {"observed_m", r.observed},
-                      {"simulated_median_m", r.simulated},
-                      {"rocks", r.rocks},
-                      {"stopped", r.stopped},
-                      {"stuck_at_release", r.stuck},
-                      {"spread_m", r.spread},
-                      {"sigma_m", r.sigma}});
-    calibration["runs"] = {{"mean_abs_error_m", summary.misfit_after.MeanRunError()},
-                           {"stuck_at_release", summary.misfit_after.StuckRocks()},
-                           {"per_run", runs}};
-  }
   if (holdout) {
     calibration["holdout"] = reports::HoldoutJson(*holdout, summary);
     reports::WriteFileAtomically(out + "/holdout.json",

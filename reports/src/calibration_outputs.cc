@@ -269,6 +269,41 @@ nlohmann::json VerdictJson(const CalibrationSummary& record) {
             {"timeout", sim.count(core::Outcome::kTimeout)}}}};
 }
 
+namespace {
+
+// The noise check before the search (CalibrationSummary::NoiseCheck).
+nlohmann::json NoiseCheckJson(const CalibrationSummary& record) {
+  const CalibrationSummary::NoiseCheck& c = record.noise_check;
+  return {{"start_misfits", c.start_misfits},
+          {"start_sd", c.start_sd},
+          {"design_spread", c.design_spread},
+          {"contenders", c.contenders},
+          {"ratio", std::isfinite(c.ratio) ? nlohmann::json(c.ratio) : nlohmann::json(nullptr)},
+          {"noise_dominates", c.noise_dominates},
+          {"rocks", record.rocks},
+          {"rocks_needed", c.rocks_needed},
+          {"message", c.message}};
+}
+
+// Tracked runs: each run's runout against the median of its group's rocks.
+nlohmann::json RunsJson(const observations::Misfit& misfit) {
+  nlohmann::json runs = nlohmann::json::array();
+  for (const observations::RunFit& r : misfit.runs)
+    runs.push_back({{"id", r.id},
+                    {"observed_m", r.observed},
+                    {"simulated_median_m", r.simulated},
+                    {"rocks", r.rocks},
+                    {"stopped", r.stopped},
+                    {"stuck_at_release", r.stuck},
+                    {"spread_m", r.spread},
+                    {"sigma_m", r.sigma}});
+  return {{"mean_abs_error_m", misfit.MeanRunError()},
+          {"stuck_at_release", misfit.StuckRocks()},
+          {"per_run", runs}};
+}
+
+}  // namespace
+
 nlohmann::json CalibrationJson(const CalibrationSummary& record) {
   const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
   const double best_all = LowestMisfitOfAll(record);
@@ -339,6 +374,8 @@ nlohmann::json CalibrationJson(const CalibrationSummary& record) {
           {"fit", calibrate::ResidualsJson(record.misfit_after)},
           {"verdict", VerdictJson(record)},
           {"methods", methods}};
+  if (record.noise_check.done) out["noise_check"] = NoiseCheckJson(record);
+  if (!record.misfit_after.runs.empty()) out["runs"] = RunsJson(record.misfit_after);
   if (record.posterior) out["posterior"] = calibrate::PosteriorJson(*record.posterior);
   return out;
 }
