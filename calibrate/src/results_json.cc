@@ -132,6 +132,24 @@ Parameter ParameterOfLabel(const std::string& label) {
   return ParameterOf(label.substr(0, dot), label.substr(dot + 1));
 }
 
+// The time steps and work of a run (RunFigures) as the stability cases and
+// the convergence rows list them, and back.
+void AddStepFigures(const core::RunFigures& f, json* j) {
+  (*j)["dt_min_seconds"] = f.dt_min;
+  (*j)["dt_max_seconds"] = f.dt_max;
+  (*j)["rocks_with_step_shrunk"] = f.dt_shrunk;
+  (*j)["steps"] = f.steps;
+  (*j)["flights"] = f.flights;
+}
+
+void ReadStepFigures(const json& j, core::RunFigures* f) {
+  f->dt_min = j.at("dt_min_seconds").get<double>();
+  f->dt_max = j.at("dt_max_seconds").get<double>();
+  f->dt_shrunk = j.at("rocks_with_step_shrunk").get<int>();
+  f->steps = j.at("steps").get<long>();
+  f->flights = j.at("flights").get<long>();
+}
+
 // ---- stability -------------------------------------------------------------------
 
 constexpr const char* kStabilityCriteria =
@@ -142,16 +160,11 @@ constexpr const char* kStabilityCriteria =
 
 json CaseJson(const StabilityCase& c) {
   const core::RunFigures& f = c.figures;
-  return {{"name", c.name},
+  json j = {{"name", c.name},
           {"description", c.description},
           {"rocks", f.rocks},
           {"max_time_seconds", c.max_time},
-          {"dt_min_seconds", f.dt_min},
-          {"dt_max_seconds", f.dt_max},
           {"dt_shrunk", f.dt_shrunk > 0},
-          {"rocks_with_step_shrunk", f.dt_shrunk},
-          {"steps", f.steps},
-          {"flights", f.flights},
           {"wall_seconds", c.wall_seconds},
           {"outcomes", Outcomes(c.stopped, c.left, c.timeout)},
           {"max_relative_energy_gain", JsonNum(f.max_relative_energy_gain)},
@@ -162,6 +175,8 @@ json CaseJson(const StabilityCase& c) {
           {"result", c.pass ? "PASS" : "FAIL"},
           {"reason", c.reason},
           {"warning", c.warning}};
+  AddStepFigures(f, &j);
+  return j;
 }
 
 StabilityCase CaseOf(const json& j) {
@@ -171,11 +186,7 @@ StabilityCase CaseOf(const json& j) {
   c.max_time = j.at("max_time_seconds").get<double>();
   core::RunFigures& f = c.figures;
   f.rocks = j.at("rocks").get<int>();
-  f.dt_min = j.at("dt_min_seconds").get<double>();
-  f.dt_max = j.at("dt_max_seconds").get<double>();
-  f.dt_shrunk = j.at("rocks_with_step_shrunk").get<int>();
-  f.steps = j.at("steps").get<long>();
-  f.flights = j.at("flights").get<long>();
+  ReadStepFigures(j, &f);
   f.max_relative_energy_gain = Number(j, "max_relative_energy_gain");
   f.max_penetration = Number(j, "max_penetration_over_radius");
   f.non_finite = j.at("non_finite_rocks").get<int>();
@@ -232,14 +243,9 @@ QuantityError QuantityOf(const json& j) {
 json RowJson(const ConvergenceRow& r) {
   json qs = json::array();
   for (const QuantityError& q : r.quantities) qs.push_back(QuantityJson(q));
-  return {{"steps_per_contact", r.steps_per_contact},
+  json j = {{"steps_per_contact", r.steps_per_contact},
           {"rocks", r.rocks},
-          {"dt_min_seconds", r.figures.dt_min},
-          {"dt_max_seconds", r.figures.dt_max},
-          {"rocks_with_step_shrunk", r.figures.dt_shrunk},
           {"wall_seconds", r.wall_seconds},
-          {"steps", r.figures.steps},
-          {"flights", r.figures.flights},
           {"outcomes", Outcomes(r.stopped, r.left, r.timeout)},
           {"max_total_error", JsonNum(r.max_total_error)},
           {"max_mc_error", JsonNum(r.max_mc_error)},
@@ -248,17 +254,15 @@ json RowJson(const ConvergenceRow& r) {
           {"max_estimate", JsonNum(r.max_estimate)},
           {"meets_target", r.meets_target},
           {"quantities", qs}};
+  AddStepFigures(r.figures, &j);
+  return j;
 }
 
 ConvergenceRow RowOf(const json& j) {
   ConvergenceRow r;
   r.steps_per_contact = j.at("steps_per_contact").get<int>();
   r.rocks = j.at("rocks").get<int>();
-  r.figures.dt_min = j.at("dt_min_seconds").get<double>();
-  r.figures.dt_max = j.at("dt_max_seconds").get<double>();
-  r.figures.dt_shrunk = j.at("rocks_with_step_shrunk").get<int>();
-  r.figures.steps = j.at("steps").get<long>();
-  r.figures.flights = j.at("flights").get<long>();
+  ReadStepFigures(j, &r.figures);
   r.wall_seconds = j.at("wall_seconds").get<double>();
   const json& o = j.at("outcomes");
   r.stopped = o.at("stopped").get<int>();
