@@ -14,24 +14,30 @@ namespace {
 
 // The misfit's Monte Carlo noise (CalibrationSummary::noise_seeds): the
 // calibrated values' misfit at the other seeds, and a plain warning when the
-// calibration's own seed scores below all of them by more than the spread.
+// calibration's own seed scores below all of them by more than the spread;
+// and the noise check's warning (CalibrationSummary::noise_check) when the
+// noise dominated what the first stage ranked by.
 std::string NoiseSentence(const calibrate::CalibrationSummary& rec) {
-  if (rec.noise_seeds.empty()) return "";
-  std::string s = "; at seed";
-  s += rec.noise_seeds.size() > 1 ? "s " : " ";
-  double lowest = rec.noise_misfits[0];
-  for (std::size_t k = 0; k < rec.noise_seeds.size(); ++k) {
-    s += (k == 0 ? "" : k + 1 == rec.noise_seeds.size() ? " and " : ", ") +
-         std::to_string(rec.noise_seeds[k]);
-    lowest = std::min(lowest, rec.noise_misfits[k]);
+  std::string s;
+  if (!rec.noise_seeds.empty()) {
+    s = "; at seed";
+    s += rec.noise_seeds.size() > 1 ? "s " : " ";
+    double lowest = rec.noise_misfits[0];
+    for (std::size_t k = 0; k < rec.noise_seeds.size(); ++k) {
+      s += (k == 0 ? "" : k + 1 == rec.noise_seeds.size() ? " and " : ", ") +
+           std::to_string(rec.noise_seeds[k]);
+      lowest = std::min(lowest, rec.noise_misfits[k]);
+    }
+    s += " the same values score ";
+    for (std::size_t k = 0; k < rec.noise_misfits.size(); ++k)
+      s += (k == 0 ? "" : k + 1 == rec.noise_misfits.size() ? " and " : ", ") +
+           sections::Label(rec.noise_misfits[k], 3);
+    s += " (Monte Carlo noise: standard deviation " + sections::Label(rec.misfit_noise_sd, 2) + ")";
+    if (rec.misfit_after.value < lowest - rec.misfit_noise_sd)
+      s += "; the search found a dip of its own seed's noise: judge the fit at the other seeds";
   }
-  s += " the same values score ";
-  for (std::size_t k = 0; k < rec.noise_misfits.size(); ++k)
-    s += (k == 0 ? "" : k + 1 == rec.noise_misfits.size() ? " and " : ", ") +
-         sections::Label(rec.noise_misfits[k], 3);
-  s += " (Monte Carlo noise: standard deviation " + sections::Label(rec.misfit_noise_sd, 2) + ")";
-  if (rec.misfit_after.value < lowest - rec.misfit_noise_sd)
-    s += "; the search found a dip of its own seed's noise: judge the fit at the other seeds";
+  if (rec.noise_check.done && rec.noise_check.noise_dominates)
+    s += "; the noise check before the search: " + rec.noise_check.message;
   return sections::Escape(s);
 }
 

@@ -364,6 +364,24 @@ TEST(HtmlReportTest, TheStoppedShareIsShownAsAFraction) {
     EXPECT_EQ(text.find(wrong), std::string::npos) << wrong;
 }
 
+// The noise check's warning reaches the report's summary when the noise
+// dominated, and only then.
+TEST(HtmlReportTest, TheSummarySaysWhenNoiseDominated) {
+  const SimulatedSite run = Simulated("tutorial", 4);
+  CalibrationSummary record = MakeRecord(run.site, 1);
+  record.noise_check.done = true;
+  record.noise_check.message = "noise small: the misfit at the start varies by 1.5";
+  ReportInput in = Input(run);
+  in.calibration = &record;
+  EXPECT_EQ(HtmlReport(in).find("the noise check before the search"), std::string::npos);
+  record.noise_check.noise_dominates = true;
+  record.noise_check.message = "noise dominates: the misfit at the start varies by 12.8";
+  const std::string html = HtmlReport(in);
+  EXPECT_NE(html.find("the noise check before the search: noise dominates: the misfit at the "
+                      "start varies by 12.8"),
+            std::string::npos);
+}
+
 TEST(HtmlReportTest, NoFitSectionWithoutResiduals) {
   const SimulatedSite run = Simulated("tutorial", 4);
   CalibrationSummary record = MakeRecord(run.site, 1);
