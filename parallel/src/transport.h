@@ -33,7 +33,9 @@ bool TryReceive(int tag, int* source, std::string* bytes);
 // `timeout` seconds; then Fails, naming `blame()` (what was awaited).
 std::string Receive(int from, int tag, double timeout, int* source,
                     const std::function<std::string()>& blame);
-// Rank 0's `bytes` on every rank.
+// Rank 0's `bytes` on every rank. Rank 0 waits until every rank has taken
+// its copy; a rank that does not is named. Tags from 1000 up are the
+// transport's own.
 std::string Broadcast(const std::string& bytes, double timeout);
 
 // Reports `message` on the terminal (stderr of the launching process, also
