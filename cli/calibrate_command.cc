@@ -95,7 +95,10 @@ calibrate::CalibrationOptions OptionsFromArgs(const Args& args, const std::strin
   if (args.Has("rocks")) {
     options.rocks = static_cast<int>(args.Integer("rocks", 0, 1, 10000000));
     options.refine_factor = 1;
+    options.noise_raise = 1;  // the count given is kept; the noise check only advises
   }
+  if (args.Has("noise-raise"))
+    options.noise_raise = static_cast<int>(args.Integer("noise-raise", 0, 1, 100));
   if (args.Has("seed"))
     options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
   if (args.Has("threads")) options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
@@ -141,7 +144,7 @@ calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
                   "observations).\n");
   };
   callbacks.noise_checked = [quiet](const calibrate::CalibrationSummary& s) {
-    if (s.noise_check.noise_dominates)
+    if (s.noise_check.still_dominates())
       std::printf("NOISE: %s\n", s.noise_check.message.c_str());
     else if (!quiet)
       std::printf("%s\n", s.noise_check.message.c_str());
@@ -278,7 +281,7 @@ void PrintCalibration(const std::string& out, const calibrate::CalibrationSummar
                 "rocks stuck at their release\n",
                 summary.misfit_after.runs.size(), summary.misfit_after.MeanRunError(),
                 summary.misfit_after.StuckRocks());
-  if (summary.noise_check.done && summary.noise_check.noise_dominates)
+  if (summary.noise_check.done && summary.noise_check.still_dominates())
     std::printf("NOISE: %s\n", summary.noise_check.message.c_str());
   std::printf("\n%s", reports::ParametersMarkdown(summary).c_str());
   if (summary.methods.size() > 1)

@@ -49,6 +49,8 @@ bool CalibrationOptions::IsValid(std::string* error) const {
     s << "noise_check_seeds = " << noise_check_seeds << ": must be >= 0 (0: no check)";
   } else if (!(noise_check_ratio > 0.0 && noise_check_ratio <= 1.0)) {
     s << "noise_check_ratio = " << noise_check_ratio << ": must be in (0, 1]";
+  } else if (noise_raise < 1) {
+    s << "noise_raise = " << noise_raise << ": must be >= 1 (1: never raise the rocks)";
   } else if (race_points < kAuto) {
     s << "race_points = " << race_points << ": must be kAuto (-1) or >= 0 (0: no race)";
   } else if (noise_seeds < 0) {
@@ -269,29 +271,44 @@ void CheckNoise(const sites::Site& site, const observations::Observations& obs,
   check.ratio = check.design_spread > 0 ? check.start_sd / check.design_spread
                                         : std::numeric_limits<double>::infinity();
   check.noise_dominates = check.ratio > options.noise_check_ratio;
+  check.rocks_checked = summary->rocks;
   check.rocks_needed = summary->rocks;
-  char line[400];
-  if (check.noise_dominates) {
-    const double factor = std::isfinite(check.ratio)
-                              ? std::pow(check.ratio / options.noise_check_ratio, 2.0)
-                              : 100.0;
-    check.rocks_needed = static_cast<int>(std::ceil(summary->rocks * std::min(factor, 100.0)));
-    std::snprintf(line, sizeof line,
-                  "noise dominates: the misfit at the start varies by %.3g (sd over %zu seeds) "
-                  "against a spread of %.3g over the design's best %d points (ratio %.2f > %.2f); "
-                  "about %d rocks per evaluation (--rocks %d) would bring the ratio to %.2f",
-                  check.start_sd, check.start_misfits.size(), check.design_spread,
-                  check.contenders, check.ratio,
-                  options.noise_check_ratio, check.rocks_needed, check.rocks_needed,
-                  options.noise_check_ratio);
-  } else {
-    std::snprintf(line, sizeof line,
-                  "noise small: the misfit at the start varies by %.3g (sd over %zu seeds) "
-                  "against a spread of %.3g over the design's best %d points (ratio %.2f <= %.2f)",
-                  check.start_sd, check.start_misfits.size(), check.design_spread,
-                  check.contenders, check.ratio,
-                  options.noise_check_ratio);
+  check.rocks_used = summary->rocks;
+  std::string line;
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "the misfit at the start varies by %.3g (sd over %zu seeds) against a spread of "
+                "%.3g over the design's best %d points (ratio %.2f %s %.2f)",
+                check.start_sd, check.start_misfits.size(), check.design_spread, check.contenders,
+                check.ratio, check.noise_dominates ? ">" : "<=", options.noise_check_ratio);
+  if (!check.noise_dominates) {
+    check.message = std::string("noise small: ") + text;
+    check.done = true;
+    return;
   }
+  // The noise's standard deviation falls as 1 / sqrt(rocks).
+  const double factor = std::isfinite(check.ratio)
+                            ? std::pow(check.ratio / options.noise_check_ratio, 2.0)
+                            : 100.0;
+  check.rocks_needed = static_cast<int>(std::ceil(summary->rocks * std::min(factor, 100.0)));
+  const int multiple =
+      std::min(options.noise_raise, static_cast<int>(std::ceil(std::min(factor, 100.0))));
+  check.rocks_used = summary->rocks * multiple;
+  line = std::string("noise dominates: ") + text;
+  if (multiple > 1)
+    std::snprintf(text, sizeof text, "; the rocks per evaluation raised from %d to %d (%d times)",
+                  check.rocks_checked, check.rocks_used, multiple);
+  else
+    text[0] = '\0';
+  line += text;
+  if (check.still_dominates())
+    std::snprintf(text, sizeof text,
+                  "; about %d rocks per evaluation (--rocks %d) would bring the ratio to %.2f",
+                  check.rocks_needed, check.rocks_needed, options.noise_check_ratio);
+  else
+    std::snprintf(text, sizeof text, ", enough to bring the ratio to %.2f",
+                  options.noise_check_ratio);
+  line += text;
   check.message = line;
   check.done = true;
 }
@@ -460,15 +477,14 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
   std::string error;
   if (!given.IsValid(&error)) throw InputError("calibration options", error);
   const ParameterSpace space = ParameterSpace::FromSite(site);  // once per run
-  const CalibrationOptions options = given.Resolved(space.size());
-  const core::Scene scene = RunScene(site, options.rocks, options.seed, options.threads);
+  CalibrationOptions options = given.Resolved(space.size());
+  core::Scene scene = RunScene(site, options.rocks, options.seed, options.threads);
   const bool refine = options.refine_factor > 1;
   MethodOptions method_options = options.method;
   method_options.seed = scene.options.seed;
   if (refine) method_options.max_evals = FirstStageEvaluations(options);
 
-  const Objective objective(scene, space, obs, options.misfit);
-  std::optional<EvaluationLog> log = OpenLog(site, obs, options, space, scene);
+  std::optional<Objective> objective(std::in_place, scene, space, obs, options.misfit);
 
   CalibrationSummary summary;
   summary.site = scene.name;
@@ -478,14 +494,14 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
   summary.rocks = scene.total_rocks();
   summary.seed = scene.options.seed;
   summary.start = space.Current(scene);
-  summary.misfit_before = objective.Evaluate(summary.start);
+  summary.misfit_before = objective->Evaluate(summary.start);
   summary.search_start = summary.start;
   if (callbacks.started) callbacks.started(summary);
   if (options.reach_points > 0) {
     ReachOptions reach;
     reach.points = options.reach_points;
     reach.seed = scene.options.seed;
-    summary.reach = RunReach(objective, reach);
+    summary.reach = RunReach(*objective, reach);
     const ReachResult& r = *summary.reach;
     if (r.best_point >= 0) {
       const ReachPoint& best_point = r.points[static_cast<std::size_t>(r.best_point)];
@@ -494,9 +510,18 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
     }
     if (callbacks.reach_done) callbacks.reach_done(r);
     CheckNoise(site, obs, options, space, &summary);
+    if (summary.noise_check.done && summary.noise_check.rocks_used > summary.rocks) {
+      // The search, its log and the stages after it at the raised rocks.
+      options.rocks = summary.noise_check.rocks_used;
+      scene = RunScene(site, options.rocks, options.seed, options.threads);
+      objective.emplace(scene, space, obs, options.misfit);
+      summary.rocks = scene.total_rocks();
+      summary.misfit_before = objective->Evaluate(summary.start);
+    }
     if (summary.noise_check.done && callbacks.noise_checked) callbacks.noise_checked(summary);
   }
-  SearchMethods(objective, summary.search_start, options.methods, method_options,
+  std::optional<EvaluationLog> log = OpenLog(site, obs, options, space, scene);
+  SearchMethods(*objective, summary.search_start, options.methods, method_options,
                 log ? &*log : nullptr, callbacks, &summary);
   summary.final_rocks = summary.rocks;
   core::Scene final_scene = scene;

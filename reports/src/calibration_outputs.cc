@@ -280,8 +280,9 @@ nlohmann::json NoiseCheckJson(const CalibrationSummary& record) {
           {"contenders", c.contenders},
           {"ratio", std::isfinite(c.ratio) ? nlohmann::json(c.ratio) : nlohmann::json(nullptr)},
           {"noise_dominates", c.noise_dominates},
-          {"rocks", record.rocks},
+          {"rocks", c.rocks_checked},
           {"rocks_needed", c.rocks_needed},
+          {"rocks_used", c.rocks_used},
           {"message", c.message}};
 }
 

@@ -20,6 +20,7 @@ namespace rockcal::calibrate {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 using testing::TwinObservations;
 using testing::TwinSite;
 
@@ -221,6 +222,64 @@ TEST(CalibrationRun, ResumesAcrossTheRefiningStage) {
     EXPECT_EQ(resumed.best_method().best, straight.best_method().best);
     EXPECT_EQ(resumed.misfit_after.value, straight.misfit_after.value);
   }
+}
+
+// Issue 38: when the noise check finds the noise dominant, the search runs
+// at a whole multiple of the rocks, the one that brings the ratio down or
+// noise_raise times at most; its log resumes at the raised count. With
+// noise_raise 1 the check only says how many rocks are needed.
+TEST(CalibrationRun, DominantNoiseRaisesTheRocks) {
+  const std::string tutorial = std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/tutorial/";
+  const sites::Site site = sites::LoadSite(tutorial + "site.json");
+  const observations::Observations obs =
+      observations::LoadObservations(tutorial + "observations.json", site.scene);
+  sites::testing::TempDir dir;
+  CalibrationOptions options = CalibrationOptions::SingleStage();
+  options.rocks = 4;
+  options.method.max_evals = 4;
+  options.seed = 3;
+  options.reach_points = 6;
+  options.noise_check_seeds = 2;
+  options.noise_check_ratio = 0.01;  // far below any Monte Carlo noise at 4 rocks
+  options.noise_raise = 3;
+  options.log_path = dir.path() + "/evaluations.jsonl";
+  const CalibrationSummary s = Calibrate(site, obs, options);
+  const CalibrationSummary::NoiseCheck& c = s.noise_check;
+  ASSERT_TRUE(c.done);
+  ASSERT_TRUE(c.noise_dominates) << c.message;
+  const double factor = std::pow(c.ratio / 0.01, 2.0);
+  EXPECT_EQ(c.rocks_needed, static_cast<int>(std::ceil(4 * std::min(factor, 100.0))));
+  EXPECT_EQ(c.rocks_checked, 4);
+  EXPECT_EQ(c.rocks_used, 4 * std::min(3, static_cast<int>(std::ceil(std::min(factor, 100.0)))));
+  ASSERT_EQ(c.rocks_used, 12) << c.message;
+  EXPECT_TRUE(c.still_dominates());
+  EXPECT_THAT(c.message, HasSubstr("raised from 4 to 12 (3 times)"));
+  EXPECT_THAT(c.message, HasSubstr("--rocks " + std::to_string(c.rocks_needed)));
+  EXPECT_EQ(s.rocks, 12);
+  EXPECT_EQ(s.final_rocks, 12);
+  EXPECT_EQ(s.simulation.rocks.size(), 12u);
+  EXPECT_EQ(s.misfit_before.residuals.size(), s.misfit_after.residuals.size());
+  // The log was written at 12 rocks: a resume replays every evaluation.
+  CalibrationOptions again = options;
+  again.resume = true;
+  const CalibrationSummary resumed = Calibrate(site, obs, again);
+  EXPECT_EQ(resumed.methods[0].simulated, 0);
+  EXPECT_EQ(resumed.best_method().best, s.best_method().best);
+  EXPECT_EQ(resumed.misfit_after.value, s.misfit_after.value);
+  // Never raised: the same check, the search at 4 rocks, the advice kept.
+  options.noise_raise = 1;
+  options.log_path.clear();
+  const CalibrationSummary kept = Calibrate(site, obs, options);
+  EXPECT_EQ(kept.noise_check.ratio, c.ratio);
+  EXPECT_EQ(kept.noise_check.rocks_used, 4);
+  EXPECT_EQ(kept.rocks, 4);
+  EXPECT_EQ(kept.simulation.rocks.size(), 4u);
+  EXPECT_THAT(kept.noise_check.message, Not(HasSubstr("raised")));
+  EXPECT_THAT(kept.noise_check.message, HasSubstr("would bring the ratio to 0.01"));
+  options.noise_raise = 0;
+  std::string error;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("noise_raise = 0"));
 }
 
 TEST(CalibrationRun, OptionsAreChecked) {

@@ -109,6 +109,13 @@ struct CalibrationOptions {
   // Noise dominates when the start's spread over seeds is more than this
   // share of the design's spread [0.25], (0, 1].
   double noise_check_ratio = 0.25;
+  // When the noise dominates, the rocks per evaluation are raised to the
+  // whole multiple of `rocks` that brings the ratio to noise_check_ratio (a
+  // multiple keeps every group's share and every inventory's blocks
+  // balanced), at most this many times; the search, the refining stage
+  // (refine_factor times the raised rocks) and the log then run at the
+  // raised count. 1: never raise, only say how many are needed [4], >= 1.
+  int noise_raise = 4;
 
   // The reach design a calibration with `parameters` calibrated values and
   // `max_evals` evaluations gets by default: 4 (n + 1) points, or half the
@@ -213,6 +220,13 @@ struct CalibrationSummary {
     // noise_check_ratio (the noise's standard deviation as 1 / sqrt(rocks)),
     // or the rocks as they are when the noise does not dominate.
     int rocks_needed = 0;
+    // The rocks per evaluation the search ran at: the checked ones, or
+    // raised (CalibrationOptions::noise_raise) when the noise dominated.
+    int rocks_checked = 0;
+    int rocks_used = 0;
+    // The noise still dominates the search: it dominated and the raise
+    // (capped by noise_raise, or none) did not reach rocks_needed.
+    bool still_dominates() const { return noise_dominates && rocks_used < rocks_needed; }
     std::string message;  // one plain sentence
   };
   NoiseCheck noise_check;
