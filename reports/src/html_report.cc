@@ -1,5 +1,6 @@
 #include "rockcal/reports/html_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -18,21 +19,22 @@ namespace {
 // and the noise check's warning (CalibrationSummary::noise_check) when the
 // noise dominated what the first stage ranked by.
 std::string NoiseSentence(const calibrate::CalibrationSummary& rec) {
+  // "a", "a and b", "a, b and c".
+  auto list = [](std::size_t count, const std::function<std::string(std::size_t)>& item) {
+    std::string out;
+    for (std::size_t k = 0; k < count; ++k)
+      out += (k == 0 ? "" : k + 1 == count ? " and " : ", ") + item(k);
+    return out;
+  };
   std::string s;
   if (!rec.noise_seeds.empty()) {
-    s = "; at seed";
-    s += rec.noise_seeds.size() > 1 ? "s " : " ";
-    double lowest = rec.noise_misfits[0];
-    for (std::size_t k = 0; k < rec.noise_seeds.size(); ++k) {
-      s += (k == 0 ? "" : k + 1 == rec.noise_seeds.size() ? " and " : ", ") +
-           std::to_string(rec.noise_seeds[k]);
-      lowest = std::min(lowest, rec.noise_misfits[k]);
-    }
-    s += " the same values score ";
-    for (std::size_t k = 0; k < rec.noise_misfits.size(); ++k)
-      s += (k == 0 ? "" : k + 1 == rec.noise_misfits.size() ? " and " : ", ") +
-           sections::Label(rec.noise_misfits[k], 3);
-    s += " (Monte Carlo noise: standard deviation " + sections::Label(rec.misfit_noise_sd, 2) + ")";
+    const std::size_t n = rec.noise_seeds.size();
+    s = std::string("; at seed") + (n > 1 ? "s " : " ") +
+        list(n, [&](std::size_t k) { return std::to_string(rec.noise_seeds[k]); }) +
+        " the same values score " +
+        list(n, [&](std::size_t k) { return sections::Label(rec.noise_misfits[k], 3); }) +
+        " (Monte Carlo noise: standard deviation " + sections::Label(rec.misfit_noise_sd, 2) + ")";
+    const double lowest = *std::min_element(rec.noise_misfits.begin(), rec.noise_misfits.end());
     if (rec.misfit_after.value < lowest - rec.misfit_noise_sd)
       s += "; the search found a dip of its own seed's noise: judge the fit at the other seeds";
   }

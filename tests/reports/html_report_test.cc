@@ -382,6 +382,26 @@ TEST(HtmlReportTest, TheSummarySaysWhenNoiseDominated) {
             std::string::npos);
 }
 
+// The calibrated values' misfit at the other seeds is listed in the
+// summary as a list reads: "2", "2 and 3", "2, 3 and 4".
+TEST(HtmlReportTest, TheSummaryListsTheMisfitAtOtherSeeds) {
+  const SimulatedSite run = Simulated("tutorial", 4);
+  CalibrationSummary record = MakeRecord(run.site, 1);
+  ReportInput in = Input(run);
+  in.calibration = &record;
+  record.noise_seeds = {2};
+  record.noise_misfits = {12.5};
+  EXPECT_NE(HtmlReport(in).find("at seed 2 the same values score 12.5 ("), std::string::npos);
+  record.noise_seeds = {2, 3};
+  record.noise_misfits = {12.5, 9.25};
+  EXPECT_NE(HtmlReport(in).find("at seeds 2 and 3 the same values score 12.5 and 9.25 ("),
+            std::string::npos);
+  record.noise_seeds = {2, 3, 4};
+  record.noise_misfits = {12.5, 9.25, 10};
+  EXPECT_NE(HtmlReport(in).find("at seeds 2, 3 and 4 the same values score 12.5, 9.25 and 10 ("),
+            std::string::npos);
+}
+
 TEST(HtmlReportTest, NoFitSectionWithoutResiduals) {
   const SimulatedSite run = Simulated("tutorial", 4);
   CalibrationSummary record = MakeRecord(run.site, 1);
