@@ -59,7 +59,10 @@ def main():
             "id": "meadow",
             "hardness": 0.3,
             "roughness": 0.5,
-            "calibrate": {"hardness": [0.05, 0.9], "roughness": [0.1, 2.5]},
+            # A meadow's grass resists rolling: rolling resistance and
+            # friction are calibrated too, not taken from the hardness.
+            "calibrate": {"hardness": [0.05, 0.9], "roughness": [0.1, 2.5],
+                          "friction": [0.15, 0.9], "rolling_resistance": [0.0, 0.3]},
         }],
         "rocks": groups,
         "simulation": {"seed": 1, "max_time": 120},
