@@ -243,6 +243,7 @@ void MeasureMisfitNoise(const sites::Site& site, const observations::Observation
     all.push_back(misfit);
   }
   summary->misfit_noise_sd = core::SampleStandardDeviation(all);
+  summary->noise_dip = NoiseDip(summary->misfit_after.value, summary->noise_misfits);
 }
 
 // CalibrationOptions::noise_check_seeds: the misfit at the start at other
@@ -375,6 +376,16 @@ CalibrationOptions CalibrationOptions::SingleStage() {
   o.noise_seeds = 0;
   o.noise_check_seeds = 0;
   return o;
+}
+
+bool NoiseDip(double own, const std::vector<double>& others) {
+  if (others.size() < 2) return false;
+  const double k = static_cast<double>(others.size());
+  double mean = 0.0;
+  for (const double m : others) mean += m / k;
+  const double bound = mean - core::StudentT975(static_cast<int>(others.size()) - 1) *
+                                  core::SampleStandardDeviation(others) * std::sqrt(1.0 + 1.0 / k);
+  return own < bound;
 }
 
 CalibrationOptions CalibrationOptions::Resolved(int parameters) const {

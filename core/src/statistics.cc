@@ -17,6 +17,17 @@ double SampleStandardDeviation(const std::vector<double>& values) {
   return std::sqrt(ss / (n - 1.0));
 }
 
+double StudentT975(int df) {
+  assert(df >= 1);
+  static constexpr double kTable[30] = {
+      12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
+      2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
+      2.080,  2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
+  if (df <= 30) return kTable[df - 1];
+  const double z = 1.959964;
+  return z + (z * z * z + z) / (4.0 * df);
+}
+
 double Quantile(const std::vector<double>& sorted, double q) {
   assert(!sorted.empty());
   const double pos = std::clamp(q, 0.0, 1.0) * static_cast<double>(sorted.size() - 1);

@@ -359,7 +359,8 @@ nlohmann::json CalibrationJson(const CalibrationSummary& record) {
            {{"seeds", record.noise_seeds},
             {"misfits", record.noise_misfits},
             {"sd", record.noise_seeds.empty() ? nlohmann::json(nullptr)
-                                              : nlohmann::json(record.misfit_noise_sd)}}},
+                                              : nlohmann::json(record.misfit_noise_sd)},
+            {"own_seed_dip", record.noise_dip}}},
           {"parameter_names", names},
           {"start", record.start},
           {"search_start", record.search_start},

@@ -1,6 +1,5 @@
 #include "rockcal/reports/html_report.h"
 
-#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -15,7 +14,7 @@ namespace {
 
 // The misfit's Monte Carlo noise (CalibrationSummary::noise_seeds): the
 // calibrated values' misfit at the other seeds, and a plain warning when the
-// calibration's own seed scores below all of them by more than the spread;
+// calibration's own seed scores below what they predict (noise_dip);
 // and the noise check's warning (CalibrationSummary::noise_check) when the
 // noise dominated what the first stage ranked by.
 std::string NoiseSentence(const calibrate::CalibrationSummary& rec) {
@@ -34,8 +33,7 @@ std::string NoiseSentence(const calibrate::CalibrationSummary& rec) {
         " the same values score " +
         list(n, [&](std::size_t k) { return sections::Label(rec.noise_misfits[k], 3); }) +
         " (Monte Carlo noise: standard deviation " + sections::Label(rec.misfit_noise_sd, 2) + ")";
-    const double lowest = *std::min_element(rec.noise_misfits.begin(), rec.noise_misfits.end());
-    if (rec.misfit_after.value < lowest - rec.misfit_noise_sd)
+    if (rec.noise_dip)
       s += "; the search found a dip of its own seed's noise: judge the fit at the other seeds";
   }
   if (rec.noise_check.done && rec.noise_check.noise_dominates)

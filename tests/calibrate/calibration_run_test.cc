@@ -411,6 +411,18 @@ TEST(CalibrationOptions, DefaultReachDesignGrowsWithTheBudget) {
   EXPECT_NE(error.find("noise_check_ratio = 0"), std::string::npos) << error;
 }
 
+// A dip of the own seed's noise: below the others' one-sided 97.5 %
+// prediction bound. Others 9.0, 9.17, 9.09: mean 9.0867, sd 0.085049,
+// t(2) 4.303, bound 9.0867 - 4.303 * 0.085049 * sqrt(4 / 3) = 8.6641.
+TEST(NoiseDip, BelowTheOtherSeedsPredictionBound) {
+  EXPECT_FALSE(NoiseDip(8.70, {9.0, 9.17, 9.09}));
+  EXPECT_TRUE(NoiseDip(8.66, {9.0, 9.17, 9.09}));
+  EXPECT_TRUE(NoiseDip(14.6, {53.0, 45.9, 45.0}));
+  EXPECT_FALSE(NoiseDip(40.0, {53.0, 45.9, 45.0}));
+  EXPECT_FALSE(NoiseDip(1.0, {53.0})) << "one other seed gives no spread";
+  EXPECT_FALSE(NoiseDip(1.0, {}));
+}
+
 // The noise check's yardstick is the spread among the design's best quarter
 // (at least 4 points): a far point changes nothing, and with fewer than 4
 // points all count.

@@ -43,6 +43,19 @@ TEST(Statistics, SampleStandardDeviation) {
   EXPECT_DOUBLE_EQ(SampleStandardDeviation({1, 3}), std::sqrt(2.0));
 }
 
+// Closed forms at 1 and 2 degrees of freedom (tan(0.475 pi); 0.95 /
+// sqrt(2 * 0.975 * 0.025)), published values at 10, 60 and 120, and the
+// normal quantile in the limit.
+TEST(Statistics, StudentT975KnownValues) {
+  EXPECT_NEAR(StudentT975(1), std::tan(0.475 * 3.14159265358979323846), 1e-3);
+  EXPECT_NEAR(StudentT975(2), 0.95 / std::sqrt(2 * 0.975 * 0.025), 1e-3);
+  EXPECT_NEAR(StudentT975(10), 2.228, 1e-3);
+  EXPECT_NEAR(StudentT975(60), 2.000, 2e-3);
+  EXPECT_NEAR(StudentT975(120), 1.980, 2e-3);
+  EXPECT_NEAR(StudentT975(1000000), 1.960, 1e-3);
+  for (int df = 1; df < 200; ++df) EXPECT_GT(StudentT975(df), StudentT975(df + 1)) << df;
+}
+
 TEST(Statistics, KolmogorovTailKnownValues) {
   // The series summed to convergence; 1.3581 and 1.6276 are the familiar 5 %
   // and 1 % critical values.

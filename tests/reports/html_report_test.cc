@@ -400,6 +400,10 @@ TEST(HtmlReportTest, TheSummaryListsTheMisfitAtOtherSeeds) {
   record.noise_misfits = {12.5, 9.25, 10};
   EXPECT_NE(HtmlReport(in).find("at seeds 2, 3 and 4 the same values score 12.5, 9.25 and 10 ("),
             std::string::npos);
+  // The warning of a dip follows CalibrationSummary::noise_dip.
+  EXPECT_EQ(HtmlReport(in).find("the search found a dip of its own seed"), std::string::npos);
+  record.noise_dip = true;
+  EXPECT_NE(HtmlReport(in).find("the search found a dip of its own seed"), std::string::npos);
 }
 
 TEST(HtmlReportTest, NoFitSectionWithoutResiduals) {

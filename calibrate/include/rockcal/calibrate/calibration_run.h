@@ -159,6 +159,13 @@ struct CalibrationCallbacks {
   PosteriorProgress posterior;  // during the posterior stage
 };
 
+// Whether a misfit `own` at the calibration's seed lies below what the
+// misfits at k >= 2 other seeds predict for one more seed: their mean less
+// t s sqrt(1 + 1/k), s their sample standard deviation and t Student's
+// 97.5 % quantile with k - 1 degrees of freedom (a one-sided prediction
+// bound). False with fewer than 2 others.
+bool NoiseDip(double own, const std::vector<double>& others);
+
 // Everything a calibration produced, as its outputs need it.
 struct CalibrationSummary {
   std::string site;  // the site's name
@@ -203,6 +210,9 @@ struct CalibrationSummary {
   std::vector<std::uint64_t> noise_seeds;
   std::vector<double> noise_misfits;
   double misfit_noise_sd = 0.0;
+  // The search found a dip of its own seed's noise (NoiseDip(misfit_after,
+  // noise_misfits)): its fit is to be judged at the other seeds.
+  bool noise_dip = false;
   // CalibrationOptions::noise_check_seeds: is the misfit's Monte Carlo noise
   // small against what the search ranks by? Set before the search.
   struct NoiseCheck {

@@ -16,6 +16,10 @@ double Quantile(const std::vector<double>& sorted, double q);
 // Sample standard deviation of `values` (divisor n - 1, the mean as their sum
 // over n). Requires at least two values.
 double SampleStandardDeviation(const std::vector<double>& values);
+// Student's t distribution's 97.5 % quantile with `df` >= 1 degrees of
+// freedom: tabulated to 3 decimals up to 30, then the Cornish-Fisher
+// expansion z + (z^3 + z) / (4 df) (within 0.002 there).
+double StudentT975(int df);
 // Summary of `values` (any order); all zero when empty.
 Stats Summarize(std::vector<double> values);
 
