@@ -37,7 +37,9 @@ std::string RunoutSection(const Context& c) {
       s += (first ? "" : ", ") + Int(n) + " over " + edge, first = false;
     s += ")";
   }
-  if (c.timeout > 0) s += "; " + Int(c.timeout) + " were still moving at the time limit";
+  if (c.timeout > 0)
+    s += "; " + Int(c.timeout) + (c.timeout == 1 ? " was" : " were") +
+         " still moving at the time limit";
   s += ". Stop positions of the stopped rocks:</p>";
   const core::Stats ry = core::Summarize(ys);
   s += "<table class=\"stats\"><thead><tr><th></th><th colspan=\"2\">stop x</th>";
