@@ -181,20 +181,31 @@ TEST(CalibrationRun, RefiningStartsFromTheRaceWinner) {
 
 // A calibration stopped anywhere in its refining stage (its log cut short,
 // or not yet begun) and resumed ends where a straight run ends.
+// The tutorial example (a log's fingerprint hashes the site's files), and
+// one stage at 4 rocks and seed 3 with a log in `dir`.
+struct Tutorial {
+  static std::string Dir() { return std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/tutorial/"; }
+  sites::Site site = sites::LoadSite(Dir() + "site.json");
+  observations::Observations obs =
+      observations::LoadObservations(Dir() + "observations.json", site.scene);
+  static CalibrationOptions LoggedOptions(const sites::testing::TempDir& dir, int max_evals) {
+    CalibrationOptions options = CalibrationOptions::SingleStage();
+    options.rocks = 4;
+    options.method.max_evals = max_evals;
+    options.seed = 3;
+    options.log_path = dir.path() + "/evaluations.jsonl";
+    return options;
+  }
+};
+
 TEST(CalibrationRun, ResumesAcrossTheRefiningStage) {
-  // The log's fingerprint hashes the site's files: the tutorial example.
-  const std::string tutorial = std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/tutorial/";
-  const sites::Site site = sites::LoadSite(tutorial + "site.json");
-  const observations::Observations obs =
-      observations::LoadObservations(tutorial + "observations.json", site.scene);
+  const Tutorial tutorial;
+  const sites::Site& site = tutorial.site;
+  const observations::Observations& obs = tutorial.obs;
   sites::testing::TempDir dir;
-  CalibrationOptions options = CalibrationOptions::SingleStage();
-  options.rocks = 4;
-  options.method.max_evals = 12;
-  options.seed = 3;
+  CalibrationOptions options = Tutorial::LoggedOptions(dir, 12);
   options.refine_factor = 2;
   options.noise_seeds = 0;  // the noise runs are not logged: nothing to resume
-  options.log_path = dir.path() + "/evaluations.jsonl";
   const CalibrationSummary straight = Calibrate(site, obs, options);
   const std::string refine_log = dir.path() + "/evaluations-refine.jsonl";
   ASSERT_TRUE(std::filesystem::exists(refine_log));
@@ -229,20 +240,15 @@ TEST(CalibrationRun, ResumesAcrossTheRefiningStage) {
 // noise_raise times at most; its log resumes at the raised count. With
 // noise_raise 1 the check only says how many rocks are needed.
 TEST(CalibrationRun, DominantNoiseRaisesTheRocks) {
-  const std::string tutorial = std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/tutorial/";
-  const sites::Site site = sites::LoadSite(tutorial + "site.json");
-  const observations::Observations obs =
-      observations::LoadObservations(tutorial + "observations.json", site.scene);
+  const Tutorial tutorial;
+  const sites::Site& site = tutorial.site;
+  const observations::Observations& obs = tutorial.obs;
   sites::testing::TempDir dir;
-  CalibrationOptions options = CalibrationOptions::SingleStage();
-  options.rocks = 4;
-  options.method.max_evals = 4;
-  options.seed = 3;
+  CalibrationOptions options = Tutorial::LoggedOptions(dir, 4);
   options.reach_points = 6;
   options.noise_check_seeds = 2;
   options.noise_check_ratio = 0.01;  // far below any Monte Carlo noise at 4 rocks
   options.noise_raise = 3;
-  options.log_path = dir.path() + "/evaluations.jsonl";
   const CalibrationSummary s = Calibrate(site, obs, options);
   const CalibrationSummary::NoiseCheck& c = s.noise_check;
   ASSERT_TRUE(c.done);
