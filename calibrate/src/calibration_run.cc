@@ -288,9 +288,8 @@ void CheckNoise(const sites::Site& site, const observations::Observations& obs,
     return;
   }
   // The noise's standard deviation falls as 1 / sqrt(rocks).
-  const double factor = std::isfinite(check.ratio)
-                            ? std::pow(check.ratio / options.noise_check_ratio, 2.0)
-                            : 100.0;
+  const double factor =
+      std::isfinite(check.ratio) ? std::pow(check.ratio / options.noise_check_ratio, 2.0) : 100.0;
   check.rocks_needed = static_cast<int>(std::ceil(summary->rocks * std::min(factor, 100.0)));
   const int multiple =
       std::min(options.noise_raise, static_cast<int>(std::ceil(std::min(factor, 100.0))));

@@ -201,8 +201,7 @@ std::string Broadcast(const std::string& bytes, double timeout) {
   if (size == 1) return bytes;
   // One message to each rank rather than a collective: a rank that does not
   // take its copy is then known by name.
-  if (rank != 0)
-    return Receive(0, kBroadcastTag, timeout, nullptr, [] { return Who(0); });
+  if (rank != 0) return Receive(0, kBroadcastTag, timeout, nullptr, [] { return Who(0); });
   for (int r = 1; r < size; ++r) Send(r, kBroadcastTag, bytes);
   Flush(timeout);
   return bytes;

@@ -29,9 +29,9 @@ std::string DiagnosticsSection(const Context& c) {
   }
   s += "</tbody></table>";
   if (c.timeout > 0)
-    s += "<p class=\"warn\">" + Int(c.timeout) +
-         (c.timeout == 1 ? " rock was" : " rocks were") + " still moving at the time limit of " +
-         Label(c.scene.options.max_time) + " s; a longer limit may move their stop points.</p>";
+    s += "<p class=\"warn\">" + Int(c.timeout) + (c.timeout == 1 ? " rock was" : " rocks were") +
+         " still moving at the time limit of " + Label(c.scene.options.max_time) +
+         " s; a longer limit may move their stop points.</p>";
   return s;
 }
 
