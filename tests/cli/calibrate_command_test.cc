@@ -5,6 +5,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -45,6 +47,39 @@ std::vector<nlohmann::json> LogWithoutTimes(const std::string& path) {
     lines.push_back(std::move(j));
   }
   return lines;
+}
+
+// Issue 38: with --rocks N the noise check only advises (a NOISE: line and
+// the rocks needed); --noise-raise F lets it raise the count to a whole
+// multiple of N, at most F times; --noise-raise 0 is refused.
+TEST(CalibrateCommand, RocksKeepTheirCountUnlessNoiseRaiseIsGiven) {
+  const std::string obs =
+      std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/tutorial/observations.json";
+  const std::string base = "calibrate " + Example("tutorial") + " --observations " + obs +
+                           " --rocks 6 --seed 2 --reach 6 --max-evals 4 --quiet";
+  const std::string kept = FreshDir("kept"), raised = FreshDir("raised");
+  const RunResult a = Rockcal(base + " --out " + kept);
+  ASSERT_EQ(a.status, 0) << a.err;
+  const nlohmann::json ka = nlohmann::json::parse(ReadFile(kept + "/calibration.json"));
+  const nlohmann::json& check = ka["noise_check"];
+  ASSERT_TRUE(check["noise_dominates"].get<bool>()) << check.dump();
+  EXPECT_EQ(check["rocks"], 6);
+  EXPECT_EQ(check["rocks_used"], 6);
+  EXPECT_EQ(ka["rocks_per_evaluation"], 6);
+  EXPECT_THAT(a.out, HasSubstr("NOISE: noise dominates"));
+  const RunResult b = Rockcal(base + " --noise-raise 3 --out " + raised);
+  ASSERT_EQ(b.status, 0) << b.err;
+  const nlohmann::json kb = nlohmann::json::parse(ReadFile(raised + "/calibration.json"));
+  EXPECT_EQ(kb["noise_check"]["ratio"], check["ratio"]) << "the same check at the same rocks";
+  const double factor = std::pow(check["ratio"].get<double>() / 0.25, 2.0);
+  const int multiple = std::min(3, static_cast<int>(std::ceil(std::min(factor, 100.0))));
+  ASSERT_GT(multiple, 1) << factor;
+  EXPECT_EQ(kb["noise_check"]["rocks_used"], 6 * multiple);
+  EXPECT_EQ(kb["rocks_per_evaluation"], 6 * multiple);
+  EXPECT_EQ(kb["rocks_final"], 6 * multiple);
+  const RunResult c = Rockcal(base + " --noise-raise 0 --out " + FreshDir("zero"));
+  EXPECT_EQ(c.status, 2);
+  EXPECT_THAT(c.err, HasSubstr("argument --noise-raise"));
 }
 
 // The library owns the defaults: rockcal calibrate with no flags but the
