@@ -275,32 +275,27 @@ void CheckNoise(const sites::Site& site, const observations::Observations& obs,
   check.rocks_checked = summary->rocks;
   check.rocks_needed = summary->rocks;
   check.rocks_used = summary->rocks;
-  std::string line;
   char text[400];
   std::snprintf(text, sizeof text,
                 "the misfit at the start varies by %.3g (sd over %zu seeds) against a spread of "
                 "%.3g over the design's best %d points (ratio %.2f %s %.2f)",
                 check.start_sd, check.start_misfits.size(), check.design_spread, check.contenders,
                 check.ratio, check.noise_dominates ? ">" : "<=", options.noise_check_ratio);
-  if (!check.noise_dominates) {
-    check.message = std::string("noise small: ") + text;
-    check.done = true;
-    return;
-  }
-  // The noise's standard deviation falls as 1 / sqrt(rocks).
-  const double factor =
+  check.message = std::string(check.noise_dominates ? "noise dominates: " : "noise small: ") + text;
+  check.done = true;
+  if (!check.noise_dominates) return;
+  // The noise's standard deviation falls as 1 / sqrt(rocks); at most 100 times the rocks.
+  const double wanted =
       std::isfinite(check.ratio) ? std::pow(check.ratio / options.noise_check_ratio, 2.0) : 100.0;
-  check.rocks_needed = static_cast<int>(std::ceil(summary->rocks * std::min(factor, 100.0)));
-  const int multiple =
-      std::min(options.noise_raise, static_cast<int>(std::ceil(std::min(factor, 100.0))));
+  const double factor = std::min(wanted, 100.0);
+  check.rocks_needed = static_cast<int>(std::ceil(summary->rocks * factor));
+  const int multiple = std::min(options.noise_raise, static_cast<int>(std::ceil(factor)));
   check.rocks_used = summary->rocks * multiple;
-  line = std::string("noise dominates: ") + text;
-  if (multiple > 1)
+  if (multiple > 1) {
     std::snprintf(text, sizeof text, "; the rocks per evaluation raised from %d to %d (%d times)",
                   check.rocks_checked, check.rocks_used, multiple);
-  else
-    text[0] = '\0';
-  line += text;
+    check.message += text;
+  }
   if (check.still_dominates())
     std::snprintf(text, sizeof text,
                   "; about %d rocks per evaluation (--rocks %d) would bring the ratio to %.2f",
@@ -308,9 +303,7 @@ void CheckNoise(const sites::Site& site, const observations::Observations& obs,
   else
     std::snprintf(text, sizeof text, ", enough to bring the ratio to %.2f",
                   options.noise_check_ratio);
-  line += text;
-  check.message = line;
-  check.done = true;
+  check.message += text;
 }
 
 // CalibrationOptions::posterior: the posterior on the objective of the

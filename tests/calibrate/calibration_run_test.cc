@@ -179,8 +179,6 @@ TEST(CalibrationRun, RefiningStartsFromTheRaceWinner) {
   EXPECT_EQ(plain.methods[1].trace.front().parameters, plain.methods[0].best);
 }
 
-// A calibration stopped anywhere in its refining stage (its log cut short,
-// or not yet begun) and resumed ends where a straight run ends.
 // The tutorial example (a log's fingerprint hashes the site's files), and
 // one stage at 4 rocks and seed 3 with a log in `dir`.
 struct Tutorial {
@@ -198,6 +196,8 @@ struct Tutorial {
   }
 };
 
+// A calibration stopped anywhere in its refining stage (its log cut short,
+// or not yet begun) and resumed ends where a straight run ends.
 TEST(CalibrationRun, ResumesAcrossTheRefiningStage) {
   const Tutorial tutorial;
   const sites::Site& site = tutorial.site;
