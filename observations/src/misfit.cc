@@ -601,7 +601,11 @@ double QuantileStandardError(const std::vector<double>& sorted, double level) {
 double MaxStandardError(const std::vector<double>& sorted) {
   const std::size_t n = sorted.size();
   if (n < 2) return 0.0;
-  return sorted[n - 1] - sorted[n - 2];
+  const std::size_t j = std::clamp<std::size_t>(n / 10, 1, n - 1);
+  const double threshold = sorted[n - 1 - j];
+  double excess = 0.0;
+  for (std::size_t i = n - j; i < n; ++i) excess += sorted[i] - threshold;
+  return std::max(sorted[n - 1] - sorted[n - 2], excess / static_cast<double>(j));
 }
 
 double MaxOrderPosition(std::size_t simulated, std::size_t observed) {

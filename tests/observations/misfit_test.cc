@@ -722,9 +722,33 @@ TEST(QuantileErrorTest, OrderStatisticsOfASample) {
   EXPECT_EQ(MaxStandardError({7.0}), 0.0);
 }
 
-// The simulated order statistic compared with an observed maximum: the
-// k-th largest of n exceeds the largest of m with probability
-// P_k = prod_{i<k} (n - i) / (n + m - i).
+// The maximum's error is the larger of the top gap and the top tenth's mean
+// excess over the next value: a tie at the top does not zero it, and a lone
+// far maximum keeps its gap.
+TEST(QuantileErrorTest, MaxStandardErrorIsTheTopGapOrTheTopTenthsMeanExcess) {
+  // Below 20 values, one spacing: the gap of the two largest.
+  std::vector<double> small = {0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 14.0};
+  EXPECT_EQ(MaxStandardError(small), 4.0);
+  // 20 values, j = 2. The two largest tied: their excess over the third.
+  std::vector<double> tied;
+  for (int i = 0; i < 18; ++i) tied.push_back(i);
+  tied.push_back(30.0);
+  tied.push_back(30.0);
+  EXPECT_EQ(MaxStandardError(tied), 13.0);
+  // A lone far maximum: its gap (22), above the mean excess ((23 + 1) / 2).
+  std::vector<double> lone;
+  for (int i = 0; i < 19; ++i) lone.push_back(i);
+  lone.push_back(40.0);
+  EXPECT_EQ(MaxStandardError(lone), 22.0);
+  // The quantiles of an exponential tail of scale 2 (n = 1000, j = 100), the
+  // largest moved down onto the second: the gap is 0, and the mean excess
+  // over the 0.9 quantile is the scale, less the moved value's 2 ln 3 / 100.
+  std::vector<double> exponential;
+  for (int i = 0; i < 1000; ++i) exponential.push_back(-2.0 * std::log(1.0 - (i + 0.5) / 1000.0));
+  exponential.back() = exponential[998];
+  EXPECT_NEAR(MaxStandardError(exponential), 2.0 - 2.0 * std::log(3.0) / 100.0, 0.01);
+}
+
 TEST(QuantileErrorTest, MaxOrderPositionExceedsTheObservedMaximumHalfTheTime) {
   // As many values or fewer: P_1 = n / (n + m) <= 1/2, the simulated maximum.
   EXPECT_EQ(MaxOrderPosition(41, 41), 40.0);
