@@ -297,6 +297,8 @@ int Validate(const std::vector<std::string>& argv) {
         observations::LoadObservations(args.Get("observations"), scene);
     std::printf("observations '%s': OK\n", args.Get("observations").c_str());
     for (const std::string& note : obs.notes) std::printf("  %s\n", note.c_str());
+    for (const std::string& w : observations::DuplicateRunWarnings(obs))
+      std::printf("WARNING: %s\n", w.c_str());
   }
   return 0;
 }

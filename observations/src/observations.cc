@@ -739,6 +739,23 @@ core::RecordOptions RequiredRecording(const Observations& observations, core::Re
   return base;
 }
 
+std::vector<std::string> DuplicateRunWarnings(const Observations& observations) {
+  std::vector<std::string> out;
+  if (!observations.runout || !observations.runout->has_runs()) return out;
+  const Runout& r = *observations.runout;
+  constexpr double kSame = 1e-3;  // m
+  for (std::size_t i = 0; i < r.run_ids.size(); ++i)
+    for (std::size_t j = i + 1; j < r.run_ids.size(); ++j)
+      if ((r.run_origins[i] - r.run_origins[j]).norm() <= kSame &&
+          (r.stop_points[i] - r.stop_points[j]).norm() <= kSame)
+        out.push_back("runs '" + r.run_ids[i] + "' and '" + r.run_ids[j] +
+                      "' have the same release point and the same stop point, " +
+                      FormatPoint(r.stop_points[i]) +
+                      " m: one run written twice counts twice in the misfit; remove the copy "
+                      "if it is one");
+  return out;
+}
+
 std::vector<double> Runout::MassClassBounds() const {
   std::vector<double> bounds;
   if (mass_classes < 2 || masses.empty()) return bounds;

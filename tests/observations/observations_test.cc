@@ -692,6 +692,25 @@ TEST_F(ObservationsFileTest, BadRunsNameTheFileAndRow) {
               HasSubstr("at most one of 'runout'"));
 }
 
+// Two runs from one release point to one stop point are most likely one run
+// written twice: a warning names both. Another stop, or another release, is
+// no copy.
+TEST_F(ObservationsFileTest, ARunWrittenTwiceIsNamed) {
+  scene_ = RunsScene();
+  scene_.groups.push_back(scene_.groups[0]);
+  scene_.groups.back().id = "a2";  // released where "a" is
+  const Observations obs = LoadObservations(
+      Write("obs.json", R"({"units": "si", "error": {"runout": 2}, "runs": [
+        {"id": "r1", "group": "a", "stop": [10, 60]}, {"id": "r2", "group": "b", "stop": [10, 60]},
+        {"id": "r3", "group": "a2", "stop": [10, 60]}, {"id": "r4", "group": "a2", "stop": [10, 61]}]})"),
+      scene_);
+  const std::vector<std::string> warnings = DuplicateRunWarnings(obs);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_THAT(warnings[0], AllOf(HasSubstr("runs 'r1' and 'r3'"), HasSubstr("(10, 60) m"),
+                                 HasSubstr("counts twice")));
+  EXPECT_TRUE(DuplicateRunWarnings(Observations{}).empty());
+}
+
 TEST_F(ObservationsFileTest, FoldsOverRunsKeepEachRunWithItsRelease) {
   scene_ = RunsScene();
   const Observations obs = LoadObservations(
@@ -731,6 +750,10 @@ TEST(TschamutExample, EachRunIsMeasuredFromItsOwnRelease) {
   ASSERT_TRUE(obs.runout && obs.runout->has_runs());
   const Runout& r = *obs.runout;
   ASSERT_EQ(r.run_ids.size(), 62u);
+  // The campaign's table holds one run twice under two ids.
+  const std::vector<std::string> copies = DuplicateRunWarnings(obs);
+  ASSERT_EQ(copies.size(), 1u);
+  EXPECT_THAT(copies[0], HasSubstr("runs 'v033' and 'v034'"));
   std::ifstream csv(dir + "data/runs.csv");
   std::string line;
   std::getline(csv, line);  // header; runout_m is the last column

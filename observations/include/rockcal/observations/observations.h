@@ -127,6 +127,11 @@ struct Observations {
 // (or the CSV line), the value and what was expected.
 Observations LoadObservations(const std::string& path, const core::Scene& scene);
 
+// One warning per pair of tracked runs with the same release point and the
+// same stop point (within 1 mm): most likely one run written twice, which
+// counts twice in the misfit. Empty without runs.
+std::vector<std::string> DuplicateRunWarnings(const Observations& observations);
+
 // What a simulation must record for ComputeMisfit: `base` with `partitions`
 // set only when a scar set or a passing fraction refers to a partition, and
 // `trees` replaced by the trees of the tree-form scar sets (in Tree::probe
