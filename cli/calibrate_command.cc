@@ -312,10 +312,8 @@ int Calibrate(const std::vector<std::string>& argv) {
   calibrate::CalibrationOptions options = OptionsFromArgs(args, out);
   options.methods = methods;
   const observations::Observations obs = observations::LoadObservations(obs_path, site.scene);
-  for (const std::string& w : sites::IdenticalCopyWarnings(site.scene))
-    std::printf("WARNING: %s\n", w.c_str());
-  for (const std::string& w : observations::DuplicateRunWarnings(obs))
-    std::printf("WARNING: %s\n", w.c_str());
+  PrintWarnings(sites::IdenticalCopyWarnings(site.scene));
+  PrintWarnings(observations::DuplicateRunWarnings(obs));
   PosteriorFromArgs(args, &options);
   calibrate::CheckCalibration(site, options);  // before the folder is made
   const int folds = args.Has("holdout") ? static_cast<int>(args.Integer("holdout", 0, 2, 1000)) : 0;

@@ -290,15 +290,13 @@ int Validate(const std::vector<std::string>& argv) {
                 lo.mass, hi.mass, dt,
                 shrunk ? " (shrunk for stability)" : "");
   }
-  for (const std::string& w : sites::IdenticalCopyWarnings(scene))
-    std::printf("WARNING: %s\n", w.c_str());
+  PrintWarnings(sites::IdenticalCopyWarnings(scene));
   if (args.Has("observations")) {
     const observations::Observations obs =
         observations::LoadObservations(args.Get("observations"), scene);
     std::printf("observations '%s': OK\n", args.Get("observations").c_str());
     for (const std::string& note : obs.notes) std::printf("  %s\n", note.c_str());
-    for (const std::string& w : observations::DuplicateRunWarnings(obs))
-      std::printf("WARNING: %s\n", w.c_str());
+    PrintWarnings(observations::DuplicateRunWarnings(obs));
   }
   return 0;
 }

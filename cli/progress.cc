@@ -30,4 +30,8 @@ void Progress::Update(int done, int total, const std::string& extra) {
   drawn_ = true;
 }
 
+void PrintWarnings(const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings) std::printf("WARNING: %s\n", w.c_str());
+}
+
 }  // namespace rockcal::cli

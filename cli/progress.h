@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <string>
+#include <vector>
 
 namespace rockcal::cli {
 
@@ -21,6 +22,9 @@ class Progress final {
   bool drawn_ = false;
   std::chrono::steady_clock::time_point start_, last_;
 };
+
+// Each warning on stdout as "WARNING: <text>", a line each.
+void PrintWarnings(const std::vector<std::string>& warnings);
 
 }  // namespace rockcal::cli
 
