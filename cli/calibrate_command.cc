@@ -344,9 +344,15 @@ int Calibrate(const std::vector<std::string>& argv) {
     // stopped run resumes.
     if (folds > 0) {
       holdout = calibrate::CrossValidate(site, obs, options, folds, callbacks);
-      if (!quiet)
-        std::printf("holdout, %d folds: misfit in sample %.4g, held out %.4g (means)\n", folds,
+      if (!quiet) {
+        std::printf("holdout, %d folds: misfit in sample %.4g, held out %.4g (means)", folds,
                     holdout->mean_in_sample_misfit, holdout->mean_held_out_misfit);
+        if (holdout->mean_runout_error_m)
+          std::printf("; runout error held out %.3g m", *holdout->mean_runout_error_m);
+        std::printf("\n");
+        if (holdout->repeat_scatter)
+          std::printf("  %s\n", holdout->repeat_scatter->Sentence().c_str());
+      }
     }
     // The rasters: asked for, or by default for a site read from GIS files.
     WriteCalibrationFiles(folder, site, obs, summary, holdout, args.Flag("rasters") || site.gis);

@@ -296,6 +296,8 @@ int Validate(const std::vector<std::string>& argv) {
         observations::LoadObservations(args.Get("observations"), scene);
     std::printf("observations '%s': OK\n", args.Get("observations").c_str());
     for (const std::string& note : obs.notes) std::printf("  %s\n", note.c_str());
+    if (const auto scatter = observations::RunRepeatScatter(obs, scene))
+      std::printf("  %s\n", scatter->Sentence().c_str());
     PrintWarnings(observations::DuplicateRunWarnings(obs));
   }
   return 0;

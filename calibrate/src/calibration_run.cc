@@ -576,6 +576,7 @@ HoldoutSummary CrossValidate(const sites::Site& site, const observations::Observ
   out.folds = folds;
   out.seed = options.seed ? *options.seed : site.scene.options.seed;
   const std::vector<observations::Fold> split = observations::MakeFolds(obs, folds, out.seed);
+  out.repeat_scatter = observations::RunRepeatScatter(obs, site.scene);
   std::vector<double> errors;
   for (const observations::Fold& fold : split) {
     FoldResult r;

@@ -756,6 +756,78 @@ std::vector<std::string> DuplicateRunWarnings(const Observations& observations) 
   return out;
 }
 
+namespace {
+
+bool SameBlocks(const std::vector<core::Block>& a, const std::vector<core::Block>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t k = 0; k < a.size(); ++k)
+    if (a[k].shape != b[k].shape || a[k].sides != b[k].sides || a[k].mass != b[k].mass ||
+        a[k].scanned != b[k].scanned)
+      return false;
+  return true;
+}
+
+// Whether two rock groups release the same rocks (wherever they release them).
+bool SameRocks(const core::RockGroup& a, const core::RockGroup& b) {
+  return a.shape == b.shape && a.size_min == b.size_min && a.size_max == b.size_max &&
+         a.unit_weight == b.unit_weight && a.box == b.box && a.scanned == b.scanned &&
+         SameBlocks(a.inventory, b.inventory);
+}
+
+double MedianOf(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return core::Quantile(values, 0.5);
+}
+
+}  // namespace
+
+std::string RepeatScatter::Sentence() const {
+  return "repeated runs: " + std::to_string(runs) + " runs in " + std::to_string(sets) +
+         " sets (the same rocks released within " + FormatNumber(kRepeatRadius, "%g") +
+         " m of one another); a run's runout differs from its set's median by " +
+         FormatNumber(own_median_error_m, "%.3g") + " m on average, from the median of the " +
+         "set's other runs by " + FormatNumber(others_median_error_m, "%.3g") +
+         " m: a mean per-run error near these is the campaign's own repeatability";
+}
+
+std::optional<RepeatScatter> RunRepeatScatter(const Observations& observations,
+                                              const core::Scene& scene) {
+  if (!observations.runout || !observations.runout->has_runs()) return std::nullopt;
+  const Runout& r = *observations.runout;
+  const std::size_t n = r.run_ids.size();
+  std::vector<bool> placed(n, false);
+  RepeatScatter out;
+  double own = 0.0, others = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (placed[i]) continue;
+    const core::RockGroup& first = scene.groups[static_cast<std::size_t>(r.run_groups[i])];
+    std::vector<std::size_t> set;
+    for (std::size_t j = i; j < n; ++j)
+      if (!placed[j] &&
+          (r.run_origins[j] - r.run_origins[i]).norm() <= RepeatScatter::kRepeatRadius &&
+          SameRocks(first, scene.groups[static_cast<std::size_t>(r.run_groups[j])])) {
+        placed[j] = true;
+        set.push_back(j);
+      }
+    if (set.size() < 3) continue;
+    std::vector<double> runouts;
+    for (const std::size_t j : set) runouts.push_back(r.distances[j]);
+    const double median = MedianOf(runouts);
+    for (std::size_t k = 0; k < set.size(); ++k) {
+      std::vector<double> rest = runouts;
+      rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(k));
+      own += std::abs(runouts[k] - median);
+      others += std::abs(runouts[k] - MedianOf(rest));
+    }
+    ++out.sets;
+    out.runs += static_cast<int>(set.size());
+  }
+  if (out.sets == 0) return std::nullopt;
+  out.own_median_error_m = own / out.runs;
+  out.others_median_error_m = others / out.runs;
+  return out;
+}
+
 std::vector<double> Runout::MassClassBounds() const {
   std::vector<double> bounds;
   if (mass_classes < 2 || masses.empty()) return bounds;

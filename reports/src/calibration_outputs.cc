@@ -416,6 +416,15 @@ std::string ComparisonMarkdown(const CalibrationSummary& record) {
   return out.str();
 }
 
+nlohmann::json RepeatScatterJson(const std::optional<observations::RepeatScatter>& scatter) {
+  if (!scatter) return nullptr;
+  return {{"sets", scatter->sets},
+          {"runs", scatter->runs},
+          {"release_radius_m", observations::RepeatScatter::kRepeatRadius},
+          {"own_median_abs_error_m", scatter->own_median_error_m},
+          {"others_median_abs_error_m", scatter->others_median_error_m}};
+}
+
 nlohmann::json HoldoutJson(const calibrate::HoldoutSummary& holdout,
                            const CalibrationSummary& full) {
   auto optional = [](const std::optional<double>& v) {
@@ -436,6 +445,7 @@ nlohmann::json HoldoutJson(const calibrate::HoldoutSummary& holdout,
           {"mean_in_sample_misfit", holdout.mean_in_sample_misfit},
           {"mean_held_out_misfit", holdout.mean_held_out_misfit},
           {"mean_runout_median_abs_error_m", optional(holdout.mean_runout_error_m)},
+          {"repeat_scatter", RepeatScatterJson(holdout.repeat_scatter)},
           {"per_fold", folds}};
 }
 

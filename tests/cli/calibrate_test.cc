@@ -153,6 +153,7 @@ TEST(CalibrateHoldout, ScoresEachFoldOnValuesItDidNotSee) {
     mean += 0.5 * f["held_out_misfit"].get<double>();
   }
   EXPECT_NEAR(h["mean_held_out_misfit"].get<double>(), mean, 1e-9 * (1 + mean));
+  EXPECT_TRUE(h["repeat_scatter"].is_null()) << "no tracked runs, so no repeats";
   EXPECT_EQ(ReadJson(out + "/calibration.json")["holdout"], h);
   EXPECT_EQ(h["in_sample_misfit"], ReadJson(out + "/calibration.json")["misfit_after"]);
   for (const char* f : {"holdout.csv", "evaluations-fold-1.jsonl", "evaluations-fold-2.jsonl"})

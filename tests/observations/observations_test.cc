@@ -711,6 +711,53 @@ TEST_F(ObservationsFileTest, ARunWrittenTwiceIsNamed) {
   EXPECT_TRUE(DuplicateRunWarnings(Observations{}).empty());
 }
 
+// Repeats: the same rocks released within 2 m of one another. Each run of
+// a set of at least 3 is compared with the set's median and with the median
+// of the set's other runs; other rocks, a release farther away and sets of
+// fewer than 3 are left out.
+TEST_F(ObservationsFileTest, RepeatedRunsGiveTheCampaignsOwnScatter) {
+  scene_ = RunsScene();  // "a" at (10, 90), "b" at (50, 90): the same rocks
+  core::RockGroup g = scene_.groups[0];
+  for (const char* id : {"a2", "a3"}) {
+    g.id = id;
+    scene_.groups.push_back(g);
+  }
+  g.id = "a4";
+  g.release.point = Eigen::Vector2d(11.5, 90);  // within 2 m of "a"
+  scene_.groups.push_back(g);
+  g.id = "other";  // from "a"'s point, but another rock
+  g.release.point = Eigen::Vector2d(10, 90);
+  g.size_max = 2.0;
+  scene_.groups.push_back(g);
+  const Observations obs = LoadObservations(
+      Write("obs.json", R"({"units": "si", "error": {"runout": 2}, "runs": [
+        {"id": "r1", "group": "a", "stop": [10, 60]}, {"id": "r2", "group": "a2", "stop": [10, 50]},
+        {"id": "r3", "group": "b", "stop": [50, 10]}, {"id": "r4", "group": "a3", "stop": [10, 40]},
+        {"id": "r5", "group": "a4", "stop": [11.5, 20]}, {"id": "r6", "group": "other", "stop": [10, 10]},
+        {"id": "r7", "group": "b", "stop": [50, 20]}]})"),
+      scene_);
+  const std::optional<RepeatScatter> scatter = RunRepeatScatter(obs, scene_);
+  ASSERT_TRUE(scatter);
+  // The set {r1, r2, r4, r5}: runouts 30, 40, 50 and 70 m, median 45 m;
+  // the other runs' medians 50, 50, 40 and 40 m. {r3, r7} is too small.
+  EXPECT_EQ(scatter->sets, 1);
+  EXPECT_EQ(scatter->runs, 4);
+  EXPECT_DOUBLE_EQ(scatter->own_median_error_m, (15.0 + 5 + 5 + 25) / 4);
+  EXPECT_DOUBLE_EQ(scatter->others_median_error_m, (20.0 + 10 + 10 + 30) / 4);
+  EXPECT_THAT(scatter->Sentence(), AllOf(HasSubstr("4 runs in 1 sets"), HasSubstr("12.5 m"),
+                                         HasSubstr("17.5 m")));
+  // Moved 2.5 m away, r5 no longer repeats r1: its set is 3 runs.
+  scene_.groups[4].release.point = Eigen::Vector2d(12.5, 90);
+  const Observations moved = LoadObservations(
+      Write("obs.json", R"({"units": "si", "error": {"runout": 2}, "runs": [
+        {"id": "r1", "group": "a", "stop": [10, 60]}, {"id": "r2", "group": "a2", "stop": [10, 50]},
+        {"id": "r4", "group": "a3", "stop": [10, 40]}, {"id": "r5", "group": "a4", "stop": [12.5, 20]}]})"),
+      scene_);
+  ASSERT_TRUE(RunRepeatScatter(moved, scene_));
+  EXPECT_EQ(RunRepeatScatter(moved, scene_)->runs, 3);
+  EXPECT_FALSE(RunRepeatScatter(Observations{}, scene_));
+}
+
 TEST_F(ObservationsFileTest, FoldsOverRunsKeepEachRunWithItsRelease) {
   scene_ = RunsScene();
   const Observations obs = LoadObservations(
@@ -754,6 +801,14 @@ TEST(TschamutExample, EachRunIsMeasuredFromItsOwnRelease) {
   const std::vector<std::string> copies = DuplicateRunWarnings(obs);
   ASSERT_EQ(copies.size(), 1u);
   EXPECT_THAT(copies[0], HasSubstr("runs 'v033' and 'v034'"));
+  // Its repeats (the same block from one point, within 2 m): 48 runs in
+  // 12 sets, which scatter by 10-15 m about their medians.
+  const std::optional<RepeatScatter> scatter = RunRepeatScatter(obs, site.scene);
+  ASSERT_TRUE(scatter);
+  EXPECT_EQ(scatter->sets, 12);
+  EXPECT_EQ(scatter->runs, 48);
+  EXPECT_NEAR(scatter->own_median_error_m, 10.8, 0.05);
+  EXPECT_NEAR(scatter->others_median_error_m, 14.4, 0.05);
   std::ifstream csv(dir + "data/runs.csv");
   std::string line;
   std::getline(csv, line);  // header; runout_m is the last column

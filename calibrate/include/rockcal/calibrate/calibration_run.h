@@ -298,6 +298,9 @@ struct HoldoutSummary {
   std::vector<FoldResult> results;
   double mean_in_sample_misfit = 0.0, mean_held_out_misfit = 0.0;
   std::optional<double> mean_runout_error_m;
+  // With tracked runs: the scatter of the campaign's repeated runs, the
+  // yardstick of mean_runout_error_m (observations::RunRepeatScatter).
+  std::optional<observations::RepeatScatter> repeat_scatter;
 };
 
 // K-fold cross-validation: observations::MakeFolds(observations, folds,

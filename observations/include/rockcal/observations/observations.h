@@ -132,6 +132,30 @@ Observations LoadObservations(const std::string& path, const core::Scene& scene)
 // counts twice in the misfit. Empty without runs.
 std::vector<std::string> DuplicateRunWarnings(const Observations& observations);
 
+// The scatter of a tracked campaign's repeated runs: what no prediction from
+// the release can beat on average. Runs are repeats when their rock groups
+// release the same rocks (shape, sizes, box, unit weight and inventory
+// blocks alike) from release points within kRepeatRadius of one another;
+// a set is the first run not yet in a set and every later such run (sets of
+// fewer than 3 runs are left out). Over the runs of the sets, the mean
+// |runout - the median of its set| (`own_median_error_m`: the set's median
+// known, so a lower bound) and |runout - the median of the set's other
+// runs| (`others_median_error_m`: a prediction from the other repeats,
+// as a held-out run is predicted). A model's cross-validated mean per-run
+// error near them is at the campaign's own repeatability.
+struct RepeatScatter {
+  static constexpr double kRepeatRadius = 2.0;  // m, in plan
+  int sets = 0;
+  int runs = 0;
+  double own_median_error_m = 0.0;
+  double others_median_error_m = 0.0;
+  // One line for validate and the calibration's report.
+  std::string Sentence() const;
+};
+// Unset without runs or without a set of 3 repeats.
+std::optional<RepeatScatter> RunRepeatScatter(const Observations& observations,
+                                              const core::Scene& scene);
+
 // What a simulation must record for ComputeMisfit: `base` with `partitions`
 // set only when a scar set or a passing fraction refers to a partition, and
 // `trees` replaced by the trees of the tree-form scar sets (in Tree::probe

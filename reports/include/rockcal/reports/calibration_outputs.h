@@ -58,6 +58,10 @@ double LowestMisfitOfAll(const CalibrationSummary& record);
 // time): misfit, evaluations, wall seconds, time to within 10 % of the best.
 std::string ComparisonCsv(const CalibrationSummary& record);
 std::string ComparisonMarkdown(const CalibrationSummary& record);
+// A tracked campaign's repeat scatter (observations::RunRepeatScatter):
+// {"sets", "runs", "release_radius_m", "own_median_abs_error_m",
+// "others_median_abs_error_m"}, or null.
+nlohmann::json RepeatScatterJson(const std::optional<observations::RepeatScatter>& scatter);
 // holdout.json (and the "holdout" section of calibration.json): per fold the
 // in-sample and held-out misfits and the held-out runout error, their means,
 // beside the full calibration's in-sample misfit.
