@@ -249,6 +249,7 @@ void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
   reports::ReportInput report = SiteReport(site, summary.calibrated, summary.simulation, &maps);
   report.calibration = &summary;
   report.observations = &obs;
+  if (holdout) report.holdout = &*holdout;
   reports::WriteFileAtomically(out + "/report.html", reports::HtmlReport(report));
   if (summary.methods.size() > 1) {
     reports::WriteFileAtomically(out + "/comparison.csv", reports::ComparisonCsv(summary));

@@ -96,6 +96,7 @@ std::vector<ReportSection> Sections(const Context& c) {
     if (trace) add("trace", "Error against run time", sections::TraceSection);
     if (!rec.misfit_after.residuals.empty())
       add("fit", "Fit to the observations", sections::FitSection);
+    if (!rec.misfit_after.runs.empty()) add("runs", "Tracked runs", sections::RunsSection);
     if (rec.posterior && !rec.posterior->samples.empty())
       add("posterior", "Posterior and predictive bands", sections::PosteriorSection);
   }

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "report_check.h"
@@ -415,6 +416,46 @@ TEST(HtmlReportTest, NoFitSectionWithoutResiduals) {
   const Parsed p = Render(in);
   EXPECT_TRUE(HasSection(p, "calibration"));
   EXPECT_FALSE(HasSection(p, "fit"));
+}
+
+// Tracked runs get a section of their own: each run's observed runout
+// against its group's simulated median, the mean per-run error in sample
+// and held out, every number from calibration.json and holdout.json.
+TEST(HtmlReportTest, TrackedRunsShowTheirErrorsInSampleAndHeldOut) {
+  const SimulatedSite run = Simulated("tutorial", 4);
+  CalibrationSummary record = MakeRecord(run.site, 1);
+  ReportInput in = Input(run);
+  in.calibration = &record;
+  EXPECT_FALSE(HasSection(Render(in), "runs")) << "no runs";
+  for (const auto& [id, observed, simulated] :
+       {std::tuple{"v1", 40.0, 52.5}, std::tuple{"v2", 80.0, 71.0}, std::tuple{"v3", 60.0, 60.5}}) {
+    observations::RunFit r;
+    r.id = id, r.observed = observed, r.simulated = simulated;
+    r.rocks = 8, r.stopped = 7, r.stuck = id == std::string("v2") ? 1 : 0, r.spread = 11.0;
+    record.misfit_after.runs.push_back(r);
+  }
+  calibrate::HoldoutSummary holdout;
+  holdout.folds = 2;
+  holdout.results.resize(2);
+  holdout.results[0].runout_error_m = 9.5;
+  holdout.results[1].runout_error_m = 14.25;
+  holdout.mean_runout_error_m = 11.875;
+  in.holdout = &holdout;
+  const Parsed p = Render(in);
+  ExpectSelfContained(p);
+  EXPECT_EQ(p.sections, ReportSections(in));
+  ASSERT_TRUE(HasSection(p, "runs"));
+  auto seen = CheckNumbers(p, {{"calibration.json", CalibrationJson(record)},
+                               {"holdout.json", HoldoutJson(holdout, record)}});
+  for (const char* ptr : {"/runs/mean_abs_error_m", "/runs/stuck_at_release",
+                          "/runs/per_run/1/simulated_median_m", "/runs/per_run/2/observed_m"})
+    EXPECT_TRUE(seen["calibration.json"].count(ptr)) << ptr;
+  for (const char* ptr : {"/mean_runout_median_abs_error_m",
+                          "/per_fold/1/runout_median_abs_error_m"})
+    EXPECT_TRUE(seen["holdout.json"].count(ptr)) << ptr;
+  const std::string text = FindSection(p, "runs")->AllText();
+  EXPECT_NE(text.find("3 tracked runs"), std::string::npos) << text;
+  EXPECT_NE(text.find("12.5 m"), std::string::npos) << "v1's |error|: " << text;
 }
 
 // The plan's passage density is drawn from the run's maps (the RasterSet that

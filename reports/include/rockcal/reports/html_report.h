@@ -54,8 +54,14 @@ struct ReportInput {
   // of a posterior); adds the section "posterior-draws" (the draws and the
   // predictive bands of the runout and the partitions' statistics).
   const calibrate::PosteriorRun* posterior_run = nullptr;
-  // Optional: field observations; observed stop points are drawn on the plan.
+  // Optional: field observations; observed stop points are drawn on the plan,
+  // and tracked runs that repeat one another give their scatter (section
+  // "runs").
   const observations::Observations* observations = nullptr;
+  // Optional: the calibration's cross-validation (rockcal calibrate
+  // --holdout); with tracked runs the "runs" section gives its held-out
+  // per-run error.
+  const calibrate::HoldoutSummary* holdout = nullptr;
   ReportOptions options;
 };
 
