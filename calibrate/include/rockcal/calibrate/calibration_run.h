@@ -124,11 +124,10 @@ struct CalibrationOptions {
   // budget: a rugged misfit has basins a small design does not see).
   static int DefaultReachPoints(int parameters, int max_evals);
   // The evaluation budget a calibration of `parameters` calibrated values
-  // gets by default: 50 a value, at least 100. The reach design
-  // (DefaultReachPoints) has half as many points again, so that its points
-  // per value do not thin out as the box gains dimensions; a fixed budget
-  // left a search of four values in whichever basin its first draws
-  // favoured.
+  // gets by default: 50 a value, at least 100. Half of it is the reach
+  // design (DefaultReachPoints), so that the design's points per value do
+  // not thin out as the box gains dimensions; a fixed budget left a search
+  // of four values in whichever basin its first draws favoured.
   static int DefaultMaxEvals(int parameters);
   // MethodOptions' defaults with max_evals kAuto.
   static MethodOptions AutoBudget();
