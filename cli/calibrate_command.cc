@@ -317,9 +317,6 @@ int Calibrate(const std::vector<std::string>& argv) {
   PrintWarnings(observations::DuplicateRunWarnings(obs));
   PosteriorFromArgs(args, &options);
   calibrate::CheckCalibration(site, options);  // before the folder is made
-  // The budget and design the site's calibrated values get (the progress
-  // line counts to the budget).
-  options = options.Resolved(calibrate::ParameterSpace::FromSite(site).size());
   const int folds = args.Has("holdout") ? static_cast<int>(args.Integer("holdout", 0, 2, 1000)) : 0;
   if (folds > 0) observations::MakeFolds(obs, folds, 0);  // enough values for the folds?
 

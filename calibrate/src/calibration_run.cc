@@ -67,9 +67,7 @@ bool CalibrationOptions::IsValid(std::string* error) const {
         *error = s.str();
         return false;
       }
-    MethodOptions m = method;
-    if (m.max_evals == kAuto) m.max_evals = MethodOptions{}.max_evals;  // resolved per run
-    if (!m.IsValid(error) || !misfit.IsValid(error)) return false;
+    if (!method.IsValid(error) || !misfit.IsValid(error)) return false;
     if (posterior && !posterior->IsValid(error)) return false;
     return true;
   }
@@ -364,7 +362,6 @@ PosteriorResult RunPosteriorStage(const sites::Site& site, const observations::O
 
 CalibrationOptions CalibrationOptions::SingleStage() {
   CalibrationOptions o;
-  o.method.max_evals = MethodOptions{}.max_evals;  // a search alone: the method's own default
   o.reach_points = 0;
   o.refine_factor = 1;
   o.race_points = 0;
@@ -385,8 +382,7 @@ bool NoiseDip(double own, const std::vector<double>& others) {
 
 CalibrationOptions CalibrationOptions::Resolved(int parameters) const {
   CalibrationOptions o = *this;
-  if (o.method.max_evals == kAuto) o.method.max_evals = DefaultMaxEvals(parameters);
-  if (o.reach_points == kAuto) o.reach_points = DefaultReachPoints(parameters, o.method.max_evals);
+  if (o.reach_points == kAuto) o.reach_points = DefaultReachPoints(parameters, method.max_evals);
   if (o.race_points == kAuto)
     o.race_points = o.refine_factor > 1 ? std::max(2, o.reach_points / 12) : 0;
   return o;
@@ -394,16 +390,6 @@ CalibrationOptions CalibrationOptions::Resolved(int parameters) const {
 
 int CalibrationOptions::DefaultReachPoints(int parameters, int max_evals) {
   return std::max(4 * (parameters + 1), max_evals / 2);
-}
-
-int CalibrationOptions::DefaultMaxEvals(int parameters) {
-  return std::max(MethodOptions{}.max_evals, 50 * parameters);
-}
-
-MethodOptions CalibrationOptions::AutoBudget() {
-  MethodOptions m;
-  m.max_evals = kAuto;
-  return m;
 }
 
 Fingerprint CalibrationFingerprint(const sites::Site& site, const observations::Observations& obs,

@@ -50,9 +50,8 @@ struct CalibrationOptions {
   // misfit gives the calibrated values.
   std::vector<Method> methods = {Method::kBobyqa};
   // The budget and settings of every method; its `seed` is replaced by the
-  // run's seed (below). Its max_evals may be kAuto: DefaultMaxEvals
-  // [kAuto; the other fields MethodOptions' defaults].
-  MethodOptions method = AutoBudget();
+  // run's seed (below).
+  MethodOptions method;
   observations::MisfitOptions misfit;  // how the misfit is computed [its defaults]
   // Rocks per evaluation, spread over the rock groups in proportion to their
   // counts; 0 keeps the site's counts [0], >= 0.
@@ -123,14 +122,6 @@ struct CalibrationOptions {
   // evaluation budget when that is more (a global stage that grows with the
   // budget: a rugged misfit has basins a small design does not see).
   static int DefaultReachPoints(int parameters, int max_evals);
-  // The evaluation budget a calibration of `parameters` calibrated values
-  // gets by default: 50 a value, at least 100. Half of it is the reach
-  // design (DefaultReachPoints), so that the design's points per value do
-  // not thin out as the box gains dimensions; a fixed budget left a search
-  // of four values in whichever basin its first draws favoured.
-  static int DefaultMaxEvals(int parameters);
-  // MethodOptions' defaults with max_evals kAuto.
-  static MethodOptions AutoBudget();
   // These options with every kAuto field resolved for a space of
   // `parameters` calibrated values (Calibrate resolves them itself).
   CalibrationOptions Resolved(int parameters) const;
