@@ -17,7 +17,8 @@ std::string RunsSection(const Context& c) {
     return us ? Length(m) : Show(m) + " m";
   };
   std::vector<double> errors;
-  for (const observations::RunFit& r : fit.runs) errors.push_back(std::abs(r.simulated - r.observed));
+  for (const observations::RunFit& r : fit.runs)
+    errors.push_back(std::abs(r.simulated - r.observed));
   std::sort(errors.begin(), errors.end());
   const std::size_t n = errors.size();
   std::string s =
