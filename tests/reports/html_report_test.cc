@@ -456,6 +456,33 @@ TEST(HtmlReportTest, TrackedRunsShowTheirErrorsInSampleAndHeldOut) {
   const std::string text = FindSection(p, "runs")->AllText();
   EXPECT_NE(text.find("3 tracked runs"), std::string::npos) << text;
   EXPECT_NE(text.find("12.5 m"), std::string::npos) << "v1's |error|: " << text;
+  EXPECT_EQ(text.find("repeated runs"), std::string::npos) << "no observations, no repeats";
+}
+
+// With the Tschamut example's observations the section gives the campaign's
+// repeat scatter and the held-out error against it.
+TEST(HtmlReportTest, TrackedRunsAreReadAgainstTheCampaignsRepeats) {
+  const SimulatedSite run = Simulated("tschamut", 62);
+  const observations::Observations obs = observations::LoadObservations(
+      std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/tschamut/observations.json",
+      run.site.scene);
+  CalibrationSummary record = MakeRecord(run.site, 1);
+  observations::RunFit r;
+  r.id = "v004", r.observed = 102.0, r.simulated = 95.0, r.rocks = 1, r.stopped = 1;
+  record.misfit_after.runs.push_back(r);
+  calibrate::HoldoutSummary holdout;
+  holdout.folds = 1;
+  holdout.results.resize(1);
+  holdout.results[0].runout_error_m = 28.8;
+  holdout.mean_runout_error_m = 28.8;
+  ReportInput in = Input(run);
+  in.calibration = &record;
+  in.observations = &obs;
+  in.holdout = &holdout;
+  const std::string text = FindSection(Render(in), "runs")->AllText();
+  EXPECT_NE(text.find("Repeated runs: 48 runs in 12 sets"), std::string::npos) << text;
+  EXPECT_NE(text.find("The held-out error is 2 times the repeats' error"), std::string::npos)
+      << "28.8 m against 14.4 m: " << text;
 }
 
 // The plan's passage density is drawn from the run's maps (the RasterSet that

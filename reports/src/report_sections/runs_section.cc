@@ -50,8 +50,18 @@ std::string RunsSection(const Context& c) {
     s += " m).</p>";
   }
   if (c.in.observations)
-    if (const auto scatter = observations::RunRepeatScatter(*c.in.observations, c.scene))
-      s += "<p>" + Escape(Capitalised(scatter->Sentence())) + ".</p>";
+    if (const auto scatter = observations::RunRepeatScatter(*c.in.observations, c.scene)) {
+      s += "<p>" + Escape(Capitalised(scatter->Sentence())) + ".";
+      // The held-out error against what the repeats achieve against each
+      // other: the yardstick a user reads it by.
+      if (const calibrate::HoldoutSummary* h = c.in.holdout;
+          h && h->mean_runout_error_m && scatter->others_median_error_m > 0)
+        s += " The held-out error is " +
+             Escape(FormatNumber(*h->mean_runout_error_m / scatter->others_median_error_m,
+                                 "%.2g")) +
+             " times the repeats' error against the median of their set's other runs.";
+      s += "</p>";
+    }
   s += "<table><thead><tr>" + Th("run") + Th("observed runout") + Th("simulated median") +
        Th("|error|") + Th("predictive spread") + Th("rocks") + Th("stopped") +
        Th("stuck near release") + "</tr></thead><tbody>";
