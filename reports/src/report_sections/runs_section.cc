@@ -56,10 +56,10 @@ std::string RunsSection(const Context& c) {
       // other: the yardstick a user reads it by.
       if (const calibrate::HoldoutSummary* h = c.in.holdout;
           h && h->mean_runout_error_m && scatter->others_median_error_m > 0)
-        s += " The held-out error is " +
-             Escape(FormatNumber(*h->mean_runout_error_m / scatter->others_median_error_m,
-                                 "%.2g")) +
-             " times the repeats' error against the median of their set's other runs.";
+        s +=
+            " The held-out error is " +
+            Escape(FormatNumber(*h->mean_runout_error_m / scatter->others_median_error_m, "%.2g")) +
+            " times the repeats' error against the median of their set's other runs.";
       s += "</p>";
     }
   s += "<table><thead><tr>" + Th("run") + Th("observed runout") + Th("simulated median") +
