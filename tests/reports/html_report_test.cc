@@ -457,6 +457,10 @@ TEST(HtmlReportTest, TrackedRunsShowTheirErrorsInSampleAndHeldOut) {
   EXPECT_NE(text.find("3 tracked runs"), std::string::npos) << text;
   EXPECT_NE(text.find("12.5 m"), std::string::npos) << "v1's |error|: " << text;
   EXPECT_EQ(text.find("repeated runs"), std::string::npos) << "no observations, no repeats";
+  int plots = 0;  // observed against simulated, one point a run
+  FindSection(p, "runs")->Visit(
+      [&](const XmlNode& n) { plots += n.name == "svg" && n.Has("role") ? 1 : 0; });
+  EXPECT_EQ(plots, 1);
 }
 
 // With the Tschamut example's observations the section gives the campaign's

@@ -8,6 +8,38 @@
 #include "sections.h"
 
 namespace rockcal::reports::sections {
+namespace {
+
+// Each run's observed runout against its group's simulated median, with
+// one predictive spread above and below, on a 1:1 line.
+std::string RunsPlot(const observations::Misfit& fit) {
+  std::vector<double> ox, sy;
+  double lo = kInf, hi = -kInf;
+  for (const observations::RunFit& r : fit.runs) {
+    ox.push_back(r.observed), sy.push_back(r.simulated);
+    lo = std::min({lo, r.observed, r.simulated - r.spread});
+    hi = std::max({hi, r.observed, r.simulated + r.spread});
+  }
+  const double pad = 0.05 * (hi - lo > 0 ? hi - lo : 1.0);
+  lo -= pad, hi += pad;
+  svg::Plot::Options o;
+  o.width = 360, o.height = 320, o.left = 58, o.right = 14, o.top = 14, o.bottom = 42;
+  o.title = "Tracked runs: observed runout against the simulated median";
+  svg::Plot plot(lo, hi, lo, hi, o);
+  plot.Axes("observed runout [m]", "simulated median [m]");
+  plot.Polyline({lo, hi}, {lo, hi}, "stroke=\"#999\" stroke-dasharray=\"4 3\"");
+  for (const observations::RunFit& r : fit.runs)
+    plot.Polyline({r.observed, r.observed}, {r.simulated - r.spread, r.simulated + r.spread},
+                  "stroke=\"" + std::string(kStopColour) + "\" stroke-width=\"1\"");
+  plot.Points(ox, sy, 3.0, "fill=\"" + std::string(kStopColour) + "\"");
+  return Figure(plot.Svg(),
+                "Each run's observed runout against the median of its group's simulated rocks, "
+                "with one predictive spread above and below; a perfect prediction lies on the "
+                "1:1 line.",
+                360);
+}
+
+}  // namespace
 
 std::string RunsSection(const Context& c) {
   const CalibrationSummary& rec = *c.in.calibration;
@@ -62,6 +94,7 @@ std::string RunsSection(const Context& c) {
             " times the repeats' error against the median of their set's other runs.";
       s += "</p>";
     }
+  s += RunsPlot(fit);
   s += "<table><thead><tr>" + Th("run") + Th("observed runout") + Th("simulated median") +
        Th("|error|") + Th("predictive spread") + Th("rocks") + Th("stopped") +
        Th("stuck near release") + "</tr></thead><tbody>";
