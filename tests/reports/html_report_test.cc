@@ -432,6 +432,7 @@ TEST(HtmlReportTest, TrackedRunsShowTheirErrorsInSampleAndHeldOut) {
     observations::RunFit r;
     r.id = id, r.observed = observed, r.simulated = simulated;
     r.rocks = 8, r.stopped = 7, r.stuck = id == std::string("v2") ? 1 : 0, r.spread = 11.0;
+    r.sigma = 5.0;  // v1 (12.5 m off) lies beyond 2 sigma, v2 (9 m) and v3 within
     record.misfit_after.runs.push_back(r);
   }
   calibrate::HoldoutSummary holdout;
@@ -456,6 +457,7 @@ TEST(HtmlReportTest, TrackedRunsShowTheirErrorsInSampleAndHeldOut) {
   const std::string text = FindSection(p, "runs")->AllText();
   EXPECT_NE(text.find("3 tracked runs"), std::string::npos) << text;
   EXPECT_NE(text.find("12.5 m"), std::string::npos) << "v1's |error|: " << text;
+  EXPECT_NE(text.find("1 of 3 runs lie beyond 2 sigma"), std::string::npos) << text;
   EXPECT_EQ(text.find("repeated runs"), std::string::npos) << "no observations, no repeats";
   int plots = 0;  // observed against simulated, one point a run
   FindSection(p, "runs")->Visit(

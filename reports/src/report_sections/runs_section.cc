@@ -63,7 +63,20 @@ std::string RunsSection(const Context& c) {
       " in sample (the median run: " + Escape(length(core::Quantile(errors, 0.5))) + "); " +
       RefSpan(Ref("calibration.json", "/runs/stuck_at_release"), fit.StuckRocks(),
               Int(fit.StuckRocks())) +
-      " simulated rocks stuck near their release.</p>";
+      " simulated rocks stuck near their release.";
+  // The runs' own residuals apart from the pooled quantiles: which part of
+  // the fit fails.
+  int far = 0, scaled = 0;
+  for (const observations::RunFit& r : fit.runs)
+    if (r.sigma > 0) {
+      ++scaled;
+      far += std::abs(r.simulated - r.observed) > 2.0 * r.sigma ? 1 : 0;
+    }
+  if (scaled > 0)
+    s += " " + Int(far) + " of " + Int(scaled) +
+         " runs lie beyond 2 sigma of their prediction (a correct model puts about 1 in 20 "
+         "there).";
+  s += "</p>";
   if (const calibrate::HoldoutSummary* h = c.in.holdout; h && h->mean_runout_error_m) {
     s += "<p><b>Held out</b> (" + Int(h->folds) +
          " folds over runs, each run predicted by a calibration that did not see it): mean "
