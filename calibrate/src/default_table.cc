@@ -12,6 +12,7 @@
 
 #include "rockcal/core/error.h"
 #include "rockcal/core/material_field.h"
+#include "rockcal/core/statistics.h"
 #include "rockcal/sites/input_file.h"
 #include "rockcal/sites/json_reader.h"
 
@@ -291,13 +292,6 @@ bool DefaultTableOptions::IsValid(std::string* error) const {
   return true;
 }
 
-double Median(std::vector<double> values) {
-  assert(!values.empty());
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
 ValueStatistics Statistics(const std::vector<double>& values,
                            const std::vector<std::string>& sites) {
   assert(values.size() == sites.size());
@@ -305,7 +299,7 @@ ValueStatistics Statistics(const std::vector<double>& values,
   s.values = static_cast<int>(values.size());
   s.sites = static_cast<int>(std::set<std::string>(sites.begin(), sites.end()).size());
   if (values.empty()) return s;
-  s.median = Median(values);
+  s.median = core::Median(values);
   s.min = *std::min_element(values.begin(), values.end());
   s.max = *std::max_element(values.begin(), values.end());
   return s;

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "rockcal/core/random.h"
+#include "rockcal/core/statistics.h"
 
 namespace rockcal::calibrate {
 namespace {
@@ -89,13 +90,6 @@ std::vector<std::vector<double>> ShiftedHalton(int points, int dimensions,
   return x;
 }
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return kNaN;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 // True when the residual compares its simulated value with the observed one:
 // a penalty (which replaces the comparison) leaves value != (sim - obs) / sigma.
 bool Usable(const observations::Residual& r, bool penalised) {
@@ -134,7 +128,7 @@ void Reduce(const std::vector<ReachPoint>& points, std::size_t s, ReachStatistic
       stat->closest_sigmas = z;
     }
   }
-  stat->sigma = Median(sigmas);
+  stat->sigma = core::Median(sigmas);
   if (stat->points_with_value == 0) {
     stat->verdict = ReachVerdict::kNoValue;
     stat->closest_simulated = stat->closest_sigmas = kNaN;

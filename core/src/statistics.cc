@@ -37,6 +37,13 @@ double Quantile(const std::vector<double>& sorted, double q) {
   return sorted[k] + f * (sorted[k + 1] - sorted[k]);
 }
 
+double Median(std::vector<double> values) {
+  if (values.empty()) return std::nan("");
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
 Stats Summarize(std::vector<double> values) {
   Stats s;
   if (values.empty()) return s;

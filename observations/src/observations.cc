@@ -774,11 +774,6 @@ bool SameRocks(const core::RockGroup& a, const core::RockGroup& b) {
          SameBlocks(a.inventory, b.inventory);
 }
 
-double MedianOf(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return core::Quantile(values, 0.5);
-}
-
 }  // namespace
 
 std::string RepeatScatter::Sentence() const {
@@ -812,12 +807,12 @@ std::optional<RepeatScatter> RunRepeatScatter(const Observations& observations,
     if (set.size() < 3) continue;
     std::vector<double> runouts;
     for (const std::size_t j : set) runouts.push_back(r.distances[j]);
-    const double median = MedianOf(runouts);
+    const double median = core::Median(runouts);
     for (std::size_t k = 0; k < set.size(); ++k) {
       std::vector<double> rest = runouts;
       rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(k));
       own += std::abs(runouts[k] - median);
-      others += std::abs(runouts[k] - MedianOf(rest));
+      others += std::abs(runouts[k] - core::Median(rest));
     }
     ++out.sets;
     out.runs += static_cast<int>(set.size());

@@ -20,14 +20,6 @@ using ::testing::HasSubstr;
 using ::testing::Not;
 using Json = nlohmann::json;
 
-TEST(Median, OddAndEvenCounts) {
-  EXPECT_DOUBLE_EQ(Median({0.7}), 0.7);
-  EXPECT_DOUBLE_EQ(Median({0.3, 0.1, 0.2}), 0.2);
-  // Even: the mean of the two middle values, 0.2 and 0.3.
-  EXPECT_DOUBLE_EQ(Median({0.4, 0.1, 0.3, 0.2}), 0.25);
-  EXPECT_DOUBLE_EQ(Median({5.0, 1.0}), 3.0);
-}
-
 TEST(Statistics, CountsDistinctSites) {
   const ValueStatistics s = Statistics({0.5, 0.2, 0.9, 0.4}, {"a", "b", "a", "c"});
   EXPECT_EQ(s.values, 4);

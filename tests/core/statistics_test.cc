@@ -9,6 +9,15 @@
 namespace rockcal::core {
 namespace {
 
+TEST(Statistics, MedianOfOddAndEvenCounts) {
+  EXPECT_DOUBLE_EQ(Median({0.7}), 0.7);
+  EXPECT_DOUBLE_EQ(Median({0.3, 0.1, 0.2}), 0.2);
+  // Even: the mean of the two middle values, 0.2 and 0.3.
+  EXPECT_DOUBLE_EQ(Median({0.4, 0.1, 0.3, 0.2}), 0.25);
+  EXPECT_DOUBLE_EQ(Median({5.0, 1.0}), 3.0);
+  EXPECT_TRUE(std::isnan(Median({})));
+}
+
 TEST(Statistics, SummaryOfKnownSample) {
   std::vector<double> v;
   for (int i = 10; i >= 0; --i) v.push_back(i);  // 0..10 reversed

@@ -94,9 +94,6 @@ struct ValueStatistics {
   double median = 0.0, min = 0.0, max = 0.0;  // meaningless when values == 0
 };
 
-// Median of `values` (not empty): the middle one of the sorted values, or the
-// mean of the two middle ones.
-double Median(std::vector<double> values);
 // The statistics of `values`, whose k-th entry came from site `sites[k]`.
 ValueStatistics Statistics(const std::vector<double>& values,
                            const std::vector<std::string>& sites);

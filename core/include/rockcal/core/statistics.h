@@ -13,6 +13,9 @@ struct Stats {
 // Quantile q in [0, 1] of `sorted` (ascending), linear interpolation between
 // order statistics (type 7). Requires a non-empty vector.
 double Quantile(const std::vector<double>& sorted, double q);
+// Median of `values` (any order): the middle one of the sorted values, or
+// the mean of the two middle ones; NaN when empty.
+double Median(std::vector<double> values);
 // Sample standard deviation of `values` (divisor n - 1, the mean as their sum
 // over n). Requires at least two values.
 double SampleStandardDeviation(const std::vector<double>& values);
