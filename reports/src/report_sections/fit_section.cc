@@ -82,7 +82,6 @@ std::string FitSection(const Context& c) {
   }
   s += "</div>";
   // Residual table.
-  const bool us = rec.units == sites::Units::kUS;
   s += "<h3>Residuals</h3><table><thead><tr>" + Th("observation") + Th("quantity") +
        Th("observed") + Th("simulated at the start") + Th("simulated, calibrated") +
        Th("uncertainty") + Th("residual") + "</tr></thead><tbody>";
@@ -91,7 +90,7 @@ std::string FitSection(const Context& c) {
     const bool fraction = IsFraction(r);
     auto value = [&](double v) {
       if (fraction) return FormatNumber(v, "%.3f");
-      return us ? Show(v) + " m (" + Show(v / kFoot) + " ft)" : Show(v) + " m";
+      return SiteLength(v, rec.units);
     };
     const auto it = before.find(r.id);
     const std::string base = "/fit/" + Int(static_cast<long>(k)) + "/";

@@ -44,10 +44,7 @@ std::string RunsPlot(const observations::Misfit& fit) {
 std::string RunsSection(const Context& c) {
   const CalibrationSummary& rec = *c.in.calibration;
   const observations::Misfit& fit = rec.misfit_after;
-  // Metres, and feet beside them for a site in US units.
-  auto length = [us = rec.units == sites::Units::kUS](double m) {
-    return us ? Length(m) : Show(m) + " m";
-  };
+  auto length = [&rec](double m) { return SiteLength(m, rec.units); };
   std::vector<double> errors;
   for (const observations::RunFit& r : fit.runs)
     errors.push_back(std::abs(r.simulated - r.observed));

@@ -29,6 +29,10 @@ std::string DrawBandsTable(const std::vector<calibrate::DrawBand>& bands) {
   return s + "</tbody></table>";
 }
 
+std::string SiteLength(double m, sites::Units units) {
+  return units == sites::Units::kUS ? Length(m) : Show(m) + " m";
+}
+
 std::string Capitalised(std::string s) {
   if (!s.empty() && s[0] >= 'a' && s[0] <= 'z') s[0] = static_cast<char>(s[0] - 'a' + 'A');
   return s;

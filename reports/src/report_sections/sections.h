@@ -79,6 +79,9 @@ const char* KindName(core::Partition::Kind kind);
 std::string PartitionWhere(const core::Partition& p);
 // `s` with its first letter in upper case.
 std::string Capitalised(std::string s);
+// A length in metres, with feet beside it for a site in US units ("12.3 m"
+// or "12.3 m (40.4 ft)").
+std::string SiteLength(double m, sites::Units units);
 // Number of rocks of the run.
 int Rocks(const Context& c);
 
