@@ -1,4 +1,4 @@
-// The contact law on one rock's contacts at a step (DESIGN.md, Contact and
+// The contact law on one rock's contacts at a step (docs/physics.md, Contact and
 // Integration): each contact's share of the rock's damping, the dashpots
 // implicit together (damping.h), each contact's normal spring-dashpot,
 // tangential spring with its Coulomb cap and rolling resistance (contact.h),

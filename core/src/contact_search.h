@@ -1,4 +1,4 @@
-// Contact detection of one rock (DESIGN.md, Integration): its neighbourhood
+// Contact detection of one rock (docs/physics.md, Integration): its neighbourhood
 // of virtual spheres (a Verlet list), the element-sphere pairs within it
 // that may touch (a second list one level down), and each element's
 // contacts at a step. Internal to core (simulate.cc).

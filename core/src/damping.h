@@ -1,4 +1,4 @@
-// The contact law's damping role (DESIGN.md, Integration): how a rock's
+// The contact law's damping role (docs/physics.md, Integration): how a rock's
 // contacts share its dashpot, and the implicit (trapezoidal) dashpot solve,
 // of one contact in closed form and of a step's contacts together.
 // Internal to core (contact_forces.h; tests/core/damping_test.cc).

@@ -1,4 +1,4 @@
-// Exact free flight (DESIGN.md, Integration): with no contact force a rock's
+// Exact free flight (docs/physics.md, Integration): with no contact force a rock's
 // centre follows a parabola and a cluster turns torque-free, so a flight is
 // advanced in one go up to the next possible contact. Internal to core.
 #ifndef ROCKCAL_CORE_SRC_FLIGHT_H_

@@ -1,4 +1,4 @@
-// The free flight's look-ahead near the ground (DESIGN.md, Integration): how
+// The free flight's look-ahead near the ground (docs/physics.md, Integration): how
 // long a rock close to the terrain can fly before any of its elements may
 // touch anything of its neighbourhood (contact_search.h). Internal to core
 // (simulate.cc).

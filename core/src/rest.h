@@ -1,4 +1,4 @@
-// The ends of a rock's run and the energy check (DESIGN.md, the loop's
+// The ends of a rock's run and the energy check (docs/design.md, the loop's
 // "test the ends"): it left the slope, went through it, stopped, or came to
 // rest; and the relative energy gain a stable step never shows. Internal to
 // core (simulate.cc).

@@ -76,7 +76,7 @@ class RockRun {
     g_ = ctx.gravity.norm();
   }
 
-  // The loop of DESIGN.md: advance (an exact flight while nothing is near,
+  // The loop of docs/design.md: advance (an exact flight while nothing is near,
   // a contact step otherwise), record what the advance crossed, and end the
   // rock when it stopped, left the slope or ran out of time.
   void Run(RockState s) {

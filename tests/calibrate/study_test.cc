@@ -392,7 +392,7 @@ TEST(Restitution, StepOnlyErrorFallsFirstOrderWithStepsPerContact) {
     EXPECT_GT(ratio, 1.4) << "error should halve per doubling of N_c:" << table.str();
     EXPECT_LT(ratio, 2.8) << "error should halve per doubling of N_c:" << table.str();
   }
-  // About 1 % of e at N_c = 50 (DESIGN.md), by first order from N_c = 40.
+  // About 1 % of e at N_c = 50 (docs/physics.md), by first order from N_c = 40.
   EXPECT_LT(errors[1] * 40.0 / 50.0, 0.015 * e) << table.str();
 }
 

@@ -41,7 +41,7 @@ void ExpectStats(const nlohmann::json& s, const std::string& what) {
   EXPECT_EQ(s.size(), 5u) << what;
 }
 
-// The summary.json schema of DESIGN.md, key for key.
+// The summary.json schema of docs/reference/outputs.md, key for key.
 void ExpectSummarySchema(const nlohmann::json& j, int rocks) {
   const char* keys[] = {"site", "rocks", "seed", "wall_seconds", "steps", "dt_seconds",
                         "outcomes", "partitions", "runout", "energy_check"};

@@ -1,5 +1,5 @@
 // The exact answer to one oblique impact of a solid sphere under the
-// CRSP-3D contact law (DESIGN.md, Contact): a linear spring-dashpot along
+// CRSP-3D contact law (docs/physics.md, Contact): a linear spring-dashpot along
 // the normal whose force is clamped at zero (the surface never pulls), a
 // tangential spring k_t with a Coulomb cap f times that normal force, no
 // tangential damping, constant gravity throughout. The surface is flat and

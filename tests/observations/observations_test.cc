@@ -21,7 +21,7 @@ using ::testing::HasSubstr;
 
 constexpr double kFt = 0.3048;
 
-// The tutorial scene of DESIGN.md, in SI: partitions BP-1 (x = 300 ft) and
+// The tutorial scene (sites/examples/tutorial), in SI: partitions BP-1 (x = 300 ft) and
 // BP-2 (z = 40 ft), one rock group released from a rectangle whose centroid is
 // (15, 100) ft.
 core::Scene TutorialScene() {

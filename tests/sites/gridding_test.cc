@@ -82,7 +82,7 @@ TEST(GridPoints, ScatteredPlaneIsExactAtEveryNode) {
 }
 
 TEST(GridPoints, FourCornersOfAPlaneFillTheWholeGrid) {
-  // The site-file example of DESIGN.md: a plane given by its four corners.
+  // A plane given by its four corners, as a small site file gives it.
   std::vector<Eigen::Vector3d> pts;
   for (double x : {0.0, 400.0})
     for (double y : {0.0, 200.0}) pts.emplace_back(x, y, 300.0 - 0.7 * x);

@@ -70,7 +70,7 @@ struct Campaign {
   std::vector<std::string> inputs;
 };
 
-// Reads a campaign file (DESIGN.md's site and observation files, listed in
+// Reads a campaign file (the site and observations files of docs/design.md, listed in
 // a JSON file; paths relative to it):
 //   {"name": "...", "units": "si" | "us",
 //    "sites": [{"site": "a/site.json", "observations": "a/observations.json",

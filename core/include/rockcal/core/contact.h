@@ -1,4 +1,4 @@
-// The contact law as stateless kernels by role (DESIGN.md, Contact): the
+// The contact law as stateless kernels by role (docs/physics.md, Contact): the
 // normal spring-dashpot, the tangential spring with its Coulomb cap, and
 // rolling resistance. Plain numbers in, a force or torque out; whatever a
 // contact keeps from step to step (the tangential spring's displacement)

@@ -18,7 +18,7 @@ namespace rockcal::reports {
 // calibrate::Calibrate); these write it.
 using calibrate::CalibrationSummary;
 
-// parameters.json of DESIGN.md (SI), for the best method, with each
+// parameters.json of docs/reference/outputs.md (SI), for the best method, with each
 // parameter's material "class" and the terrain grid's "grid_spacing_m" (when
 // known; the virtual spheres' spacing) added: a roughness means the same
 // ground only at the same sphere spacing.

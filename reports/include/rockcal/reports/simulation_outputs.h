@@ -11,7 +11,7 @@
 
 namespace rockcal::reports {
 
-// summary.json, exactly the schema of DESIGN.md.
+// summary.json, exactly the schema of docs/reference/outputs.md.
 nlohmann::json SummaryJson(const core::Scene& scene, const core::SimulationResult& result);
 // One figure of diagnostics.json: its key, what it is, its value and how
 // the report judges it.
