@@ -277,14 +277,8 @@ int Validate(const std::vector<std::string>& argv) {
     const core::GroupExtent extent = core::GroupBodies(g, scene.gravity);
     const core::RockBody& lo = extent.lightest;
     const core::RockBody& hi = extent.heaviest;
-    double dt = INFINITY;
     bool shrunk = false;
-    for (const auto& m : scene.materials) {
-      bool sh = false;
-      dt = std::min(dt, core::ContactTimeStep(lo, core::DeriveContactLaw(m, scene.hardness_model),
-                                              scene.options, &sh));
-      shrunk = shrunk || sh;
-    }
+    const double dt = core::GroupContactStep(scene, g, &shrunk);
     std::printf("  %5d %-11s size %.3f-%.3f m  mass %.4g-%.4g kg  contact step %.3g s%s\n", g.count,
                 core::ShapeName(g.shape), std::min(lo.size, hi.size), std::max(lo.size, hi.size),
                 lo.mass, hi.mass, dt,

@@ -107,7 +107,7 @@ Campaign LoadCampaign(const std::string& path) {
       const core::MaterialFieldInfo* field = core::FindMaterialField(o.parameter);
       if (!field) parameter.Fail("unknown parameter (allowed: " + core::MaterialFieldNames() + ")");
       o.sigma = node.Get("sigma").Positive();
-      if (field->unit == core::FieldUnit::kLength) o.sigma = sites::LengthToSI(o.sigma, c.units);
+      o.sigma = sites::FieldToSI(o.sigma, field->unit, c.units);
       for (const OffsetPrior& other : c.offsets)
         if (other.class_name == o.class_name && other.parameter == o.parameter)
           node.Fail("a second offset of class '" + o.class_name + "' " + o.parameter);

@@ -14,6 +14,7 @@
 #include "rockcal/calibrate/score.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/random.h"
+#include "rockcal/core/statistics.h"
 #include "rockcal/parallel/parallel.h"
 #include "table_text.h"
 
@@ -22,232 +23,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr double kMinusInf = -std::numeric_limits<double>::infinity();
-// Random streams (RandomStream(seed, stream)): one per chain from kChainStream on.
-constexpr std::uint64_t kChainStream = 0x504f535400000000ull;   // "POST"
 constexpr std::uint64_t kDesignSeedMix = 0x44455349474e0000ull;  // "DESIGN"
 
-bool Inside(const Eigen::VectorXd& u) {
-  for (Eigen::Index k = 0; k < u.size(); ++k)
-    if (!(u(k) >= 0.0 && u(k) <= 1.0)) return false;
-  return true;
-}
-
 }  // namespace
-
-bool McmcOptions::IsValid(std::string* error) const {
-  std::ostringstream s;
-  if (chains < 2)
-    s << "chains = " << chains << ": must be >= 2";
-  else if (burn_in < 100)
-    s << "burn_in = " << burn_in << ": must be >= 100";
-  else if (steps < 100)
-    s << "steps = " << steps << ": must be >= 100";
-  else if (thin < 1 || thin > steps)
-    s << "thin = " << thin << ": must be in [1, steps]";
-  else
-    return true;
-  *error = s.str();
-  return false;
-}
-
-double Quantile(std::vector<double>* values, double p) {
-  if (values->empty()) return std::numeric_limits<double>::quiet_NaN();
-  std::sort(values->begin(), values->end());
-  const double position = p * static_cast<double>(values->size() - 1);
-  const std::size_t below = static_cast<std::size_t>(std::floor(position));
-  const std::size_t above = std::min(values->size() - 1, below + 1);
-  const double t = position - static_cast<double>(below);
-  return (*values)[below] + t * ((*values)[above] - (*values)[below]);
-}
-
-namespace {
-
-// Each chain halved, for SplitRhat and EffectiveSampleSize: 2m sequences of
-// n values (chains shorter than 2 min_half left out); empty when fewer than
-// two sequences remain or their lengths differ.
-std::vector<std::vector<double>> SplitChains(const std::vector<std::vector<double>>& chains,
-                                             std::size_t min_half) {
-  std::vector<std::vector<double>> halves;
-  for (const std::vector<double>& c : chains) {
-    const std::size_t n = c.size() / 2;
-    if (n < min_half) continue;
-    halves.emplace_back(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(n));
-    halves.emplace_back(c.end() - static_cast<std::ptrdiff_t>(n), c.end());
-  }
-  if (halves.size() < 2) return {};
-  for (const auto& h : halves)
-    if (h.size() != halves.front().size()) return {};
-  return halves;
-}
-
-}  // namespace
-
-double SplitRhat(const std::vector<std::vector<double>>& chains) {
-  const std::vector<std::vector<double>> halves = SplitChains(chains, 2);
-  if (halves.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const std::size_t n = halves.front().size();
-  const double m = static_cast<double>(halves.size());
-  std::vector<double> means;
-  double within = 0.0;
-  for (const auto& h : halves) {
-    double mean = 0.0;
-    for (double v : h) mean += v;
-    mean /= static_cast<double>(n);
-    double var = 0.0;
-    for (double v : h) var += (v - mean) * (v - mean);
-    within += var / static_cast<double>(n - 1) / m;
-    means.push_back(mean);
-  }
-  double grand = 0.0;
-  for (double v : means) grand += v / m;
-  double between = 0.0;
-  for (double v : means) between += (v - grand) * (v - grand);
-  between *= static_cast<double>(n) / (m - 1.0);
-  if (!(within > 0.0)) return between > 0.0 ? std::numeric_limits<double>::infinity() : 1.0;
-  const double pooled = (static_cast<double>(n) - 1.0) / static_cast<double>(n) * within +
-                        between / static_cast<double>(n);
-  return std::sqrt(pooled / within);
-}
-
-double EffectiveSampleSize(const std::vector<std::vector<double>>& chains) {
-  // Split chains, as SplitRhat; the autocorrelation at lag t from the
-  // within-chain autocovariance and the pooled variance (Gelman et al. 2013,
-  // Bayesian Data Analysis, 3rd ed., eq. 11.7), summed in pairs of lags
-  // while a pair's sum stays positive (Geyer's initial positive sequence).
-  std::vector<std::vector<double>> halves = SplitChains(chains, 4);
-  if (halves.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const std::size_t n = halves.front().size();
-  const double m = static_cast<double>(halves.size());
-  const double nn = static_cast<double>(n);
-  std::vector<double> means;
-  double within = 0.0;
-  for (auto& h : halves) {
-    double mean = 0.0;
-    for (double v : h) mean += v / nn;
-    double var = 0.0;
-    for (double& v : h) {
-      v -= mean;  // centred from here on
-      var += v * v;
-    }
-    within += var / (nn - 1.0) / m;
-    means.push_back(mean);
-  }
-  double grand = 0.0;
-  for (double v : means) grand += v / m;
-  double between = 0.0;
-  for (double v : means) between += (v - grand) * (v - grand);
-  between *= nn / (m - 1.0);
-  const double pooled = (nn - 1.0) / nn * within + between / nn;
-  if (!(pooled > 0.0)) return m * nn;  // constant chains: every draw counts
-  const auto rho = [&](std::size_t t) {
-    if (t == 0) return 1.0;
-    double acov = 0.0;
-    for (const auto& h : halves) {
-      double s = 0.0;
-      for (std::size_t i = 0; i + t < n; ++i) s += h[i] * h[i + t];
-      acov += s / nn / m;
-    }
-    return 1.0 - (within - acov) / pooled;
-  };
-  double sum = 0.0;
-  for (std::size_t t = 0; t + 1 < n; t += 2) {
-    const double pair = rho(t) + rho(t + 1);
-    if (!(pair > 0.0)) break;
-    sum += pair;
-  }
-  const double tau = std::max(2.0 * sum - 1.0, 1.0 / std::log10(std::max(m * nn, 10.0)));
-  return m * nn / tau;
-}
-
-McmcResult AdaptiveMetropolis(const std::function<double(const Eigen::VectorXd&)>& log_target,
-                              const std::vector<Eigen::VectorXd>& starts,
-                              const McmcOptions& options) {
-  std::string error;
-  if (!options.IsValid(&error)) throw InputError("posterior sampler options", error);
-  if (starts.empty()) throw std::invalid_argument("AdaptiveMetropolis: no starting point");
-  const Eigen::Index d = starts.front().size();
-  const std::size_t chains = static_cast<std::size_t>(options.chains);
-  McmcResult out;
-  std::vector<std::vector<std::vector<double>>> traces(
-      static_cast<std::size_t>(d), std::vector<std::vector<double>>(chains));
-  std::vector<std::vector<Eigen::VectorXd>> kept(chains);
-  long accepted = 0, proposed = 0;
-  // The chains advance in lock step, each on its own random stream, so that
-  // the proposal's covariance can pool them: (2.38^2 / d) times the
-  // covariance of every chain's states since a quarter of the burn-in
-  // (Haario et al. 2001, pooled over chains: a chain that started in a
-  // narrow corner learns the posterior's extent from the others), and a
-  // global scale per chain tuned towards an acceptance of 0.234 (Andrieu &
-  // Thoms 2008, A tutorial on adaptive MCMC, Statistics and Computing
-  // 18:343-373, algorithm 4). Both frozen after the burn-in.
-  std::vector<core::RandomStream> rng;
-  std::vector<Eigen::VectorXd> x(chains);
-  std::vector<double> lp(chains);
-  const double log_scale0 = std::log(2.38 * 2.38 / static_cast<double>(d));
-  std::vector<double> log_scale(chains, log_scale0);
-  for (std::size_t c = 0; c < chains; ++c) {
-    rng.emplace_back(options.seed, kChainStream + static_cast<std::uint64_t>(c));
-    x[c] = starts[c % starts.size()];
-    for (Eigen::Index k = 0; k < d; ++k) x[c](k) = std::clamp(x[c](k), 0.0, 1.0);
-    lp[c] = log_target(x[c]);
-  }
-  // At first 0.1 of the box along each axis (scale applied below).
-  Eigen::MatrixXd chol = Eigen::MatrixXd::Identity(d, d) * (0.1 / std::exp(0.5 * log_scale0));
-  Eigen::VectorXd mean = Eigen::VectorXd::Zero(d);
-  Eigen::MatrixXd m2 = Eigen::MatrixXd::Zero(d, d);
-  long count = 0;
-  const int pool_from = options.burn_in / 4;
-  const int total = options.burn_in + options.steps;
-  for (int step = 0; step < total; ++step) {
-    const bool burn = step < options.burn_in;
-    for (std::size_t c = 0; c < chains; ++c) {
-      Eigen::VectorXd z(d);
-      for (Eigen::Index k = 0; k < d; ++k) z(k) = rng[c].Normal();
-      const Eigen::VectorXd y = x[c] + std::exp(0.5 * log_scale[c]) * (chol * z);
-      const double log_u = std::log(std::max(rng[c].Uniform(), 1e-300));
-      if (!burn) ++proposed;
-      bool accept = false;
-      if (Inside(y)) {
-        const double ly = log_target(y);
-        if (std::isfinite(ly) && (ly >= lp[c] || log_u < ly - lp[c] || !std::isfinite(lp[c]))) {
-          x[c] = y;
-          lp[c] = ly;
-          accept = true;
-          if (!burn) ++accepted;
-        }
-      }
-      if (burn) {
-        // Robbins-Monro on the log scale, the gain falling as 1 / sqrt(step).
-        log_scale[c] += ((accept ? 1.0 : 0.0) - 0.234) / std::sqrt(1.0 + step);
-        log_scale[c] = std::clamp(log_scale[c], std::log(1e-4), std::log(100.0));
-        if (step >= pool_from) {
-          ++count;
-          const Eigen::VectorXd delta = x[c] - mean;
-          mean += delta / static_cast<double>(count);
-          m2 += delta * (x[c] - mean).transpose();
-        }
-        continue;
-      }
-      for (Eigen::Index k = 0; k < d; ++k)
-        traces[static_cast<std::size_t>(k)][c].push_back(x[c](k));
-      if ((step - options.burn_in) % options.thin == 0) kept[c].push_back(x[c]);
-    }
-    if (burn && count >= 200 && (step + 1) % 50 == 0) {
-      const Eigen::MatrixXd cov =
-          m2 / static_cast<double>(count - 1) + 1e-8 * Eigen::MatrixXd::Identity(d, d);
-      Eigen::LLT<Eigen::MatrixXd> llt(cov);
-      if (llt.info() == Eigen::Success) chol = llt.matrixL();
-    }
-  }
-  for (auto& c : kept)
-    for (auto& s : c) out.samples.push_back(std::move(s));
-  for (Eigen::Index k = 0; k < d; ++k) {
-    out.rhat.push_back(SplitRhat(traces[static_cast<std::size_t>(k)]));
-    out.ess.push_back(EffectiveSampleSize(traces[static_cast<std::size_t>(k)]));
-  }
-  out.acceptance = proposed ? static_cast<double>(accepted) / static_cast<double>(proposed) : 0.0;
-  return out;
-}
 
 bool PosteriorOptions::IsValid(std::string* error) const {
   std::ostringstream s;
@@ -297,8 +75,8 @@ struct Design {
   void Add(const std::vector<double>& u, const std::vector<double>& residuals, double m,
            double warp) {
     if (Has(u)) return;
-    Eigen::VectorXd r = Eigen::Map<const Eigen::VectorXd>(residuals.data(),
-                                                          static_cast<Eigen::Index>(residuals.size()));
+    Eigen::VectorXd r = Eigen::Map<const Eigen::VectorXd>(
+        residuals.data(), static_cast<Eigen::Index>(residuals.size()));
     if (whitening) r = *whitening * r;
     std::vector<double> w;
     for (Eigen::Index k = 0; k < r.size(); ++k) w.push_back(warp * std::asinh(r(k) / warp));
@@ -316,7 +94,7 @@ struct EmulatedTarget {
   double warp;
 
   double LogDensity(const Eigen::VectorXd& u, double* mean_variance = nullptr) const {
-    if (!Inside(u)) return kMinusInf;
+    if (!InUnitBox(u)) return kMinusInf;
     Eigen::VectorXd mean, variance;
     emulator->Predict(u, &mean, &variance);
     double value = 0.0, vsum = 0.0;
@@ -339,12 +117,14 @@ std::vector<double> ToStd(const Eigen::VectorXd& v) { return {v.data(), v.data()
 std::vector<Eigen::VectorXd> Starts(const Design& design, int chains) {
   std::vector<std::size_t> order(design.unit.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return design.misfit[a] < design.misfit[b]; });
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return design.misfit[a] < design.misfit[b];
+  });
   std::vector<Eigen::VectorXd> starts;
   for (std::size_t k = 0; k < order.size() && static_cast<int>(starts.size()) < chains; ++k) {
     const auto& u = design.unit[order[k]];
-    starts.push_back(Eigen::Map<const Eigen::VectorXd>(u.data(), static_cast<Eigen::Index>(u.size())));
+    starts.push_back(
+        Eigen::Map<const Eigen::VectorXd>(u.data(), static_cast<Eigen::Index>(u.size())));
   }
   return starts;
 }
@@ -362,7 +142,8 @@ std::vector<Evaluation> EvaluatePoints(const ObjectiveFunction& objective,
   for (std::size_t k = 0; k < units.size(); ++k) {
     const std::vector<double> x = objective.space().ToPhysical(units[k]);
     const Evaluation* logged = log ? log->Find(Stage::Posterior(), x) : nullptr;
-    if (logged && logged->residuals.size() == static_cast<std::size_t>(objective.residual_count())) {
+    if (logged &&
+        logged->residuals.size() == static_cast<std::size_t>(objective.residual_count())) {
       out[k] = *logged;
       out[k].replayed = true;
     } else {
@@ -408,9 +189,10 @@ int AddEvaluations(const ObjectiveFunction& objective, const std::vector<Evaluat
 // The refining round's new points: among the posterior samples, the one where
 // the emulator is least sure, then again with the variance of the others
 // damped near each point taken (as if it were known there).
-std::vector<std::vector<double>> RefinePoints(const Emulator& emulator, const EmulatedTarget& target,
-                                              const std::vector<Eigen::VectorXd>& samples, int count,
-                                              double settled, const Design& design) {
+std::vector<std::vector<double>> RefinePoints(const Emulator& emulator,
+                                              const EmulatedTarget& target,
+                                              const std::vector<Eigen::VectorXd>& samples,
+                                              int count, double settled, const Design& design) {
   std::vector<double> score(samples.size());
   bool any = false;
   for (std::size_t k = 0; k < samples.size(); ++k) {
@@ -477,9 +259,9 @@ ParameterPosterior SummariseValues(std::vector<double> values, int chains, doubl
     p.rhat = SplitRhat(split);
     p.ess = EffectiveSampleSize(split);
   }
-  p.p05 = Quantile(&values, 0.05);
-  p.median = Quantile(&values, 0.5);
-  p.p95 = Quantile(&values, 0.95);
+  p.p05 = core::QuantileOf(&values, 0.05);
+  p.median = core::QuantileOf(&values, 0.5);
+  p.p95 = core::QuantileOf(&values, 0.95);
   p.width_share = (p.p95 - p.p05) / prior_width;
   p.undetermined = p.width_share > undetermined_share;
   return p;
@@ -575,9 +357,9 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
     const Emulator emulator = Emulator::Fit(design.unit, design.warped, options.emulator);
     const EmulatedTarget target{&emulator, options.warp};
     round_mcmc.seed = options.mcmc.seed + 7919ull * static_cast<std::uint64_t>(round + 1);
-    const McmcResult chains = AdaptiveMetropolis(
-        [&](const Eigen::VectorXd& u) { return target.LogDensity(u); },
-        Starts(design, round_mcmc.chains), round_mcmc);
+    const McmcResult chains =
+        AdaptiveMetropolis([&](const Eigen::VectorXd& u) { return target.LogDensity(u); },
+                           Starts(design, round_mcmc.chains), round_mcmc);
     const auto points = RefinePoints(emulator, target, chains.samples, options.RoundPoints(d),
                                      options.settled_variance, design);
     if (points.empty()) break;
@@ -592,9 +374,9 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
   if (progress) progress("sampling", 0, 1);
   const Emulator emulator = Emulator::Fit(design.unit, design.warped, options.emulator);
   const EmulatedTarget target{&emulator, options.warp};
-  const McmcResult chains = AdaptiveMetropolis(
-      [&](const Eigen::VectorXd& u) { return target.LogDensity(u); },
-      Starts(design, options.mcmc.chains), options.mcmc);
+  const McmcResult chains =
+      AdaptiveMetropolis([&](const Eigen::VectorXd& u) { return target.LogDensity(u); },
+                         Starts(design, options.mcmc.chains), options.mcmc);
   result.emulated = emulator.points();
   result.length_scales = ToStd(emulator.length_scales());
   result.nugget = emulator.nugget();
@@ -606,7 +388,7 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
     variances.push_back(v);
     result.samples.push_back(space.ToPhysical(ToStd(u)));
   }
-  result.emulator_variance = Quantile(&variances, 0.5);
+  result.emulator_variance = core::QuantileOf(&variances, 0.5);
 
   Summarise(chains, options, &result);
   result.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -630,7 +412,8 @@ Eigen::MatrixXd QuantileWhitening(const std::vector<observations::Residual>& lay
     Eigen::MatrixXd corr(m, m);
     for (Eigen::Index i = 0; i < m; ++i)
       for (Eigen::Index j = 0; j < m; ++j) {
-        double p = members[static_cast<std::size_t>(i)].second, q = members[static_cast<std::size_t>(j)].second;
+        double p = members[static_cast<std::size_t>(i)].second,
+               q = members[static_cast<std::size_t>(j)].second;
         if (p > q) std::swap(p, q);
         corr(i, j) = std::sqrt(p * (1.0 - q) / (q * (1.0 - p)));
       }
@@ -644,119 +427,6 @@ Eigen::MatrixXd QuantileWhitening(const std::vector<observations::Residual>& lay
             block(i, j);
   }
   return w;
-}
-
-PredictiveDraw SiteDraw(const sites::Site& site, const observations::Observations& obs,
-                        const observations::MisfitOptions& misfit, const ParameterSpace& space,
-                        int rocks, int threads) {
-  return [&site, &obs, misfit, space, rocks, threads](const std::vector<double>& physical,
-                                                      std::uint64_t seed) {
-    core::Scene scene = RunScene(site, rocks, seed, threads);
-    space.Apply(physical, &scene);
-    RecordingNeeds needs;
-    needs.observations = &obs;
-    needs.partitions = true;
-    needs.energy_check = scene.options.record.energy_check;
-    scene.options.record = RecordingFor(scene, needs);
-    PredictiveOutcome out;
-    try {
-      const core::SimulationResult sim = parallel::Simulate(scene);
-      out.misfit = observations::ComputeMisfit(obs, scene, sim, misfit);
-      out.statistics =
-          DrawStatistics(scene, core::ComputeStats(scene, sim), static_cast<int>(sim.rocks.size()));
-    } catch (const std::exception& e) {
-      out = PredictiveOutcome{};
-      out.misfit.penalised = true;
-      out.misfit.message = std::string("simulation failed: ") + e.what();
-    }
-    return out;
-  };
-}
-
-namespace {
-
-// A predictive draw's outcome as bytes for parallel::Map, and back.
-std::string EncodeOutcome(const PredictiveOutcome& outcome) {
-  parallel::Writer w;
-  w.String(EncodeMisfit(outcome.misfit));
-  w.Int(static_cast<long long>(outcome.statistics.size()));
-  for (const DrawValue& v : outcome.statistics) {
-    w.String(v.where);
-    w.String(v.quantity);
-    w.String(v.unit);
-    w.Double(v.value);
-  }
-  return w.bytes();
-}
-
-PredictiveOutcome DecodeOutcome(const std::string& bytes) {
-  parallel::Reader r(bytes);
-  PredictiveOutcome out;
-  out.misfit = DecodeMisfit(r.String());
-  out.statistics.resize(static_cast<std::size_t>(r.Int()));
-  for (DrawValue& v : out.statistics) {
-    v.where = r.String();
-    v.quantity = r.String();
-    v.unit = r.String();
-    v.value = r.Double();
-  }
-  return out;
-}
-
-}  // namespace
-
-void PredictiveBands(const PredictiveDraw& draw, std::uint64_t seed, int rocks, int draws,
-                     PosteriorResult* result, const PosteriorProgress& progress) {
-  result->bands.clear();
-  result->statistic_bands.clear();
-  if (draws <= 0 || result->samples.empty()) return;
-  const std::size_t n = result->samples.size();
-  std::vector<std::vector<double>> chosen;
-  for (int k = 0; k < draws; ++k)
-    chosen.push_back(result->samples[(static_cast<std::size_t>(k) * n + n / 2) / static_cast<std::size_t>(draws) % n]);
-  int done = 0;
-  if (progress) progress("predictive bands", 0, draws);
-  const std::vector<std::string> bytes = parallel::Map(
-      draws,
-      [&](int k) {
-        return EncodeOutcome(
-            draw(chosen[static_cast<std::size_t>(k)], seed + 1000 + static_cast<std::uint64_t>(k)));
-      },
-      [&](int, const std::string&) {
-        if (progress) progress("predictive bands", ++done, draws);
-      });
-  std::vector<observations::Misfit> misfits;
-  std::vector<std::vector<DrawValue>> statistics;
-  for (const std::string& b : bytes) {
-    PredictiveOutcome o = DecodeOutcome(b);
-    misfits.push_back(std::move(o.misfit));
-    if (!o.statistics.empty()) statistics.push_back(std::move(o.statistics));
-  }
-  result->statistic_bands = BandsOverDraws(statistics);
-  // The residuals by their identity, in the first draw's order.
-  std::vector<observations::ResidualId> keys;
-  std::map<observations::ResidualId, std::vector<double>> values;
-  std::map<observations::ResidualId, double> observed;
-  for (const observations::Misfit& m : misfits)
-    for (const observations::Residual& r : m.residuals) {
-      if (!std::isfinite(r.simulated)) continue;
-      const observations::ResidualId& key = r.id;
-      if (!values.count(key)) keys.push_back(key);
-      values[key].push_back(r.simulated);
-      observed[key] = r.observed;
-    }
-  for (const auto& key : keys) {
-    std::vector<double> v = values[key];
-    PredictiveBand b;
-    b.id = key;
-    b.observed = observed[key];
-    b.p05 = Quantile(&v, 0.05);
-    b.median = Quantile(&v, 0.5);
-    b.p95 = Quantile(&v, 0.95);
-    result->bands.push_back(b);
-  }
-  result->band_draws = draws;
-  result->band_rocks = rocks;
 }
 
 std::string PosteriorCsv(const PosteriorResult& result) {

@@ -7,7 +7,7 @@
 #include <map>
 #include <sstream>
 
-#include "rockcal/calibrate/posterior.h"
+#include "rockcal/core/statistics.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/random.h"
 #include "table_text.h"
@@ -69,9 +69,9 @@ std::vector<DrawBand> BandsOverDraws(const std::vector<std::vector<DrawValue>>& 
     }
   for (DrawBand& b : bands) {
     std::vector<double>& v = values[{b.where, b.quantity}];
-    b.p05 = Quantile(&v, 0.05);
-    b.median = Quantile(&v, 0.5);
-    b.p95 = Quantile(&v, 0.95);
+    b.p05 = core::QuantileOf(&v, 0.05);
+    b.median = core::QuantileOf(&v, 0.5);
+    b.p95 = core::QuantileOf(&v, 0.95);
   }
   return bands;
 }
@@ -180,8 +180,8 @@ std::vector<core::RasterBand> MapBands(const std::vector<core::RasterSet>& maps)
         v.push_back(std::isnan(x) ? 0.0 : x);
       }
       if (!reached && std::string(name) != "reach_probability") continue;
-      lo.values[c] = Quantile(&v, 0.05);
-      hi.values[c] = Quantile(&v, 0.95);
+      lo.values[c] = core::QuantileOf(&v, 0.05);
+      hi.values[c] = core::QuantileOf(&v, 0.95);
     }
     out.push_back(std::move(lo));
     out.push_back(std::move(hi));

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "results_json_fields.h"
 #include "rockcal/calibrate/reach.h"
 #include "rockcal/calibrate/score.h"
 #include "rockcal/calibrate/sensitivity.h"
@@ -18,7 +19,7 @@
 #include "table_text.h"
 
 namespace rockcal::calibrate {
-namespace {
+namespace json_fields {
 
 using nlohmann::json;
 using text::JsonNum;
@@ -27,7 +28,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // The number at `key` of `j`; `unknown` where the file holds null.
-double Number(const json& j, const char* key, double unknown = kNaN) {
+double Number(const json& j, const char* key, double unknown) {
   const json& v = j.at(key);
   return v.is_null() ? unknown : v.get<double>();
 }
@@ -46,7 +47,9 @@ std::vector<double> Numbers(const json& j) {
 
 // The verdict as score.json's fit (read back, it follows from the residuals).
 json FitJson(const observations::FitVerdict& fit) {
-  return {{"verdict", fit.poor ? "poor" : fit.fair ? "fair" : "good"},
+  return {{"verdict", fit.poor   ? "poor"
+                      : fit.fair ? "fair"
+                                 : "good"},
           {"sentence", fit.Sentence()},
           {"count_chance", fit.count_chance},
           {"largest_chance", fit.largest_chance},
@@ -150,6 +153,12 @@ void ReadStepFigures(const json& j, core::RunFigures* f) {
   f->flights = j.at("flights").get<long>();
 }
 
+}  // namespace json_fields
+
+namespace {
+
+using namespace json_fields;
+
 // ---- stability -------------------------------------------------------------------
 
 constexpr const char* kStabilityCriteria =
@@ -161,20 +170,20 @@ constexpr const char* kStabilityCriteria =
 json CaseJson(const StabilityCase& c) {
   const core::RunFigures& f = c.figures;
   json j = {{"name", c.name},
-          {"description", c.description},
-          {"rocks", f.rocks},
-          {"max_time_seconds", c.max_time},
-          {"dt_shrunk", f.dt_shrunk > 0},
-          {"wall_seconds", c.wall_seconds},
-          {"outcomes", Outcomes(c.stopped, c.left, c.timeout)},
-          {"max_relative_energy_gain", JsonNum(f.max_relative_energy_gain)},
-          {"max_penetration_over_radius", JsonNum(f.max_penetration)},
-          {"non_finite_rocks", f.non_finite},
-          {"tunneled_rocks", f.tunneled},
-          {"must_stop", c.must_stop},
-          {"result", c.pass ? "PASS" : "FAIL"},
-          {"reason", c.reason},
-          {"warning", c.warning}};
+            {"description", c.description},
+            {"rocks", f.rocks},
+            {"max_time_seconds", c.max_time},
+            {"dt_shrunk", f.dt_shrunk > 0},
+            {"wall_seconds", c.wall_seconds},
+            {"outcomes", Outcomes(c.stopped, c.left, c.timeout)},
+            {"max_relative_energy_gain", JsonNum(f.max_relative_energy_gain)},
+            {"max_penetration_over_radius", JsonNum(f.max_penetration)},
+            {"non_finite_rocks", f.non_finite},
+            {"tunneled_rocks", f.tunneled},
+            {"must_stop", c.must_stop},
+            {"result", c.pass ? "PASS" : "FAIL"},
+            {"reason", c.reason},
+            {"warning", c.warning}};
   AddStepFigures(f, &j);
   return j;
 }
@@ -244,16 +253,16 @@ json RowJson(const ConvergenceRow& r) {
   json qs = json::array();
   for (const QuantityError& q : r.quantities) qs.push_back(QuantityJson(q));
   json j = {{"steps_per_contact", r.steps_per_contact},
-          {"rocks", r.rocks},
-          {"wall_seconds", r.wall_seconds},
-          {"outcomes", Outcomes(r.stopped, r.left, r.timeout)},
-          {"max_total_error", JsonNum(r.max_total_error)},
-          {"max_mc_error", JsonNum(r.max_mc_error)},
-          {"max_discretisation_error", JsonNum(r.max_discretisation_error)},
-          {"max_discretisation_noise", JsonNum(r.max_discretisation_noise)},
-          {"max_estimate", JsonNum(r.max_estimate)},
-          {"meets_target", r.meets_target},
-          {"quantities", qs}};
+            {"rocks", r.rocks},
+            {"wall_seconds", r.wall_seconds},
+            {"outcomes", Outcomes(r.stopped, r.left, r.timeout)},
+            {"max_total_error", JsonNum(r.max_total_error)},
+            {"max_mc_error", JsonNum(r.max_mc_error)},
+            {"max_discretisation_error", JsonNum(r.max_discretisation_error)},
+            {"max_discretisation_noise", JsonNum(r.max_discretisation_noise)},
+            {"max_estimate", JsonNum(r.max_estimate)},
+            {"meets_target", r.meets_target},
+            {"quantities", qs}};
   AddStepFigures(r.figures, &j);
   return j;
 }
@@ -276,204 +285,6 @@ ConvergenceRow RowOf(const json& j) {
   r.max_estimate = Number(j, "max_estimate", kInf);
   r.meets_target = j.at("meets_target").get<bool>();
   return r;
-}
-
-// ---- sensitivity -----------------------------------------------------------------
-
-constexpr const char* kMorrisDefinitions =
-    "Morris elementary effects on a grid of `levels` levels with step delta (unit "
-    "box): effect = change of the output / change of the parameter as a fraction of "
-    "its range (output units per full range). mu: mean effect; mu_star: mean |effect|; "
-    "sigma: standard deviation of the effects (interactions and curvature). noise: "
-    "bootstrap standard error of the output over the rocks of one run at the current "
-    "parameters; effect_noise = sqrt(2) noise / delta, the spread one elementary "
-    "effect would have from independent noise; effect_over_noise = mu_star / "
-    "effect_noise (pure noise gives about 0.8). null: unknown.";
-constexpr const char* kSobolDefinitions =
-    "Sobol indices from Saltelli sampling: first = S_i (Saltelli 2010 estimator), the "
-    "share of the output's variance over the parameter box due to the parameter "
-    "alone; total = ST_i (Jansen estimator), including its interactions; *_low and "
-    "*_high: bootstrap percentile interval over the rows. variance: of the output over "
-    "the box. noise: bootstrap standard error of the output over the rocks of one run "
-    "at the current parameters; effect_over_noise = sqrt(max(first, 0) variance) / "
-    "noise. null: unknown.";
-
-bool IsMorris(const SensitivityResult& r) { return r.method == SensitivityMethod::kMorris; }
-
-json DesignJson(const SensitivityResult& r) {
-  if (IsMorris(r))
-    return {{"trajectories", r.morris.trajectories},
-            {"levels", r.morris.levels},
-            {"delta", r.morris.delta},
-            {"evaluations", r.morris.evaluations}};
-  return {{"samples", r.sobol.samples},
-          {"bootstrap", r.sobol.bootstrap},
-          {"confidence", r.sobol.confidence},
-          {"evaluations", r.sobol.evaluations},
-          {"sampling", kSobolSampling}};
-}
-
-json OutputJson(const SensitivityResult& r, std::size_t o) {
-  const SensitivityOutputInfo& out = r.outputs[o];
-  json j = {{"name", out.name},
-            {"unit", out.unit},
-            {"description", out.description},
-            {"value", JsonNum(out.value)},
-            {"noise", JsonNum(out.noise)}};
-  if (IsMorris(r)) {
-    j["effect_noise"] = JsonNum(r.EffectNoise(o));
-  } else {
-    j["variance"] = JsonNum(r.sobol.variance[o]);
-    j["rows"] = r.sobol.rows[o];
-  }
-  return j;
-}
-
-json EntryJson(const SensitivityResult& r, const SensitivityEntry& e) {
-  json j = {{"parameter", r.parameters[static_cast<std::size_t>(e.parameter)].label()},
-            {"output", r.outputs[static_cast<std::size_t>(e.output)].name}};
-  if (IsMorris(r)) {
-    j["mu"] = JsonNum(e.morris.mu);
-    j["mu_star"] = JsonNum(e.morris.mu_star);
-    j["sigma"] = JsonNum(e.morris.sigma);
-    j["effects"] = e.morris.effects;
-  } else {
-    j["first"] = JsonNum(e.sobol.first);
-    j["first_low"] = JsonNum(e.sobol.first_low);
-    j["first_high"] = JsonNum(e.sobol.first_high);
-    j["total"] = JsonNum(e.sobol.total);
-    j["total_low"] = JsonNum(e.sobol.total_low);
-    j["total_high"] = JsonNum(e.sobol.total_high);
-  }
-  j["effect_over_noise"] = JsonNum(e.effect_over_noise);
-  return j;
-}
-
-// The design's settings and the sizes of the per-output tables.
-void ReadDesign(const json& design, int outputs, SensitivityResult* r) {
-  const int k = static_cast<int>(r->parameters.size());
-  if (IsMorris(*r)) {
-    MorrisResult& m = r->morris;
-    m.parameters = k, m.outputs = outputs;
-    m.trajectories = design.at("trajectories").get<int>();
-    m.levels = design.at("levels").get<int>();
-    m.delta = design.at("delta").get<double>();
-    m.evaluations = design.at("evaluations").get<int>();
-    m.index.assign(static_cast<std::size_t>(outputs), std::vector<MorrisIndex>(k));
-  } else {
-    SobolResult& s = r->sobol;
-    s.parameters = k, s.outputs = outputs;
-    s.samples = design.at("samples").get<int>();
-    s.bootstrap = design.at("bootstrap").get<int>();
-    s.confidence = design.at("confidence").get<double>();
-    s.evaluations = design.at("evaluations").get<int>();
-    s.index.assign(static_cast<std::size_t>(outputs), std::vector<SobolIndex>(k));
-  }
-}
-
-void ReadOutput(const json& j, SensitivityResult* r) {
-  SensitivityOutputInfo out;
-  out.name = j.at("name").get<std::string>();
-  out.unit = j.at("unit").get<std::string>();
-  out.description = j.at("description").get<std::string>();
-  out.value = Number(j, "value");
-  out.noise = Number(j, "noise");
-  r->outputs.push_back(out);
-  if (!IsMorris(*r)) {
-    r->sobol.variance.push_back(Number(j, "variance"));
-    r->sobol.rows.push_back(j.at("rows").get<int>());
-  }
-}
-
-// Entry e (parameter-major: e = p * outputs + o), into entries and the method's index.
-void ReadEntry(const json& j, std::size_t e, SensitivityResult* r) {
-  const std::size_t m = r->outputs.size();
-  SensitivityEntry entry;
-  entry.parameter = static_cast<int>(e / m);
-  entry.output = static_cast<int>(e % m);
-  if (IsMorris(*r)) {
-    entry.morris = {Number(j, "mu"), Number(j, "mu_star"), Number(j, "sigma"),
-                    j.at("effects").get<int>()};
-    r->morris.index[e % m][e / m] = entry.morris;
-  } else {
-    entry.sobol = {Number(j, "first"), Number(j, "first_low"), Number(j, "first_high"),
-                   Number(j, "total"), Number(j, "total_low"), Number(j, "total_high")};
-    r->sobol.index[e % m][e / m] = entry.sobol;
-  }
-  entry.effect_over_noise = Number(j, "effect_over_noise");
-  r->entries.push_back(entry);
-}
-
-// ---- reach -------------------------------------------------------------------------
-
-constexpr const char* kReachRule =
-    "A statistic is in reach when its observed value lies within [min - sigma, max + sigma], "
-    "where min and max are the smallest and largest simulated values over the design points and "
-    "sigma is the median over those points of the residual's sigma (measurement error, Monte "
-    "Carlo error of the simulated value, sampling error of the observed one). Out of reach "
-    "(below): the observed value is below min - sigma; (above): above max + sigma; (no value): "
-    "no design point gave a value (each was penalised for it). at_edge: in reach only by the "
-    "sigma allowance (the observed value lies outside [min, max]).";
-
-json StatisticJson(const ReachStatistic& s) {
-  return {{"name", s.name()},
-          {"observation", s.id.observation()},
-          {"quantity", s.id.quantity()},
-          {"observed", JsonNum(s.observed)},
-          {"sigma", JsonNum(s.sigma)},
-          {"min", JsonNum(s.min)},
-          {"max", JsonNum(s.max)},
-          {"min_point", s.min_point},
-          {"max_point", s.max_point},
-          {"closest_point", s.closest_point},
-          {"closest_simulated", JsonNum(s.closest_simulated)},
-          {"closest_sigmas", JsonNum(s.closest_sigmas)},
-          {"points_with_value", s.points_with_value},
-          {"in_reach", s.in_reach()},
-          {"at_edge", s.at_edge()},
-          {"verdict", ReachVerdictText(s.verdict)}};
-}
-
-ReachVerdict VerdictOf(const std::string& text) {
-  for (ReachVerdict v :
-       {ReachVerdict::kInReach, ReachVerdict::kBelow, ReachVerdict::kAbove, ReachVerdict::kNoValue})
-    if (text == ReachVerdictText(v)) return v;
-  throw std::invalid_argument("unknown reach verdict '" + text + "'");
-}
-
-ReachStatistic StatisticOf(const json& j) {
-  ReachStatistic s;
-  s.id = ResidualIdOf(j.at("observation").get<std::string>(), j.at("quantity").get<std::string>());
-  s.observed = Number(j, "observed");
-  s.sigma = Number(j, "sigma");
-  s.min = Number(j, "min");
-  s.max = Number(j, "max");
-  s.min_point = j.at("min_point").get<int>();
-  s.max_point = j.at("max_point").get<int>();
-  s.closest_point = j.at("closest_point").get<int>();
-  s.closest_simulated = Number(j, "closest_simulated");
-  s.closest_sigmas = Number(j, "closest_sigmas");
-  s.points_with_value = j.at("points_with_value").get<int>();
-  s.verdict = VerdictOf(j.at("verdict").get<std::string>());
-  return s;
-}
-
-json PointJson(const ReachPoint& p) {
-  return {{"unit", p.unit},           {"physical", p.physical}, {"misfit", JsonNum(p.misfit)},
-          {"penalised", p.penalised}, {"message", p.message},   {"simulated", Numbers(p.simulated)},
-          {"sigma", Numbers(p.sigma)}};
-}
-
-ReachPoint PointOf(const json& j) {
-  ReachPoint p;
-  p.unit = j.at("unit").get<std::vector<double>>();
-  p.physical = j.at("physical").get<std::vector<double>>();
-  p.misfit = Number(j, "misfit");
-  p.penalised = j.at("penalised").get<bool>();
-  p.message = j.at("message").get<std::string>();
-  p.simulated = Numbers(j.at("simulated"));
-  p.sigma = Numbers(j.at("sigma"));
-  return p;
 }
 
 }  // namespace
@@ -558,119 +369,6 @@ void from_json(const json& j, ConvergenceResult& result) {
     if (row.at("recommended").get<bool>()) result.recommended = k;
     result.rows.push_back(RowOf(row));
   }
-}
-
-void to_json(json& j, const SensitivityResult& r) {
-  json params = json::array();
-  for (std::size_t i = 0; i < r.parameters.size(); ++i) {
-    const Parameter& p = r.parameters[i];
-    params.push_back({{"label", p.label()},
-                      {"material", p.material},
-                      {"name", p.name()},
-                      {"lower", p.lower},
-                      {"upper", p.upper},
-                      {"current", r.current[i]}});
-  }
-  json outputs = json::array(), entries = json::array();
-  for (std::size_t o = 0; o < r.outputs.size(); ++o) outputs.push_back(OutputJson(r, o));
-  for (const SensitivityEntry& e : r.entries) entries.push_back(EntryJson(r, e));
-  j = {{"site", r.site},
-       {"study", "sensitivity"},
-       {"method", SensitivityMethodName(r.method)},
-       {"design", DesignJson(r)},
-       {"seed", r.seed},
-       {"rocks", r.rocks},
-       {"threads", r.threads},
-       {"simulations", r.simulations},
-       {"wall_seconds", r.wall_seconds},
-       {"simulation_seconds", r.simulation_seconds},
-       {"simulations_per_second", r.SimulationsPerSecond()},
-       {"non_finite_runs", r.non_finite_runs},
-       {"resolved_ratio", kResolvedEffectOverNoise},
-       {"definitions", IsMorris(r) ? kMorrisDefinitions : kSobolDefinitions},
-       {"parameters", params},
-       {"outputs", outputs},
-       {"entries", entries},
-       {"notes", r.notes},
-       {"summary", r.summary}};
-}
-
-void from_json(const json& j, SensitivityResult& r) {
-  r = SensitivityResult{};
-  r.site = j.at("site").get<std::string>();
-  const std::string method = j.at("method").get<std::string>();
-  if (!ParseSensitivityMethod(method, &r.method))
-    throw std::invalid_argument("unknown sensitivity method '" + method + "'");
-  r.seed = j.at("seed").get<std::uint64_t>();
-  r.rocks = j.at("rocks").get<int>();
-  r.threads = j.at("threads").get<int>();
-  r.simulations = j.at("simulations").get<int>();
-  r.wall_seconds = j.at("wall_seconds").get<double>();
-  r.simulation_seconds = j.at("simulation_seconds").get<double>();
-  r.non_finite_runs = j.at("non_finite_runs").get<int>();
-  for (const json& p : j.at("parameters")) {
-    r.parameters.push_back(
-        ParameterOf(p.at("material").get<std::string>(), p.at("name").get<std::string>()));
-    r.parameters.back().lower = p.at("lower").get<double>();
-    r.parameters.back().upper = p.at("upper").get<double>();
-    r.current.push_back(p.at("current").get<double>());
-  }
-  const json& outputs = j.at("outputs");
-  ReadDesign(j.at("design"), static_cast<int>(outputs.size()), &r);
-  r.samples = IsMorris(r) ? r.morris.trajectories : r.sobol.samples;
-  for (const json& o : outputs) ReadOutput(o, &r);
-  const json& entries = j.at("entries");
-  for (std::size_t e = 0; e < entries.size(); ++e) ReadEntry(entries[e], e, &r);
-  r.notes = j.at("notes").get<std::vector<std::string>>();
-  r.summary = j.at("summary").get<std::string>();
-}
-
-void to_json(json& j, const ReachResult& r) {
-  json params = json::array(), stats = json::array(), points = json::array();
-  for (const Parameter& p : r.parameters)
-    params.push_back({{"label", p.label()}, {"lower", p.lower}, {"upper", p.upper}});
-  for (const ReachStatistic& s : r.statistics) stats.push_back(StatisticJson(s));
-  for (const ReachPoint& p : r.points) points.push_back(PointJson(p));
-  json design = {
-      {"kind", DesignKindName(r.design)}, {"points", r.points.size()}, {"seed", r.design_seed}};
-  if (r.design == DesignKind::kLatinHypercube) design["candidates"] = r.candidates;
-  j = {{"site", r.site},
-       {"study", "reach"},
-       {"design", design},
-       {"simulation_seed", r.simulation_seed},
-       {"rocks", r.rocks},
-       {"wall_seconds", r.wall_seconds},
-       {"rule", kReachRule},
-       {"units", "SI (m, or a fraction)"},
-       {"parameters", params},
-       {"statistics", stats},
-       {"in_reach", static_cast<int>(r.statistics.size()) - r.out_of_reach()},
-       {"out_of_reach", r.out_of_reach()},
-       {"best_point", r.best_point},
-       {"points", points},
-       {"warnings", OutOfReachWarnings(r)}};
-}
-
-void from_json(const json& j, ReachResult& r) {
-  r = ReachResult{};
-  r.site = j.at("site").get<std::string>();
-  const json& design = j.at("design");
-  const std::string kind = design.at("kind").get<std::string>();
-  if (!ParseDesignKind(kind, &r.design))
-    throw std::invalid_argument("unknown design kind '" + kind + "'");
-  r.design_seed = design.at("seed").get<std::uint64_t>();
-  if (r.design == DesignKind::kLatinHypercube) r.candidates = design.at("candidates").get<int>();
-  r.simulation_seed = j.at("simulation_seed").get<std::uint64_t>();
-  r.rocks = j.at("rocks").get<int>();
-  r.wall_seconds = j.at("wall_seconds").get<double>();
-  for (const json& p : j.at("parameters")) {
-    r.parameters.push_back(ParameterOfLabel(p.at("label").get<std::string>()));
-    r.parameters.back().lower = p.at("lower").get<double>();
-    r.parameters.back().upper = p.at("upper").get<double>();
-  }
-  for (const json& s : j.at("statistics")) r.statistics.push_back(StatisticOf(s));
-  r.best_point = j.at("best_point").get<int>();
-  for (const json& p : j.at("points")) r.points.push_back(PointOf(p));
 }
 
 json ResidualsJson(const observations::Misfit& misfit) {

@@ -24,6 +24,13 @@ inline nlohmann::json JsonNum(double v) {
 
 using core::CsvField;
 
+// A share as a percentage for reading: "12.5 %", "0.042 %", "unknown" when
+// not finite.
+inline std::string Percent(double fraction) {
+  if (!std::isfinite(fraction)) return "unknown";
+  return core::FormatNumber(100.0 * fraction, fraction < 0.001 ? "%.2g %%" : "%.3g %%");
+}
+
 }  // namespace rockcal::calibrate::text
 
 #endif  // ROCKCAL_CALIBRATE_SRC_TABLE_TEXT_H_

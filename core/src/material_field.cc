@@ -22,6 +22,20 @@ const std::vector<MaterialFieldInfo>& MaterialFields() {
   return fields;
 }
 
+const char* SiUnitName(FieldUnit unit) {
+  switch (unit) {
+    case FieldUnit::kLength:
+      return "m";
+    case FieldUnit::kTime:
+      return "s";
+    case FieldUnit::kStress:
+      return "Pa";
+    case FieldUnit::kNone:
+      break;
+  }
+  return "";
+}
+
 const MaterialFieldInfo& Info(MaterialField field) {
   return MaterialFields()[static_cast<std::size_t>(field)];
 }

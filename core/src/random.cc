@@ -45,4 +45,8 @@ double RandomStream::Normal() {
   return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
 }
 
+std::size_t RandomStream::Index(std::size_t n) {
+  return static_cast<std::size_t>(Uniform() * static_cast<double>(n)) % n;
+}
+
 }  // namespace rockcal::core

@@ -7,6 +7,7 @@
 
 #include "rockcal/core/limits.h"
 #include "rockcal/core/material.h"
+#include "rockcal/core/simulate.h"
 
 namespace rockcal::core {
 
@@ -39,10 +40,8 @@ bool SimulationOptions::IsValid(std::string* error) const {
 }
 
 double Scene::EstimatedSteps() const {
-  double dt = INFINITY;
-  for (const Material& m : materials)
-    dt = std::min(dt, DeriveContactLaw(m, hardness_model).contact_time / options.steps_per_contact);
-  if (materials.empty()) return 0.0;
+  const double dt = SmallestContactStep(*this);
+  if (!std::isfinite(dt)) return 0.0;
   return static_cast<double>(total_rocks()) * options.max_time / dt;
 }
 
@@ -58,8 +57,8 @@ bool Scene::IsValid(std::string* error) const {
   if (!(steps <= kMaxEstimatedSteps)) {
     std::ostringstream s;
     s << "the run would take up to " << steps << " steps (" << rocks << " rocks, max_time "
-      << options.max_time << " s, shortest step " << options.max_time * rocks / steps
-      << " s: the shortest contact time / steps_per_contact); expected at most "
+      << options.max_time << " s, smallest contact step " << options.max_time * rocks / steps
+      << " s); expected at most "
       << kMaxEstimatedSteps << ": lengthen the contact time or shorten max_time";
     *error = s.str();
     return false;

@@ -445,6 +445,28 @@ double ContactTimeStep(const RockBody& body, const ContactLaw& law, const Simula
   return std::min(by_contact, stable);
 }
 
+double GroupContactStep(const Scene& scene, const RockGroup& group, bool* shrunk) {
+  const GroupExtent extent = GroupBodies(group, scene.gravity);
+  double dt = kInf;
+  bool any = false;
+  for (const RockBody* body : {&extent.lightest, &extent.heaviest}) {
+    for (const Material& m : scene.materials) {
+      bool sh = false;
+      dt = std::min(dt, ContactTimeStep(*body, DeriveContactLaw(m, scene.hardness_model),
+                                        scene.options, &sh));
+      any = any || sh;
+    }
+  }
+  if (shrunk) *shrunk = any;
+  return dt;
+}
+
+double SmallestContactStep(const Scene& scene) {
+  double dt = kInf;
+  for (const RockGroup& g : scene.groups) dt = std::min(dt, GroupContactStep(scene, g));
+  return dt;
+}
+
 double GentleTimeStep(const RockBody& body, const ContactLaw& law, const SimulationOptions& opt) {
   if (opt.gentle_steps_per_contact <= 0 || opt.reference_path) return 0.0;
   return std::min(law.contact_time / opt.gentle_steps_per_contact,

@@ -37,6 +37,12 @@ double Quantile(const std::vector<double>& sorted, double q) {
   return sorted[k] + f * (sorted[k + 1] - sorted[k]);
 }
 
+double QuantileOf(std::vector<double>* values, double q) {
+  if (values->empty()) return std::nan("");
+  std::sort(values->begin(), values->end());
+  return Quantile(*values, q);
+}
+
 double Median(std::vector<double> values) {
   if (values.empty()) return std::nan("");
   std::sort(values.begin(), values.end());

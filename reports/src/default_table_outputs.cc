@@ -19,41 +19,54 @@ using calibrate::TableRow;
 using calibrate::TableValue;
 using calibrate::ValueStatistics;
 
-const char* SiUnit(const std::string& name) {
-  if (name == "roughness") return "m";
-  if (name == "contact_time") return "s";
-  if (name == "vegetation") return "Pa";
-  return "";
+// The unit of a table row's field (core/material_field.h, the one list of
+// the fields' names, labels and units); kNone for a name it does not hold.
+core::FieldUnit UnitOf(const std::string& name) {
+  const core::MaterialFieldInfo* f = core::FindMaterialField(name);
+  return f ? f->unit : core::FieldUnit::kNone;
 }
+
+const char* SiUnit(const std::string& name) { return core::SiUnitName(UnitOf(name)); }
 
 std::string Label(const std::string& name) {
-  if (name == "rolling_resistance") return "rolling resistance";
-  if (name == "vegetation") return "vegetation resistance";
-  return name == "contact_time" ? "contact time" : name;
+  const core::MaterialFieldInfo* f = core::FindMaterialField(name);
+  return f ? f->label : name;
 }
 
-// A value for reading: hardness as it is, roughness in m, contact time in ms.
+// A value for reading: lengths in m, times in ms, stresses in kPa.
 std::string Show(const std::string& name, double v) {
-  if (name == "contact_time") return FormatNumber(v * 1e3, "%.3g");
-  if (name == "vegetation") return FormatNumber(v * 1e-3, "%.3g");
-  return FormatNumber(v, "%.3g");
+  const core::FieldUnit unit = UnitOf(name);
+  const double scale = unit == core::FieldUnit::kTime     ? 1e3
+                       : unit == core::FieldUnit::kStress ? 1e-3
+                                                          : 1.0;
+  return FormatNumber(v * scale, "%.3g");
 }
 std::string Unit(const std::string& name) {
-  if (name == "roughness") return " m";
-  if (name == "contact_time") return " ms";
-  if (name == "vegetation") return " kPa";
+  switch (UnitOf(name)) {
+    case core::FieldUnit::kLength:
+      return " m";
+    case core::FieldUnit::kTime:
+      return " ms";
+    case core::FieldUnit::kStress:
+      return " kPa";
+    case core::FieldUnit::kNone:
+      break;
+  }
   return "";
+}
+// A length in feet too, " (0.69 ft)"; "" for other fields.
+std::string InFeet(const std::string& name, double v) {
+  if (UnitOf(name) != core::FieldUnit::kLength) return "";
+  return " (" + FormatNumber(v / kFoot, "%.3g") + " ft)";
 }
 // "0.21 m (0.69 ft)", "0.4", "5 ms".
 std::string ShowOne(const std::string& name, double v) {
-  std::string s = Show(name, v) + Unit(name);
-  if (name == "roughness") s += " (" + FormatNumber(v / kFoot, "%.3g") + " ft)";
-  return s;
+  return Show(name, v) + Unit(name) + InFeet(name, v);
 }
 // "0.15 – 0.3 m (0.49 – 0.98 ft)".
 std::string ShowRange(const std::string& name, double lo, double hi) {
   std::string s = Show(name, lo) + " – " + Show(name, hi) + Unit(name);
-  if (name == "roughness")
+  if (UnitOf(name) == core::FieldUnit::kLength)
     s +=
         " (" + FormatNumber(lo / kFoot, "%.3g") + " – " + FormatNumber(hi / kFoot, "%.3g") + " ft)";
   return s;
@@ -138,12 +151,12 @@ nlohmann::json DefaultTableJson(const DefaultTable& table) {
                                          : nlohmann::json(calibrate::BoundName(v.bound))},
                         {"counted", v.counted}});
       if (table.any_posterior)
-        values.back()["posterior"] =
-            v.posterior ? nlohmann::json{{"median", v.posterior->median},
-                                         {"p05", v.posterior->p05},
-                                         {"p95", v.posterior->p95},
-                                         {"determined", v.posterior->determined}}
-                        : nlohmann::json(nullptr);
+        values.back()["posterior"] = v.posterior
+                                         ? nlohmann::json{{"median", v.posterior->median},
+                                                          {"p05", v.posterior->p05},
+                                                          {"p95", v.posterior->p95},
+                                                          {"determined", v.posterior->determined}}
+                                         : nlohmann::json(nullptr);
     }
     nlohmann::json j = StatsJson(row.headline);
     j["class"] = row.material_class;
@@ -250,9 +263,8 @@ std::string DefaultTableMarkdown(const DefaultTable& table) {
                                                (v.posterior->determined ? "" : " (not determined)")
                                          : std::string("-"))
                   : std::string(""))
-          << " | ["
-          << Show(row.name, v.lower) << ", " << Show(row.name, v.upper) << "]" << Unit(row.name)
-          << " | "
+          << " | [" << Show(row.name, v.lower) << ", " << Show(row.name, v.upper) << "]"
+          << Unit(row.name) << " | "
           << (v.bound == BoundPosition::kInside
                   ? std::string("")
                   : std::string(calibrate::BoundName(v.bound)) + (v.counted ? "" : ", left out"))

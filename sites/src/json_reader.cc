@@ -313,6 +313,19 @@ double StressToSI(double value, Units units) {
 
 const char* StressUnit(Units units) { return units == Units::kUS ? "lbf/ft^2" : "kPa"; }
 
+double FieldToSI(double value, core::FieldUnit unit, Units units) {
+  switch (unit) {
+    case core::FieldUnit::kLength:
+      return LengthToSI(value, units);
+    case core::FieldUnit::kStress:
+      return StressToSI(value, units);
+    case core::FieldUnit::kNone:
+    case core::FieldUnit::kTime:
+      break;
+  }
+  return value;
+}
+
 double UnitWeightToSI(double value, Units units) {
   // 1 lbf/ft^3 = 4.4482216152605 N / 0.028316846592 m^3 = 157.0874606 N/m^3.
   return units == Units::kUS ? value * 4.4482216152605 / 0.028316846592 : value * 1000.0;

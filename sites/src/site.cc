@@ -485,10 +485,10 @@ void ApplySetting(const std::string& key_value, Site* site) {
   double value = 0.0;
   if (!ParseNumber(text, &value))
     throw InputError(where, "'" + text + "' is not a number; expected a finite number");
-  // Roughness is given in the site's length unit, vegetation in its stress unit.
-  const double si = field == "roughness"    ? LengthToSI(value, site->units)
-                    : field == "vegetation" ? StressToSI(value, site->units)
-                                            : value;
+  // In the site's units (roughness a length, vegetation a stress); an unknown
+  // field is refused by SetMaterialValue, naming the allowed ones.
+  const core::MaterialFieldInfo* info = core::FindMaterialField(field);
+  const double si = info ? FieldToSI(value, info->unit, site->units) : value;
   std::string message;
   if (SetMaterialValue(id, field, si, site->units, &site->scene, &message) !=
       MaterialValueFault::kNone)

@@ -9,6 +9,7 @@
 #include "../sites/test_files.h"
 #include "default_table_fixture.h"
 #include "rockcal/calibrate/posterior.h"
+#include "rockcal/core/statistics.h"
 #include "rockcal/calibrate/recording.h"
 #include "rockcal/calibrate/score.h"
 #include "rockcal/core/error.h"
@@ -79,9 +80,9 @@ TEST(SimulatePosteriorDraws, RockIWithDrawIModDAndTheBandsOverTheDraws) {
     return DrawBand{};
   };
   auto expect_quantiles = [](const DrawBand& b, std::vector<double> v) {
-    EXPECT_EQ(b.p05, Quantile(&v, 0.05)) << b.where << " " << b.quantity;
-    EXPECT_EQ(b.median, Quantile(&v, 0.5)) << b.where << " " << b.quantity;
-    EXPECT_EQ(b.p95, Quantile(&v, 0.95)) << b.where << " " << b.quantity;
+    EXPECT_EQ(b.p05, core::QuantileOf(&v, 0.05)) << b.where << " " << b.quantity;
+    EXPECT_EQ(b.median, core::QuantileOf(&v, 0.5)) << b.where << " " << b.quantity;
+    EXPECT_EQ(b.p95, core::QuantileOf(&v, 0.95)) << b.where << " " << b.quantity;
   };
   std::vector<double> runout, passed;
   for (const PosteriorDraw& draw : run.draws) {

@@ -1,6 +1,7 @@
-// The posterior sampler and stage (calibrate/src/posterior.cc) on analytic
-// targets whose posterior is known exactly.
+// The posterior sampler and stage (calibrate/src/mcmc.cc, posterior.cc) on
+// analytic targets whose posterior is known exactly.
 #include "rockcal/calibrate/posterior.h"
+#include "rockcal/core/statistics.h"
 #include "rockcal/calibrate/posterior_draws.h"
 #include "rockcal/core/random.h"
 
@@ -90,9 +91,9 @@ TEST(AdaptiveMetropolis, SamplesAKnownGaussian) {
     for (const auto& s : r.samples) v.push_back(s(k));
     // Monte Carlo tolerance: ~4000 samples with an autocorrelation time of
     // a few steps; 0.15 sd for the median, 0.25 sd for the outer quantiles.
-    EXPECT_NEAR(Quantile(&v, 0.5), mean(k), 0.15 * sd(k)) << "coordinate " << k;
-    EXPECT_NEAR(Quantile(&v, 0.05), mean(k) - 1.645 * sd(k), 0.25 * sd(k)) << "coordinate " << k;
-    EXPECT_NEAR(Quantile(&v, 0.95), mean(k) + 1.645 * sd(k), 0.25 * sd(k)) << "coordinate " << k;
+    EXPECT_NEAR(core::QuantileOf(&v, 0.5), mean(k), 0.15 * sd(k)) << "coordinate " << k;
+    EXPECT_NEAR(core::QuantileOf(&v, 0.05), mean(k) - 1.645 * sd(k), 0.25 * sd(k)) << "coordinate " << k;
+    EXPECT_NEAR(core::QuantileOf(&v, 0.95), mean(k) + 1.645 * sd(k), 0.25 * sd(k)) << "coordinate " << k;
     EXPECT_LT(r.rhat[static_cast<std::size_t>(k)], 1.05);
   }
   EXPECT_GT(r.acceptance, 0.15);

@@ -158,7 +158,7 @@ ReachResult RunReach(const Objective& objective, const ReachOptions& options);
 std::vector<std::string> OutOfReachWarnings(const ReachResult& result);
 
 // reach.json: the design, the rule, one object per statistic and per point
-// (calibrate/src/results_json.cc; reports/ writes the file and reach.csv).
+// (calibrate/src/reach_json.cc; reports/ writes the file and reach.csv).
 void to_json(nlohmann::json& j, const ReachResult& result);
 void from_json(const nlohmann::json& j, ReachResult& result);
 

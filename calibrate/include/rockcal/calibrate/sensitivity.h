@@ -234,7 +234,7 @@ SensitivityResult RunSensitivity(const sites::Site& site,
                                  const observations::Observations* observations,
                                  const SensitivityOptions& options);
 
-// sensitivity.json (calibrate/src/results_json.cc; reports/ writes the file
+// sensitivity.json (calibrate/src/sensitivity_json.cc; reports/ writes the file
 // and its CSV).
 void to_json(nlohmann::json& j, const SensitivityResult& result);
 void from_json(const nlohmann::json& j, SensitivityResult& result);

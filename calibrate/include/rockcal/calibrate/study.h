@@ -46,7 +46,7 @@ enum class StabilityCaseId {
   kRoughest,   // "roughness_max"
   kFast,       // "fast_release_hard"
 };
-// Their names from one table (study.cc's, with how each case's scene is
+// Their names from one table (stability.cc's, with how each case's scene is
 // made) for parsing and printing. StringToStabilityCase returns false (and
 // leaves *id alone) for a name not in the table; StabilityCaseNames lists
 // the names, comma separated; AllStabilityCases the cases in order.

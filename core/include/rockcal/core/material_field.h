@@ -34,6 +34,9 @@ struct MaterialFieldInfo {
   double min, max;
 };
 
+// The SI unit of a field's values in machine-read outputs: "", "m", "s", "Pa".
+const char* SiUnitName(FieldUnit unit);
+
 // Every field, in the order the tables list them.
 const std::vector<MaterialFieldInfo>& MaterialFields();
 

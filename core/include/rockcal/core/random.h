@@ -14,6 +14,7 @@ class RandomStream final {
   std::uint64_t NextU64();
   double Uniform();                      // [0, 1)
   double Uniform(double lo, double hi);  // [lo, hi)
+  std::size_t Index(std::size_t n);      // a whole number in [0, n), n >= 1, from Uniform()
   double Normal();                       // standard normal (Box-Muller)
 
  private:

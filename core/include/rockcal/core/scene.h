@@ -172,7 +172,7 @@ struct Scene {
   // The scanned shapes of the groups (empty without any).
   std::vector<ShapeUse> ScannedShapes() const;
   // An upper estimate of the steps of a run: every rock in contact for
-  // max_time at the shortest contact step of the scene's materials.
+  // max_time at the scene's smallest contact step (SmallestContactStep).
   double EstimatedSteps() const;
   // options.IsValid, 1 to kMaxRocks rocks, and EstimatedSteps() at most
   // kMaxEstimatedSteps; on failure sets *error (value and rule) and returns false.

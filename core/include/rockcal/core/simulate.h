@@ -103,6 +103,15 @@ struct SimulationResult {
 // honours); sets *shrunk when the stability bound is below t_c / N_c.
 double ContactTimeStep(const RockBody& body, const ContactLaw& law, const SimulationOptions& opt,
                        bool* shrunk = nullptr);
+// The smallest contact step (ContactTimeStep) of any rock `group` can release
+// (its lightest and heaviest bodies) on any material of `scene`; sets *shrunk
+// when a stability bound cut one below t_c / N_c. Infinite without materials.
+double GroupContactStep(const Scene& scene, const RockGroup& group, bool* shrunk = nullptr);
+// The smallest contact step of any rock of `scene`: GroupContactStep's least
+// over the groups (infinite without groups or materials). The one place the
+// scene's finest step is worked out (the run-length check, the studies'
+// step caps, `rockcal validate`).
+double SmallestContactStep(const Scene& scene);
 
 // The step of gentle contact (every contact's normal speed below g t_c:
 // rolling, sliding, resting): t_c / gentle_steps_per_contact within the

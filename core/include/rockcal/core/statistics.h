@@ -11,8 +11,12 @@ struct Stats {
 };
 
 // Quantile q in [0, 1] of `sorted` (ascending), linear interpolation between
-// order statistics (type 7). Requires a non-empty vector.
+// order statistics (type 7). Requires a non-empty vector. The project's one
+// quantile: every other quantile of a sample is this one.
 double Quantile(const std::vector<double>& sorted, double q);
+// Quantile of `values` in any order: sorts them in place, then Quantile; NaN
+// when there are none.
+double QuantileOf(std::vector<double>* values, double q);
 // Median of `values` (any order): the middle one of the sorted values, or
 // the mean of the two middle ones; NaN when empty.
 double Median(std::vector<double> values);

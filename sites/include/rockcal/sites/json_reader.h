@@ -12,6 +12,7 @@
 
 #include "rockcal/core/error.h"
 #include "rockcal/core/format.h"
+#include "rockcal/core/material_field.h"
 
 namespace rockcal::sites {
 
@@ -82,6 +83,9 @@ double UnitWeightToSI(double value, Units units);
 double StressToSI(double value, Units units);
 // The files' stress unit: "lbf/ft^2" or "kPa".
 const char* StressUnit(Units units);
+// A material field's value in the file's units -> SI, by the field's unit
+// (core/material_field.h): lengths and stresses converted, the rest as given.
+double FieldToSI(double value, core::FieldUnit unit, Units units);
 
 // Physical plausibility (core/limits.h): fails at `node` unless lo <= value
 // <= hi, all three in SI; `what` names the quantity and `kind` says how to
