@@ -1,20 +1,27 @@
 #include "rockcal/observations/file_keys.h"
 
+#include "kinds/kinds.h"
+
 namespace rockcal::observations {
 
 const std::vector<sites::FileObjectKeys>& ObservationsFileKeys() {
-  static const std::vector<sites::FileObjectKeys> objects = {
-      {"$",
-       {"units", "tree_scars", "runout", "runs", "runs_file", "passing", "passing_file", "error"}},
-      {"$.tree_scars[]", {"partition", "heights", "heights_file", "trees", "trees_file"}},
-      {"$.tree_scars[].trees[]", {"x", "y", "radius", "heights", "heights_file"}},
-      {"$.runout",
-       {"stop_points", "stop_points_file", "distances", "distances_file", "from", "direction",
-        "masses", "mass_classes", "stopped_fraction", "observed_rocks"}},
-      {"$.runs[]", {"id", "group", "stop"}},
-      {"$.passing[]", {"partition", "fraction"}},
-      {"$.error", {"height", "runout", "passing"}},
-  };
+  // "$" holds "units", every kind's keys and "error"; then each kind's
+  // objects, and "$.error" with each kind's measurement error, in table order.
+  static const std::vector<sites::FileObjectKeys> objects = [] {
+    sites::FileObjectKeys root{"$", {"units"}};
+    sites::FileObjectKeys error{"$.error", {}};
+    std::vector<sites::FileObjectKeys> kind_objects;
+    for (const kinds::Kind& kind : kinds::Kinds()) {
+      root.keys.insert(root.keys.end(), kind.root_keys.begin(), kind.root_keys.end());
+      kind_objects.insert(kind_objects.end(), kind.objects.begin(), kind.objects.end());
+      error.keys.insert(error.keys.end(), kind.error_keys.begin(), kind.error_keys.end());
+    }
+    root.keys.push_back("error");
+    std::vector<sites::FileObjectKeys> all{root};
+    all.insert(all.end(), kind_objects.begin(), kind_objects.end());
+    all.push_back(error);
+    return all;
+  }();
   return objects;
 }
 

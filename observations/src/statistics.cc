@@ -1,0 +1,149 @@
+#include "statistics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "rockcal/core/format.h"
+#include "rockcal/observations/misfit.h"
+
+namespace rockcal::observations {
+
+using core::FormatNumber;
+
+double AtPosition(const std::vector<double>& sorted, double k) {
+  const std::size_t n = sorted.size();
+  const double lo = std::floor(k);
+  const std::size_t i = static_cast<std::size_t>(lo);
+  if (i + 1 >= n) return sorted[n - 1];
+  return sorted[i] + (k - lo) * (sorted[i + 1] - sorted[i]);
+}
+
+namespace {
+
+// P(|Z| >= x) for a standard normal Z.
+double TwoSidedTail(double x) { return std::erfc(std::abs(x) / std::sqrt(2.0)); }
+
+// P(K >= k) for K ~ Binomial(n, p), 0 < p < 1.
+double BinomialTail(int n, int k, double p) {
+  if (k <= 0) return 1.0;
+  if (k > n) return 0.0;
+  double sum = 0.0;
+  for (int j = k; j <= n; ++j)
+    sum += std::exp(std::lgamma(n + 1.0) - std::lgamma(j + 1.0) - std::lgamma(n - j + 1.0) +
+                    j * std::log(p) + (n - j) * std::log1p(-p));
+  return std::min(1.0, sum);
+}
+
+std::string Chance(double p) {
+  return p < 1e-4 ? "< 0.01 %" : FormatNumber(100.0 * p, "%.2g") + " %";
+}
+
+}  // namespace
+
+std::string FitVerdict::Sentence() const {
+  if (penalised) return "poor: the misfit was penalised (see its message)";
+  if (outside.empty() && !poor && !fair)
+    return "good: every compared quantity (" + std::to_string(compared) + ") within 2 sigma";
+  std::string s = std::string(poor   ? "poor"
+                              : fair ? "fair"
+                                     : "good") +
+                  ": " + std::to_string(outside.size()) + " of " + std::to_string(compared) +
+                  " compared quantities outside 2 sigma";
+  const std::string chances = "at least as many with probability " + Chance(count_chance) +
+                              ", a largest as far with probability " + Chance(largest_chance);
+  s += poor || fair ? " (a correct model gives " + chances + ")"
+                    : ", as a correct model gives (" + chances + ")";
+  for (std::size_t k = 0; k < outside.size() && k < 3; ++k)
+    s += (k ? "; " : ", the worst ") + outside[k];
+  return s;
+}
+
+FitVerdict AssessFit(const Misfit& misfit) {
+  FitVerdict v;
+  v.compared = static_cast<int>(misfit.residuals.size());
+  v.penalised = misfit.penalised;
+  std::vector<const Residual*> far;
+  double largest = 0.0;
+  for (const Residual& r : misfit.residuals) {
+    if (std::abs(r.value) > 2.0) far.push_back(&r);
+    largest = std::max(largest, std::abs(r.value));
+  }
+  std::sort(far.begin(), far.end(), [](const Residual* a, const Residual* b) {
+    return std::abs(a->value) > std::abs(b->value);
+  });
+  for (const Residual* r : far) {
+    char line[160];
+    std::snprintf(line, sizeof line, ": simulated %.3g against %.3g observed (%+.1f sigma)",
+                  r->simulated, r->observed, r->value);
+    v.outside.push_back(r->id.observation() + " " + r->id.quantity() + line);
+  }
+  if (v.compared > 0) {
+    v.count_chance = BinomialTail(v.compared, static_cast<int>(far.size()), TwoSidedTail(2.0));
+    // 1 - (1 - q)^N without cancellation for a small q.
+    v.largest_chance = -std::expm1(v.compared * std::log1p(-TwoSidedTail(largest)));
+  }
+  const double chance = std::min(v.count_chance, v.largest_chance);
+  v.poor = misfit.penalised || chance < FitVerdict::kPoorChance;
+  v.fair = !v.poor && chance < FitVerdict::kFairChance;
+  return v;
+}
+
+double QuantileStandardError(const std::vector<double>& sorted, double level) {
+  const std::size_t n = sorted.size();
+  if (n < 2) return 0.0;
+  const double last = static_cast<double>(n - 1);
+  const double centre = last * level;
+  const double half = std::sqrt(static_cast<double>(n) * level * (1.0 - level));
+  const double lo = std::clamp(centre - half, 0.0, last);
+  const double hi = std::clamp(centre + half, 0.0, last);
+  return 0.5 * (AtPosition(sorted, hi) - AtPosition(sorted, lo));
+}
+
+double MaxStandardError(const std::vector<double>& sorted) {
+  const std::size_t n = sorted.size();
+  if (n < 2) return 0.0;
+  const std::size_t j = std::clamp<std::size_t>(n / 10, 1, n - 1);
+  const double threshold = sorted[n - 1 - j];
+  double excess = 0.0;
+  for (std::size_t i = n - j; i < n; ++i) excess += sorted[i] - threshold;
+  return std::max(sorted[n - 1] - sorted[n - 2], excess / static_cast<double>(j));
+}
+
+double MaxOrderPosition(std::size_t simulated, std::size_t observed) {
+  const double n = static_cast<double>(simulated), m = static_cast<double>(observed);
+  // P_k for k = 1, 2, ...: the chance that the k-th largest simulated value
+  // exceeds the observed maximum; it falls with k, to 0 at k = n + 1.
+  double before = 1.0, p = n / (n + m);
+  double k = 1.0;
+  while (p > 0.5) {
+    before = p;
+    p *= (n - k) / (n + m - k);
+    k += 1.0;
+  }
+  if (k == 1.0) return n - 1.0;
+  // P_{k-1} = before > 1/2 >= P_k = p.
+  return n - (k - 1.0 + (before - 0.5) / (before - p));
+}
+
+double OrderStatisticError(const std::vector<double>& sorted, double position) {
+  const std::size_t n = sorted.size();
+  if (n < 2) return 0.0;
+  const double last = static_cast<double>(n - 1);
+  const double p = std::clamp(position / last, 0.0, 1.0);
+  const double h = std::max(1.0, std::sqrt(static_cast<double>(n) * p * (1.0 - p)));
+  const double lo = std::clamp(position - h, 0.0, last);
+  const double hi = std::clamp(position + h, 0.0, last);
+  return hi > lo ? h * (AtPosition(sorted, hi) - AtPosition(sorted, lo)) / (hi - lo) : 0.0;
+}
+
+std::string LevelName(double level) {
+  const double percent = 100.0 * level;
+  const double rounded = std::round(percent);
+  if (std::abs(percent - rounded) < 1e-9) {
+    return "p" + std::to_string(static_cast<long>(rounded));
+  }
+  return "p" + FormatNumber(percent, "%.6g");
+}
+
+}  // namespace rockcal::observations
