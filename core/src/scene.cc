@@ -42,12 +42,14 @@ double Scene::EstimatedSteps() const {
   double dt = INFINITY;
   for (const Material& m : materials)
     dt = std::min(dt, DeriveContactLaw(m, hardness_model).contact_time / options.steps_per_contact);
+  if (!forest.empty()) dt = std::min(dt, forest.contact.contact_time / options.steps_per_contact);
   if (materials.empty()) return 0.0;
   return static_cast<double>(total_rocks()) * options.max_time / dt;
 }
 
 bool Scene::IsValid(std::string* error) const {
   if (!options.IsValid(error)) return false;
+  if (!forest.IsValid(error)) return false;
   const int rocks = total_rocks();
   if (rocks < 1 || rocks > kMaxRocks) {
     *error = "the run has " + std::to_string(rocks) + " rocks; expected 1 to " +
