@@ -756,6 +756,7 @@ SimulationResult SimulateStridedRocks(const Scene& scene, const Terrain& terrain
     result.figures += RunFigures::OfRock(result.rocks[k], shrunk[k] != 0);
   for (double b : busy) result.busy_seconds += b;
   result.cells_recorded = scene.options.record.passages;
+  result.strikes_recorded = scene.options.record.tree_strikes && !scene.forest.empty();
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
@@ -819,6 +820,7 @@ SimulationResult JoinRockBlocks(std::vector<SimulationResult> blocks) {
     out.wall_seconds = std::max(out.wall_seconds, b.wall_seconds);
     out.busy_seconds += b.busy_seconds;
     out.cells_recorded = out.cells_recorded || b.cells_recorded;
+    out.strikes_recorded = out.strikes_recorded || b.strikes_recorded;
     if (b.rocks.empty()) continue;
     out.figures += b.figures;
     if (out.rocks.empty()) {

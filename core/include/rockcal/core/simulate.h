@@ -110,6 +110,7 @@ struct SimulationResult {
   // schedule kept every thread busy (1: no thread waited for another).
   double busy_seconds = 0.0;
   bool cells_recorded = false;  // RecordOptions::passages was on: RockRecord::cells hold the paths
+  bool strikes_recorded = false;  // RecordOptions::tree_strikes was on in a forest: RockRecord::strikes hold them
   int count(Outcome o) const;
 };
 
