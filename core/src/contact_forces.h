@@ -98,6 +98,7 @@ class ContactForces {
     deepest_ = 0.0;
     next_.clear();
     hit_forces_.clear();
+    hit_springs_.clear();
     Load load;
     Eigen::Vector3d rolling = Eigen::Vector3d::Zero();  // before its limit
     const double norm = OverlapNorm();
@@ -159,6 +160,11 @@ class ContactForces {
   std::size_t hits() const { return hits_.size(); }
   const TerrainContact& hit(std::size_t i) const { return hits_[i].contact; }
   const Eigen::Vector3d& hit_force(std::size_t i) const { return hit_forces_[i]; }
+  // (KeepForces) The energy in contact i's springs after the last Step [J].
+  double hit_spring(std::size_t i) const { return hit_springs_[i]; }
+  // Contacts whose springs held `energy` are gone since the last Step (a
+  // stem broke): spring_energy() no longer counts it.
+  void ForgetSpringEnergy(double energy) { spring_energy_ -= energy; }
 
  private:
   static constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -302,7 +308,9 @@ class ContactForces {
       const double lever = single_element_ ? body_.element_radius : RollingLever(roll, arm);
       *rolling += RollingResistanceTorque(law.rolling_resistance, lever, kn * c.overlap, roll);
     }
-    spring_energy_ += 0.5 * kn * c.overlap * c.overlap + 0.5 * ks * u.squaredNorm();
+    const double spring = 0.5 * kn * c.overlap * c.overlap + 0.5 * ks * u.squaredNorm();
+    if (keep_forces_) hit_springs_.push_back(spring);
+    spring_energy_ += spring;
     next_.push_back({c.key, e, u});
     deepest_ = std::max(deepest_, c.overlap);
   }
@@ -348,6 +356,7 @@ class ContactForces {
   bool sliding_ = false;
   bool keep_forces_ = false;
   std::vector<Eigen::Vector3d> hit_forces_;  // per hit of the last Step (KeepForces)
+  std::vector<double> hit_springs_;          // per hit of the last Step (KeepForces)
 };
 
 }  // namespace rockcal::core

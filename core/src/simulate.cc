@@ -356,6 +356,7 @@ class RockRun {
     double absorbed = 0.0;  // J
     Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
     Eigen::Vector3d force_now = Eigen::Vector3d::Zero(), torque_now = Eigen::Vector3d::Zero();
+    double spring_now = 0.0;    // J, in its contacts' springs at this step
     bool touched = false;       // at this step
     bool open = false;          // a strike is under way
     double strike_start = 0.0;  // absorbed when it began
@@ -399,6 +400,7 @@ class RockRun {
       l.touched = false;
       l.force_now.setZero();
       l.torque_now.setZero();
+      l.spring_now = 0.0;
     }
     for (std::size_t i = 0; i < forces_.hits(); ++i) {
       const TerrainContact& c = forces_.hit(i);
@@ -407,6 +409,7 @@ class RockRun {
       l.touched = true;
       l.force_now += forces_.hit_force(i);
       l.torque_now += (c.point - s_.x).cross(forces_.hit_force(i));
+      l.spring_now += forces_.hit_spring(i);
       if (!l.open) OpenStrike(&l, c);
     }
     for (StemLoad& l : loads_) {
@@ -440,6 +443,7 @@ class RockRun {
     alpha_ -= WorldInverseInertia(l->torque_now);
     l->force_now.setZero();
     l->torque_now.setZero();
+    forces_.ForgetSpringEnergy(l->spring_now);  // counted in the capacity
     stems_.Break(l->stem);
     CloseStrike(l, true);
   }

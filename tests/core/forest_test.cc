@@ -121,6 +121,7 @@ TEST(Forest, StrikeAboveCapacityPassesWithItsEnergyLessTheCapacity) {
         << "lost " << before - after << " J, capacity " << capacity << " J";
     EXPECT_GT(At(r, 0.4).x.x(), 20.5);  // through the stem's place
     EXPECT_EQ(r.strikes.size(), 1u);    // broken for this rock: not struck again
+    EXPECT_LT(r.max_relative_energy_gain, 1e-3) << "energy gain";
   }
 }
 
