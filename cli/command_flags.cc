@@ -7,7 +7,7 @@ namespace rockcal::cli {
 const std::vector<CommandFlags>& AllCommandFlags() {
   static const std::vector<CommandFlags> table = {
       {"simulate",
-       {"force", "quiet", "rasters", "point-values"},
+       {"force", "quiet", "rasters", "point-values", "no-forest"},
        {"rocks", "seed", "set", "parameters", "draws", "trajectories", "sample-seconds", "threads",
         "out"},
        {"set"}},

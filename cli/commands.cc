@@ -19,6 +19,7 @@
 #include "rockcal/core/simulate.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/parallel/parallel.h"
+#include "rockcal/reports/forest_outputs.h"
 #include "rockcal/reports/html_report.h"
 #include "rockcal/reports/output_dir.h"
 #include "rockcal/reports/raster_outputs.h"
@@ -132,6 +133,7 @@ core::Scene SimulateScene(const Args& args, const SimulateInputs& in,
   if (args.Has("seed"))
     scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
   scene.options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+  if (args.Flag("no-forest")) scene.forest = core::Forest{};
   scene.options.record = calibrate::RecordingFor(scene, in.needs);
   return scene;
 }
@@ -174,6 +176,18 @@ nlohmann::json ParametersUsed(const SimulateInputs& in,
           {"posterior", in.parameters->has_posterior()}};
 }
 
+// tree_impacts.csv and, for stems drawn from stands, trees.csv (site units).
+void WriteForestFiles(const RankOutputDir& dir, const sites::Site& site,
+                      const core::SimulationResult& result) {
+  const double to_site = 1.0 / sites::LengthToSI(1.0, site.units);
+  reports::WriteFileAtomically(dir.File("tree_impacts.csv"),
+                               reports::TreeImpactsCsv(result, to_site));
+  if (site.drawn_stems_first < site.scene.forest.stems.size())
+    reports::WriteFileAtomically(
+        dir.File("trees.csv"),
+        reports::TreesCsv(site.scene.forest, site.drawn_stems_first, to_site));
+}
+
 // The console's lines on a simulate run.
 void PrintSimulate(const Args& args, const SimulateInputs& in, const core::Scene& scene,
                    const core::SimulationResult& result,
@@ -190,9 +204,12 @@ void PrintSimulate(const Args& args, const SimulateInputs& in, const core::Scene
   else if (in.parameters)
     std::printf("parameters: the point values of %s%s\n", in.parameters->file.c_str(),
                 in.parameters->has_posterior() ? " (--point-values: its posterior not drawn)" : "");
-  std::printf("wrote %s/summary.json, rocks.csv, diagnostics.json, report.html%s%s%s\n",
+  std::printf("wrote %s/summary.json, rocks.csv, diagnostics.json, report.html%s%s%s%s\n",
               args.Get("out").c_str(),
               scene.options.record.trajectories > 0 ? ", trajectories.csv" : "",
+              scene.forest.empty()                              ? ""
+              : site.drawn_stems_first < scene.forest.stems.size() ? ", tree_impacts.csv, trees.csv"
+                                                                   : ", tree_impacts.csv",
               run ? ", draws.csv" : "", RastersWritten(args.Flag("rasters"), site).c_str());
 }
 
@@ -221,6 +238,7 @@ int Simulate(const std::vector<std::string>& argv) {
   calibrate::RecordingNeeds report_needs = in.needs;
   report_needs.report = true;
   recorded.options.record = calibrate::RecordingFor(scene, report_needs);
+  recorded.options.record.tree_strikes = !scene.forest.empty();
   std::optional<calibrate::PosteriorRun> run;
   const core::SimulationResult result = RunSimulate(args, in, scene, recorded, &progress, &run);
   // One set of maps for rasters.tif and the report's plan view.
@@ -229,6 +247,7 @@ int Simulate(const std::vector<std::string>& argv) {
     for (const core::RasterBand& b : run->raster_bands) rasters.bands.push_back(b);
   reports::WriteSimulationFiles(dir.folder(), scene, result, ParametersUsed(in, run));
   if (run) reports::WriteFileAtomically(dir.File("draws.csv"), calibrate::DrawsCsv(*run));
+  if (!scene.forest.empty()) WriteForestFiles(dir, site, result);
   if (args.Flag("rasters") || site.gis)
     reports::WriteRasterFiles(dir.folder(), rasters, SiteRasterFrame(site));
   reports::ReportInput report = SiteReport(site, scene, result, &rasters);

@@ -74,6 +74,10 @@ class ContactForces {
     next_.reserve(16);
   }
 
+  // Keep each contact's force of a Step (hit_force), for a caller that
+  // needs them apart (the trunks of a forest, simulate.cc); off by default.
+  void KeepForces(bool keep) { keep_forces_ = keep; }
+
   // The contacts of the step to come: element e touches as c says.
   void Clear() { hits_.clear(); }
   void Add(const TerrainContact& c, int e) { hits_.push_back({c, e}); }
@@ -93,6 +97,8 @@ class ContactForces {
     spring_energy_ = 0.0;
     deepest_ = 0.0;
     next_.clear();
+    hit_forces_.clear();
+    hit_springs_.clear();
     Load load;
     Eigen::Vector3d rolling = Eigen::Vector3d::Zero();  // before its limit
     const double norm = OverlapNorm();
@@ -149,6 +155,16 @@ class ContactForces {
   double spring_energy() const { return spring_energy_; }
   // The deepest overlap of the last Step's contacts [m] (0 without).
   double deepest() const { return deepest_; }
+  // The last Step's contacts in the order added, and (KeepForces) each
+  // one's force on the rock [N].
+  std::size_t hits() const { return hits_.size(); }
+  const TerrainContact& hit(std::size_t i) const { return hits_[i].contact; }
+  const Eigen::Vector3d& hit_force(std::size_t i) const { return hit_forces_[i]; }
+  // (KeepForces) The energy in contact i's springs after the last Step [J].
+  double hit_spring(std::size_t i) const { return hit_springs_[i]; }
+  // Contacts whose springs held `energy` are gone since the last Step (a
+  // stem broke): spring_energy() no longer counts it.
+  void ForgetSpringEnergy(double energy) { spring_energy_ -= energy; }
 
  private:
   static constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -278,6 +294,7 @@ class ContactForces {
     // At the Coulomb cap, or carrying no load: the contact does not hold the rock.
     if (!(ft.norm() < law.friction * fn)) sliding_ = true;
     const Eigen::Vector3d f = fn * c.normal + ft;
+    if (keep_forces_) hit_forces_.push_back(f);
     load->force += f;
     load->torque += arm.cross(f);
     // Rolling resistance against rolling, not spin about this contact's
@@ -291,7 +308,9 @@ class ContactForces {
       const double lever = single_element_ ? body_.element_radius : RollingLever(roll, arm);
       *rolling += RollingResistanceTorque(law.rolling_resistance, lever, kn * c.overlap, roll);
     }
-    spring_energy_ += 0.5 * kn * c.overlap * c.overlap + 0.5 * ks * u.squaredNorm();
+    const double spring = 0.5 * kn * c.overlap * c.overlap + 0.5 * ks * u.squaredNorm();
+    if (keep_forces_) hit_springs_.push_back(spring);
+    spring_energy_ += spring;
     next_.push_back({c.key, e, u});
     deepest_ = std::max(deepest_, c.overlap);
   }
@@ -335,6 +354,9 @@ class ContactForces {
   double spring_energy_ = 0.0, spring_before_ = 0.0;
   double deepest_ = 0.0;
   bool sliding_ = false;
+  bool keep_forces_ = false;
+  std::vector<Eigen::Vector3d> hit_forces_;  // per hit of the last Step (KeepForces)
+  std::vector<double> hit_springs_;          // per hit of the last Step (KeepForces)
 };
 
 }  // namespace rockcal::core

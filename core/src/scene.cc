@@ -47,6 +47,7 @@ double Scene::EstimatedSteps() const {
 
 bool Scene::IsValid(std::string* error) const {
   if (!options.IsValid(error)) return false;
+  if (!forest.IsValid(error)) return false;
   const int rocks = total_rocks();
   if (rocks < 1 || rocks > kMaxRocks) {
     *error = "the run has " + std::to_string(rocks) + " rocks; expected 1 to " +

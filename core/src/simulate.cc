@@ -22,6 +22,7 @@
 #include "rockcal/core/contact.h"
 #include "rockcal/core/polygon.h"
 #include "rockcal/core/random.h"
+#include "stems.h"
 
 namespace rockcal::core {
 namespace {
@@ -49,12 +50,17 @@ struct SceneContext {
   const Terrain& terrain;
   std::vector<ContactLaw> laws;
   Eigen::Vector3d gravity;
-  double max_contact_time = 0.0;      // longest contact time of the scene's materials
+  double max_contact_time = 0.0;  // longest contact time of the scene's materials
+  // The forest's stems (empty without one) and the index of the trunks'
+  // contact law in `laws` (after the materials'; -1 without a forest).
+  StemGrid stems;
+  int trunk_material = -1;
 };
 
 // One rock, from release to its outcome. kCluster selects the rigid-cluster
 // path (orientation, full inertia); spheres carry no orientation work.
-template <bool kCluster>
+// kForest: the scene has stems (stems.h); a bare scene does no forest work.
+template <bool kCluster, bool kForest>
 class RockRun {
  public:
   // steps: the rock's contact steps per material.
@@ -71,9 +77,11 @@ class RockRun {
               ctx.max_contact_time),
         search_(ctx.terrain, body, !opt_.reference_path),
         look_ahead_(ctx.terrain, body, ctx.gravity),
-        forces_(ctx.laws, body, steps, ctx.gravity) {
+        forces_(ctx.laws, body, steps, ctx.gravity),
+        stems_(ctx.stems, body.bounding_radius) {
     inv_inertia_ = body.inertia.cwiseInverse();
     g_ = ctx.gravity.norm();
+    if constexpr (kForest) forces_.KeepForces(true);
   }
 
   // The loop of docs/design.md: advance (an exact flight while nothing is near,
@@ -162,11 +170,14 @@ class RockRun {
     rec_->max_penetration =
         std::max(rec_->max_penetration, forces_.deepest() / body_.element_radius);
     if (dt > dt_) ++rec_->gentle_steps;
+    if constexpr (kForest) StemWork(dt);
   }
   // The step the last step's contacts ask for, or the local one without.
   double NextStep() const { return forces_.touching() ? forces_.needed_dt() : dt_; }
 
   void Finish(Outcome outcome) {
+    if constexpr (kForest)
+      for (StemLoad& l : loads_) CloseStrike(&l, false);
     rec_->outcome = outcome;
     rec_->stop = s_.x;
     rec_->time = s_.t;
@@ -203,8 +214,15 @@ class RockRun {
   }
 
   // Longest time the rock can fly freely from s_ without touching anything
-  // (flight.h).
+  // (flight.h): the terrain's, cut where it may reach a trunk (stems.h).
   double FlightTime() {
+    const double tau = TerrainFlightTime();
+    if constexpr (kForest) {
+      if (tau > 0.0) return stems_.FlightTime(s_, tau, g_);
+    }
+    return tau;
+  }
+  double TerrainFlightTime() {
     const double tau = CeilingFlightTime(ctx_.terrain, s_, body_.bounding_radius, g_);
     if (tau > 4.0 * dt_) return tau;
     return std::max(tau, NearFlightTime());
@@ -233,9 +251,9 @@ class RockRun {
   // tolerance: the dashpot resists the approach from the first instant of
   // contact, so the trapezoidal step does not miss the onset impulse.
   void PrimeLanding() {
-    const double tol = (kMinFlight / kFlightReach) * dt_ *
-                           (s_.v.norm() + s_.w.norm() * body_.bounding_radius) +
-                       1e-12 * body_.element_radius;
+    const double tol =
+        (kMinFlight / kFlightReach) * dt_ * (s_.v.norm() + s_.w.norm() * body_.bounding_radius) +
+        1e-12 * body_.element_radius;
     const Eigen::Matrix3d rot = Rotation();
     // The neighbourhood where the flight ended (a new one if it left the
     // old one), and the floor where it is within the tolerance's reach. The
@@ -282,9 +300,11 @@ class RockRun {
     for (int n : search_.near()) take(n);
     const double w = body_.bounding_radius + search_.skin();
     const int i0 = std::max(0, static_cast<int>(std::floor((s_.x.x() - w - g.x0) / g.spacing)));
-    const int i1 = std::min(g.nx - 1, static_cast<int>(std::ceil((s_.x.x() + w - g.x0) / g.spacing)));
+    const int i1 =
+        std::min(g.nx - 1, static_cast<int>(std::ceil((s_.x.x() + w - g.x0) / g.spacing)));
     const int j0 = std::max(0, static_cast<int>(std::floor((s_.x.y() - w - g.y0) / g.spacing)));
-    const int j1 = std::min(g.ny - 1, static_cast<int>(std::ceil((s_.x.y() + w - g.y0) / g.spacing)));
+    const int j1 =
+        std::min(g.ny - 1, static_cast<int>(std::ceil((s_.x.y() + w - g.y0) / g.spacing)));
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) take(g.index(i, j));
     return std::isfinite(dt) ? dt : steps_.finest;
@@ -312,11 +332,154 @@ class RockRun {
       if (!found) continue;
       for (const TerrainContact& c : *found) forces_.Add(c, static_cast<int>(e));
     }
+    if constexpr (kForest) {
+      AddStemContacts(rot);
+      v_half_ = v_half;
+      w_half_ = w_half;
+    }
     const auto load = forces_.Step(s_.x, v_half, w_half, dt, rot);
     a_ = ctx_.gravity + load.force / body_.mass;
     alpha_ = AngularAcceleration(load.torque, w_pred, rot);
     s_.v = v_half + 0.5 * dt * a_;
     s_.w = w_half + 0.5 * dt * alpha_;
+  }
+
+  // ---- the forest (kForest only; docs/physics.md, "Trees") ----------------
+
+  // What the rock did to one stem it touched: the work the trunk's force
+  // took from it over its whole run (the stem breaks for this rock when that
+  // reaches its capacity), the trunk's force and torque (about the centre)
+  // at the last step and at this one (zero where it did not touch), and its
+  // strike under way.
+  struct StemLoad {
+    int stem = 0;
+    double absorbed = 0.0;  // J
+    Eigen::Vector3d force = Eigen::Vector3d::Zero(), torque = Eigen::Vector3d::Zero();
+    Eigen::Vector3d force_now = Eigen::Vector3d::Zero(), torque_now = Eigen::Vector3d::Zero();
+    double spring_now = 0.0;    // J, in its contacts' springs at this step
+    bool touched = false;       // at this step
+    bool open = false;          // a strike is under way
+    double strike_start = 0.0;  // absorbed when it began
+    int record = -1;            // its row in rec_->strikes (-1: not recorded)
+  };
+
+  StemLoad& LoadOf(int stem) {
+    for (StemLoad& l : loads_)
+      if (l.stem == stem) return l;
+    loads_.push_back(StemLoad{});
+    loads_.back().stem = stem;
+    return loads_.back();
+  }
+
+  // The contacts of the rock's elements with the trunks within reach.
+  void AddStemContacts(const Eigen::Matrix3d& rot) {
+    stems_.Update(s_.x);
+    if (stems_.near().empty()) return;
+    TerrainContact c;
+    for (std::size_t e = 0; e < body_.elements.size(); ++e) {
+      Eigen::Vector3d centre = s_.x;
+      if constexpr (kCluster) centre += rot * body_.elements[e];
+      for (int k : stems_.near())
+        if (stems_.Contact(centre, body_.element_radius, k, ctx_.trunk_material, &c))
+          forces_.Add(c, static_cast<int>(e));
+    }
+  }
+
+  // After a contact step of dt: the work each touched trunk's force did on
+  // the rock over the step (trapezoidal in its force and torque, with the
+  // half-step velocity and spin: exact for a linear spring), the strikes
+  // begun and ended, and a stem whose capacity is reached broken (Break).
+  void StemWork(double dt) {
+    if (loads_.empty()) {  // nothing touched yet: only a trunk contact now matters
+      bool trunk = false;
+      for (std::size_t i = 0; i < forces_.hits() && !trunk; ++i)
+        trunk = forces_.hit(i).material == ctx_.trunk_material;
+      if (!trunk) return;
+    }
+    for (StemLoad& l : loads_) {
+      l.touched = false;
+      l.force_now.setZero();
+      l.torque_now.setZero();
+      l.spring_now = 0.0;
+    }
+    for (std::size_t i = 0; i < forces_.hits(); ++i) {
+      const TerrainContact& c = forces_.hit(i);
+      if (c.material != ctx_.trunk_material) continue;
+      StemLoad& l = LoadOf(static_cast<int>(c.key - kStemKey));
+      l.touched = true;
+      l.force_now += forces_.hit_force(i);
+      l.torque_now += (c.point - s_.x).cross(forces_.hit_force(i));
+      l.spring_now += forces_.hit_spring(i);
+      if (!l.open) OpenStrike(&l, c);
+    }
+    for (StemLoad& l : loads_) {
+      if (l.touched) {
+        const Eigen::Vector3d f = 0.5 * (l.force + l.force_now);
+        const Eigen::Vector3d t = 0.5 * (l.torque + l.torque_now);
+        const double work = -dt * (f.dot(v_half_) + t.dot(w_half_));
+        l.absorbed += work;
+        if (work > 0.0 && l.absorbed >= ctx_.stems.stem(l.stem).capacity) Break(&l, dt, f, t, work);
+      } else if (l.open) {
+        CloseStrike(&l, false);
+      }
+      l.force = l.force_now;
+      l.torque = l.torque_now;
+    }
+  }
+
+  // The stem of l breaks for this rock within the last step (of dt, mean
+  // trunk force f and torque t, work `work`): the share of the step's
+  // impulse that took the work beyond the capacity is given back, and the
+  // trunk's force at the step's end is taken out of the accelerations, so
+  // the rock passes with its energy less the capacity.
+  void Break(StemLoad* l, double dt, const Eigen::Vector3d& f, const Eigen::Vector3d& t,
+             double work) {
+    const double capacity = ctx_.stems.stem(l->stem).capacity;
+    const double back = std::clamp((l->absorbed - capacity) / work, 0.0, 1.0);
+    l->absorbed = capacity;
+    s_.v -= (back * dt / body_.mass) * f;
+    s_.w -= back * dt * WorldInverseInertia(t);
+    a_ -= l->force_now / body_.mass;
+    alpha_ -= WorldInverseInertia(l->torque_now);
+    l->force_now.setZero();
+    l->torque_now.setZero();
+    forces_.ForgetSpringEnergy(l->spring_now);  // counted in the capacity
+    stems_.Break(l->stem);
+    CloseStrike(l, true);
+  }
+
+  // The angular acceleration of torque t alone (without the gyroscopic term).
+  Eigen::Vector3d WorldInverseInertia(const Eigen::Vector3d& t) const {
+    if constexpr (kCluster) {
+      const Eigen::Matrix3d rot = Rotation();
+      return rot * inv_inertia_.cwiseProduct(rot.transpose() * t);
+    }
+    return t * inv_inertia_.x();
+  }
+
+  // A strike of l's stem begins at this step (c: the first of its contacts).
+  void OpenStrike(StemLoad* l, const TerrainContact& c) {
+    l->open = true;
+    l->strike_start = l->absorbed;
+    if (!opt_.record.tree_strikes) return;
+    TreeStrike t;
+    t.tree = l->stem;
+    t.point = s_.x;
+    t.height = c.point.z() - ctx_.stems.foot(l->stem);
+    t.speed = s_.v.norm();
+    t.energy = KineticEnergy(s_);
+    l->record = static_cast<int>(rec_->strikes.size());
+    rec_->strikes.push_back(t);
+  }
+  // The strike of l ends (broken: its stem broke).
+  void CloseStrike(StemLoad* l, bool broken) {
+    if (!l->open) return;
+    l->open = false;
+    if (l->record < 0) return;
+    TreeStrike& t = rec_->strikes[static_cast<std::size_t>(l->record)];
+    t.absorbed = l->absorbed - l->strike_start;
+    t.broken = broken;
+    l->record = -1;
   }
 
   const SceneContext& ctx_;
@@ -327,7 +490,7 @@ class RockRun {
   // advances, the flight look-ahead and the landing. The scene's finest until
   // the first neighbourhood, and always on the reference path.
   double dt_;
-  const bool exact_flight_;                // off on the reference path
+  const bool exact_flight_;  // off on the reference path
   RockRecord* rec_;
   Recorder recorder_;  // what the record keeps of the path (recording.h)
   RockEnds ends_;      // rest, the run's ends and the energy check (rest.h)
@@ -335,16 +498,20 @@ class RockRun {
   Eigen::Vector3d a_, alpha_;  // accelerations at the current state
   Eigen::Vector3d inv_inertia_;
   double g_ = 0.0;
-  bool landing_ = false;  // the last advance was a flight
+  bool landing_ = false;            // the last advance was a flight
   ContactSearch<kCluster> search_;  // neighbour lists and contact detection (contact_search.h)
   FlightLookAhead<kCluster> look_ahead_;  // the flight near the ground (look_ahead.h)
   ContactForces<kCluster> forces_;  // the contact law on the step's contacts (contact_forces.h)
+  StemSearch stems_;                // the stems within reach (kForest; stems.h)
+  std::vector<StemLoad> loads_;     // the stems the rock has touched (kForest)
+  Eigen::Vector3d v_half_ = Eigen::Vector3d::Zero(),
+                  w_half_ = Eigen::Vector3d::Zero();  // of the last Step
 };
 
 // Release: a random point of the zone, a random size and orientation, then
 // placed so the lowest point is `height` above every obstacle.
 RockState ReleaseRock(const SceneContext& ctx, const RockGroup& group, const RockBody& body,
-              RandomStream* rng, double u_pos[2], Eigen::Quaterniond q) {
+                      RandomStream* rng, double u_pos[2], Eigen::Quaterniond q) {
   RockState s;
   const core::Release& rel = group.release;
   double x = rel.point.x(), y = rel.point.y();
@@ -367,7 +534,8 @@ RockState ReleaseRock(const SceneContext& ctx, const RockGroup& group, const Roc
   s.q = q;
   const Eigen::Matrix3d rot = s.q.toRotationMatrix();
   double lowest = kInf;
-  for (const auto& e : body.elements) lowest = std::min(lowest, (rot * e).z() - body.element_radius);
+  for (const auto& e : body.elements)
+    lowest = std::min(lowest, (rot * e).z() - body.element_radius);
   double ground = 0.0;
   ctx.terrain.Elevation(x, y, &ground);
   // A surveyed drop elevation, but never below the ground.
@@ -449,11 +617,14 @@ double GroupContactStep(const Scene& scene, const RockGroup& group, bool* shrunk
   const GroupExtent extent = GroupBodies(group, scene.gravity);
   double dt = kInf;
   bool any = false;
+  std::vector<ContactLaw> laws;
+  for (const Material& m : scene.materials)
+    laws.push_back(DeriveContactLaw(m, scene.hardness_model));
+  if (!scene.forest.empty()) laws.push_back(scene.forest.Law());  // the trunks'
   for (const RockBody* body : {&extent.lightest, &extent.heaviest}) {
-    for (const Material& m : scene.materials) {
+    for (const ContactLaw& law : laws) {
       bool sh = false;
-      dt = std::min(dt, ContactTimeStep(*body, DeriveContactLaw(m, scene.hardness_model),
-                                        scene.options, &sh));
+      dt = std::min(dt, ContactTimeStep(*body, law, scene.options, &sh));
       any = any || sh;
     }
   }
@@ -515,10 +686,17 @@ namespace {
 SimulationResult SimulateStridedRocks(const Scene& scene, const Terrain& terrain, int first,
                                       int last, int stride, const ProgressFn& progress) {
   const auto start = std::chrono::steady_clock::now();
-  SceneContext ctx{scene, terrain, {}, Eigen::Vector3d(0, 0, -scene.gravity)};
+  SceneContext ctx{scene, terrain, {}, Eigen::Vector3d(0, 0, -scene.gravity), 0.0, {}, -1};
   for (const auto& m : scene.materials) {
     ctx.laws.push_back(DeriveContactLaw(m, scene.hardness_model));
     ctx.max_contact_time = std::max(ctx.max_contact_time, m.contact_time_s);
+  }
+  if (!scene.forest.empty()) {  // decided once per run: a bare scene does no forest work
+    ctx.stems = StemGrid(scene.forest, terrain);
+    if (!ctx.stems.empty()) {
+      ctx.trunk_material = static_cast<int>(ctx.laws.size());
+      ctx.laws.push_back(scene.forest.Law());
+    }
   }
   struct Job {
     int group;
@@ -564,10 +742,9 @@ SimulationResult SimulateStridedRocks(const Scene& scene, const Terrain& terrain
     const double u_size = rng.Uniform();
     double u_pos[2] = {rng.Uniform(), rng.Uniform()};
     const double u1 = rng.Uniform(), u2 = rng.Uniform(), u3 = rng.Uniform();
-    const Eigen::Quaterniond drawn(std::sqrt(1 - u1) * std::sin(2 * kPi * u2),
-                               std::sqrt(1 - u1) * std::cos(2 * kPi * u2),
-                               std::sqrt(u1) * std::sin(2 * kPi * u3),
-                               std::sqrt(u1) * std::cos(2 * kPi * u3));
+    const Eigen::Quaterniond drawn(
+        std::sqrt(1 - u1) * std::sin(2 * kPi * u2), std::sqrt(1 - u1) * std::cos(2 * kPi * u2),
+        std::sqrt(u1) * std::sin(2 * kPi * u3), std::sqrt(u1) * std::cos(2 * kPi * u3));
     const Eigen::Quaterniond q = group.release.orientation.value_or(drawn);
     const RockBody body = GroupRockBody(group, job.in_group, u_size, scene.gravity);
     bool any_shrunk = false;
@@ -583,12 +760,19 @@ SimulationResult SimulateStridedRocks(const Scene& scene, const Terrain& terrain
     rec.dt = dt;
     const bool cluster = body.elements.size() > 1 || scene.options.reference_path;
     const RockState s0 = ReleaseRock(ctx, group, body, &rng, u_pos,
-                             cluster ? q.normalized() : Eigen::Quaterniond::Identity());
+                                     cluster ? q.normalized() : Eigen::Quaterniond::Identity());
     rec.start = s0.x;
+    const bool forest = !ctx.stems.empty();
     if (cluster) {
-      RockRun<true>(ctx, body, steps, &rec).Run(s0);
+      if (forest)
+        RockRun<true, true>(ctx, body, steps, &rec).Run(s0);
+      else
+        RockRun<true, false>(ctx, body, steps, &rec).Run(s0);
     } else {
-      RockRun<false>(ctx, body, steps, &rec).Run(s0);
+      if (forest)
+        RockRun<false, true>(ctx, body, steps, &rec).Run(s0);
+      else
+        RockRun<false, false>(ctx, body, steps, &rec).Run(s0);
     }
     busy[static_cast<std::size_t>(k)] =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - rock_start).count();
@@ -601,6 +785,7 @@ SimulationResult SimulateStridedRocks(const Scene& scene, const Terrain& terrain
     result.figures += RunFigures::OfRock(result.rocks[k], shrunk[k] != 0);
   for (double b : busy) result.busy_seconds += b;
   result.cells_recorded = scene.options.record.passages;
+  result.strikes_recorded = scene.options.record.tree_strikes && !scene.forest.empty();
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
@@ -664,6 +849,7 @@ SimulationResult JoinRockBlocks(std::vector<SimulationResult> blocks) {
     out.wall_seconds = std::max(out.wall_seconds, b.wall_seconds);
     out.busy_seconds += b.busy_seconds;
     out.cells_recorded = out.cells_recorded || b.cells_recorded;
+    out.strikes_recorded = out.strikes_recorded || b.strikes_recorded;
     if (b.rocks.empty()) continue;
     out.figures += b.figures;
     if (out.rocks.empty()) {

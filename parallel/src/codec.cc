@@ -75,6 +75,16 @@ void Record(Writer* w, const core::RockRecord& rec) {
     Vector3(w, s.w);
     for (int k = 0; k < 4; ++k) w->Double(s.q[k]);
   }
+  w->Int(static_cast<long long>(rec.strikes.size()));
+  for (const core::TreeStrike& s : rec.strikes) {
+    w->Int(s.tree);
+    Vector3(w, s.point);
+    w->Double(s.height);
+    w->Double(s.speed);
+    w->Double(s.energy);
+    w->Double(s.absorbed);
+    w->Int(s.broken ? 1 : 0);
+  }
 }
 
 core::RockRecord Record(Reader* r) {
@@ -111,6 +121,16 @@ core::RockRecord Record(Reader* r) {
     s.v = Vector3(r);
     s.w = Vector3(r);
     for (int k = 0; k < 4; ++k) s.q[k] = r->Double();
+  }
+  rec.strikes.resize(static_cast<std::size_t>(r->Int()));
+  for (core::TreeStrike& s : rec.strikes) {
+    s.tree = static_cast<int>(r->Int());
+    s.point = Vector3(r);
+    s.height = r->Double();
+    s.speed = r->Double();
+    s.energy = r->Double();
+    s.absorbed = r->Double();
+    s.broken = r->Int() != 0;
   }
   return rec;
 }
@@ -200,6 +220,7 @@ std::string EncodeResult(const core::SimulationResult& result) {
   w.Double(result.wall_seconds);
   w.Double(result.busy_seconds);
   w.Int(result.cells_recorded ? 1 : 0);
+  w.Int(result.strikes_recorded ? 1 : 0);
   return w.bytes();
 }
 
@@ -214,6 +235,7 @@ core::SimulationResult DecodeResult(const std::string& bytes) {
   result.wall_seconds = r.Double();
   result.busy_seconds = r.Double();
   result.cells_recorded = r.Int() != 0;
+  result.strikes_recorded = r.Int() != 0;
   if (!r.done()) throw std::runtime_error("parallel: a simulation message has extra bytes");
   return result;
 }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "rockcal/core/format.h"
+#include "rockcal/reports/forest_outputs.h"
 #include "rockcal/reports/output_dir.h"
 
 namespace rockcal::reports {
@@ -176,6 +177,7 @@ void WriteSimulationFiles(const std::string& folder, const core::Scene& scene,
   // Everything is built and checked before anything is written.
   nlohmann::json summary = SummaryJson(scene, result);
   if (!parameters.is_null()) summary["parameters"] = parameters;
+  if (!scene.forest.empty()) summary["forest"] = ForestSummaryJson(scene, result);
   const nlohmann::json diagnostics = DiagnosticsJson(scene, result);
   CheckFinite(summary, "summary.json", "$");
   CheckFinite(diagnostics, "diagnostics.json", "$");

@@ -19,7 +19,7 @@ const std::vector<FileObjectKeys>& SiteFileKeys() {
   static const std::vector<FileObjectKeys> objects = {
       {"$",
        {"name", "description", "units", "surface", "zones", "materials", "partitions", "rocks",
-        "simulation", "report"}},
+        "simulation", "report", "forest"}},
       {"$.surface",
        {"resolution", "sphere_spacing", "crs", "max_edge", "points", "points_file", "lidar",
         "grid_file", "raster", "stl"}},
@@ -44,6 +44,11 @@ const std::vector<FileObjectKeys>& SiteFileKeys() {
         "gentle_steps_per_contact", "safety", "gentle_safety", "rest_window", "exact_flight",
         "reference_path", "threads"}},
       {"$.report", {"barrier_height", "barrier_energy_kj"}},
+      {"$.forest", {"trees_file", "trees", "stands", "contact", "capacity_factor"}},
+      {"$.forest.trees[]", {"x", "y", "dbh_cm", "species", "height"}},
+      {"$.forest.stands[]",
+       {"zone", "stems_per_ha", "dbh_mean_cm", "dbh_sd_cm", "conifer_percent", "height"}},
+      {"$.forest.contact", {"restitution", "contact_time", "friction"}},
   };
   return objects;
 }

@@ -444,6 +444,7 @@ Site LoadSite(const std::string& path) {
   }
 
   if (auto sim = root.Find("simulation")) ReadSimulation(*sim, units, &scene.options);
+  if (auto forest = root.Find("forest")) ReadForest(*forest, units, base_dir, &site);
   if (auto report = root.Find("report")) {
     // The barrier a designer checks: a fence height (site length units) and
     // its energy capacity (kJ).

@@ -4,12 +4,14 @@
 #ifndef ROCKCAL_SITES_SRC_SITE_READERS_H_
 #define ROCKCAL_SITES_SRC_SITE_READERS_H_
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "rockcal/core/scene.h"
 #include "rockcal/sites/geometry.h"
 #include "rockcal/sites/json_reader.h"
+#include "rockcal/sites/site.h"
 
 namespace rockcal::sites {
 
@@ -29,6 +31,23 @@ core::Release ReadRelease(const JsonNode& node, Units units, const core::HeightG
 core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightGrid& grid,
                           const std::string& base_dir, std::vector<std::string>* inputs,
                           std::string* note);
+
+// The forest's limits (docs/reference/site-file.md, `$.forest`).
+inline constexpr double kMinDbhCm = 1.0;              // a tree file's or inline stem's
+inline constexpr double kMinStandDbhCm = 5.0;         // a stand's draws are redrawn below it
+inline constexpr double kMaxDbhCm = 300.0;            // larger is taken for a unit error
+inline constexpr double kDefaultStemHeightM = 20.0;   // where a stem gives none
+inline constexpr double kMaxStemHeightM = 120.0;
+inline constexpr double kMaxStemsPerHa = 10000.0;
+// Random streams of the stands' draws: stand k draws from (seed,
+// kStandStreams + k), apart from every rock's (group << 32 | index).
+inline constexpr std::uint64_t kStandStreams = std::uint64_t{1} << 62;
+
+// "forest": a tree file, inline trees and stands (drawn from the seed of
+// site->scene.options), checked on site->scene.grid, into
+// site->scene.forest; sets site->drawn_stems_first and adds the tree file
+// to site->inputs.
+void ReadForest(const JsonNode& node, Units units, const std::string& base_dir, Site* site);
 
 }  // namespace rockcal::sites
 

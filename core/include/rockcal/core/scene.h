@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rockcal/core/clump.h"
+#include "rockcal/core/forest.h"
 #include "rockcal/core/material.h"
 #include "rockcal/core/rock_shape.h"
 #include "rockcal/core/terrain.h"
@@ -113,6 +114,7 @@ struct RecordOptions {
   bool energy_check = true;  // track the largest relative energy gain
   std::vector<TreeProbe> trees;  // record passages at these trees
   bool passages = false;     // the cells each rock passed over (RockRecord::cells; core/rasters.h)
+  bool tree_strikes = false;  // each strike on a stem of Scene::forest (RockRecord::strikes)
   int trajectories = 0;      // record the path of the first N rocks
   double sample_seconds = 0.05;  // trajectory sampling interval
 };
@@ -165,6 +167,7 @@ struct Scene {
   HardnessModel hardness_model;
   std::vector<Partition> partitions;
   std::vector<RockGroup> groups;
+  Forest forest;  // stems the rocks strike; empty: a bare slope (costs nothing)
   SimulationOptions options;
   double gravity = kStandardGravity;
 

@@ -40,6 +40,19 @@ struct CellVisit {
   double energy = 0.0;  // J, as Crossing::energy
 };
 
+// One strike of a rock on a stem of Scene::forest: from the step its first
+// element touched the trunk to the step none touched it any more (or the
+// stem broke).
+struct TreeStrike {
+  int tree = 0;                                     // index in Forest::stems
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  // rock centre at the first touch
+  double height = 0.0;    // m, the contact point above the stem's foot
+  double speed = 0.0;     // m/s, the rock's at the first touch
+  double energy = 0.0;    // J, the rock's kinetic energy at the first touch
+  double absorbed = 0.0;  // J, work the trunk's force took from the rock over the strike
+  bool broken = false;    // the stem broke (its capacity reached) in this strike
+};
+
 struct RockRecord {
   int rock = 0, group = 0;
   Shape shape = Shape::kSphere;
@@ -59,6 +72,7 @@ struct RockRecord {
   std::vector<Crossing> crossings;  // per partition, scene order (empty if not recorded)
   std::vector<Crossing> trees;      // per RecordOptions::trees entry; height = rock centre above ground
   std::vector<CellVisit> cells;     // cells its centre passed over, by cell (RecordOptions::passages)
+  std::vector<TreeStrike> strikes;  // in time order (RecordOptions::tree_strikes)
   std::vector<TrajectorySample> trajectory;
 };
 
@@ -96,6 +110,7 @@ struct SimulationResult {
   // schedule kept every thread busy (1: no thread waited for another).
   double busy_seconds = 0.0;
   bool cells_recorded = false;  // RecordOptions::passages was on: RockRecord::cells hold the paths
+  bool strikes_recorded = false;  // RecordOptions::tree_strikes was on in a forest: RockRecord::strikes hold them
   int count(Outcome o) const;
 };
 
@@ -104,8 +119,9 @@ struct SimulationResult {
 double ContactTimeStep(const RockBody& body, const ContactLaw& law, const SimulationOptions& opt,
                        bool* shrunk = nullptr);
 // The smallest contact step (ContactTimeStep) of any rock `group` can release
-// (its lightest and heaviest bodies) on any material of `scene`; sets *shrunk
-// when a stability bound cut one below t_c / N_c. Infinite without materials.
+// (its lightest and heaviest bodies) on any material of `scene` and on its
+// trunks (a forest); sets *shrunk when a stability bound cut one below
+// t_c / N_c. Infinite without materials.
 double GroupContactStep(const Scene& scene, const RockGroup& group, bool* shrunk = nullptr);
 // The smallest contact step of any rock of `scene`: GroupContactStep's least
 // over the groups (infinite without groups or materials). The one place the

@@ -45,6 +45,9 @@ struct Site {
   // a vector or raster zone file): `simulate` and `calibrate` then write
   // rasters without being asked (--rasters).
   bool gis = false;
+  // The forest's stems from this index on (of scene.forest.stems) were
+  // drawn from its stands: `simulate` writes them to trees.csv.
+  std::size_t drawn_stems_first = 0;
 };
 
 // Reads, validates and builds the site at `path`. Throws InputError naming the
