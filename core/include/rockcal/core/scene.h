@@ -114,6 +114,9 @@ struct RecordOptions {
   std::vector<TreeProbe> trees;  // record passages at these trees
   bool passages = false;     // the cells each rock passed over (RockRecord::cells; core/rasters.h)
   int trajectories = 0;      // record the path of the first N rocks
+  // and the paths of these rocks (indices in the run, ascending): a sample
+  // of every group for a report's profile (SpreadOverGroups)
+  std::vector<int> trajectory_rocks;
   double sample_seconds = 0.05;  // trajectory sampling interval
 };
 
