@@ -10,20 +10,22 @@ namespace rockcal::reports::sections {
 namespace {
 
 // A parameter value in SI with US units beside it (as everywhere in the report).
-std::string ParameterValue(const calibrate::Parameter& p, double v) {
+std::string ParameterValue(const calibrate::Parameter& p, double v, sites::Units units) {
   switch (p.kind) {
     case calibrate::ParameterKind::kHardness:
       return FormatNumber(v, "%.3f");
     case calibrate::ParameterKind::kRoughness:
-      return Length(v);
+      return Length(v, units);
     case calibrate::ParameterKind::kContactTime:
       return Show(v) + " s (" + Show(v * 1e3) + " ms)";
     case calibrate::ParameterKind::kRollingResistance:
     case calibrate::ParameterKind::kFriction:
       return FormatNumber(v, "%.3f");
     case calibrate::ParameterKind::kVegetation:
-      return Show(v * 1e-3) + " kPa (" + Show(v / sites::StressToSI(1.0, sites::Units::kUS)) +
-             " lbf/ft²)";
+      return Show(v * 1e-3) + " kPa" +
+             (units == sites::Units::kUS
+                  ? " (" + Show(v / sites::StressToSI(1.0, sites::Units::kUS)) + " lbf/ft²)"
+                  : "");
   }
   return Show(v);
 }
@@ -127,12 +129,14 @@ std::string ParameterTable(const CalibrationSummary& rec) {
         std::fabs(v - ps[k].lower) < 0.01 * range || std::fabs(ps[k].upper - v) < 0.01 * range;
     s += "<tr>" + Td(ps[k].material) + Td(ps[k].name()) + "<td class=\"n\" data-json=\"" +
          Ref(cj, "/calibrated/" + Int(static_cast<long>(k))) + "\" data-value=\"" + Exact(v) +
-         "\">" + Escape(ParameterValue(ps[k], v)) + (at_bound ? " <b>at a bound</b>" : "") +
-         "</td>" +
-         Td(have_se && k < u.std_error.size() ? ParameterValue(ps[k], u.std_error[k]) : "-", true) +
-         Td(k < rec.start.size() ? ParameterValue(ps[k], rec.start[k]) : "-", true) +
-         Td(ParameterValue(ps[k], ps[k].lower), true) +
-         Td(ParameterValue(ps[k], ps[k].upper), true) + "<td>" +
+         "\">" + Escape(ParameterValue(ps[k], v, rec.units)) +
+         (at_bound ? " <b>at a bound</b>" : "") + "</td>" +
+         Td(have_se && k < u.std_error.size() ? ParameterValue(ps[k], u.std_error[k], rec.units)
+                                              : "-",
+            true) +
+         Td(k < rec.start.size() ? ParameterValue(ps[k], rec.start[k], rec.units) : "-", true) +
+         Td(ParameterValue(ps[k], ps[k].lower, rec.units), true) +
+         Td(ParameterValue(ps[k], ps[k].upper, rec.units), true) + "<td>" +
          BoundsBar(v, ps[k].lower, ps[k].upper) + "</td></tr>";
   }
   s += "</tbody></table>";
