@@ -398,6 +398,37 @@ TEST(HtmlReportTest, TheReportSaysWhichValuesTheObservationsDoNotDetermine) {
                   "how well the observations determine each value is unknown"));
 }
 
+// A value at its bound is flagged in parameters.md (the console's table)
+// as in the report; two stages of one method are named as stages, each
+// with its rocks, and the misfits before and after at the same rocks.
+TEST(HtmlReportTest, BoundsAndStagesAreSaidAlikeInParametersMdAndTheReport) {
+  const SimulatedSite run = Simulated("tutorial", 6);
+  CalibrationSummary record = MakeRecord(run.site, 1);
+  calibrate::MethodResult refining = record.methods[0];
+  refining.stage.rocks = 24;
+  const auto& ps = record.space.parameters();
+  refining.best[0] = ps[0].lower;
+  record.methods.push_back(refining);
+  record.best = 1;
+  record.final_rocks = 24;
+  ASSERT_NE(record.rocks, 24);
+  const std::string md = ParametersMarkdown(record);
+  EXPECT_NE(md.find("**at the lower bound**"), std::string::npos) << md;
+  EXPECT_EQ(md.find("upper bound**"), std::string::npos) << md;
+  EXPECT_NE(md.find("after, both at 24 rocks"), std::string::npos) << md;
+  EXPECT_NE(md.find(std::to_string(record.rocks) +
+                    " rocks per evaluation in the first stage, 24 in the refining stage"),
+            std::string::npos)
+      << md;
+  ReportInput in = Input(run);
+  in.calibration = &record;
+  const std::string text = Unescape(FindSection(Render(in), "calibration")->AllText());
+  EXPECT_NE(text.find("at a bound"), std::string::npos) << text;
+  EXPECT_EQ(text.find("the best of 2 methods"), std::string::npos) << text;
+  EXPECT_NE(text.find("the last of 2 stages"), std::string::npos) << text;
+  EXPECT_NE(text.find(" in the refining stage"), std::string::npos) << text;
+}
+
 TEST(HtmlReportTest, CalibrationSectionsShowTheRecord) {
   const SimulatedSite run = Simulated("tutorial", 6);
   for (int methods : {1, 2}) {
