@@ -129,19 +129,18 @@ calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
   calibrate::CalibrationCallbacks callbacks;
   callbacks.started = [quiet](const calibrate::CalibrationSummary& s) {
     if (!quiet)
-      std::printf("%s: %d parameters, %d rocks per evaluation, misfit at the start %.4g\n",
-                  s.site.c_str(), s.space.size(), s.rocks, s.misfit_before.value);
+      std::printf(
+          "%s: %d parameters, %d rocks per evaluation, misfit at the start %.4g (at %d "
+          "rocks)\n",
+          s.site.c_str(), s.space.size(), s.rocks, s.misfit_before.value, s.rocks);
   };
   callbacks.reach_done = [quiet](const calibrate::ReachResult& r) {
-    const std::vector<std::string> warnings = calibrate::OutOfReachWarnings(r);
+    const std::vector<std::string> warnings = calibrate::OutOfReachWarnings(r, false);
     if (!quiet)
       std::printf("reach before fit: %zu design points, %zu of %zu observed statistics in reach\n",
                   r.points.size(), r.statistics.size() - warnings.size(), r.statistics.size());
     for (const std::string& w : warnings) std::printf("OUT OF REACH: %s\n", w.c_str());
-    if (!warnings.empty())
-      std::printf("  The box cannot produce these statistics: the calibration gives a best "
-                  "compromise, not a fit (widen the box, change the model, or check the "
-                  "observations).\n");
+    if (!warnings.empty()) std::printf("  %s\n", calibrate::OutOfReachAdvice(r).c_str());
   };
   callbacks.noise_checked = [quiet](const calibrate::CalibrationSummary& s) {
     if (s.noise_check.still_dominates())
@@ -282,8 +281,7 @@ void PrintCalibration(const std::string& out, const calibrate::CalibrationSummar
                 "rocks stuck at their release\n",
                 summary.misfit_after.runs.size(), summary.misfit_after.MeanRunError(),
                 summary.misfit_after.StuckRocks());
-  if (summary.noise_check.done && summary.noise_check.still_dominates())
-    std::printf("NOISE: %s\n", summary.noise_check.message.c_str());
+  // The noise check's NOISE line was printed once, when it was made.
   std::printf("\n%s", reports::ParametersMarkdown(summary).c_str());
   if (summary.methods.size() > 1)
     std::printf("\n%s", reports::ComparisonMarkdown(summary).c_str());

@@ -13,7 +13,14 @@
 #include "study.h"
 #include "table.h"
 
+#ifndef ROCKCAL_VERSION
+#define ROCKCAL_VERSION "unknown"
+#endif
+
 int main(int argc, char** argv) {
+  // Line by line into a pipe or a file too (a log, tee, a job scheduler's
+  // output), not in blocks at exit: what a run says appears as it says it.
+  std::setvbuf(stdout, nullptr, _IOLBF, BUFSIZ);
   // Under mpirun, every rank runs the same command (parallel.h); only rank 0
   // writes and prints.
   const rockcal::parallel::Session session(&argc, &argv);
@@ -24,6 +31,10 @@ int main(int argc, char** argv) {
   if (args.empty()) {
     std::fputs(rockcal::cli::ForTerminal(rockcal::cli::OverviewHelp(reference)).c_str(), stderr);
     return 2;
+  }
+  if (args[0] == "--version" || args[0] == "version") {
+    std::printf("rockcal %s\n", ROCKCAL_VERSION);
+    return 0;
   }
   if (args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     const std::string section =

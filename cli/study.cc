@@ -221,8 +221,10 @@ int Reach(const Args& args, sites::Site* site, const std::string& out) {
     std::fputs(result.FullReport().c_str(), stdout);
     std::printf("wrote %s/reach.json, reach.csv, report.html\n", out.c_str());
   } else {
-    for (const std::string& w : calibrate::OutOfReachWarnings(result))
+    for (const std::string& w : calibrate::OutOfReachWarnings(result, false))
       std::printf("OUT OF REACH: %s\n", w.c_str());
+    if (const std::string advice = calibrate::OutOfReachAdvice(result); !advice.empty())
+      std::printf("  %s\n", advice.c_str());
   }
   return 0;
 }

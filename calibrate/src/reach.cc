@@ -278,7 +278,9 @@ std::string ReachResult::BriefReport() const {
       out << (k ? ", " : " ") << parameters[k].label() << " = " << G(b.physical[k]);
     out << "\n";
   }
-  for (const std::string& w : OutOfReachWarnings(*this)) out << "OUT OF REACH: " << w << "\n";
+  for (const std::string& w : OutOfReachWarnings(*this, false))
+    out << "OUT OF REACH: " << w << "\n";
+  if (const std::string advice = OutOfReachAdvice(*this); !advice.empty()) out << advice << "\n";
   return out.str();
 }
 
@@ -375,7 +377,7 @@ ReachResult RunReach(const Objective& objective, const ReachOptions& options) {
   return result;
 }
 
-std::vector<std::string> OutOfReachWarnings(const ReachResult& result) {
+std::vector<std::string> OutOfReachWarnings(const ReachResult& result, bool advice) {
   std::vector<std::string> out;
   const std::string design = std::to_string(result.points.size()) + " design points of the box";
   for (const ReachStatistic& s : result.statistics) {
@@ -390,11 +392,27 @@ std::vector<std::string> OutOfReachWarnings(const ReachResult& result) {
            G(s.min) + " to " + G(s.max) + " that the " + design + " reached (sigma " +
            G(s.sigma, "%.3g") + ", SI units).";
     }
-    w += " Widen the box, change the model (release, shapes, contact parameters) or question "
-         "the observation; a calibration gives a best compromise for it, not a fit.";
+    if (advice)
+      w += " Widen the box, change the model (release, shapes, contact parameters) or question "
+           "the observation; a calibration gives a best compromise for it, not a fit.";
     out.push_back(w);
   }
   return out;
+}
+
+std::string OutOfReachAdvice(const ReachResult& result) {
+  std::vector<std::string> names;
+  for (const ReachStatistic& s : result.statistics)
+    if (!s.in_reach()) names.push_back(s.name());
+  if (names.empty()) return "";
+  std::string list;
+  for (std::size_t k = 0; k < names.size(); ++k) list += (k ? ", " : "") + names[k];
+  return std::string("For ") +
+         (names.size() == 1 ? "the statistic"
+                            : "the " + std::to_string(names.size()) + " statistics") +
+         " out of reach (" + list +
+         "): widen the box, change the model (release, shapes, contact parameters) or question "
+         "the observations; a calibration gives a best compromise for them, not a fit.";
 }
 
 }  // namespace rockcal::calibrate

@@ -1,6 +1,9 @@
 #include "rockcal/calibrate/recording.h"
 
 #include <algorithm>
+#include <vector>
+
+#include "rockcal/core/statistics.h"
 
 namespace rockcal::calibrate {
 
@@ -16,8 +19,13 @@ core::RecordOptions RecordingFor(const core::Scene& scene, const RecordingNeeds&
   record.sample_seconds = needs.sample_seconds;
   if (needs.report) {
     record.passages = true;
-    if (record.trajectories == 0)
-      record.trajectories = std::min(scene.total_rocks(), needs.report_trajectories);
+    if (record.trajectories == 0) {
+      // A sample of every group (the profile shows how each behaves), not the
+      // first rocks, which may all be of the first group.
+      std::vector<int> counts;
+      for (const core::RockGroup& g : scene.groups) counts.push_back(g.count);
+      record.trajectory_rocks = core::SpreadOverGroups(counts, needs.report_trajectories);
+    }
   }
   return record;
 }

@@ -24,7 +24,9 @@ void Recorder::Start(const RockState& s) {
   const int np = static_cast<int>(scene_.partitions.size());
   if (opt_.partitions) rec_->crossings.assign(np, Crossing{});
   rec_->trees.assign(opt_.trees.size(), Crossing{});
-  trajectory_ = opt_.trajectories > rec_->rock;
+  trajectory_ =
+      opt_.trajectories > rec_->rock ||
+      std::binary_search(opt_.trajectory_rocks.begin(), opt_.trajectory_rocks.end(), rec_->rock);
   next_sample_ = 0.0;
   Sample(s);
   if (opt_.passages) VisitAt(s, s, true);

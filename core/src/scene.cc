@@ -34,8 +34,14 @@ bool SimulationOptions::IsValid(std::string* error) const {
   if (threads < 0) return fail("threads", threads, "must be >= 0 (0: all cores)");
   if (record.trajectories < 0)
     return fail("record.trajectories", record.trajectories, "must be >= 0");
-  if (record.trajectories > 0 && !(record.sample_seconds > 0))
+  const bool sampled = record.trajectories > 0 || !record.trajectory_rocks.empty();
+  if (sampled && !(record.sample_seconds > 0))
     return fail("record.sample_seconds", record.sample_seconds, "must be > 0");
+  for (std::size_t k = 0; k < record.trajectory_rocks.size(); ++k)
+    if (record.trajectory_rocks[k] < 0 ||
+        (k > 0 && record.trajectory_rocks[k] <= record.trajectory_rocks[k - 1]))
+      return fail("record.trajectory_rocks", record.trajectory_rocks[k],
+                  "must be rock indices >= 0 in ascending order");
   return true;
 }
 

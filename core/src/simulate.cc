@@ -757,6 +757,7 @@ SimulationResult SimulateStridedRocks(const Scene& scene, const Terrain& terrain
     rec.shape = body.shape;
     rec.size = body.size;
     rec.mass = body.mass;
+    rec.bounding_radius = body.bounding_radius;
     rec.dt = dt;
     const bool cluster = body.elements.size() > 1 || scene.options.reference_path;
     const RockState s0 = ReleaseRock(ctx, group, body, &rng, u_pos,
@@ -885,7 +886,53 @@ ResultStats ComputeStats(const Scene& scene, const SimulationResult& result) {
   for (const auto& r : result.rocks)
     if (r.outcome == Outcome::kStopped) xs.push_back(r.stop.x());
   stats.runout_x = Summarize(xs);
+  stats.runout = ComputeRunout(result.rocks);
   return stats;
+}
+
+FenceCheck CheckFence(const SimulationResult& result, std::size_t partition, double height,
+                      double capacity) {
+  FenceCheck f;
+  for (const RockRecord& r : result.rocks) {
+    if (partition >= r.crossings.size() || !r.crossings[partition].crossed) continue;
+    const Crossing& c = r.crossings[partition];
+    const bool over = c.height - r.bounding_radius > height, energy = c.energy > capacity;
+    ++f.passed;
+    f.over += over;
+    f.over_by_centre += c.height > height;
+    f.over_by_top += c.height + r.bounding_radius > height;
+    f.over_capacity += energy;
+    f.defeated += over || energy;
+  }
+  return f;
+}
+
+double RunoutDistance(const RockRecord& rock) {
+  return std::hypot(rock.stop.x() - rock.start.x(), rock.stop.y() - rock.start.y());
+}
+
+double TravelAngleDeg(const RockRecord& rock) {
+  const double drop = rock.start.z() - rock.stop.z();
+  const double d = RunoutDistance(rock);
+  if (d == 0.0) return 90.0;
+  return std::atan2(drop, d) * 180.0 / kPi;
+}
+
+RunoutStats ComputeRunout(const std::vector<RockRecord>& rocks) {
+  RunoutStats out;
+  std::vector<double> distance, angle;
+  for (const RockRecord& r : rocks) {
+    ++out.rocks;
+    if (r.outcome == Outcome::kLeft) {
+      ++out.beyond_edge;
+      continue;
+    }
+    distance.push_back(RunoutDistance(r));
+    angle.push_back(TravelAngleDeg(r));
+  }
+  out.distance_m = SummarizeWithBeyond(std::move(distance), out.beyond_edge, true);
+  out.travel_angle_deg = SummarizeWithBeyond(std::move(angle), out.beyond_edge, false);
+  return out;
 }
 
 }  // namespace rockcal::core

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 namespace rockcal::core {
 
@@ -63,6 +65,81 @@ Stats Summarize(std::vector<double> values) {
   s.p95 = Quantile(values, 0.95);
   s.max = values.back();
   return s;
+}
+
+double QuantileWithBeyond(const std::vector<double>& sorted, int beyond, double q, bool above) {
+  assert(beyond >= 0 && sorted.size() + static_cast<std::size_t>(beyond) > 0);
+  const std::size_t n = sorted.size() + static_cast<std::size_t>(beyond);
+  const double pos = std::clamp(q, 0.0, 1.0) * static_cast<double>(n - 1);
+  const std::size_t k = static_cast<std::size_t>(std::floor(pos));
+  const double f = pos - static_cast<double>(k);
+  const std::size_t last = f > 0.0 && k + 1 < n ? k + 1 : k;  // the values it reads: k .. last
+  const std::size_t b = static_cast<std::size_t>(beyond);
+  if (above) {
+    if (last >= sorted.size()) return std::numeric_limits<double>::infinity();
+  } else {
+    if (k < b) return -std::numeric_limits<double>::infinity();
+  }
+  const std::size_t first = above ? 0 : b;  // index in the whole sample of sorted[0]
+  const double lo = sorted[k - first];
+  return last == k ? lo : lo + f * (sorted[last - first] - lo);
+}
+
+BeyondStats SummarizeWithBeyond(std::vector<double> known, int beyond, bool above) {
+  BeyondStats s;
+  if (known.empty() && beyond <= 0) return s;
+  std::sort(known.begin(), known.end());
+  s.count = static_cast<int>(known.size()) + beyond;
+  s.beyond = beyond;
+  s.min = QuantileWithBeyond(known, beyond, 0.0, above);
+  s.p10 = QuantileWithBeyond(known, beyond, 0.1, above);
+  s.p50 = QuantileWithBeyond(known, beyond, 0.5, above);
+  s.p90 = QuantileWithBeyond(known, beyond, 0.9, above);
+  s.p95 = QuantileWithBeyond(known, beyond, 0.95, above);
+  s.max = QuantileWithBeyond(known, beyond, 1.0, above);
+  return s;
+}
+
+std::vector<int> SpreadOverGroups(const std::vector<int>& counts, int n) {
+  std::vector<int> out;
+  long total = 0;
+  int groups = 0;
+  for (int c : counts) total += std::max(c, 0), groups += c > 0;
+  if (n <= 0 || total == 0) return out;
+  const std::size_t ng = counts.size();
+  std::vector<int> take(ng, 0);
+  if (n >= total) {
+    for (std::size_t g = 0; g < ng; ++g) take[g] = std::max(counts[g], 0);
+  } else {
+    // One per non-empty group first (while n allows), the rest by share.
+    int left = n;
+    if (n >= groups)
+      for (std::size_t g = 0; g < ng; ++g)
+        if (counts[g] > 0) take[g] = 1, --left;
+    std::vector<std::pair<double, std::size_t>> remainders;
+    const double per = static_cast<double>(left) / static_cast<double>(total);
+    int given = 0;
+    for (std::size_t g = 0; g < ng; ++g) {
+      if (counts[g] <= 0) continue;
+      const double want = per * counts[g];
+      const int whole = std::min(static_cast<int>(std::floor(want)), counts[g] - take[g]);
+      take[g] += whole, given += whole;
+      remainders.push_back({-(want - whole), g});  // largest remainder first, then group order
+    }
+    std::sort(remainders.begin(), remainders.end());
+    for (std::size_t k = 0; given < left && k < remainders.size(); ++k) {
+      const std::size_t g = remainders[k].second;
+      if (take[g] < counts[g]) ++take[g], ++given;
+    }
+  }
+  int offset = 0;
+  for (std::size_t g = 0; g < ng; ++g) {
+    const int c = std::max(counts[g], 0);
+    for (int j = 0; j < take[g]; ++j)
+      out.push_back(offset + static_cast<int>((j + 0.5) * c / take[g]));
+    offset += c;
+  }
+  return out;
 }
 
 double KolmogorovTail(double lambda) {

@@ -47,6 +47,7 @@ void Record(Writer* w, const core::RockRecord& rec) {
   w->Int(static_cast<long long>(rec.shape));
   w->Double(rec.size);
   w->Double(rec.mass);
+  w->Double(rec.bounding_radius);
   w->Int(static_cast<long long>(rec.outcome));
   Vector3(w, rec.start);
   Vector3(w, rec.stop);
@@ -94,6 +95,7 @@ core::RockRecord Record(Reader* r) {
   rec.shape = static_cast<core::Shape>(r->Int());
   rec.size = r->Double();
   rec.mass = r->Double();
+  rec.bounding_radius = r->Double();
   rec.outcome = static_cast<core::Outcome>(r->Int());
   rec.start = Vector3(r);
   rec.stop = Vector3(r);

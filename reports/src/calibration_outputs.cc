@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "rockcal/calibrate/default_table.h"
 #include "rockcal/calibrate/score.h"
 #include "rockcal/core/format.h"
 #include "rockcal/core/scene.h"
@@ -126,19 +127,33 @@ std::string ParametersMarkdown(const CalibrationSummary& record) {
   const auto& ps = record.space.parameters();
   for (std::size_t k = 0; k < ps.size(); ++k) {
     const double* se = StdError(best, k);
+    // Within 1 % of the range from a bound, as report.html and rockcal table
+    // flag it: stopped by the bound, not by the data.
+    const calibrate::BoundPosition at =
+        calibrate::AtBound(best.best[k], ps[k].lower, ps[k].upper, 0.01);
     out << "| " << ps[k].material << " | " << ps[k].class_name() << " | " << ps[k].name() << " | "
-        << SiteValue(ps[k], best.best[k], record.units) << " | "
-        << (se ? SiteValue(ps[k], *se, record.units) : std::string("-")) << " | "
+        << SiteValue(ps[k], best.best[k], record.units)
+        << (at == calibrate::BoundPosition::kInside
+                ? std::string()
+                : std::string(" **at the ") + calibrate::BoundName(at) + " bound**")
+        << " | " << (se ? SiteValue(ps[k], *se, record.units) : std::string("-")) << " | "
         << SiteValue(ps[k], record.start[k], record.units) << " | ["
         << SiteValue(ps[k], ps[k].lower, record.units) << ", "
         << SiteValue(ps[k], ps[k].upper, record.units) << "] |\n";
   }
-  out << "\nSite " << record.site << "; method " << best.stage.name() << ", " << best.evaluations
-      << " evaluations in " << FormatNumber(best.wall_seconds, "%.1f") << " s; misfit "
-      << FormatNumber(record.misfit_before.value, "%.4g") << " before, "
-      << FormatNumber(best.best_misfit, "%.4g")
-      << " after (half the sum of squared residuals in units of their uncertainty); "
-      << record.rocks << " rocks per evaluation, seed " << record.seed << ".\n";
+  const bool refined = record.final_rocks > 0 && record.final_rocks != record.rocks;
+  out << "\nSite " << record.site << "; " << (refined ? "stage " : "method ") << best.stage.name()
+      << ", " << best.evaluations << " evaluations in " << FormatNumber(best.wall_seconds, "%.1f")
+      << " s; misfit " << FormatNumber(record.misfit_before.value, "%.4g") << " before, "
+      << FormatNumber(best.best_misfit, "%.4g") << " after, both at "
+      << (record.final_rocks > 0 ? record.final_rocks : record.rocks)
+      << " rocks (half the sum of squared residuals in units of their uncertainty); ";
+  if (refined)
+    out << record.rocks << " rocks per evaluation in the first stage, " << record.final_rocks
+        << " in the refining stage";
+  else
+    out << record.rocks << " rocks per evaluation";
+  out << ", seed " << record.seed << ".\n";
   if (const std::string d = DeterminationSentence(record); !d.empty()) out << "\n" << d << "\n";
   if (record.posterior) out << "\n" << PosteriorMarkdown(record);
   return out.str();

@@ -115,7 +115,32 @@ std::string Figure(const std::string& svg, const std::string& caption_html, doub
          svg + "<figcaption>" + caption_html + "</figcaption></figure>";
 }
 
-std::string Length(double m) { return Show(m) + " m (" + Show(m / core::kFoot) + " ft)"; }
+std::string Length(double m, sites::Units units) {
+  if (units != sites::Units::kUS) return Show(m) + " m";
+  return Show(m) + " m (" + Show(m / core::kFoot) + " ft)";
+}
+
+std::string Energy(double joules, sites::Units units) {
+  if (units != sites::Units::kUS) return Show(joules * 1e-3) + " kJ";
+  return Show(joules * 1e-3) + " kJ (" + Show(joules / kFtTon) + " ft-tons)";
+}
+
+std::string Speed(double mps, sites::Units units) {
+  if (units != sites::Units::kUS) return Show(mps) + " m/s";
+  return Show(mps) + " m/s (" + Show(mps / core::kFoot) + " ft/s)";
+}
+
+std::string CoordinateNumber(double m) {
+  // Map coordinates reach 1e7 m (northings): to the decimetre there, to
+  // four significant digits below 1000.
+  if (!std::isfinite(m)) return Show(m);
+  return std::fabs(m) >= 1000.0 ? FormatNumber(m, "%.1f") : Label(m);
+}
+
+std::string Coordinate(double m, sites::Units units) {
+  if (units != sites::Units::kUS) return CoordinateNumber(m) + " m";
+  return CoordinateNumber(m) + " m (" + CoordinateNumber(m / core::kFoot) + " ft)";
+}
 
 std::string PageHtml(const Page& page) {
   std::string h =
@@ -154,22 +179,24 @@ std::string SiteKv(const core::Scene& sc, const std::string& site_file, sites::U
   s += Kv("Site", Escape(sc.name));
   if (!site_file.empty()) s += Kv("Site file", "<code>" + Escape(site_file) + "</code>");
   s += Kv("Units of the site file", us ? "US (ft, lbf/ft&#179;); this report shows SI and US units"
-                                       : "SI (m, kN/m&#179;); this report shows SI and US units");
+                                       : "SI (m, kN/m&#179;); this report shows SI units");
   int holes = 0;
   for (double z : g.z) holes += std::isfinite(z) ? 0 : 1;
-  s += Kv("Terrain grid",
-          Escape(Int(g.nx) + " x " + Int(g.ny) + " nodes at a spacing of " + Length(g.spacing) +
-                 "; x " + Label(g.x0) + " to " + Label(g.x(g.nx - 1)) + " m, y " + Label(g.y0) +
-                 " to " + Label(g.y(g.ny - 1)) + " m, elevation " + Label(zmin) + " to " +
-                 Label(zmax) + " m" + (holes ? "; " + Int(holes) + " nodes without data" : "") +
-                 (one_cell_wide ? "; a 2D profile one cell wide" : "")));
+  s += Kv(
+      "Terrain grid",
+      Escape(Int(g.nx) + " x " + Int(g.ny) + " nodes at a spacing of " + Length(g.spacing, units) +
+             "; x " + CoordinateNumber(g.x0) + " to " + Coordinate(g.x(g.nx - 1), units) + ", y " +
+             CoordinateNumber(g.y0) + " to " + Coordinate(g.y(g.ny - 1), units) + ", elevation " +
+             CoordinateNumber(zmin) + " to " + Coordinate(zmax, units) +
+             (holes ? "; " + Int(holes) + " nodes without data" : "") +
+             (one_cell_wide ? "; a 2D profile one cell wide" : "")));
   s += "</table>";
   return s;
 }
 
 // The materials with their share of the slope and the contact law derived
 // from each.
-std::string MaterialsTable(const core::Scene& sc) {
+std::string MaterialsTable(const core::Scene& sc, sites::Units units) {
   const core::HeightGrid& g = sc.grid;
   std::vector<int> nodes(sc.materials.size(), 0);
   int valid = 0;
@@ -193,8 +220,8 @@ std::string MaterialsTable(const core::Scene& sc) {
     s += "<tr>" + Td(m.id) +
          Td(Percent(valid ? static_cast<double>(nodes[k]) / valid : 0.0), true) +
          Td(FormatNumber(m.hardness, "%.3f"), true) +
-         Td(m.roughness_m > 0 ? Length(m.roughness_m) : "0 (smooth facets)", true) +
-         Td(std::isfinite(r) ? Length(r) : "-", true) +
+         Td(m.roughness_m > 0 ? Length(m.roughness_m, units) : "0 (smooth facets)", true) +
+         Td(std::isfinite(r) ? Length(r, units) : "-", true) +
          Td(FormatNumber(law.restitution, "%.3f") + mark(m.restitution.has_value()), true) +
          Td(FormatNumber(law.friction, "%.3f") + mark(m.friction.has_value()), true) +
          Td(FormatNumber(law.rolling_resistance, "%.3f") + mark(m.rolling_resistance.has_value()),
@@ -220,29 +247,42 @@ std::string MaterialsTable(const core::Scene& sc) {
   return s;
 }
 
+// A point in plan, "(888630.0, 6671517.5) m", with feet beside for a US site.
+std::string Point(const Eigen::Vector2d& p, sites::Units units) {
+  std::string s = "(" + CoordinateNumber(p.x()) + ", " + CoordinateNumber(p.y()) + ") m";
+  if (units == sites::Units::kUS)
+    s += " (" + CoordinateNumber(p.x() / core::kFoot) + ", " +
+         CoordinateNumber(p.y() / core::kFoot) + ") ft";
+  return s;
+}
+
 // Where group `grp` is released: zone or point, height or elevation, velocity.
-std::string GroupRelease(const core::RockGroup& grp) {
+std::string GroupRelease(const core::RockGroup& grp, sites::Units units) {
   std::string release;
   if (!grp.release.zone.empty()) {
     const Eigen::Vector2d cen = observations::ReleaseCentroid(grp.release);
-    release = "zone of " + Int(static_cast<long>(grp.release.zone.size())) + " vertices around (" +
-              Label(cen.x()) + ", " + Label(cen.y()) + ") m";
+    release = "zone of " + Int(static_cast<long>(grp.release.zone.size())) + " vertices around " +
+              Point(cen, units);
   } else {
-    release =
-        "point (" + Label(grp.release.point.x()) + ", " + Label(grp.release.point.y()) + ") m";
+    release = "point " + Point(grp.release.point, units);
   }
   if (grp.release.elevation)
-    release += ", dropped from elevation " + Length(*grp.release.elevation);
+    release += ", dropped from elevation " + Coordinate(*grp.release.elevation, units);
   else if (grp.release.height > 0)
-    release += ", " + Length(grp.release.height) + " above the ground";
+    release += ", " + Length(grp.release.height, units) + " above the ground";
   if (grp.release.velocity.norm() > 0)
-    release += ", initial velocity (" + Label(grp.release.velocity.x()) + ", " +
-               Label(grp.release.velocity.y()) + ", " + Label(grp.release.velocity.z()) + ") m/s";
+    release +=
+        ", initial velocity (" + Label(grp.release.velocity.x()) + ", " +
+        Label(grp.release.velocity.y()) + ", " + Label(grp.release.velocity.z()) + ") m/s" +
+        (units == sites::Units::kUS ? " (" + Label(grp.release.velocity.x() / core::kFoot) + ", " +
+                                          Label(grp.release.velocity.y() / core::kFoot) + ", " +
+                                          Label(grp.release.velocity.z() / core::kFoot) + ") ft/s"
+                                    : std::string());
   return release;
 }
 
 // The rock groups: count, shape, size, unit weight, mass and release.
-std::string RockGroupsTable(const core::Scene& sc) {
+std::string RockGroupsTable(const core::Scene& sc, sites::Units units) {
   std::string s = "<h3>Rock groups</h3><table><thead><tr>" + Th("group") + Th("rocks") +
                   Th("shape") + Th("size") + Th("unit weight") + Th("mass") + Th("release") +
                   "</tr></thead><tbody>";
@@ -254,25 +294,29 @@ std::string RockGroupsTable(const core::Scene& sc) {
     const std::string size =
         !grp.inventory.empty()
             ? "inventory of " + Int(static_cast<long>(grp.inventory.size())) + " blocks"
-        : grp.size_min == grp.size_max ? Length(grp.size_min)
+        : grp.size_min == grp.size_max ? Length(grp.size_min, units)
+        : units != sites::Units::kUS   ? Show(grp.size_min) + "-" + Show(grp.size_max) + " m"
                                        : Show(grp.size_min) + "-" + Show(grp.size_max) + " m (" +
-                                             Show(grp.size_min / core::kFoot) + "-" +
-                                             Show(grp.size_max / core::kFoot) + " ft)";
-    const std::string mass = a.mass == b.mass
-                                 ? Show(a.mass) + " kg (" + Show(a.mass / kPound) + " lb)"
-                                 : Show(a.mass) + "-" + Show(b.mass) + " kg (" +
-                                       Show(a.mass / kPound) + "-" + Show(b.mass / kPound) + " lb)";
+                                           Show(grp.size_min / core::kFoot) + "-" +
+                                           Show(grp.size_max / core::kFoot) + " ft)";
+    const bool us = units == sites::Units::kUS;
+    const std::string mass =
+        a.mass == b.mass
+            ? Show(a.mass) + " kg" + (us ? " (" + Show(a.mass / kPound) + " lb)" : "")
+            : Show(a.mass) + "-" + Show(b.mass) + " kg" +
+                  (us ? " (" + Show(a.mass / kPound) + "-" + Show(b.mass / kPound) + " lb)" : "");
     s += "<tr>" + Td(Int(static_cast<long>(k + 1)), true) + Td(Int(grp.count), true) +
          Td(grp.inventory.empty() ? core::ShapeName(grp.shape) : "blocks") + Td(size) +
-         Td(Show(grp.unit_weight * 1e-3) + " kN/m³ (" + Show(grp.unit_weight / kLbfPerFt3) +
-            " lbf/ft³)") +
-         Td(mass) + Td(GroupRelease(grp)) + "</tr>";
+         Td(Show(grp.unit_weight * 1e-3) + " kN/m³" +
+            (us ? " (" + Show(grp.unit_weight / kLbfPerFt3) + " lbf/ft³)" : "")) +
+         Td(mass) + Td(GroupRelease(grp, units)) + "</tr>";
   }
   return s + "</tbody></table>";
 }
 
 // The partitions, with the rocks that passed each when `passage` is given.
-std::string PartitionsTable(const core::Scene& sc, const PartitionPassage* passage) {
+std::string PartitionsTable(const core::Scene& sc, sites::Units units,
+                            const PartitionPassage* passage) {
   std::string s;
   if (!sc.partitions.empty()) {
     s += "<h3>Partitions</h3><table><thead><tr>" + Th("partition") + Th("kind") + Th("at") +
@@ -285,7 +329,8 @@ std::string PartitionsTable(const core::Scene& sc, const PartitionPassage* passa
                     : Td(part.id)) +
            Td(part.kind == core::Partition::Kind::kX ? "X (vertical plane)"
                                                      : "Z (ground elevation contour)") +
-           Td((part.kind == core::Partition::Kind::kX ? "x = " : "z = ") + Length(part.value));
+           Td((part.kind == core::Partition::Kind::kX ? "x = " : "z = ") +
+              Coordinate(part.value, units));
       if (passage) {
         const int passed = p < passage->passed.size() ? passage->passed[p] : 0;
         s += Td(Int(passed) + " (" +
@@ -304,8 +349,8 @@ std::string PartitionsTable(const core::Scene& sc, const PartitionPassage* passa
 
 std::string SiteTables(const core::Scene& scene, const std::string& site_file, sites::Units units,
                        const PartitionPassage* passage) {
-  return SiteKv(scene, site_file, units) + MaterialsTable(scene) + RockGroupsTable(scene) +
-         PartitionsTable(scene, passage);
+  return SiteKv(scene, site_file, units) + MaterialsTable(scene, units) +
+         RockGroupsTable(scene, units) + PartitionsTable(scene, units, passage);
 }
 
 std::string SiteNotes(const std::vector<std::string>& notes) {

@@ -60,7 +60,7 @@ std::string PartitionHeading(const Context& c, int p) {
   return "Partition " + html::RefText("summary.json#/partitions/" + Int(p) + "/id", part.id) +
          " (" + sections::KindName(part.kind) + " partition, " +
          (part.kind == core::Partition::Kind::kX ? "x = " : "z = ") +
-         Escape(html::Length(part.value)) + ")";
+         Escape(html::Coordinate(part.value, c.in.units)) + ")";
 }
 
 // The report's sections in order, each only when the run has what it shows.
@@ -82,7 +82,7 @@ std::vector<ReportSection> Sections(const Context& c) {
                    PartitionHeading(c, k), [&c, k] { return sections::PartitionSection(c, k); }});
   }
   if (!c.scene.partitions.empty()) add("barrier", "Barrier check", sections::BarrierSection);
-  if (c.stopped > 0) add("runout", "Runout", sections::RunoutSection);
+  if (Rocks(c) > 0) add("runout", "Runout", sections::RunoutSection);
   if (c.several_shapes) add("shapes", "Rock shapes", sections::ShapesSection);
   if (sections::HasScannedShapes(c.scene))
     add("scanned", "Scanned shapes", sections::ScannedShapesSection);
@@ -115,6 +115,19 @@ std::string Lead(const Context& c) {
     const auto& ps = c.stats.partitions[p];
     lead += "; " + Escape(ps.id) + " passed by " +
             html::Percent(Rocks(c) ? static_cast<double>(ps.passed) / Rocks(c) : 0.0);
+  }
+  if (Rocks(c) > 0) {
+    const core::BeyondStats& d = c.stats.runout.distance_m;
+    auto distance = [&](double v) {
+      return std::isfinite(v) ? Escape(html::Length(v, c.in.units))
+                              : std::string("beyond the edge");
+    };
+    lead += "; runout from the release " + distance(d.p50) + " at the median, " + distance(d.p90) +
+            " at the 90th percentile";
+    if (c.left > 0)
+      lead += " (<b>" + Int(c.left) + " rocks, " +
+              html::Percent(static_cast<double>(c.left) / Rocks(c)) +
+              ", left the terrain: beyond its edge</b>, counted so in every runout figure)";
   }
   lead += ". Simulated by rockcal (CRSP-3D method) in " +
           Escape(html::Show(c.result.wall_seconds)) + " s wall time.";
@@ -181,10 +194,13 @@ std::string HtmlReport(const ReportInput& in) {
       html::RefText("summary.json#/site", c.scene.name);
   page.lead_html = Lead(c);
   page.note_html =
-      "SI units with US units beside them: 1 ft = 0.3048 m; 1 ft/s = 0.3048 m/s; "
-      "1 ft-ton (foot times short ton-force, as CRSP reports kinetic energy) = 2.7116 kJ; "
-      "1 lbf/ft&#179; = 0.15709 kN/m&#179;. The machine-readable record is summary.json and "
-      "rocks.csv (SI).";
+      std::string(in.units == sites::Units::kUS
+                      ? "SI units with US units beside them, as the site file is in US units: "
+                        "1 ft = 0.3048 m; 1 ft/s = 0.3048 m/s; 1 ft-ton (foot times short "
+                        "ton-force, as CRSP reports kinetic energy) = 2.7116 kJ; 1 lbf/ft&#179; "
+                        "= 0.15709 kN/m&#179;. "
+                      : "SI units, as the site file; coordinates are the site's own. ") +
+      "The machine-readable record is summary.json and rocks.csv (SI).";
   for (const ReportSection& s : Sections(c))
     page.sections.push_back({s.id, s.title, s.heading_html, s.body()});
   page.footer_html =

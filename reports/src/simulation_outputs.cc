@@ -20,6 +20,17 @@ nlohmann::json StatsJson(const core::Stats& s, double scale = 1.0) {
           {"p95", s.p95 * scale},   {"max", s.max * scale}};
 }
 
+// A figure over every rock (core::BeyondStats): a number, or the string
+// "beyond" where it falls among the rocks that left the terrain.
+nlohmann::json BeyondValue(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json("beyond");
+}
+
+nlohmann::json BeyondJson(const core::BeyondStats& s) {
+  return {{"min", BeyondValue(s.min)}, {"p10", BeyondValue(s.p10)}, {"p50", BeyondValue(s.p50)},
+          {"p90", BeyondValue(s.p90)}, {"p95", BeyondValue(s.p95)}, {"max", BeyondValue(s.max)}};
+}
+
 // A value of `file` (rock `rock`, column `column`); a non-finite one is an
 // internal failure, never written as "inf" or "nan".
 std::string FiniteNumber(double v, const char* file, long rock, const std::string& column) {
@@ -69,7 +80,12 @@ nlohmann::json SummaryJson(const core::Scene& scene, const core::SimulationResul
             {"left", result.count(core::Outcome::kLeft)},
             {"timeout", result.count(core::Outcome::kTimeout)}}},
           {"partitions", partitions},
-          {"runout", {{"x_m", StatsJson(stats.runout_x)}}},
+          {"runout",
+           {{"rocks", stats.runout.rocks},
+            {"beyond_edge", stats.runout.beyond_edge},
+            {"distance_m", BeyondJson(stats.runout.distance_m)},
+            {"travel_angle_deg", BeyondJson(stats.runout.travel_angle_deg)},
+            {"x_m", StatsJson(stats.runout_x)}}},
           {"energy_check", {{"max_relative_gain", result.figures.max_relative_energy_gain}}}};
 }
 

@@ -9,10 +9,12 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "rockcal/calibrate/objective.h"
 #include "rockcal/calibrate/recording.h"
 #include "rockcal/core/error.h"
+#include "rockcal/core/statistics.h"
 #include "../sites/test_files.h"
 #include "twin_fixture.h"
 
@@ -347,8 +349,13 @@ TEST(Recording, EachReaderAddsWhatItNeeds) {
   report.report = true;
   const core::RecordOptions r = RecordingFor(site.scene, report);
   EXPECT_TRUE(r.passages);
-  EXPECT_EQ(r.trajectories, 30);  // min(50 rocks, 30)
-  report.trajectories = 5;        // asked for: kept
+  // 30 of the 50 rocks, spread over every group, not the first 30.
+  EXPECT_EQ(r.trajectories, 0);
+  std::vector<int> counts;
+  for (const core::RockGroup& g : site.scene.groups) counts.push_back(g.count);
+  EXPECT_EQ(r.trajectory_rocks, core::SpreadOverGroups(counts, 30));
+  EXPECT_EQ(r.trajectory_rocks.size(), 30u);
+  report.trajectories = 5;  // asked for: kept
   report.sample_seconds = 0.2;
   EXPECT_EQ(RecordingFor(site.scene, report).trajectories, 5);
   EXPECT_EQ(RecordingFor(site.scene, report).sample_seconds, 0.2);

@@ -195,6 +195,23 @@ TEST(RunReach, ARunoutFarBeyondTheSlopeIsOutOfReachAbove) {
     named = named || w.rfind("runout distance p50 is out of reach: observed", 0) == 0;
   EXPECT_TRUE(named) << warnings[0];
   EXPECT_THAT(r.BriefReport(), HasSubstr("OUT OF REACH: runout distance p50"));
+  // The advice once, after the lines, naming every statistic it concerns.
+  const std::vector<std::string> bare = OutOfReachWarnings(r, false);
+  ASSERT_EQ(bare.size(), warnings.size());
+  for (std::size_t k = 0; k < bare.size(); ++k) {
+    EXPECT_EQ(bare[k].find("Widen the box"), std::string::npos) << bare[k];
+    EXPECT_EQ(warnings[k].rfind(bare[k], 0), 0u) << warnings[k];
+  }
+  const std::string advice = OutOfReachAdvice(r);
+  EXPECT_THAT(advice, HasSubstr("runout distance p50"));
+  EXPECT_THAT(advice, HasSubstr("widen the box"));
+  const std::string brief = r.BriefReport();
+  std::size_t times = 0;
+  for (std::size_t at = brief.find("widen the box"); at != std::string::npos;
+       at = brief.find("widen the box", at + 1))
+    ++times;
+  EXPECT_EQ(times, 1u) << brief;
+  EXPECT_EQ(brief.find("Widen the box"), std::string::npos) << brief;
 }
 
 TEST(RunReach, ARunoutShorterThanAnyRockIsOutOfReachBelow) {

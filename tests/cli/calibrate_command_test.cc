@@ -10,7 +10,9 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_fixture.h"
@@ -80,6 +82,51 @@ TEST(CalibrateCommand, RocksKeepTheirCountUnlessNoiseRaiseIsGiven) {
   const RunResult c = Rockcal(base + " --noise-raise 0 --out " + FreshDir("zero"));
   EXPECT_EQ(c.status, 2);
   EXPECT_THAT(c.err, HasSubstr("argument --noise-raise"));
+}
+
+// Issue 55: the console piped into another program tells one story, line
+// by line: each line arrives when it is printed (stdout is line-buffered in
+// a pipe, not written in one block at exit), the start's misfit says its
+// rocks, one NOISE: line, the out-of-reach advice at most once, and the
+// misfits before and after at the same rocks.
+TEST(CalibrateCommand, TheConsolePipedTellsOneStoryLineByLine) {
+  const std::string obs =
+      std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/tutorial/observations.json";
+  const std::string out = FreshDir("piped"), times = out + ".times";
+  // Each line stamped with the time the pipe delivered it; the run's start
+  // and end stamped around it.
+  const RunResult run = testing::Run(
+      "(date +%s.%N > " + times + "; " + std::string(ROCKCAL_EXE) + " calibrate " +
+      Example("tutorial") + " --observations " + obs +
+      " --rocks 6 --seed 2 --reach 6 --max-evals 6 --out " + out +
+      " | while IFS= read -r line; do printf '%s %s\n' \"$(date +%s.%N)\" \"$line\"; done; "
+      "date +%s.%N >> " +
+      times + ")");
+  std::istringstream stamps(ReadFile(times));
+  double start = 0, end = 0;
+  stamps >> start >> end;
+  std::vector<std::pair<double, std::string>> lines;
+  std::istringstream in(run.out);
+  for (std::string line; std::getline(in, line);) {
+    const std::size_t space = line.find(' ');
+    lines.push_back({std::stod(line.substr(0, space)), line.substr(space + 1)});
+  }
+  ASSERT_GE(lines.size(), 5u) << run.out << run.err;
+  EXPECT_THAT(lines.back().second, HasSubstr("wrote ")) << run.out << run.err;
+  // The first line (after the first evaluation) well before the end.
+  EXPECT_THAT(lines.front().second, HasSubstr("misfit at the start"));
+  EXPECT_THAT(lines.front().second, HasSubstr("(at 6 rocks)"));
+  EXPECT_LT(lines.front().first - start, 0.5 * (end - start))
+      << "the first line came " << lines.front().first - start << " s into a run of " << end - start
+      << " s";
+  int noise = 0, advice = 0;
+  for (const auto& [t, text] : lines) {
+    noise += text.rfind("NOISE:", 0) == 0;
+    advice += text.find("iden the box") != std::string::npos;  // Widen, widen
+  }
+  EXPECT_EQ(noise, 1) << run.out;
+  EXPECT_LE(advice, 1) << run.out;
+  EXPECT_THAT(run.out, HasSubstr(" after, both at 6 rocks"));
 }
 
 // The library owns the defaults: rockcal calibrate with no flags but the

@@ -80,7 +80,7 @@ TEST(CommandsReference, OverviewNamesOnlyAcceptedFlags) {
   const std::string overview = OverviewHelp(CommandsReference());
   EXPECT_NE(overview.find("rockcal simulate"), std::string::npos) << overview;
   for (const std::string& f : FlagsIn(overview))
-    EXPECT_TRUE(f == "help" || accepted.count(f))
+    EXPECT_TRUE(f == "help" || f == "version" || accepted.count(f))
         << "the overview of docs/reference/commands.md names --" << f
         << ", which no command accepts";
 }
@@ -108,6 +108,15 @@ TEST(HelpOption, PrintsTheCommandsReferenceAndExitsZeroOnEveryCommand) {
   const testing::RunResult study = testing::Rockcal("study reach no-such-site.json --help");
   EXPECT_EQ(study.status, 0) << study.err;
   EXPECT_EQ(study.out, ForTerminal(CommandHelp(reference, "study")));
+}
+
+TEST(VersionOption, PrintsTheVersionAndExitsZero) {
+  for (const char* args : {"--version", "version"}) {
+    const testing::RunResult r = testing::Rockcal(args);
+    EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
+    EXPECT_TRUE(std::regex_match(r.out, std::regex("rockcal [0-9]+\\.[0-9]+\\.[0-9]+\n")))
+        << args << " printed '" << r.out << "'";
+  }
 }
 
 TEST(HelpOption, WithoutACommandPrintsTheOverview) {

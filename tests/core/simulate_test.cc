@@ -18,6 +18,7 @@ using testing::PointGroup;
 using testing::SmoothMaterial;
 
 constexpr double kG = kStandardGravity;
+constexpr double kDeg = 180.0 / 3.14159265358979323846;  // degrees in a radian
 
 // Free fall from rest with a horizontal velocity, far above the ground: the
 // recorded path is the parabola.
@@ -509,6 +510,104 @@ TEST(Simulate, PartitionRecordsCrossing) {
   EXPECT_EQ(stats.partitions[0].passed, crossed);
 }
 
+// The runout of every rock by hand: plan distance from release to the stop
+// (or the last point) and the energy-line angle; a rock that left ranks
+// beyond every other, whatever its last point.
+TEST(Simulate, RunoutCountsEveryRockAndRanksTheRocksThatLeftBeyond) {
+  auto rock = [](Eigen::Vector3d start, Eigen::Vector3d stop, Outcome outcome) {
+    RockRecord r;
+    r.start = start, r.stop = stop, r.outcome = outcome;
+    return r;
+  };
+  const Eigen::Vector3d s0(100.0, 200.0, 10.0);
+  const std::vector<RockRecord> rocks = {
+      rock(s0, s0 + Eigen::Vector3d(6, 8, -10), Outcome::kStopped),    // d 10, 45 deg
+      rock(s0, s0 + Eigen::Vector3d(3, -4, -10), Outcome::kStopped),   // d 5, atan(2)
+      rock(s0, s0 + Eigen::Vector3d(-20, 0, -10), Outcome::kStopped),  // d 20, atan(1/2)
+      rock(s0, s0 + Eigen::Vector3d(0, 40, -10), Outcome::kTimeout),   // d 40, atan(1/4)
+      rock(s0, s0 + Eigen::Vector3d(2, 0, -1), Outcome::kLeft)};       // beyond
+  EXPECT_DOUBLE_EQ(RunoutDistance(rocks[0]), 10.0);
+  EXPECT_DOUBLE_EQ(TravelAngleDeg(rocks[0]), 45.0);
+  EXPECT_DOUBLE_EQ(TravelAngleDeg(rocks[1]), std::atan(2.0) * kDeg);
+  EXPECT_DOUBLE_EQ(TravelAngleDeg(rock(s0, s0, Outcome::kStopped)), 90.0);
+  const RunoutStats r = ComputeRunout(rocks);
+  EXPECT_EQ(r.rocks, 5);
+  EXPECT_EQ(r.beyond_edge, 1);
+  // Distances {5, 10, 20, 40, beyond}: p10 at pos 0.4, p50 at 2, p90 at 3.6.
+  EXPECT_DOUBLE_EQ(r.distance_m.p10, 7.0);
+  EXPECT_DOUBLE_EQ(r.distance_m.p50, 20.0);
+  EXPECT_TRUE(std::isinf(r.distance_m.p90)) << r.distance_m.p90;
+  EXPECT_TRUE(std::isinf(r.distance_m.max)) << r.distance_m.max;
+  // Angles {beyond, atan(1/4), atan(1/2), 45, atan(2)}.
+  EXPECT_TRUE(std::isinf(r.travel_angle_deg.p10)) << r.travel_angle_deg.p10;
+  EXPECT_DOUBLE_EQ(r.travel_angle_deg.p50, std::atan(0.5) * kDeg);
+  EXPECT_DOUBLE_EQ(r.travel_angle_deg.p90, 45.0 + 0.6 * (std::atan(2.0) * kDeg - 45.0));
+  EXPECT_DOUBLE_EQ(r.travel_angle_deg.max, std::atan(2.0) * kDeg);
+}
+
+// The fence check by the rock's lowest point, by hand: two spheres thrown
+// level at 10 m/s with their centres 3.1 m above flat ground cross x = 1 m
+// from their release 0.1 s later, their centres g (0.1 s)^2 / 2 lower. A
+// 2.8 m fence is below both centres; the large sphere's (radius 0.5 m)
+// lowest point is under it, the small one's (radius 0.1 m) above it. A
+// 10 kJ capacity lies between their energies, m (v^2 + (g 0.1 s)^2) / 2.
+TEST(Simulate, TheFenceIsCheckedByTheRocksLowestPoint) {
+  Scene scene = FlatScene(SmoothMaterial(0.5, 0.005, 0.5));
+  scene.groups = {PointGroup(Shape::kSphere, 1.0, 2.0, 10.0, 2.6),   // centre 3.1 m
+                  PointGroup(Shape::kSphere, 0.2, 2.0, 10.0, 3.0)};  // centre 3.1 m
+  for (RockGroup& g : scene.groups) g.release.velocity = Eigen::Vector3d(10.0, 0.0, 0.0);
+  scene.partitions = {{"fence", Partition::Kind::kX, 3.0}};
+  scene.options.max_time = 0.5;
+  const SimulationResult result = Simulate(scene);
+  const double t = 0.1, centre = 3.1 - 0.5 * kG * t * t;
+  for (const RockRecord& r : result.rocks) {
+    ASSERT_TRUE(r.crossings[0].crossed) << "rock " << r.rock;
+    EXPECT_NEAR(r.crossings[0].height, centre, 1e-6) << "rock " << r.rock;
+    EXPECT_NEAR(r.bounding_radius, 0.5 * r.size, 1e-12) << "rock " << r.rock;
+    const double e = 0.5 * r.mass * (100.0 + kG * t * kG * t);
+    EXPECT_NEAR(r.crossings[0].energy, e, 1e-6 * e) << "rock " << r.rock;
+  }
+  ASSERT_GT(result.rocks[0].crossings[0].energy, 10e3);  // 1388 kg: 70 kJ
+  ASSERT_LT(result.rocks[1].crossings[0].energy, 10e3);  // 11 kg: 0.56 kJ
+  const FenceCheck f = CheckFence(result, 0, 2.8, 10e3);
+  EXPECT_EQ(f.passed, 2);
+  EXPECT_EQ(f.over_by_centre, 2);
+  EXPECT_EQ(f.over_by_top, 2);
+  // A fence between the small sphere's top and the large one's: only the
+  // large one's top reaches above it.
+  EXPECT_EQ(CheckFence(result, 0, centre + 0.3, 1e9).over_by_top, 1);
+  EXPECT_EQ(CheckFence(result, 0, centre + 0.3, 1e9).over_by_centre, 0);
+  EXPECT_EQ(f.over, 1) << "only the small sphere's lowest point, " << centre - 0.1
+                       << " m, clears 2.8 m; the large one's is at " << centre - 0.5 << " m";
+  EXPECT_EQ(f.over_capacity, 1);
+  EXPECT_EQ(f.defeated, 2);
+  // Raised from just under the small sphere's lowest point to just over it,
+  // the fence stops it too.
+  EXPECT_EQ(CheckFence(result, 0, centre - 0.1 - 1e-3, 1e9).over, 1);
+  EXPECT_EQ(CheckFence(result, 0, centre - 0.1 + 1e-3, 1e9).over, 0);
+  EXPECT_EQ(CheckFence(result, 0, centre - 0.1 + 1e-3, 1e9).defeated, 0);
+}
+
+// Rocks thrown over the terrain's edge count as beyond it: three rocks rest
+// where they were released (no runout), two fly off the x-max edge.
+TEST(Simulate, RocksThrownOverTheEdgeAreBeyondIt) {
+  Scene scene = FlatScene(SmoothMaterial(0.5, 0.005, 0.5));
+  scene.groups = {PointGroup(Shape::kSphere, 0.4, 5.0, 10.0, 0.0, 3),
+                  PointGroup(Shape::kSphere, 0.4, 15.0, 10.0, 1.0, 2)};
+  scene.groups[1].release.velocity = Eigen::Vector3d(10.0, 0.0, 0.0);
+  const SimulationResult result = Simulate(scene);
+  ASSERT_EQ(result.count(Outcome::kLeft), 2);
+  ASSERT_EQ(result.count(Outcome::kStopped), 3);
+  const ResultStats stats = ComputeStats(scene, result);
+  EXPECT_EQ(stats.runout.beyond_edge, 2);
+  EXPECT_EQ(stats.runout.distance_m.count, 5);
+  // {0, 0, 0, beyond, beyond}: p50 at pos 2 is a resting rock's, p90 beyond.
+  EXPECT_NEAR(stats.runout.distance_m.p50, 0.0, 1e-6);
+  EXPECT_TRUE(std::isinf(stats.runout.distance_m.p90)) << stats.runout.distance_m.p90;
+  // The stopped-only figure the older key keeps: stop x of the three.
+  EXPECT_EQ(stats.runout_x.count, 3);
+  EXPECT_NEAR(stats.runout_x.max, 5.0, 1e-6);
+}
 
 // A rock that flies off the data (a hole: no elevation past x = 19 m) crosses
 // a partition over the hole in its last advance. Its height is measured from

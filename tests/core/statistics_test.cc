@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "rockcal/core/random.h"
 
@@ -86,6 +88,55 @@ TEST(Statistics, KsDistanceOfKnownSamples) {
   EXPECT_EQ(same.distance, 0.0);
   EXPECT_EQ(same.p_value, 1.0);
   EXPECT_EQ(TwoSampleKs({}, {1.0}).p_value, 1.0);
+}
+
+TEST(Statistics, QuantileWithBeyondRanksTheValuesBeyondPastTheKnownOnes) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::vector<double> known = {1.0, 2.0, 3.0};
+  // Above: the sample is {1, 2, 3, beyond, beyond}; type 7 at pos = q (n - 1).
+  EXPECT_DOUBLE_EQ(QuantileWithBeyond(known, 2, 0.1, true), 1.4);  // pos 0.4
+  EXPECT_DOUBLE_EQ(QuantileWithBeyond(known, 2, 0.5, true), 3.0);  // pos 2
+  EXPECT_EQ(QuantileWithBeyond(known, 2, 0.6, true), inf);         // pos 2.4, towards beyond
+  EXPECT_EQ(QuantileWithBeyond(known, 2, 1.0, true), inf);
+  EXPECT_DOUBLE_EQ(QuantileWithBeyond(known, 2, 0.0, true), 1.0);
+  // Below: {beyond, beyond, 1, 2, 3}.
+  EXPECT_EQ(QuantileWithBeyond(known, 2, 0.0, false), -inf);
+  EXPECT_EQ(QuantileWithBeyond(known, 2, 0.4, false), -inf);  // pos 1.6, towards beyond
+  EXPECT_DOUBLE_EQ(QuantileWithBeyond(known, 2, 0.5, false), 1.0);
+  EXPECT_DOUBLE_EQ(QuantileWithBeyond(known, 2, 0.9, false), 2.6);  // pos 3.6
+  EXPECT_DOUBLE_EQ(QuantileWithBeyond(known, 2, 1.0, false), 3.0);
+  // Nothing beyond: Quantile's values; only values beyond: every figure beyond.
+  for (double q : {0.0, 0.1, 0.35, 0.5, 0.9, 0.95, 1.0}) {
+    EXPECT_DOUBLE_EQ(QuantileWithBeyond(known, 0, q, true), Quantile(known, q)) << "q = " << q;
+    EXPECT_DOUBLE_EQ(QuantileWithBeyond(known, 0, q, false), Quantile(known, q)) << "q = " << q;
+    EXPECT_EQ(QuantileWithBeyond({}, 3, q, true), inf) << "q = " << q;
+  }
+  const BeyondStats s = SummarizeWithBeyond({3.0, 1.0, 2.0}, 2, true);
+  EXPECT_EQ(s.count, 5);
+  EXPECT_EQ(s.beyond, 2);
+  EXPECT_DOUBLE_EQ(s.min, 1.0);
+  EXPECT_DOUBLE_EQ(s.p10, 1.4);
+  EXPECT_DOUBLE_EQ(s.p50, 3.0);
+  EXPECT_EQ(s.p90, inf);
+  EXPECT_EQ(s.p95, inf);
+  EXPECT_EQ(s.max, inf);
+  EXPECT_EQ(SummarizeWithBeyond({}, 0, true).count, 0);
+}
+
+TEST(Statistics, SpreadOverGroupsSamplesEveryGroupEvenly) {
+  // Two equal groups: half each, evenly spaced (centres of equal slices).
+  EXPECT_EQ(SpreadOverGroups({10, 10}, 4), (std::vector<int>{2, 7, 12, 17}));
+  // A small group still gets one; the rest by share.
+  const std::vector<int> s = SpreadOverGroups({1000, 5}, 30);
+  ASSERT_EQ(s.size(), 30u);
+  EXPECT_EQ(std::count_if(s.begin(), s.end(), [](int k) { return k >= 1000; }), 1);
+  EXPECT_TRUE(std::is_sorted(s.begin(), s.end()));
+  EXPECT_EQ(std::adjacent_find(s.begin(), s.end()), s.end()) << "no rock twice";
+  // Enough for all: all; fewer than the groups: the largest shares; none.
+  EXPECT_EQ(SpreadOverGroups({2, 1}, 5), (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(SpreadOverGroups({2, 6, 2}, 1), (std::vector<int>{5}));
+  EXPECT_EQ(SpreadOverGroups({0, 4}, 2), (std::vector<int>{1, 3}));
+  EXPECT_TRUE(SpreadOverGroups({3}, 0).empty());
 }
 
 TEST(Statistics, KsPValueHoldsItsLevel) {

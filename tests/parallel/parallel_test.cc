@@ -21,6 +21,7 @@ core::SimulationResult SampleResult() {
     rec.shape = k == 2 ? core::Shape::kBox : core::Shape::kSphere;
     rec.size = 0.1 * k + 1.0 / 3.0;
     rec.mass = 1e3 + k;
+    rec.bounding_radius = 0.25 + k / 3.0;
     rec.outcome = k == 1 ? core::Outcome::kLeft : core::Outcome::kStopped;
     rec.start = Eigen::Vector3d(1.0 / 7.0, 2, 3);
     rec.stop = Eigen::Vector3d(-0.0, 1e-300, 5e300);
@@ -69,6 +70,7 @@ TEST(Codec, SimulationResultRoundTripsBitForBit) {
   EXPECT_EQ(back.rocks[2].shape, core::Shape::kBox);
   EXPECT_EQ(back.rocks[1].outcome, core::Outcome::kLeft);
   EXPECT_EQ(back.rocks[0].start.x(), 1.0 / 7.0);
+  EXPECT_EQ(back.rocks[2].bounding_radius, 0.25 + 2 / 3.0);
   EXPECT_TRUE(std::signbit(back.rocks[0].stop.x()));
   EXPECT_EQ(back.rocks[0].steps, 123456789012L);
   EXPECT_EQ(back.rocks[0].trees.size(), 1u);

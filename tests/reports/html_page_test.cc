@@ -42,7 +42,18 @@ TEST(HtmlPageTest, NumbersAreShownWithThreeDigitsAndMarkedExactly) {
             "<span data-json=\"a.json#/name\" data-value=\"A &amp; &lt;B&gt;\">A &amp; "
             "&lt;B&gt;</span>");
   EXPECT_EQ(Td("1 < 2", true), "<td class=\"n\">1 &lt; 2</td>");
-  EXPECT_EQ(Length(3.048), "3.05 m (10.0 ft)");
+  // In the site's units: SI alone, or SI with US beside.
+  EXPECT_EQ(Length(3.048, sites::Units::kUS), "3.05 m (10.0 ft)");
+  EXPECT_EQ(Length(3.048, sites::Units::kSI), "3.05 m");
+  EXPECT_EQ(Energy(500e3, sites::Units::kSI), "500 kJ");
+  EXPECT_EQ(Energy(10.0 * kFtTon, sites::Units::kUS), "27.1 kJ (10.0 ft-tons)");
+  EXPECT_EQ(Speed(3.048, sites::Units::kUS), "3.05 m/s (10.0 ft/s)");
+  // A coordinate rounded one way, never converted for an SI site.
+  EXPECT_EQ(CoordinateNumber(6671517.5), "6671517.5");
+  EXPECT_EQ(CoordinateNumber(6671517.96), "6671518.0");
+  EXPECT_EQ(CoordinateNumber(12.25), "12.25");
+  EXPECT_EQ(Coordinate(888630.0, sites::Units::kSI), "888630.0 m");
+  EXPECT_EQ(Coordinate(121.92, sites::Units::kUS), "121.9 m (400 ft)");
 }
 
 TEST(HtmlPageTest, PageIsSelfContainedWithNumberedSections) {

@@ -18,7 +18,9 @@
 #include "report_check.h"
 #include "rockcal/core/rasters.h"
 #include "rockcal/reports/calibration_outputs.h"
+#include "rockcal/reports/html_page.h"
 #include "rockcal/reports/simulation_outputs.h"
+#include "rockcal/reports/svg.h"
 #include "rockcal/sites/site.h"
 #include "xml_check.h"
 
@@ -72,9 +74,10 @@ void CheckSimulationReport(const SimulatedSite& run, const Parsed& p) {
   const nlohmann::json summary = SummaryJson(scene, run.result);
   const nlohmann::json diagnostics = DiagnosticsJson(scene, run.result);
   auto seen = CheckNumbers(p, {{"summary.json", summary}, {"diagnostics.json", diagnostics}});
-  // Every number of summary.json is in the report (runout only when a rock stopped).
+  // Every number of summary.json is in the report but runout.x_m, the
+  // stopped rocks' stop x kept for older readers: a coordinate, not a runout.
   for (const std::string& leaf : Leaves(summary)) {
-    if (leaf.rfind("/runout", 0) == 0 && summary["outcomes"]["stopped"] == 0) continue;
+    if (leaf.rfind("/runout/x_m", 0) == 0) continue;
     EXPECT_TRUE(seen["summary.json"].count(leaf))
         << "summary.json" << leaf << " is not in the report";
   }
@@ -161,6 +164,83 @@ TEST(HtmlReportTest, SectionsFollowTheRun) {
   EXPECT_TRUE(HasSection(p, "barrier"));
 }
 
+// Runout counts every rock: the tutorial's slope ends where many rocks are
+// still rolling (issue 55: 74 of 200 left over its far edge);
+// summary.json, the runout section, its curve and the opening line say how
+// many, and a percentile among them is "beyond".
+TEST(HtmlReportTest, RunoutCountsTheRocksThatLeftTheTerrain) {
+  const SimulatedSite run = Simulated("tutorial", 40);
+  const core::Scene& scene = run.site.scene;
+  const core::HeightGrid& g = scene.grid;
+  const int left = run.result.count(core::Outcome::kLeft);
+  ASSERT_GT(left, 4) << "enough rocks leave for the 90th percentile to be among them";
+  ASSERT_LT(left, 40) << "and some stay";
+  const nlohmann::json summary = SummaryJson(scene, run.result);
+  const nlohmann::json& ro = summary["runout"];
+  EXPECT_EQ(ro["beyond_edge"], left);
+  EXPECT_EQ(ro["rocks"], 40);
+  EXPECT_EQ(ro["distance_m"]["p90"], "beyond") << ro.dump();
+  EXPECT_EQ(ro["distance_m"]["max"], "beyond") << ro.dump();
+  EXPECT_EQ(ro["travel_angle_deg"]["p10"], "beyond") << ro.dump();
+  EXPECT_TRUE(ro["travel_angle_deg"]["max"].is_number()) << ro.dump();
+  // A distance, not a coordinate: within the grid's diagonal.
+  ASSERT_TRUE(ro["distance_m"]["p10"].is_number()) << ro.dump();
+  EXPECT_LT(ro["distance_m"]["p10"].get<double>(),
+            std::hypot(g.x(g.nx - 1) - g.x0, g.y(g.ny - 1) - g.y0));
+  const Parsed p = Render(Input(run));
+  CheckSimulationReport(run, p);
+  const XmlNode* section = FindSection(p, "runout");
+  ASSERT_NE(section, nullptr);
+  const std::string text = Unescape(section->AllText());
+  EXPECT_NE(text.find(std::to_string(left) + " ("), std::string::npos) << text;
+  EXPECT_NE(text.find("left the terrain"), std::string::npos) << text;
+  EXPECT_NE(text.find(std::to_string(left) + " left: beyond the edge"), std::string::npos)
+      << "the exceedance curve holds up at the share that left";
+  EXPECT_NE(text.find("hold the curve up at their share"), std::string::npos) << text;
+  EXPECT_EQ(text.find("are not counted"), std::string::npos) << text;
+  EXPECT_NE(p.html.find(std::to_string(left) + " rocks, "), std::string::npos)
+      << "the opening line says how many left";
+}
+
+// An SI site in map coordinates (Lambert-93) reads in SI: no feet anywhere,
+// coordinates as the site gives them, one rounding for each.
+TEST(HtmlReportTest, AnSiSiteInMapCoordinatesReadsInItsOwnUnits) {
+  const SimulatedSite run = Simulated("authume_gis", 6);
+  ASSERT_EQ(run.site.units, sites::Units::kSI);
+  const Parsed p = Render(Input(run));
+  CheckSimulationReport(run, p);
+  const std::string text = Unescape(p.root->AllText());
+  for (const char* us : {" ft", "ft)", "[ft]", "ft-ton", "ft/s", "lbf", " lb)"})
+    EXPECT_EQ(text.find(us), std::string::npos) << "'" << us << "' in an SI site's report";
+  const core::HeightGrid& g = run.site.scene.grid;
+  ASSERT_GT(g.y(g.ny - 1), 1e6) << "a northing";
+  // The grid's extent and the partition: each coordinate one way.
+  for (double v : {g.x0, g.x(g.nx - 1), g.y0, g.y(g.ny - 1)}) {
+    const std::string shown = html::CoordinateNumber(v);
+    EXPECT_NE(text.find(shown), std::string::npos) << shown;
+    const std::string other = svg::Label(v);
+    if (other != shown) {
+      EXPECT_EQ(text.find(other + " "), std::string::npos) << other;
+    }
+  }
+  EXPECT_NE(text.find("x = 888630.0 m"), std::string::npos);
+  // The runout is a distance from each rock's release, metres down the slope.
+  const nlohmann::json ro = SummaryJson(run.site.scene, run.result)["runout"];
+  for (const char* key : {"p10", "p50"}) {
+    ASSERT_TRUE(ro["distance_m"][key].is_number()) << ro.dump();
+    EXPECT_LT(ro["distance_m"][key].get<double>(), 500.0) << ro.dump();
+  }
+}
+
+// A US site keeps US units beside SI.
+TEST(HtmlReportTest, AUsSiteShowsUsUnitsBesideSi) {
+  const SimulatedSite run = Simulated("tutorial", 6);
+  ASSERT_EQ(run.site.units, sites::Units::kUS);
+  const std::string text = Unescape(Render(Input(run)).root->AllText());
+  for (const char* us : {" ft)", "[ft]", "ft-tons", "lbf/ft"})
+    EXPECT_NE(text.find(us), std::string::npos) << "no '" << us << "' in a US site's report";
+}
+
 // The barrier check counts the passing rocks above the thresholds.
 TEST(HtmlReportTest, BarrierCountsFollowTheThresholds) {
   const SimulatedSite run = Simulated("profile2d", 10);
@@ -175,7 +255,7 @@ TEST(HtmlReportTest, BarrierCountsFollowTheThresholds) {
     std::string cell;
     s->Visit([&](const XmlNode& n) {
       if (n.name == "tr" && cell.empty() && n.children.size() > 3 && n.children[0]->name == "td")
-        cell = Unescape(n.children[3]->AllText());  // energy above capacity
+        cell = Unescape(n.children[5]->AllText());  // energy above capacity
     });
     return cell;
   };
@@ -316,6 +396,37 @@ TEST(HtmlReportTest, TheReportSaysWhichValuesTheObservationsDoNotDetermine) {
   u = calibrate::Uncertainty{};
   EXPECT_TRUE(has(DeterminationSentence(record),
                   "how well the observations determine each value is unknown"));
+}
+
+// A value at its bound is flagged in parameters.md (the console's table)
+// as in the report; two stages of one method are named as stages, each
+// with its rocks, and the misfits before and after at the same rocks.
+TEST(HtmlReportTest, BoundsAndStagesAreSaidAlikeInParametersMdAndTheReport) {
+  const SimulatedSite run = Simulated("tutorial", 6);
+  CalibrationSummary record = MakeRecord(run.site, 1);
+  calibrate::MethodResult refining = record.methods[0];
+  refining.stage.rocks = 24;
+  const auto& ps = record.space.parameters();
+  refining.best[0] = ps[0].lower;
+  record.methods.push_back(refining);
+  record.best = 1;
+  record.final_rocks = 24;
+  ASSERT_NE(record.rocks, 24);
+  const std::string md = ParametersMarkdown(record);
+  EXPECT_NE(md.find("**at the lower bound**"), std::string::npos) << md;
+  EXPECT_EQ(md.find("upper bound**"), std::string::npos) << md;
+  EXPECT_NE(md.find("after, both at 24 rocks"), std::string::npos) << md;
+  EXPECT_NE(md.find(std::to_string(record.rocks) +
+                    " rocks per evaluation in the first stage, 24 in the refining stage"),
+            std::string::npos)
+      << md;
+  ReportInput in = Input(run);
+  in.calibration = &record;
+  const std::string text = Unescape(FindSection(Render(in), "calibration")->AllText());
+  EXPECT_NE(text.find("at a bound"), std::string::npos) << text;
+  EXPECT_EQ(text.find("the best of 2 methods"), std::string::npos) << text;
+  EXPECT_NE(text.find("the last of 2 stages"), std::string::npos) << text;
+  EXPECT_NE(text.find(" in the refining stage"), std::string::npos) << text;
 }
 
 TEST(HtmlReportTest, CalibrationSectionsShowTheRecord) {

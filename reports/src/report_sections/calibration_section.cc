@@ -2,6 +2,7 @@
 // parameters, their correlation, and the methods compared.
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "rockcal/sites/json_reader.h"
 #include "sections.h"
@@ -10,20 +11,22 @@ namespace rockcal::reports::sections {
 namespace {
 
 // A parameter value in SI with US units beside it (as everywhere in the report).
-std::string ParameterValue(const calibrate::Parameter& p, double v) {
+std::string ParameterValue(const calibrate::Parameter& p, double v, sites::Units units) {
   switch (p.kind) {
     case calibrate::ParameterKind::kHardness:
       return FormatNumber(v, "%.3f");
     case calibrate::ParameterKind::kRoughness:
-      return Length(v);
+      return Length(v, units);
     case calibrate::ParameterKind::kContactTime:
       return Show(v) + " s (" + Show(v * 1e3) + " ms)";
     case calibrate::ParameterKind::kRollingResistance:
     case calibrate::ParameterKind::kFriction:
       return FormatNumber(v, "%.3f");
     case calibrate::ParameterKind::kVegetation:
-      return Show(v * 1e-3) + " kPa (" + Show(v / sites::StressToSI(1.0, sites::Units::kUS)) +
-             " lbf/ft²)";
+      return Show(v * 1e-3) + " kPa" +
+             (units == sites::Units::kUS
+                  ? " (" + Show(v / sites::StressToSI(1.0, sites::Units::kUS)) + " lbf/ft²)"
+                  : "");
   }
   return Show(v);
 }
@@ -46,11 +49,22 @@ std::string RunTable(const CalibrationSummary& rec) {
   const calibrate::MethodResult& best = rec.methods[static_cast<std::size_t>(rec.best)];
   const std::string cj = "calibration.json";
   std::string s = "<table class=\"kv\">";
-  s += Kv("Method", "<code>" + Escape(best.stage.name()) + "</code>" +
-                        (rec.methods.size() > 1
-                             ? " (the best of " + Int(static_cast<long>(rec.methods.size())) +
-                                   " methods, compared below)"
-                             : std::string()));
+  // Stages of one search (a first stage and the refining stage at more
+  // rocks) are named as stages; only different methods are "the best of".
+  const bool refined = rec.final_rocks > 0 && rec.final_rocks != rec.rocks;
+  std::set<calibrate::Method> methods;
+  for (const calibrate::MethodResult& m : rec.methods) methods.insert(m.stage.method);
+  std::string which;
+  if (refined)
+    which =
+        " (the refining stage, at " + Int(rec.final_rocks) + " rocks per evaluation, the last of " +
+        Int(static_cast<long>(rec.methods.size())) + " stages" +
+        (methods.size() > 1 ? ", of " + Int(static_cast<long>(methods.size())) + " methods" : "") +
+        ", compared below)";
+  else if (rec.methods.size() > 1)
+    which =
+        " (the best of " + Int(static_cast<long>(rec.methods.size())) + " methods, compared below)";
+  s += Kv("Method", "<code>" + Escape(best.stage.name()) + "</code>" + which);
   s += Kv("Stopped because", "<span data-json=\"" + Ref(cj, "/termination") + "\" data-value=\"" +
                                  Escape(best.termination.message) + "\">" +
                                  Escape(best.termination.message) + "</span>");
@@ -58,20 +72,21 @@ std::string RunTable(const CalibrationSummary& rec) {
                              " (" + Int(best.simulated) +
                              " simulated, the rest replayed from the log) in " +
                              Escape(Show(best.wall_seconds)) + " s");
-  s += Kv("Misfit",
-          "at the start " +
-              RefSpan(Ref(cj, "/misfit_before"), rec.misfit_before.value,
-                      Label(rec.misfit_before.value, 4)) +
-              ", at the calibrated values " +
-              RefSpan(Ref(cj, "/methods/" + Int(rec.best) + "/misfit"), best.best_misfit,
-                      Label(best.best_misfit, 4)) +
-              ", lowest evaluated " +
-              RefSpan(Ref(cj, "/methods/" + Int(rec.best) + "/lowest_misfit"), best.lowest_misfit,
-                      Label(best.lowest_misfit, 4)) +
-              ", this report's simulation " +
-              RefSpan(Ref(cj, "/misfit_after"), rec.misfit_after.value,
-                      Label(rec.misfit_after.value, 4)) +
-              " (half the sum of the squared residuals, each in units of its uncertainty)");
+  s += Kv(
+      refined ? "Misfit (at " + Int(rec.final_rocks) + " rocks, the refining stage's)" : "Misfit",
+      "at the start " +
+          RefSpan(Ref(cj, "/misfit_before"), rec.misfit_before.value,
+                  Label(rec.misfit_before.value, 4)) +
+          ", at the calibrated values " +
+          RefSpan(Ref(cj, "/methods/" + Int(rec.best) + "/misfit"), best.best_misfit,
+                  Label(best.best_misfit, 4)) +
+          ", lowest evaluated " +
+          RefSpan(Ref(cj, "/methods/" + Int(rec.best) + "/lowest_misfit"), best.lowest_misfit,
+                  Label(best.lowest_misfit, 4)) +
+          ", this report's simulation " +
+          RefSpan(Ref(cj, "/misfit_after"), rec.misfit_after.value,
+                  Label(rec.misfit_after.value, 4)) +
+          " (half the sum of the squared residuals, each in units of its uncertainty)");
   s += Kv("Calibrated values",
           best.smoothed.used
               ? "the smoothed estimate: " + Escape(best.smoothed.message) +
@@ -81,8 +96,11 @@ std::string RunTable(const CalibrationSummary& rec) {
                     (best.smoothed.message.empty()
                          ? std::string()
                          : " (smoothed estimate " + Escape(best.smoothed.message) + ")"));
-  s += Kv("Each evaluation", Escape(Int(rec.rocks) + " rocks, seed " + std::to_string(rec.seed) +
-                                    " (the same random numbers at every evaluation)"));
+  s += Kv("Each evaluation", Escape((refined ? Int(rec.rocks) + " rocks in the first stage, " +
+                                                   Int(rec.final_rocks) + " in the refining stage"
+                                             : Int(rec.rocks) + " rocks") +
+                                    ", seed " + std::to_string(rec.seed) +
+                                    " (the same random numbers at every evaluation of a stage)"));
   if (rec.race_winner >= 0) {
     // The race for the refining stage's start (CalibrationOptions::race_points).
     std::string race;
@@ -127,12 +145,14 @@ std::string ParameterTable(const CalibrationSummary& rec) {
         std::fabs(v - ps[k].lower) < 0.01 * range || std::fabs(ps[k].upper - v) < 0.01 * range;
     s += "<tr>" + Td(ps[k].material) + Td(ps[k].name()) + "<td class=\"n\" data-json=\"" +
          Ref(cj, "/calibrated/" + Int(static_cast<long>(k))) + "\" data-value=\"" + Exact(v) +
-         "\">" + Escape(ParameterValue(ps[k], v)) + (at_bound ? " <b>at a bound</b>" : "") +
-         "</td>" +
-         Td(have_se && k < u.std_error.size() ? ParameterValue(ps[k], u.std_error[k]) : "-", true) +
-         Td(k < rec.start.size() ? ParameterValue(ps[k], rec.start[k]) : "-", true) +
-         Td(ParameterValue(ps[k], ps[k].lower), true) +
-         Td(ParameterValue(ps[k], ps[k].upper), true) + "<td>" +
+         "\">" + Escape(ParameterValue(ps[k], v, rec.units)) +
+         (at_bound ? " <b>at a bound</b>" : "") + "</td>" +
+         Td(have_se && k < u.std_error.size() ? ParameterValue(ps[k], u.std_error[k], rec.units)
+                                              : "-",
+            true) +
+         Td(k < rec.start.size() ? ParameterValue(ps[k], rec.start[k], rec.units) : "-", true) +
+         Td(ParameterValue(ps[k], ps[k].lower, rec.units), true) +
+         Td(ParameterValue(ps[k], ps[k].upper, rec.units), true) + "<td>" +
          BoundsBar(v, ps[k].lower, ps[k].upper) + "</td></tr>";
   }
   s += "</tbody></table>";

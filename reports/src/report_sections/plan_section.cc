@@ -164,8 +164,8 @@ std::string ContourLines(const Context& c, const View& view, const svg::Plot& pl
     bool crowded = false;
     for (double x : placed) crowded = crowded || std::fabs(lx - x) < 34.0;
     if (!crowded) {
-      labels +=
-          "<text x=\"" + Px(lx) + "\" y=\"" + Px(ly + 3) + "\">" + Escape(Label(level)) + "</text>";
+      labels += "<text x=\"" + Px(lx) + "\" y=\"" + Px(ly + 3) + "\">" +
+                Escape(CoordinateNumber(level)) + "</text>";
       placed.push_back(lx);
     }
   }
@@ -287,7 +287,7 @@ std::string PlanZones(const Context& c, double step, std::string* legend, double
     if (used[k])
       *legend += LegendItem(Swatch(MaterialFill(static_cast<int>(k))), c.scene.materials[k].id);
   if (HasHoles(g)) *legend += LegendItem(Swatch("#ffffff"), "no terrain data");
-  *legend += LegendItem(Swatch("#555", "line"), "contour every " + Length(step));
+  *legend += LegendItem(Swatch("#555", "line"), "contour every " + Length(step, c.in.units));
   *legend += LegendItem(Swatch(kReleaseColour, "zone"), "release zone");
   if (!c.scene.partitions.empty())
     *legend += LegendItem(Swatch(kPartitionColour, "dash"), "partition");
@@ -378,15 +378,17 @@ std::string PlanPaths(const Context& c, double step, const View& view, std::stri
   plot.Raw(ContourLines(c, view, plot, step, "#8a8a8a"));
   plot.Raw(ReleaseMarks(c, plot));
   plot.Raw(PartitionMarks(c, view, plot));
-  // Stop points by outcome (at most max_stop_points, in rock order).
+  // Stop points by outcome (at most max_stop_points, spread over every group).
   std::string stops =
       "<g fill=\"" + std::string(kStopColour) + "\" stroke=\"#fff\" stroke-width=\"0.8\">";
   std::string timeouts =
       "<g fill=\"" + std::string(kTimeoutColour) + "\" stroke=\"#fff\" stroke-width=\"0.8\">";
   std::string lefts = "<g stroke=\"#333\" stroke-width=\"1.2\" fill=\"none\">";
+  std::vector<const core::RockRecord*> all;
+  for (const core::RockRecord& rock : c.result.rocks) all.push_back(&rock);
   int n = 0;
-  for (const core::RockRecord& r : c.result.rocks) {
-    if (n >= c.in.options.max_stop_points) break;
+  for (const core::RockRecord* drawn : SpreadSample(all, c.in.options.max_stop_points)) {
+    const core::RockRecord& r = *drawn;
     const double x = plot.X(std::clamp(r.stop.x(), plot.xlo(), plot.xhi()));
     const double y = plot.Y(std::clamp(r.stop.y(), plot.ylo(), plot.yhi()));
     ++n;
@@ -453,15 +455,17 @@ std::string PlanSection(const Context& c) {
               "<b>Slope and zones.</b> Material zones (each grid node coloured by its material), "
               "elevation contours "
               "every " +
-                  Escape(Length(step)) + ", release zones and partitions." + zones_legend,
+                  Escape(Length(step, c.in.units)) + ", release zones and partitions." +
+                  zones_legend,
               zones_width);
   std::string cap = "<b>Rock paths.</b> Passage density: the share of the " + Int(Rocks(c)) +
                     " rocks whose centre passed over each cell of the site grid, centred on a "
                     "grid node (the preferred paths; the reach_probability band of rasters.tif)";
   if (!c.rasters) cap += " was not recorded for this run";
   cap += "; where each rock ended";
-  if (drawn < Rocks(c)) cap += " (the first " + Int(drawn) + " rocks)";
-  cap += ". Grey shading: elevation bands every " + Escape(Length(step)) + ", darker is higher.";
+  if (drawn < Rocks(c)) cap += " (" + Int(drawn) + " of the rocks, spread over every group)";
+  cap += ". Grey shading: elevation bands every " + Escape(Length(step, c.in.units)) +
+         ", darker is higher.";
   if (zoomed) cap += " Zoomed to where the rocks went.";
   s += Figure(paths, cap + paths_legend, paths_width);
   return s + "</div>";

@@ -48,13 +48,13 @@ GroundProfile Ground(const Context& c) {
   return p;
 }
 
-// The recorded trajectories to draw: the first max_trajectories.
+// The recorded trajectories to draw: at most max_trajectories, spread over
+// every group.
 std::vector<const core::RockRecord*> SampledPaths(const Context& c) {
   std::vector<const core::RockRecord*> paths;
   for (const core::RockRecord& r : c.result.rocks)
-    if (!r.trajectory.empty() && static_cast<int>(paths.size()) < c.in.options.max_trajectories)
-      paths.push_back(&r);
-  return paths;
+    if (!r.trajectory.empty()) paths.push_back(&r);
+  return SpreadSample(paths, c.in.options.max_trajectories);
 }
 
 // The frame of the profile: true scale when it fits, otherwise with the
@@ -120,7 +120,7 @@ void DrawPartitions(const Context& c, svg::Plot* plot) {
       plot->HLine(p.value,
                   "stroke=\"" + std::string(kPartitionColour) +
                       "\" stroke-width=\"1.5\" stroke-dasharray=\"7 4\"",
-                  p.id + " (z = " + Label(p.value) + " m)");
+                  p.id + " (z = " + CoordinateNumber(p.value) + " m)");
   }
 }
 
@@ -140,12 +140,12 @@ std::set<int> DrawPaths(const std::vector<const core::RockRecord*>& paths, svg::
 
 // Where the stopped rocks ended (up to max_stop_points rocks); false when none.
 bool DrawStops(const Context& c, svg::Plot* plot) {
+  std::vector<const core::RockRecord*> stopped;
+  for (const core::RockRecord& r : c.result.rocks)
+    if (r.outcome == core::Outcome::kStopped) stopped.push_back(&r);
   std::vector<double> sx, sz;
-  for (const core::RockRecord& r : c.result.rocks) {
-    if (static_cast<int>(sx.size()) >= c.in.options.max_stop_points) break;
-    if (r.outcome != core::Outcome::kStopped) continue;
-    sx.push_back(r.stop.x()), sz.push_back(r.stop.z());
-  }
+  for (const core::RockRecord* r : SpreadSample(stopped, c.in.options.max_stop_points))
+    sx.push_back(r->stop.x()), sz.push_back(r->stop.z());
   plot->Points(sx, sz, 2.0, "fill=\"" + std::string(kStopColour) + "\" fill-opacity=\"0.6\"");
   return !sx.empty();
 }
@@ -154,7 +154,8 @@ std::vector<svg::Plot::LegendEntry> ProfileLegend(const Context& c, const Ground
                                                   bool is3d, const std::set<int>& groups_drawn,
                                                   bool stops) {
   std::vector<svg::Plot::LegendEntry> legend;
-  legend.push_back({"#444", is3d ? "ground at y = " + Label(ground.yc) + " m" : "ground", "line"});
+  legend.push_back(
+      {"#444", is3d ? "ground at y = " + CoordinateNumber(ground.yc) + " m" : "ground", "line"});
   if (is3d) legend.push_back({"#d0d0d0", "ground range across the slope", "bar"});
   for (int grp : groups_drawn)
     legend.push_back({svg::Colour(grp),
@@ -166,18 +167,21 @@ std::vector<svg::Plot::LegendEntry> ProfileLegend(const Context& c, const Ground
   return legend;
 }
 
-std::string ProfileCaption(const Context& c, std::size_t paths, double yc, bool is3d,
-                           double exaggeration) {
+std::string ProfileCaption(const Context& c, const std::vector<const core::RockRecord*>& paths,
+                           double yc, bool is3d, double exaggeration) {
   std::string cap = "<b>Profile.</b> Rock centre elevation against x";
-  if (paths == 0)
+  if (paths.empty())
     cap += "; no trajectories were recorded for this run";
   else
-    cap += " for " + Int(static_cast<long>(paths)) +
-           " sampled rocks (the first rocks of the run), sampled every " +
+    cap += " for " + Int(static_cast<long>(paths.size())) + " sampled rocks (" +
+           Escape(PerGroup(paths)) + "), each sampled every " +
            Escape(Label(c.scene.options.record.sample_seconds)) + " s";
-  cap += ", and the stop points of all stopped rocks.";
+  cap += c.stopped > c.in.options.max_stop_points
+             ? ", and the stop points of " + Int(c.in.options.max_stop_points) + " of the " +
+                   Int(c.stopped) + " stopped rocks, spread over every group."
+             : ", and the stop points of all stopped rocks.";
   if (is3d)
-    cap += " The dark line is the ground along y = " + Escape(Length(yc)) +
+    cap += " The dark line is the ground along y = " + Escape(Coordinate(yc, c.in.units)) +
            " (through the centre of the first release zone); rocks away from that line travel over "
            "other "
            "ground, whose range across the slope is shaded.";
@@ -202,7 +206,7 @@ std::string ProfileSection(const Context& c) {
   // Put the legend where the ground is low (the downslope side if it falls with x).
   const bool falls = ground.line.front() > ground.line.back() || !std::isfinite(ground.line.back());
   plot.Legend(ProfileLegend(c, ground, is3d, groups_drawn, stops), falls);
-  return Figure(plot.Svg(), ProfileCaption(c, paths.size(), ground.yc, is3d, exaggeration), width);
+  return Figure(plot.Svg(), ProfileCaption(c, paths, ground.yc, is3d, exaggeration), width);
 }
 
 }  // namespace rockcal::reports::sections

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 #include <stdexcept>
 
@@ -13,10 +14,10 @@ const char* KindName(core::Partition::Kind kind) {
   return kind == core::Partition::Kind::kX ? "X" : "Z";
 }
 
-std::string PartitionWhere(const core::Partition& p) {
+std::string PartitionWhere(const core::Partition& p, sites::Units units) {
   if (p.kind == core::Partition::Kind::kX)
-    return "X partition: the vertical plane x = " + Length(p.value);
-  return "Z partition: where the ground is at elevation " + Length(p.value);
+    return "X partition: the vertical plane x = " + Coordinate(p.value, units);
+  return "Z partition: where the ground is at elevation " + Coordinate(p.value, units);
 }
 
 std::string DrawBandsTable(const std::vector<calibrate::DrawBand>& bands) {
@@ -29,9 +30,11 @@ std::string DrawBandsTable(const std::vector<calibrate::DrawBand>& bands) {
   return s + "</tbody></table>";
 }
 
-std::string SiteLength(double m, sites::Units units) {
-  return units == sites::Units::kUS ? Length(m) : Show(m) + " m";
-}
+std::string SiteLength(double m, sites::Units units) { return Length(m, units); }
+
+bool Us(const Context& c) { return c.in.units == sites::Units::kUS; }
+
+double FeetAxis(const Context& c) { return Us(c) ? 1.0 / kFoot : 0.0; }
 
 std::string Capitalised(std::string s) {
   if (!s.empty() && s[0] >= 'a' && s[0] <= 'z') s[0] = static_cast<char>(s[0] - 'a' + 'A');
@@ -39,6 +42,29 @@ std::string Capitalised(std::string s) {
 }
 
 int Rocks(const Context& c) { return static_cast<int>(c.result.rocks.size()); }
+
+std::vector<const core::RockRecord*> SpreadSample(const std::vector<const core::RockRecord*>& rocks,
+                                                  int max) {
+  if (static_cast<int>(rocks.size()) <= max) return rocks;
+  std::vector<int> counts;  // runs of one group, in rock order
+  for (std::size_t k = 0; k < rocks.size(); ++k) {
+    if (k == 0 || rocks[k]->group != rocks[k - 1]->group) counts.push_back(0);
+    ++counts.back();
+  }
+  std::vector<const core::RockRecord*> out;
+  for (int k : core::SpreadOverGroups(counts, max))
+    out.push_back(rocks[static_cast<std::size_t>(k)]);
+  return out;
+}
+
+std::string PerGroup(const std::vector<const core::RockRecord*>& rocks) {
+  std::map<int, int> n;
+  for (const core::RockRecord* r : rocks) ++n[r->group];
+  std::string s;
+  for (const auto& [group, count] : n)
+    s += (s.empty() ? "" : ", ") + Int(count) + " of group " + Int(group + 1);
+  return s;
+}
 
 Context MakeContext(const ReportInput& in) {
   if (!in.scene || !in.result)

@@ -28,6 +28,9 @@ using svg::Escape;
 using svg::Label;
 using svg::Px;
 
+using html::Coordinate;
+using html::CoordinateNumber;
+using html::Energy;
 using html::Exact;
 using html::Figure;
 using html::kFtTon;
@@ -38,6 +41,7 @@ using html::Ref;
 using html::RefCell;
 using html::RefSpan;
 using html::Show;
+using html::Speed;
 using html::Td;
 using html::Th;
 
@@ -75,15 +79,26 @@ Context MakeContext(const ReportInput& in);
 std::string Int(long v);
 // "X" or "Z".
 const char* KindName(core::Partition::Kind kind);
-// "X partition: the vertical plane x = 12.3 m (40.4 ft)", ...
-std::string PartitionWhere(const core::Partition& p);
+// "X partition: the vertical plane x = 12.3 m", ... (in `units`).
+std::string PartitionWhere(const core::Partition& p, sites::Units units);
 // `s` with its first letter in upper case.
 std::string Capitalised(std::string s);
 // A length in metres, with feet beside it for a site in US units ("12.3 m"
-// or "12.3 m (40.4 ft)").
+// or "12.3 m (40.4 ft)"): html::Length.
 std::string SiteLength(double m, sites::Units units);
+// True for a site in US units: figures show US units beside SI.
+bool Us(const Context& c);
+// The scale from metres to the secondary axis' unit of a plot (feet) for
+// a US site, 0 for an SI site (no secondary axis).
+double FeetAxis(const Context& c);
 // Number of rocks of the run.
 int Rocks(const Context& c);
+// At most `max` of `rocks` (in rock order) spread over every group
+// (core::SpreadOverGroups), not the first ones; all of them when they fit.
+std::vector<const core::RockRecord*> SpreadSample(const std::vector<const core::RockRecord*>& rocks,
+                                                  int max);
+// "12 of group 1, 18 of group 2" for `rocks`.
+std::string PerGroup(const std::vector<const core::RockRecord*>& rocks);
 
 // A legend swatch of `colour`: kind "bar" (a filled box), "line", "dash",
 // "point", "ring", "cross" or "zone".

@@ -1,4 +1,5 @@
 // The rock shapes section of report.html: the main results per shape.
+#include <cmath>
 #include <map>
 #include <utility>
 
@@ -23,20 +24,24 @@ std::string ShapesSection(const Context& c) {
   for (const auto& [shape, rocks] : by_shape) {
     head += Th(core::ShapeName(shape));
     int st = 0, le = 0, to = 0;
-    std::vector<double> xs;
+    std::vector<core::RockRecord> these;
     for (const auto* r : rocks) {
-      if (r->outcome == core::Outcome::kStopped) ++st, xs.push_back(r->stop.x());
+      if (r->outcome == core::Outcome::kStopped) ++st;
       if (r->outcome == core::Outcome::kLeft) ++le;
       if (r->outcome == core::Outcome::kTimeout) ++to;
+      these.push_back(*r);
     }
     const double n = static_cast<double>(rocks.size());
-    const core::Stats sx = core::Summarize(xs);
+    const core::RunoutStats runout = core::ComputeRunout(these);
+    auto distance = [&](double d) {
+      return std::isfinite(d) ? Length(d, c.in.units) : std::string("beyond the edge");
+    };
     row("rocks").push_back(Int(static_cast<long>(rocks.size())));
     row("stopped").push_back(Int(st) + " (" + Percent(st / n) + ")");
     row("left the slope").push_back(Int(le) + " (" + Percent(le / n) + ")");
     if (c.timeout > 0) row("still moving at the time limit").push_back(Int(to));
-    row("median stop x").push_back(xs.empty() ? "-" : Length(sx.p50));
-    row("95th percentile stop x").push_back(xs.empty() ? "-" : Length(sx.p95));
+    row("median runout distance").push_back(distance(runout.distance_m.p50));
+    row("95th percentile runout distance").push_back(distance(runout.distance_m.p95));
     for (std::size_t p = 0; p < c.scene.partitions.size(); ++p) {
       const std::string& id = c.scene.partitions[p].id;
       std::vector<double> h, e;
@@ -46,15 +51,16 @@ std::string ShapesSection(const Context& c) {
       const core::Stats sh = core::Summarize(h), se = core::Summarize(e);
       row(id + ": passed")
           .push_back(Int(static_cast<long>(h.size())) + " (" + Percent(h.size() / n) + ")");
-      row(id + ": 95th percentile bounce height").push_back(h.empty() ? "-" : Length(sh.p95));
-      row(id + ": 95th percentile energy")
-          .push_back(e.empty()
-                         ? "-"
-                         : Show(se.p95 * 1e-3) + " kJ (" + Show(se.p95 / kFtTon) + " ft-tons)");
+      row(id + ": 95th percentile bounce height")
+          .push_back(h.empty() ? "-" : Length(sh.p95, c.in.units));
+      row(id + ": 95th percentile energy").push_back(e.empty() ? "-" : Energy(se.p95, c.in.units));
     }
   }
-  std::string s = "<p>The main results for each rock shape.</p><table class=\"stats\"><thead>" +
-                  head + "</tr></thead><tbody>";
+  std::string s =
+      "<p>The main results for each rock shape; runout distances over every rock of the shape, "
+      "those that left the terrain beyond its edge (see Runout).</p><table "
+      "class=\"stats\"><thead>" +
+      head + "</tr></thead><tbody>";
   for (const auto& [name, cells] : rows) {
     s += "<tr><th>" + Escape(name) + "</th>";
     for (const std::string& cell : cells) s += Td(cell, true);

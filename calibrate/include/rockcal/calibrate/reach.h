@@ -153,9 +153,14 @@ struct ReachResult {
 ReachResult RunReach(const Objective& objective, const ReachOptions& options);
 
 // One plain sentence per statistic out of reach, naming it, the observed
-// value, the range reached and what to do; empty when all are in reach. For
-// the calibrate command to print before it searches.
-std::vector<std::string> OutOfReachWarnings(const ReachResult& result);
+// value, the range reached and (with `advice`) what to do; empty when all
+// are in reach. For the calibrate command to print before it searches.
+std::vector<std::string> OutOfReachWarnings(const ReachResult& result, bool advice = true);
+// What to do, said once for every statistic out of reach, with their list
+// ("For the 3 statistics out of reach (a, b, c): widen the box, ..."); empty
+// when all are in reach. A console prints the warnings without advice, then
+// this.
+std::string OutOfReachAdvice(const ReachResult& result);
 
 // reach.json: the design, the rule, one object per statistic and per point
 // (calibrate/src/reach_json.cc; reports/ writes the file and reach.csv).

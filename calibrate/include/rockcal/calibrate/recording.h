@@ -16,8 +16,9 @@ struct RecordingNeeds {
   bool partitions = false;    // every partition's crossings (summary.json, rocks.csv)
   bool energy_check = false;  // the largest relative energy gain (diagnostics.json)
   // report.html: the passages per grid cell (its density map) and the paths
-  // of the first min(rocks, report_trajectories) rocks (its profile), unless
-  // `trajectories` asks for some already.
+  // of min(rocks, report_trajectories) rocks spread over every group
+  // (core::SpreadOverGroups; its profile), unless `trajectories` asks for
+  // some already.
   bool report = false;
   int report_trajectories = 30;  // >= 0
   int trajectories = 0;          // the paths of the first N rocks (trajectories.csv), >= 0

@@ -116,6 +116,9 @@ struct RecordOptions {
   bool passages = false;     // the cells each rock passed over (RockRecord::cells; core/rasters.h)
   bool tree_strikes = false;  // each strike on a stem of Scene::forest (RockRecord::strikes)
   int trajectories = 0;      // record the path of the first N rocks
+  // and the paths of these rocks (indices in the run, ascending): a sample
+  // of every group for a report's profile (SpreadOverGroups)
+  std::vector<int> trajectory_rocks;
   double sample_seconds = 0.05;  // trajectory sampling interval
 };
 

@@ -57,6 +57,7 @@ struct RockRecord {
   int rock = 0, group = 0;
   Shape shape = Shape::kSphere;
   double size = 0.0, mass = 0.0;
+  double bounding_radius = 0.0;  // m, centre to the farthest point of the rock (RockBody)
   Outcome outcome = Outcome::kTimeout;
   Eigen::Vector3d start = Eigen::Vector3d::Zero();
   Eigen::Vector3d stop = Eigen::Vector3d::Zero();  // final centre position
@@ -175,9 +176,53 @@ struct PartitionStats {
   int passed = 0;
   Stats height, velocity, energy;  // m, m/s, J
 };
+// The runout of one rock (docs/reference/outputs.md#runout): the distance
+// in plan (x, y) from its centre at release to its centre where it stopped,
+// or where it was last seen (a rock that left the terrain or was still
+// moving at the time limit) [m]; and its travel angle, the energy-line
+// angle atan(drop / plan distance) of the centre from release to that point
+// [degrees; 90 for a rock that did not move in plan].
+double RunoutDistance(const RockRecord& rock);
+double TravelAngleDeg(const RockRecord& rock);
+
+// The runout of every rock of a run. A rock that left the terrain went
+// beyond its edge: it ranks past every rock that stayed (the longest
+// distances, the lowest travel angles), and a figure that falls among those
+// rocks is infinite (BeyondStats): +infinity for the distance, -infinity
+// for the angle. Rocks still moving at the time limit count at their last
+// point.
+struct RunoutStats {
+  int rocks = 0;                 // every rock of the run
+  int beyond_edge = 0;           // of which left the terrain
+  BeyondStats distance_m;        // RunoutDistance; beyond above
+  BeyondStats travel_angle_deg;  // TravelAngleDeg; beyond below
+};
+RunoutStats ComputeRunout(const std::vector<RockRecord>& rocks);
+
+// A fence of `height` [m] and energy `capacity` [J] checked where the rocks
+// crossed one partition (docs/reference/outputs.md#barrier-check): a rock
+// flies over it when its lowest point, its centre's height above the
+// ground less its bounding radius (RockRecord::bounding_radius: the lowest
+// any orientation of the rock could reach), is above the fence; it breaks
+// through when its kinetic energy exceeds the capacity. Beside it, the
+// counts by the centre (a partition's bounce height) and by the rock's top
+// (centre plus bounding radius: a rock that reaches the fence's top edge,
+// which a fence does not catch reliably; a designer's freeboard).
+struct FenceCheck {
+  int passed = 0;          // rocks that crossed the partition
+  int over = 0;            // of which flew over the fence (by the lowest point)
+  int over_by_centre = 0;  // of which had their centre above it (what CRSP compares)
+  int over_by_top = 0;     // of which had their top above it
+  int over_capacity = 0;   // of which carried more energy than the capacity
+  int defeated = 0;        // over or over capacity
+};
+FenceCheck CheckFence(const SimulationResult& result, std::size_t partition, double height,
+                      double capacity);
+
 struct ResultStats {
   std::vector<PartitionStats> partitions;
-  Stats runout_x;  // m, stop x of stopped rocks
+  Stats runout_x;      // m, stop x of stopped rocks only (a coordinate, not a distance)
+  RunoutStats runout;  // every rock
 };
 ResultStats ComputeStats(const Scene& scene, const SimulationResult& result);
 

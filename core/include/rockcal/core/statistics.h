@@ -30,6 +30,32 @@ double StudentT975(int df);
 // Summary of `values` (any order); all zero when empty.
 Stats Summarize(std::vector<double> values);
 
+// Quantile q in [0, 1] of a sample made of `sorted` (ascending, finite) and
+// `beyond` more values known only to lie past every one of them: above them
+// (`above`, e.g. the runout of rocks that left the terrain) or below them.
+// Type 7 as Quantile over all sorted.size() + beyond values; +infinity
+// (above) or -infinity (below) when the quantile falls on a value beyond or
+// interpolates towards one. Requires sorted.size() + beyond > 0, beyond >= 0.
+double QuantileWithBeyond(const std::vector<double>& sorted, int beyond, double q, bool above);
+
+// A summary over every value of a sample part of which lies beyond the
+// known ones (QuantileWithBeyond): a figure that falls among those is
+// +infinity (beyond above) or -infinity (beyond below); all zero when there
+// are no values at all.
+struct BeyondStats {
+  int count = 0;   // every value, the ones beyond included
+  int beyond = 0;  // of which beyond
+  double min = 0, p10 = 0, p50 = 0, p90 = 0, p95 = 0, max = 0;
+};
+BeyondStats SummarizeWithBeyond(std::vector<double> known, int beyond, bool above);
+
+// At most `n` items spread over consecutive groups of `counts[g]` items
+// each (items numbered group after group): every item when n covers them
+// all; else each group's share of n (largest remainders), at least one item
+// of every non-empty group while n allows, evenly spaced within the group.
+// Ascending indices. A sample of rocks from every group, not the first n.
+std::vector<int> SpreadOverGroups(const std::vector<int>& counts, int n);
+
 // The two-sample Kolmogorov-Smirnov test of whether two samples come from
 // one distribution: the largest distance between their empirical
 // distribution functions, and the chance of a distance at least that large

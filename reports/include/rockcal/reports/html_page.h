@@ -48,8 +48,20 @@ std::string Th(const std::string& text);
 std::string Kv(const std::string& key, const std::string& value_html);
 // A figure whose caption wraps at `width` px (the picture's width) when > 0.
 std::string Figure(const std::string& svg, const std::string& caption_html, double width = 0.0);
-// "12.3 m (40.4 ft)"
-std::string Length(double m);
+// Figures in the site's units (docs/reference/outputs.md#units-of-the-report):
+// an SI site's in SI only, a US site's in SI with US units beside.
+// A length: "12.3 m", or "12.3 m (40.4 ft)" for a US site.
+std::string Length(double m, sites::Units units);
+// A kinetic energy: "123 kJ", or "123 kJ (45.4 ft-tons)" for a US site.
+std::string Energy(double joules, sites::Units units);
+// A speed: "12.3 m/s", or "12.3 m/s (40.4 ft/s)" for a US site.
+std::string Speed(double mps, sites::Units units);
+// A map coordinate or elevation, rounded one way wherever the report prints
+// it: the number alone (CoordinateNumber) or with its unit, "888630.0 m", or
+// for a US site "121.9 m (400.0 ft)" (an SI site's coordinates are never
+// converted).
+std::string CoordinateNumber(double m);
+std::string Coordinate(double m, sites::Units units);
 
 // ---- The page ----------------------------------------------------------------
 

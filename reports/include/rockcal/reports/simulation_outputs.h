@@ -11,7 +11,9 @@
 
 namespace rockcal::reports {
 
-// summary.json, exactly the schema of docs/reference/outputs.md.
+// summary.json (docs/reference/outputs.md#summaryjson): SI; `runout` gives
+// the distance and travel angle over every rock, "beyond" where a figure
+// falls among the rocks that left the terrain.
 nlohmann::json SummaryJson(const core::Scene& scene, const core::SimulationResult& result);
 // One figure of diagnostics.json: its key, what it is, its value and how
 // the report judges it.
