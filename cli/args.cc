@@ -1,5 +1,6 @@
 #include "args.h"
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -70,7 +71,11 @@ long Args::Integer(const std::string& name, long fallback, long lo, long hi) con
   char* end = nullptr;
   errno = 0;
   const long x = std::strtol(v.c_str(), &end, 10);
-  if (v.empty() || *end != '\0' || errno == ERANGE || x < lo || x > hi)
+  // Digits with an optional minus sign: strtol's leading blanks and '+' are
+  // not a whole number as the documentation writes one.
+  const bool plain = !v.empty() && (std::isdigit(static_cast<unsigned char>(v[0])) ||
+                                    (v[0] == '-' && v.size() > 1));
+  if (!plain || *end != '\0' || errno == ERANGE || x < lo || x > hi)
     throw InputError("argument --" + name, "'" + v + "' is not a whole number in [" +
                                                std::to_string(lo) + ", " + std::to_string(hi) + "]");
   return x;

@@ -2,6 +2,7 @@
 // simulation matches the observations, and write the tables and the trace.
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -34,23 +35,34 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The comma separated items of `text`, empty ones kept ("a,," holds three).
 std::vector<std::string> SplitList(const std::string& text) {
   std::vector<std::string> out;
-  std::stringstream s(text);
-  for (std::string item; std::getline(s, item, ',');)
-    if (!item.empty()) out.push_back(item);
-  return out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    out.push_back(
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) return out;
+    start = comma + 1;
+  }
 }
 
 }  // namespace
 
 void PrepareCalibrationFolder(const Args& args, const std::string& out, const RunInputs& inputs,
                               const std::string& command, const std::string& complete_file,
-                              std::optional<reports::ResumableOutputDir>* dir) {
+                              const std::function<void()>& check_resume,
+                              std::optional<reports::ResumableOutputDir>* dir,
+                              calibrate::CalibrationCallbacks* callbacks) {
   parallel::OnRoot([&] {
     dir->emplace(out, args.Flag("resume"), args.Flag("force"), inputs.Origin(command),
                  "evaluations.jsonl", complete_file);
+    if (args.Flag("resume")) check_resume();
   });
+  callbacks->log_opened = [dir] {
+    if (*dir) (*dir)->Continue();
+  };
 }
 
 void ContinuableRun(const std::string& out, const std::function<void()>& work) {
@@ -73,13 +85,22 @@ void MethodsFromArgs(const Args& args, std::vector<calibrate::Method>* methods) 
   const std::vector<std::string> names = args.Has("methods")
                                              ? SplitList(args.Get("methods"))
                                              : std::vector<std::string>{args.Get("method")};
-  if (names.empty()) throw InputError("argument --methods", "expected a comma separated list");
   methods->clear();
-  for (const std::string& name : names) {
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const std::string& name = names[k];
+    if (name.empty())
+      throw InputError("argument --" + flag,
+                       "'" + args.Get(flag) + "' has an empty name (item " + std::to_string(k + 1) +
+                           "); expected a comma separated list of methods (allowed: " +
+                           calibrate::MethodNames() + ")");
     calibrate::Method m;
     if (!calibrate::StringToMethod(name, &m))
       throw InputError("argument --" + flag,
                        "unknown method '" + name + "' (allowed: " + calibrate::MethodNames() + ")");
+    if (std::find(methods->begin(), methods->end(), m) != methods->end())
+      throw InputError("argument --" + flag, "'" + args.Get(flag) + "' names " +
+                                                 calibrate::MethodToString(m) +
+                                                 " twice; expected each method once");
     methods->push_back(m);
   }
 }
@@ -323,14 +344,16 @@ int Calibrate(const std::vector<std::string>& argv) {
   // write their (discarded) files there.
   RunInputs inputs;
   inputs.Add(site).Add(obs);
-  std::optional<reports::ResumableOutputDir> dir;  // locked for the life of the run
-  PrepareCalibrationFolder(args, out, inputs, "calibrate", "calibration.json", &dir);
-  const std::string folder = RankCalibrationFolder(out);
-  options.log_path = folder + "/evaluations.jsonl";
   const bool quiet = args.Flag("quiet");
   std::optional<Progress> progress;
   calibrate::CalibrationCallbacks callbacks =
       ProgressCallbacks(quiet, options.method.max_evals, &progress);
+  std::optional<reports::ResumableOutputDir> dir;  // locked for the life of the run
+  PrepareCalibrationFolder(
+      args, out, inputs, "calibrate", "calibration.json",
+      [&] { calibrate::CheckResume(site, obs, options, folds); }, &dir, &callbacks);
+  const std::string folder = RankCalibrationFolder(out);
+  options.log_path = folder + "/evaluations.jsonl";
   callbacks.posterior = PosteriorProgressPrinter(quiet, &progress);
   calibrate::CalibrationSummary summary;
   std::optional<calibrate::HoldoutSummary> holdout;

@@ -20,10 +20,16 @@ namespace rockcal::cli {
 // Prepares DIR `out` for a calibration on rank 0 (reports::ResumableOutputDir,
 // locked until `*dir` is reset): a new folder, or (with --resume) the folder
 // of a stopped run, or (with --force) a replaced one; `complete_file` marks
-// the folder complete and is written last. `inputs` are the run's.
+// the folder complete and is written last. `inputs` are the run's. With
+// --resume, `check_resume` (the logs read as the resume will read them)
+// runs once the folder is locked; nothing in the folder changes until the
+// calibration opens its log (ResumableOutputDir::Continue from
+// `callbacks->log_opened`), so that a refused resume leaves it as it was.
 void PrepareCalibrationFolder(const Args& args, const std::string& out, const RunInputs& inputs,
                               const std::string& command, const std::string& complete_file,
-                              std::optional<reports::ResumableOutputDir>* dir);
+                              const std::function<void()>& check_resume,
+                              std::optional<reports::ResumableOutputDir>* dir,
+                              calibrate::CalibrationCallbacks* callbacks);
 
 // Runs `work` (a calibration and its files, once DIR `out` is prepared). A
 // failure that is not bad input (a full disk, a rank lost) is rethrown

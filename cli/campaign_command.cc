@@ -121,13 +121,15 @@ int Campaign(const std::vector<std::string>& argv) {
     const calibrate::JointSpace joint(campaign);
     for (const std::string& note : joint.notes()) std::printf("  %s\n", note.c_str());
   }
-  std::optional<reports::ResumableOutputDir> dir;  // locked for the life of the run
-  PrepareCalibrationFolder(args, out, RunInputs().Add(campaign), "campaign", "summary.json", &dir);
-  const std::string folder = RankCalibrationFolder(out);
-  options.log_path = folder + "/evaluations.jsonl";
   std::optional<Progress> progress;
   calibrate::CalibrationCallbacks callbacks =
       ProgressCallbacks(quiet, options.method.max_evals, &progress);
+  std::optional<reports::ResumableOutputDir> dir;  // locked for the life of the run
+  PrepareCalibrationFolder(
+      args, out, RunInputs().Add(campaign), "campaign", "summary.json",
+      [&] { calibrate::CheckCampaignResume(campaign, options); }, &dir, &callbacks);
+  const std::string folder = RankCalibrationFolder(out);
+  options.log_path = folder + "/evaluations.jsonl";
   callbacks.posterior = PosteriorProgressPrinter(quiet, &progress);
   calibrate::CampaignSummary summary;
   ContinuableRun(out, [&] {

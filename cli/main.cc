@@ -2,6 +2,7 @@
 // any other failure.
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,15 @@ int main(int argc, char** argv) {
   } catch (const rockcal::InputError& e) {
     std::fprintf(stderr, "rockcal: error: %s\n", e.what());
     return 2;
+  } catch (const std::bad_alloc&) {
+    // docs/outputs-and-exit-codes.md: what ran out, and what to lower.
+    std::fprintf(stderr,
+                 "rockcal: failed: out of memory (the machine could not give rockcal the memory "
+                 "this run needs); lower what the run holds: fewer rocks (--rocks, the site's "
+                 "rocks), fewer --threads, a coarser surface resolution, fewer recorded "
+                 "trajectories (a calibration keeps the evaluations logged so far: --resume "
+                 "continues it)\n");
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rockcal: failed: %s\n", e.what());
     return 1;

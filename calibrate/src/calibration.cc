@@ -935,9 +935,11 @@ std::string HashFile(const std::string& path) {
 namespace {
 
 // A resumed log's header: the fingerprint of the inputs it was made with,
-// which must be `fingerprint`.
-void CheckLogHeader(const std::string& line, const std::string& where,
-                    const Fingerprint& fingerprint) {
+// which must be `fingerprint` but for the parts named in `unknown`. Returns
+// the logged fingerprint.
+Fingerprint CheckLogHeader(const std::string& line, const std::string& where,
+                           const Fingerprint& fingerprint,
+                           const std::vector<std::string>& unknown) {
   nlohmann::json h = nlohmann::json::parse(line, nullptr, false);
   if (h.is_discarded() || !h.is_object() || !h.contains("fingerprint") ||
       !h["fingerprint"].is_object())
@@ -948,7 +950,13 @@ void CheckLogHeader(const std::string& line, const std::string& where,
   Fingerprint logged;
   for (const auto& [name, value] : h["fingerprint"].items())
     logged.Add(name, value.is_string() ? value.get<std::string>() : value.dump());
-  const std::vector<std::string> changed = fingerprint.Differences(logged);
+  std::vector<std::string> changed = fingerprint.Differences(logged);
+  changed.erase(std::remove_if(changed.begin(), changed.end(),
+                               [&](const std::string& c) {
+                                 return std::find(unknown.begin(), unknown.end(), c) !=
+                                        unknown.end();
+                               }),
+                changed.end());
   if (!changed.empty()) {
     std::string list;
     for (const std::string& c : changed) list += (list.empty() ? "" : ", ") + c;
@@ -956,6 +964,7 @@ void CheckLogHeader(const std::string& line, const std::string& where,
                             "this log was written: " + list +
                             "; restore it, or start afresh with --force instead of --resume");
   }
+  return logged;
 }
 
 // One record of a resumed log, of the calibration at `seed`, `rocks` and
@@ -984,21 +993,16 @@ Evaluation ReadLogRecord(const std::string& line, const std::string& where, std:
   return e;
 }
 
-}  // namespace
-
-EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace& space,
-                             std::uint64_t seed, int rocks, Fingerprint fingerprint)
-    : path_(std::move(path)), seed_(seed), rocks_(rocks), fingerprint_(std::move(fingerprint)) {
-  for (const auto& p : space.parameters()) names_.push_back(p.label());
-  if (resume) ReadBack();
-  Rewrite();
-}
-
-// The records of the log at path_, whose fingerprint must be this run's.
-void EvaluationLog::ReadBack() {
-  sites::CheckInputFile(path_);
-  std::ifstream in(path_);
-  if (!in) throw InputError(path_, "cannot resume: no evaluation log here");
+// The records of the log at `path`, whose fingerprint must be
+// `fingerprint` (but for the rocks when `rocks` is unknown), of the
+// calibration at `seed`, `rocks` and parameter `names`. Reads only.
+std::vector<Evaluation> ReadLog(const std::string& path, const Fingerprint& fingerprint,
+                                std::uint64_t seed, std::optional<int> rocks,
+                                const std::vector<std::string>& names) {
+  sites::CheckInputFile(path);
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot resume: no evaluation log here");
+  std::vector<Evaluation> records;
   std::string line;
   int number = 0;
   bool header = false;
@@ -1010,15 +1014,33 @@ void EvaluationLog::ReadBack() {
   while (std::getline(in, line)) {
     ++number;
     if (line.empty()) continue;
-    const std::string where = path_ + ":" + std::to_string(number);
+    const std::string where = path + ":" + std::to_string(number);
     sites::CheckJsonDepth(line, where);
     if (!header) {
-      CheckLogHeader(line, where, fingerprint_);
+      const Fingerprint logged =
+          CheckLogHeader(line, where, fingerprint,
+                         rocks ? std::vector<std::string>{} : std::vector<std::string>{"rocks"});
+      if (!rocks) {
+        // The records must hold the rocks the header names.
+        rocks = -1;
+        for (const auto& [name, value] : logged.parts)
+          if (name == "rocks") {
+            char* end = nullptr;
+            const long n = std::strtol(value.c_str(), &end, 10);
+            if (end != value.c_str() && *end == '\0' && n > 0 &&
+                n <= std::numeric_limits<int>::max())
+              rocks = static_cast<int>(n);
+          }
+        if (*rocks < 0)
+          throw InputError(where,
+                           "cannot resume: the header names no rock count; start afresh "
+                           "with --force instead of --resume");
+      }
       header = true;
       continue;
     }
     try {
-      Evaluation e = ReadLogRecord(line, where, seed_, rocks_, names_);
+      Evaluation e = ReadLogRecord(line, where, seed, *rocks, names);
       auto [before, inserted] = last.try_emplace(e.stage, e.index, number);
       if (!inserted && e.index <= before->second.first)
         throw InputError(where, e.stage.name() + " evaluation " + std::to_string(e.index) +
@@ -1029,7 +1051,7 @@ void EvaluationLog::ReadBack() {
                                     "folder at once, so it cannot be resumed; start afresh "
                                     "with --force instead of --resume");
       before->second = {e.index, number};
-      records_.push_back(std::move(e));
+      records.push_back(std::move(e));
     } catch (const nlohmann::json::exception&) {
       // A line cut short by a killed run is the only damage expected: the
       // last line. Anything else is not ours.
@@ -1037,6 +1059,27 @@ void EvaluationLog::ReadBack() {
       throw InputError(where, "not an evaluation record (expected one JSON object per line)");
     }
   }
+  return records;
+}
+
+}  // namespace
+
+EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace& space,
+                             std::uint64_t seed, int rocks, Fingerprint fingerprint)
+    : path_(std::move(path)), seed_(seed), rocks_(rocks), fingerprint_(std::move(fingerprint)) {
+  for (const auto& p : space.parameters()) names_.push_back(p.label());
+  if (resume) ReadBack();
+  Rewrite();
+}
+
+// The records of the log at path_, whose fingerprint must be this run's.
+void EvaluationLog::ReadBack() { records_ = ReadLog(path_, fingerprint_, seed_, rocks_, names_); }
+
+void EvaluationLog::Check(const std::string& path, const ParameterSpace& space, std::uint64_t seed,
+                          std::optional<int> rocks, const Fingerprint& fingerprint) {
+  std::vector<std::string> names;
+  for (const auto& p : space.parameters()) names.push_back(p.label());
+  ReadLog(path, fingerprint, seed, rocks, names);
 }
 
 // Rewrites the log with the good records only (drops a torn last line),

@@ -473,6 +473,51 @@ void CheckCalibration(const sites::Site& site, const CalibrationOptions& options
   ParameterSpace::FromSite(site);
 }
 
+void CheckResume(const sites::Site& site, const observations::Observations& obs,
+                 const CalibrationOptions& given, int folds) {
+  if (!given.resume || given.log_path.empty()) return;
+  CheckCalibration(site, given);
+  const ParameterSpace space = ParameterSpace::FromSite(site);
+  const CalibrationOptions options = given.Resolved(space.size());
+  const core::Scene scene = RunScene(site, options.rocks, options.seed, options.threads);
+  // The rocks of the search are known unless the noise check may raise them.
+  const bool raised =
+      options.reach_points > 0 && options.noise_check_seeds > 0 && options.noise_raise > 1;
+  const auto check = [&](const CalibrationOptions& o) {
+    if (!std::filesystem::exists(o.log_path)) return;  // a stage not begun starts afresh
+    std::optional<int> rocks;
+    if (!raised) rocks = scene.total_rocks();
+    EvaluationLog::Check(o.log_path, space, scene.options.seed, rocks,
+                         CalibrationFingerprint(site, obs, o, space));
+  };
+  const auto stages = [&](const CalibrationOptions& o) {
+    check(o);
+    if (o.refine_factor <= 1) return;
+    CalibrationOptions r = o;
+    r.log_path = RefineLogPath(o.log_path);
+    r.refine_factor = 1;
+    if (!std::filesystem::exists(r.log_path)) return;
+    std::optional<int> rocks;
+    if (!raised) rocks = scene.total_rocks() * o.refine_factor;
+    if (rocks) r.rocks = *rocks;
+    EvaluationLog::Check(r.log_path, space, scene.options.seed, rocks,
+                         CalibrationFingerprint(site, obs, r, space));
+  };
+  stages(options);
+  for (int k = 1; k <= folds; ++k) {
+    // As CrossValidate names and fingerprints each fold's log.
+    CalibrationOptions o = options;
+    o.posterior.reset();
+    o.predictive_draws = 0;
+    o.observations_subset = "fold " + std::to_string(k) + " of " + std::to_string(folds) +
+                            ", seed " + std::to_string(scene.options.seed);
+    o.log_path = (std::filesystem::path(options.log_path).parent_path() /
+                  ("evaluations-fold-" + std::to_string(k) + ".jsonl"))
+                     .string();
+    stages(o);
+  }
+}
+
 CalibrationSummary Calibrate(const sites::Site& site, const observations::Observations& obs,
                              const CalibrationOptions& given,
                              const CalibrationCallbacks& callbacks) {
@@ -523,7 +568,23 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
     }
     if (summary.noise_check.done && callbacks.noise_checked) callbacks.noise_checked(summary);
   }
-  std::optional<EvaluationLog> log = OpenLog(site, obs, options, space, scene);
+  std::optional<EvaluationLog> log;
+  try {
+    log = OpenLog(site, obs, options, space, scene);
+  } catch (const InputError& e) {
+    // The rocks the noise check chose follow the reach design, which
+    // --max-evals and --reach size: say so rather than blame "rocks" alone.
+    if (!summary.noise_check.done || e.detail().find("was written: rocks") == std::string::npos)
+      throw;
+    throw InputError(e.where(),
+                     e.detail() + " (the rocks per evaluation, " + std::to_string(summary.rocks) +
+                         " here, follow the noise check after the "
+                         "reach design of " +
+                         std::to_string(options.reach_points) +
+                         " points, which --max-evals and --reach size: give the stopped run's, "
+                         "or --rocks N to fix the count)");
+  }
+  if (callbacks.log_opened) callbacks.log_opened();
   SearchMethods(*objective, summary.search_start, options.methods, method_options,
                 log ? &*log : nullptr, callbacks, &summary);
   summary.final_rocks = summary.rocks;

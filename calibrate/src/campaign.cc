@@ -15,6 +15,7 @@
 #include "rockcal/core/format.h"
 #include "rockcal/core/limits.h"
 #include "rockcal/core/material_field.h"
+#include "rockcal/sites/input_file.h"
 #include "rockcal/sites/json_reader.h"
 
 namespace rockcal::calibrate {
@@ -33,9 +34,11 @@ std::string ResolveFile(const sites::JsonNode& node, const fs::path& dir, const 
   const std::string name = node.String();
   const fs::path p = fs::path(name).is_absolute() ? fs::path(name) : dir / name;
   std::error_code ec;
-  if (!fs::is_regular_file(p, ec))
+  if (!fs::exists(p, ec))
     node.Fail(std::string("no such file: ") + p.string() + "; expected " + what +
               " (relative to the campaign file)");
+  const std::string problem = sites::InputFileProblem(p.string(), what);
+  if (!problem.empty()) node.Fail(problem);
   return p.string();
 }
 
@@ -513,6 +516,23 @@ void CheckCampaign(const Campaign& campaign, const CalibrationOptions& options) 
   JointSpace{campaign};
 }
 
+void CheckCampaignResume(const Campaign& campaign, const CalibrationOptions& options) {
+  if (!options.resume || options.log_path.empty()) return;
+  CheckCampaignOptions(campaign, options);
+  const JointSpace joint(campaign);
+  // The rocks and seed as RunCampaign takes them from its scenes.
+  int rocks = 0;
+  std::optional<std::uint64_t> seed;
+  for (const CampaignSite& site : campaign.sites) {
+    const core::Scene scene =
+        RunScene(site.site, SiteRocks(site, options), options.seed, options.threads);
+    rocks += scene.total_rocks();
+    if (!seed) seed = scene.options.seed;
+  }
+  EvaluationLog::Check(options.log_path, joint.space(), *seed, rocks,
+                       CampaignFingerprint(campaign, joint, options));
+}
+
 namespace {
 
 // The predictive draws of a campaign: every site simulated anew at the
@@ -640,6 +660,7 @@ CampaignSummary RunCampaign(const Campaign& campaign, const CalibrationOptions& 
   if (!options.log_path.empty())
     log.emplace(options.log_path, options.resume, joint.space(), seed, rocks,
                 CampaignFingerprint(campaign, joint, options));
+  if (callbacks.log_opened) callbacks.log_opened();
   MethodOptions method_options = options.method;
   method_options.seed = seed;
   SearchMethods(objective, cal.search_start, options.methods, method_options, log ? &*log : nullptr,

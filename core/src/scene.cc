@@ -5,6 +5,7 @@
 #include <sstream>
 #include <string>
 
+#include "rockcal/core/format.h"
 #include "rockcal/core/limits.h"
 #include "rockcal/core/material.h"
 #include "rockcal/core/simulate.h"
@@ -22,7 +23,8 @@ bool SimulationOptions::IsValid(std::string* error) const {
   if (!(stop_speed > 0)) return fail("stop_speed", stop_speed, "must be > 0");
   if (!(stop_duration > 0)) return fail("stop_duration", stop_duration, "must be > 0");
   if (stop_duration >= max_time)
-    return fail("stop_duration", stop_duration, "must be below max_time");
+    return fail("stop_duration", stop_duration,
+                ("must be below max_time (" + FormatNumber(max_time) + " s)").c_str());
   if (steps_per_contact < 4) return fail("steps_per_contact", steps_per_contact, "must be >= 4");
   if (gentle_steps_per_contact != 0 && gentle_steps_per_contact < 2)
     return fail("gentle_steps_per_contact", gentle_steps_per_contact, "must be 0 (off) or >= 2");

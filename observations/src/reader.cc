@@ -9,6 +9,7 @@
 #include "rockcal/core/error.h"
 #include "rockcal/core/limits.h"
 #include "rockcal/observations/file_keys.h"
+#include "rockcal/sites/input_file.h"
 
 namespace rockcal::observations {
 
@@ -116,7 +117,8 @@ std::string Reader::CsvFile(const JsonNode& ref) const {
   const std::string name = ref.String();
   if (name.empty()) ref.Fail("expected a CSV file name");
   const std::string file = Resolve(name);
-  if (!std::filesystem::is_regular_file(file)) ref.Fail("cannot open CSV file '" + file + "'");
+  if (const std::string problem = sites::InputFileProblem(file, "CSV file"); !problem.empty())
+    ref.Fail(problem);
   csv_files_.push_back(file);
   return file;
 }

@@ -29,10 +29,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// `path` made absolute, with links and "..", "." resolved as far as it exists.
+// `path` made absolute, with links and "..", "." resolved as far as it
+// exists. A path the system cannot resolve (a name too long, a loop of
+// links) is an InputError naming it and the system's reason.
 fs::path Canonical(const std::string& path) {
   std::error_code ec;
-  fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  fs::path p = fs::absolute(path, ec);
+  if (!ec) p = fs::weakly_canonical(p, ec);
+  if (ec)
+    throw InputError(
+        path, "cannot be resolved: " + ec.message() + " (expected a path the system accepts)");
   if (!p.has_filename()) p = p.parent_path();
   return p;
 }
@@ -364,7 +370,9 @@ void OutputDir::Commit() {
 ResumableOutputDir::ResumableOutputDir(std::string path, bool resume, bool force,
                                        OutputOrigin origin, const std::string& log,
                                        const std::string& complete_file)
-    : path_(WithoutTrailingSlashes(std::move(path))) {
+    : path_(WithoutTrailingSlashes(std::move(path))),
+      command_(origin.command),
+      complete_file_(complete_file) {
   std::error_code ec;
   const fs::path p(path_);
   const std::string name = p.filename().string();
@@ -374,16 +382,8 @@ ResumableOutputDir::ResumableOutputDir(std::string path, bool resume, bool force
       throw InputError(path_, "nothing to resume: no " + log + " in this folder");
     CheckOutputAgainstInputs(path_, origin.inputs);
     lock_ = OutputLock(path_, path_, origin.command);
-    if (named) {
-      CheckNoOtherRun(path_, "", true);  // a --force run preparing its replacement
-      RemoveStaleTemporaries(p.parent_path().string(), name);
-    }
-    RemoveStaleTemporariesInside(path_);
-    fs::remove(p / complete_file, ec);
-    if (ec)
-      throw std::runtime_error("cannot remove the old " + complete_file + " of " + path_ + ": " +
-                               ec.message());
-    WriteOutputMarker(path_, origin.command, std::nullopt);
+    if (named) CheckNoOtherRun(path_, "", true);  // a --force run preparing its replacement
+    pending_ = true;
     return;
   }
   if (!force && fs::exists(fs::symlink_status(path_, ec))) {
@@ -429,6 +429,22 @@ ResumableOutputDir::ResumableOutputDir(std::string path, bool resume, bool force
     fs::remove_all(temp, ignored);
     throw;
   }
+}
+
+void ResumableOutputDir::Continue() {
+  if (!pending_) return;
+  std::error_code ec;
+  const fs::path p(path_);
+  const std::string name = p.filename().string();
+  if (!name.empty() && name != "." && name != "..")
+    RemoveStaleTemporaries(p.parent_path().string(), name);
+  RemoveStaleTemporariesInside(path_);
+  fs::remove(p / complete_file_, ec);
+  if (ec)
+    throw std::runtime_error("cannot remove the old " + complete_file_ + " of " + path_ + ": " +
+                             ec.message());
+  WriteOutputMarker(path_, command_, std::nullopt);
+  pending_ = false;
 }
 
 void WriteWholeFile(const std::string& output, const std::string& file, const std::string& text) {

@@ -62,7 +62,7 @@ RasterGrid ReadEsriGrid(const std::string& path) {
       y_corner = key == "yllcorner";
     } else {
       reader.Fail("unknown header key " + Excerpt(f[0]) +
-                  "' (allowed: ncols, nrows, xllcorner, xllcenter, yllcorner, yllcenter, "
+                  " (allowed: ncols, nrows, xllcorner, xllcenter, yllcorner, yllcenter, "
                   "cellsize, NODATA_value)");
     }
     if (slot->has_value())

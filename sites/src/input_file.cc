@@ -1,23 +1,45 @@
 #include "rockcal/sites/input_file.h"
 
 #include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include "rockcal/core/error.h"
 
 namespace rockcal::sites {
 
+namespace {
+
+// What is wrong with a file of mode `mode` as an input ("is a folder,
+// expected a file"); empty for a regular file.
+std::string KindProblem(mode_t mode) {
+  if (S_ISREG(mode)) return "";
+  if (S_ISDIR(mode)) return "is a folder, expected a file";
+  std::string kind = "not a regular file";
+  if (S_ISFIFO(mode)) kind = "a FIFO (named pipe)";
+  if (S_ISSOCK(mode)) kind = "a socket";
+  if (S_ISCHR(mode)) kind = "a character device";
+  if (S_ISBLK(mode)) kind = "a block device";
+  return "is " + kind + ", expected a regular file (not read: it could block or never end)";
+}
+
+}  // namespace
+
 void CheckInputFile(const std::string& path) {
   struct stat st {};
-  if (path.empty() || ::stat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return;
-  std::string kind = "not a regular file";
-  if (S_ISDIR(st.st_mode)) throw InputError(path, "is a folder, expected a file");
-  if (S_ISFIFO(st.st_mode)) kind = "a FIFO (named pipe)";
-  if (S_ISSOCK(st.st_mode)) kind = "a socket";
-  if (S_ISCHR(st.st_mode)) kind = "a character device";
-  if (S_ISBLK(st.st_mode)) kind = "a block device";
-  throw InputError(path, "is " + kind +
-                             ", expected a regular file (not read: it could block "
-                             "or never end)");
+  if (path.empty() || ::stat(path.c_str(), &st) != 0) return;
+  const std::string problem = KindProblem(st.st_mode);
+  if (!problem.empty()) throw InputError(path, problem);
+}
+
+std::string InputFileProblem(const std::string& path, const std::string& what) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0 || ::access(path.c_str(), R_OK) != 0)
+    return "cannot open " + what + " '" + path + "': " + std::strerror(errno);
+  const std::string problem = KindProblem(st.st_mode);
+  return problem.empty() ? "" : "'" + path + "' " + problem;
 }
 
 int JsonDepth(const std::string& text) {

@@ -1,7 +1,10 @@
 #include "rockcal/sites/json_reader.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <set>
@@ -105,7 +108,7 @@ class PathTracker final {
 nlohmann::json ReadJsonFile(const std::string& path) {
   CheckInputFile(path);
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "cannot open file");
+  if (!in) throw InputError(path, std::string("cannot open file: ") + std::strerror(errno));
   // The largest JSON file read: a site or observation file is far smaller.
   constexpr std::size_t kMaxJsonBytes = std::size_t{1} << 28;
   std::string text;
@@ -220,9 +223,36 @@ long JsonNode::Integer(long lo, long hi) const {
   return v;
 }
 
-std::string JsonNode::String() const {
+namespace {
+
+// The first control character (U+0000 to U+001F, U+007F) of `text` that
+// `allowed` does not list, or npos.
+std::size_t ControlCharacter(const std::string& text, const char* allowed) {
+  for (std::size_t k = 0; k < text.size(); ++k) {
+    const unsigned char c = static_cast<unsigned char>(text[k]);
+    if ((c < 0x20 || c == 0x7f) && (c == 0 || !std::strchr(allowed, c))) return k;
+  }
+  return std::string::npos;
+}
+
+}  // namespace
+
+std::string JsonNode::String() const { return StringAllowing(""); }
+
+std::string JsonNode::Text() const { return StringAllowing("\t\n\r"); }
+
+std::string JsonNode::StringAllowing(const char* allowed) const {
   if (!value_->is_string()) Fail("expected a string");
-  return value_->get<std::string>();
+  std::string text = value_->get<std::string>();
+  const std::size_t at = ControlCharacter(text, allowed);
+  if (at != std::string::npos) {
+    char code[8];
+    std::snprintf(code, sizeof code, "U+%04X", static_cast<unsigned char>(text[at]));
+    Fail(std::string("holds the control character ") + code + " at character " +
+         std::to_string(at + 1) +
+         "; expected printable text (names, ids and file names hold no control characters)");
+  }
+  return text;
 }
 
 bool JsonNode::Bool() const {

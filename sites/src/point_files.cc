@@ -79,6 +79,11 @@ std::vector<Eigen::Vector3d> ReadLidarFile(const std::string& path) {
                   " in " + Excerpt(line));
     }
     const std::vector<double> v = reader.Numbers(fields);
+    // Colours are 8-bit channels: whole numbers from 0 to 255.
+    for (std::size_t k = 3; k < v.size(); ++k)
+      if (!(v[k] >= 0 && v[k] <= 255 && v[k] == std::floor(v[k])))
+        reader.Fail(std::string("colour ") + "RGB"[k - 3] + " is " + Excerpt(fields[k]) +
+                    "; expected a whole number from 0 to 255");
     points.emplace_back(v[0], v[1], v[2]);
   }
   if (points.empty()) {

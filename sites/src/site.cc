@@ -129,12 +129,12 @@ void ReadSimulation(const JsonNode& node, Units units, core::SimulationOptions* 
     if (o->gentle_steps_per_contact == 1) v->Fail("expected 0 (off) or a whole number >= 2");
   }
   if (auto v = node.Find("safety")) {
-    o->safety = v->Number(0.0, 1.0);
-    if (!(o->safety > 0)) v->Fail("expected a number in (0, 1]");
+    o->safety = v->Number();
+    if (!(o->safety > 0 && o->safety <= 1)) v->Fail("expected a number in (0, 1]");
   }
   if (auto v = node.Find("gentle_safety")) {
-    o->gentle_safety = v->Number(0.0, 1.0);
-    if (!(o->gentle_safety > 0)) v->Fail("expected a number in (0, 1]");
+    o->gentle_safety = v->Number();
+    if (!(o->gentle_safety > 0 && o->gentle_safety <= 1)) v->Fail("expected a number in (0, 1]");
   }
   if (auto v = node.Find("rest_window")) o->rest_window = v->NonNegative();
   if (auto v = node.Find("exact_flight")) o->exact_flight = v->Bool();
@@ -401,7 +401,7 @@ Site LoadSite(const std::string& path) {
     scene.name = name.String();
     if (scene.name.empty()) name.Fail("expected a non-empty name");
   }
-  if (auto d = root.Find("description")) d->String();
+  if (auto d = root.Find("description")) d->Text();
 
   // Materials (their roughness limit needs the grid spacing: checked below).
   std::vector<PendingMaterial> pending = ReadMaterials(root.Get("materials"), units, &site);

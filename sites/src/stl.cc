@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -34,7 +35,7 @@ constexpr std::size_t kMaxStlBytes = 84 + 50 * std::size_t{20'000'000};
 std::string ReadAll(const std::string& path) {
   CheckInputFile(path);
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "cannot open file");
+  if (!in) throw InputError(path, std::string("cannot open file: ") + std::strerror(errno));
   std::string data;
   char chunk[1 << 16];
   while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {

@@ -10,6 +10,7 @@
 #include <limits>
 #include <system_error>
 
+#include "rockcal/core/error.h"
 #include "rockcal/core/limits.h"
 #include "rockcal/sites/crs.h"
 #include "rockcal/sites/esri_grid.h"
@@ -59,17 +60,35 @@ void CheckGridSize(const JsonNode& where, const Box& box, double spacing, double
   }
 }
 
-// Turns points (SI) into the grid by triangulation, with notes; errors at `src`.
+// The one range of every terrain source's coordinates and elevations
+// (points, LIDAR, grids, rasters, STL; docs/reference/site-file.md): within
+// +-core::kMaxCoordinate. `si` is the value in metres, `what` names it and
+// where it is ("the elevation of row 3, column 7"); the error names the file
+// and the value in the file's units.
+void CheckTerrainValue(double si, double to_file, const std::string& file,
+                       const std::string& what) {
+  if (std::abs(si) <= core::kMaxCoordinate) return;
+  throw InputError(file, what + " is " + FormatNumber(si * to_file) +
+                             ", out of range; expected coordinates and elevations within +-" +
+                             FormatNumber(core::kMaxCoordinate * to_file) + " (file units)");
+}
+
+// Turns points (SI) into the grid by triangulation, with notes; errors at
+// `src` (a point out of range: at `src`, naming `file` when there is one),
+// but a grid too small or too large at `where` (the resolution).
 void GridInto(const std::vector<Eigen::Vector3d>& points, const JsonNode& where,
-              const JsonNode& src, const GriddingOptions& options, double to_file, Surface* out) {
+              const JsonNode& src, const std::string& file, const GriddingOptions& options,
+              double to_file, Surface* out) {
   Box box;
   for (std::size_t k = 0; k < points.size(); ++k) {
     const Eigen::Vector3d& p = points[k];
     if (!(p.cwiseAbs().maxCoeff() <= core::kMaxCoordinate)) {
-      where.Fail("surface point " + std::to_string(k + 1) + " (" + FormatNumber(p.x() * to_file) +
-                 ", " + FormatNumber(p.y() * to_file) + ", " + FormatNumber(p.z() * to_file) +
-                 ") is outside the physically sensible range; expected coordinates within +-" +
-                 FormatNumber(core::kMaxCoordinate * to_file));
+      src.Fail("surface point " + std::to_string(k + 1) +
+               (file.empty() ? std::string() : " of '" + file + "'") + " (" +
+               FormatNumber(p.x() * to_file) + ", " + FormatNumber(p.y() * to_file) + ", " +
+               FormatNumber(p.z() * to_file) +
+               ") is out of range; expected coordinates and elevations within +-" +
+               FormatNumber(core::kMaxCoordinate * to_file) + " (file units)");
     }
     box.Add(p.x(), p.y());
   }
@@ -136,9 +155,29 @@ std::string DataFile(const JsonNode& node, const std::string& base_dir, Surface*
 }
 
 // The raster (SI) onto the grid: its own cells, or resampled to `spacing`.
+// Its extent and every elevation within the terrain's range (errors naming
+// `file`).
 void RasterInto(const RasterGrid& raster, const JsonNode& where, bool has_resolution,
-                double spacing, Units units, const std::string& what, Surface* out) {
+                double spacing, Units units, const std::string& file, const std::string& what,
+                Surface* out) {
   const double cell = LengthToSI(raster.cellsize, units);
+  const double to_file = 1.0 / LengthToSI(1.0, units);
+  CheckTerrainValue(LengthToSI(raster.x_center, units), to_file, file,
+                    "the x of the lower-left cell's centre");
+  CheckTerrainValue(LengthToSI(raster.y_center, units), to_file, file,
+                    "the y of the lower-left cell's centre");
+  CheckTerrainValue(LengthToSI(raster.x_center + (raster.ncols - 1) * raster.cellsize, units),
+                    to_file, file, "the x of the last column's centre");
+  CheckTerrainValue(LengthToSI(raster.y_center + (raster.nrows - 1) * raster.cellsize, units),
+                    to_file, file, "the y of the top row's centre");
+  for (int j = 0; j < raster.nrows; ++j)
+    for (int i = 0; i < raster.ncols; ++i) {
+      const double z = raster.at(i, j);
+      if (!std::isnan(z))
+        CheckTerrainValue(LengthToSI(z, units), to_file, file,
+                          "the elevation of row " + std::to_string(raster.nrows - j) +
+                              " (counted from the north), column " + std::to_string(i + 1));
+    }
   if (!has_resolution) spacing = cell;
   Box box;
   box.Add(0, 0);
@@ -208,7 +247,7 @@ SurfaceSettings ReadSurfaceSettings(const JsonNode& surface, const std::string& 
   // The CRS the site file names (checked against the data's own later).
   if (set.crs) {
     std::string error;
-    if (!CrsFromUserInput(set.crs->String(), &set.named_crs, &error)) {
+    if (!CrsFromUserInput(set.crs->Text(), &set.named_crs, &error)) {
       set.crs->Fail("not a coordinate reference system GDAL recognises (" + error +
                     "); expected e.g. \"EPSG:2154\" or a WKT string");
     }
@@ -224,7 +263,7 @@ void ReadInlinePoints(const JsonNode& src, const SurfaceSettings& set, Surface* 
     points.emplace_back(v[0], v[1], v[2]);
   }
   out->notes.push_back("surface: " + std::to_string(points.size()) + " inline points");
-  GridInto(ToSI(std::move(points), set.units), set.where, src, set.gridding, set.to_file, out);
+  GridInto(ToSI(std::move(points), set.units), set.where, src, "", set.gridding, set.to_file, out);
 }
 
 // "points_file": a text file of points.
@@ -233,7 +272,8 @@ void ReadPointsSource(const JsonNode& src, const SurfaceSettings& set, Surface* 
   std::vector<Eigen::Vector3d> points = ReadPointsFile(file);
   CheckPointCount(src, file, points.size());
   out->notes.push_back("surface: " + std::to_string(points.size()) + " points from " + file);
-  GridInto(ToSI(std::move(points), set.units), set.where, src, set.gridding, set.to_file, out);
+  GridInto(ToSI(std::move(points), set.units), set.where, src, file, set.gridding, set.to_file,
+           out);
 }
 
 // "lidar": a scan with its offset and spin.
@@ -266,14 +306,15 @@ void ReadLidarSource(const JsonNode& src, const SurfaceSettings& set, Surface* o
                        ", offset (" + FormatNumber(offset.x()) + ", " + FormatNumber(offset.y()) +
                        ", " + FormatNumber(offset.z()) + ") subtracted, then spun " +
                        FormatNumber(transform.spin_deg) + " deg about Z");
-  GridInto(ToSI(std::move(points), set.units), set.where, src, set.gridding, set.to_file, out);
+  GridInto(ToSI(std::move(points), set.units), set.where, src.Get("file"), file, set.gridding,
+           set.to_file, out);
 }
 
 // "grid_file": an ESRI ASCII grid.
 void ReadGridFileSource(const JsonNode& src, const SurfaceSettings& set, Surface* out) {
   const std::string file = DataFile(src, set.base_dir, out);
   RasterInto(ReadEsriGrid(file), set.where, set.resolution.has_value(), set.spacing, set.units,
-             "ESRI grid " + file, out);
+             file, "ESRI grid " + file, out);
 }
 
 // "raster": "dem.tif" or {"file": "dem.tif", "band": 2}, read by GDAL, its
@@ -304,7 +345,7 @@ void ReadRasterSource(const JsonNode& src, const SurfaceSettings& set, Surface* 
     out->crs_wkt = raster.crs_wkt;
   }
   out->gis = true;
-  RasterInto(raster.grid, set.where, set.resolution.has_value(), set.spacing, set.units,
+  RasterInto(raster.grid, set.where, set.resolution.has_value(), set.spacing, set.units, file,
              "raster " + file + " (" + raster.driver + ", band " + std::to_string(band) + ")",
              out);
 }
@@ -333,8 +374,16 @@ void ReadStlSource(const JsonNode& src, const SurfaceSettings& set,
     TriangleSet triangles;
     triangles.triangles = ReadStl(file, axes, LengthToSI(1.0, set.units));
     triangles.material = static_cast<int>(it - material_ids.begin());
-    for (const Triangle& t : triangles.triangles)
-      for (const Eigen::Vector3d* p : {&t.a, &t.b, &t.c}) box.Add(p->x(), p->y());
+    for (std::size_t k = 0; k < triangles.triangles.size(); ++k) {
+      const Triangle& t = triangles.triangles[k];
+      for (const Eigen::Vector3d* p : {&t.a, &t.b, &t.c}) {
+        for (int c = 0; c < 3; ++c)
+          CheckTerrainValue(
+              (*p)[c], set.to_file, file,
+              std::string("the ") + "xyz"[c] + " of a vertex of triangle " + std::to_string(k + 1));
+        box.Add(p->x(), p->y());
+      }
+    }
     out->notes.push_back("surface: " + std::to_string(triangles.triangles.size()) +
                          " triangles from " + file + " (material " + id + ")");
     sets.push_back(std::move(triangles));

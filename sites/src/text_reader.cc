@@ -1,9 +1,11 @@
 #include "rockcal/sites/text_reader.h"
 
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 
 #include "rockcal/sites/input_file.h"
@@ -72,6 +74,11 @@ std::vector<std::string> SplitFields(const std::string& line) {
     while (i < line.size() && IsBlankChar(line[i])) ++i;
     if (i == line.size()) break;
     std::size_t j = i;
+    // A field in double quotes is one field, blanks and all (" 0.7 ").
+    if (line[j] == '"') {
+      const std::size_t close = line.find('"', j + 1);
+      if (close != std::string::npos) j = close + 1;
+    }
     while (j < line.size() && !IsBlankChar(line[j])) ++j;
     out.push_back(line.substr(i, j - i));
     i = j;
@@ -109,7 +116,7 @@ bool IsBlank(const std::string& line) {
 LineReader::LineReader(std::string path) : path_(std::move(path)) {
   CheckInputFile(path_);
   in_.open(path_, std::ios::binary);
-  if (!in_) throw InputError(path_, "cannot open file");
+  if (!in_) throw InputError(path_, std::string("cannot open file: ") + std::strerror(errno));
 }
 
 bool LineReader::Next(std::string* line) {

@@ -10,7 +10,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <random>
 
 #include "twin_fixture.h"
@@ -210,6 +212,57 @@ TEST(Calibration, LogOfTwoRunsDeepLinesAndUnwritableLogs) {
   } catch (const std::runtime_error& e) {
     EXPECT_THAT(e.what(), HasSubstr("cannot write the evaluation log /proc/rockcal_no_folder"));
   }
+}
+
+// Issue 56: a refused --resume deleted a finished result's marker. Check
+// reads a log as a resume does and refuses what it refuses, writing
+// nothing; with the rocks unknown (a noise check may raise them) the
+// fingerprint's rocks are not compared, and the records must hold the
+// header's.
+TEST(Calibration, CheckReadsALogAsAResumeWithoutWritingIt) {
+  const ParameterSpace space = LogSpace();
+  Fingerprint fingerprint = LogFingerprint();
+  fingerprint.Add("rocks", "6");
+  std::ifstream in(std::string(ROCKCAL_SOURCE_DIR) +
+                   "/fuzz/seeds/evaluation_log_fuzz/two_records.jsonl");
+  std::string header, first, second;
+  std::getline(in, header);
+  std::getline(in, first);
+  std::getline(in, second);
+  header = R"({"fingerprint":{"rocks":"6","seed":"1","site file":"0123456789abcdef"}})";
+  const std::string path = TempPath("check.jsonl");
+  const std::string text = header + "\n" + first + "\n" + second + "\n" + "{\"torn";
+  std::ofstream(path) << text;
+  const auto contents = [&] {
+    std::ifstream f(path);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  EXPECT_NO_THROW(EvaluationLog::Check(path, space, 1, 6, fingerprint));
+  EXPECT_NO_THROW(EvaluationLog::Check(path, space, 1, std::nullopt, fingerprint));
+  EXPECT_EQ(contents(), text) << "Check keeps even the torn last line a resume drops";
+
+  Fingerprint other = LogFingerprint();
+  other.Add("rocks", "12");
+  const auto error = [&](std::optional<int> rocks, const Fingerprint& f, std::uint64_t seed) {
+    try {
+      EvaluationLog::Check(path, space, seed, rocks, f);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_THAT(error(12, other, 1),
+              HasSubstr(path + ":1: cannot resume: what determines the evaluations changed since "
+                               "this log was written: rocks"));
+  EXPECT_EQ(error(std::nullopt, other, 1), "no error") << "the rocks unknown: not compared";
+  EXPECT_THAT(error(std::nullopt, other, 7), HasSubstr(path + ":2: record of another calibration"));
+  Fingerprint seed = other;
+  seed.parts[1].second = "7";
+  EXPECT_THAT(error(std::nullopt, seed, 1), HasSubstr("this log was written: seed; restore it"));
+  EXPECT_EQ(contents(), text) << "a refusal writes nothing";
+  // The same refusals as the log a resume opens.
+  EXPECT_THROW(EvaluationLog(path, true, space, 1, 12, other), InputError);
+  EXPECT_EQ(contents(), text);
 }
 
 TEST(Calibration, EveryMethodRunsWithinItsBudget) {

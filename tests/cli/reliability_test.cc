@@ -19,6 +19,7 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -30,6 +31,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 using testing::ReadFile;
 using testing::Rockcal;
 using testing::RunResult;
@@ -306,6 +308,136 @@ TEST_F(Reliability, ALogWithTwoRunsLinesIsNotResumed) {
   fs::remove_all(twice);
 }
 
+// Every file of `dir` (the lock too) with its bytes.
+std::map<std::string, std::string> FolderBytes(const std::string& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) files[e.path().string()] = ReadFile(e.path().string());
+  return files;
+}
+
+// Appends a line break to `path` (its hash changes, its content does not)
+// for the life of this object.
+class Touched {
+ public:
+  explicit Touched(std::string path) : path_(std::move(path)), text_(ReadFile(path_)) {
+    std::ofstream(path_, std::ios::app) << "\n";
+  }
+  ~Touched() { std::ofstream(path_, std::ios::trunc) << text_; }
+
+ private:
+  std::string path_, text_;
+};
+
+// Issue 56, cause 1: a refused --resume removed the finished result's
+// calibration.json (campaign: summary.json), and a log with a duplicated
+// line was refused only after the reach and noise checks were simulated
+// again. Every refusal leaves the folder byte for byte as it was, before
+// anything is simulated.
+TEST_F(Reliability, ARefusedResumeChangesNothing) {
+  const std::string calibrate = "calibrate " + Site() + " --observations " + Obs();
+  const std::string done = ws_ + "/done";
+  fs::copy(Cal(), done, fs::copy_options::recursive);
+  ASSERT_TRUE(fs::exists(done + "/calibration.json"));
+  const std::string resume =
+      calibrate + " --rocks 4 --max-evals 2 --reach 0 --resume --out " + done;
+  struct Case {
+    std::string touched, extra, named;
+  };
+  for (const Case& c :
+       std::vector<Case>{{"", " --seed 9", "changed since this log was written: seed"},
+                         {ws_ + "/points/points.csv", "",
+                          "changed since this log was written: site data "
+                          "file ../points/points.csv"},
+                         {ws_ + "/obscsv/heights.csv", "",
+                          "changed since this log was written: observations "
+                          "data file ../obscsv/heights.csv"}}) {
+    SCOPED_TRACE(c.named);
+    const std::map<std::string, std::string> before = FolderBytes(done);
+    std::optional<Touched> touched;
+    if (!c.touched.empty()) touched.emplace(c.touched);
+    const RunResult run = Rockcal(resume + c.extra);
+    EXPECT_EQ(run.status, 2) << run.err;
+    EXPECT_THAT(
+        run.err,
+        HasSubstr(done + "/evaluations.jsonl:1: cannot resume: what determines the evaluations " +
+                  c.named));
+    EXPECT_TRUE(FolderBytes(done) == before) << "the refused resume changed " << done;
+  }
+  // The result is whole: table reads it.
+  RunResult run = Rockcal("table " + done + " --out " + ws_ + "/done_table --quiet");
+  EXPECT_EQ(run.status, 0) << run.err;
+  fs::remove_all(ws_ + "/done_table");
+
+  // Scanned shapes and an inventory (Authume): a changed shape file or
+  // inventory is refused alike.
+  const std::string ash = ws_ + "/ash";
+  fs::copy(Examples() + "/authume", ash, fs::copy_options::recursive);
+  Mark(ash);
+  const std::string shapes = "calibrate " + ash + "/site_shapes.json --observations " + ash +
+                             "/observations.json --rocks 4 --max-evals 2 --reach 0 --quiet --out " +
+                             ws_ + "/ash_out";
+  run = Rockcal(shapes);
+  ASSERT_EQ(run.status, 0) << run.err;
+  const std::string shape = fs::directory_iterator(ash + "/data/shapes")->path().string();
+  for (const std::string& file : {shape, ash + "/data/blocks_P1_shapes.csv"}) {
+    SCOPED_TRACE(file);
+    const std::map<std::string, std::string> before = FolderBytes(ws_ + "/ash_out");
+    const Touched touched(file);
+    run = Rockcal(shapes + " --resume");
+    EXPECT_EQ(run.status, 2) << run.err;
+    EXPECT_THAT(run.err, HasSubstr("cannot resume: what determines the evaluations changed since "
+                                   "this log was written: site data file data/" +
+                                   fs::path(file).lexically_relative(ash + "/data").string()));
+    EXPECT_TRUE(FolderBytes(ws_ + "/ash_out") == before) << "the refused resume changed it";
+  }
+  fs::remove_all(ash);
+  fs::remove_all(ws_ + "/ash_out");
+
+  // A log with a duplicated line, of a calibration with a reach and a noise
+  // check: refused before either is simulated again (nothing printed).
+  const std::string reach = ws_ + "/reach";
+  run = Rockcal(calibrate + " --rocks 4 --max-evals 6 --quiet --out " + reach);
+  ASSERT_EQ(run.status, 0) << run.err;
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(reach + "/evaluations.jsonl");
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+  }
+  ASSERT_GE(lines.size(), 3u);
+  {
+    std::ofstream out(reach + "/evaluations.jsonl", std::ios::trunc);
+    for (std::size_t k = 0; k < lines.size(); ++k)
+      out << lines[k] << "\n" << (k == 2 ? lines[k] + "\n" : "");
+  }
+  std::map<std::string, std::string> before = FolderBytes(reach);
+  run = Rockcal(calibrate + " --rocks 4 --max-evals 6 --resume --out " + reach);
+  EXPECT_EQ(run.status, 2) << run.err;
+  EXPECT_THAT(run.err, HasSubstr(reach + "/evaluations.jsonl:4: "));
+  EXPECT_THAT(run.err, HasSubstr("two runs"));
+  EXPECT_EQ(run.out, "") << "nothing simulated before the refusal";
+  EXPECT_TRUE(FolderBytes(reach) == before) << "the refused resume changed " << reach;
+  fs::remove_all(reach);
+
+  // A campaign whose member's observations changed keeps its summary.json.
+  const std::string camp = ws_ + "/camp_out";
+  const std::string campaign =
+      "campaign " + ws_ + "/camp/campaign.json --rocks 2 --max-evals 2 --quiet --out " + camp;
+  run = Rockcal(campaign);
+  ASSERT_EQ(run.status, 0) << run.err;
+  ASSERT_TRUE(fs::exists(camp + "/summary.json"));
+  before = FolderBytes(camp);
+  {
+    const Touched touched(ws_ + "/camp/fan/observations.json");
+    run = Rockcal(campaign + " --resume");
+  }
+  EXPECT_EQ(run.status, 2) << run.err;
+  EXPECT_THAT(run.err, HasSubstr("changed since this log was written: fan: observations file"));
+  EXPECT_TRUE(FolderBytes(camp) == before) << "the refused resume changed " << camp;
+  fs::remove_all(camp);
+  fs::remove_all(done);
+}
+
 // Issue 40: a FIFO given as the site, the observations or a points_file
 // blocked for ever; a folder given as a JSON file was "invalid JSON" at 1:1;
 // 100,000 nested arrays crashed validate and simulate. Each is exit 2
@@ -344,6 +476,76 @@ TEST_F(Reliability, SpecialFilesFoldersAndDeepJsonAreRefusedWithoutBlocking) {
     EXPECT_EQ(run.status, 2) << run.err;
     EXPECT_THAT(run.err, HasSubstr(c.named + ": " + c.what));
   }
+  EXPECT_FALSE(fs::exists(dir + "/o"));
+  fs::remove_all(dir);
+}
+
+// Issue 56, causes 4 and 5: a --out of 300 characters (or over 4096) was
+// "contains .../site.json, an input of this run"; a folder, a FIFO or a
+// device as an observations CSV was "cannot open CSV file", a campaign
+// member's observations folder "no such file". Each is exit 2 with the real
+// reason, naming the file.
+TEST_F(Reliability, LongNamesAndSpecialCsvFilesGetTheirRealReason) {
+  const std::string dir = ws_ + "/special56";
+  fs::create_directories(dir);
+  for (const std::size_t length : {300u, 5000u}) {
+    SCOPED_TRACE(length);
+    const std::string out = dir + "/" + std::string(length, 'o');
+    const RunResult run = Rockcal("simulate " + Site() + " --rocks 1 --quiet --out " + out);
+    EXPECT_EQ(run.status, 2) << run.err;
+    EXPECT_THAT(run.err, HasSubstr("File name too long"));
+    EXPECT_THAT(run.err, Not(HasSubstr("an input of this run")));
+  }
+
+  const std::string fifo = dir + "/fifo.csv";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string obs = ReadFile(Obs());
+  struct Case {
+    std::string file, what;
+  };
+  for (const Case& c : std::vector<Case>{{ws_ + "/obscsv", "is a folder, expected a file"},
+                                         {fifo, "is a FIFO (named pipe), expected a regular file"},
+                                         {"/dev/zero", "is a character device"},
+                                         {"/dev/null", "is a character device"}}) {
+    SCOPED_TRACE(c.file);
+    std::string text = obs;
+    Replace(&text, "\"../obscsv/heights.csv\"", "\"" + c.file + "\"");
+    Write(dir + "/obs.json", text);
+    const RunResult run =
+        testing::Run("timeout --kill-after=5 20 " + std::string(ROCKCAL_EXE) + " validate " +
+                     Site() + " --observations " + dir + "/obs.json");
+    EXPECT_EQ(run.status, 2) << run.err;
+    EXPECT_THAT(run.err, HasSubstr(dir + "/obs.json: $.tree_scars[0].heights_file: '" + c.file +
+                                   "' " + c.what));
+  }
+
+  // A campaign member whose observations are a folder.
+  nlohmann::json campaign = nlohmann::json::parse(ReadFile(ws_ + "/camp/campaign.json"));
+  campaign["sites"][0]["site"] = ws_ + "/camp/fan/site.json";
+  campaign["sites"][0]["observations"] = ws_ + "/obs";
+  campaign["sites"][1]["site"] = ws_ + "/camp/gully/site.json";
+  campaign["sites"][1]["observations"] = ws_ + "/camp/gully/observations.json";
+  Write(dir + "/campaign.json", campaign.dump(1));
+  const RunResult run = Rockcal("campaign " + dir +
+                                "/campaign.json --rocks 2 --max-evals 2 "
+                                "--quiet --out " +
+                                dir + "/o");
+  EXPECT_EQ(run.status, 2) << run.err;
+  EXPECT_THAT(run.err, HasSubstr(dir + "/campaign.json: $.sites[0].observations: '" + ws_ +
+                                 "/obs' is a folder, expected a file"));
+  EXPECT_FALSE(fs::exists(dir + "/o"));
+
+  // Cause 6: a NUL in the site's name reached report.html raw; any control
+  // character in a string is refused at read time, naming the JSON path.
+  nlohmann::json site = nlohmann::json::parse(ReadFile(Site()));
+  site["name"] = std::string("mi\0ni", 5);
+  Write(ws_ + "/site/nul.json", site.dump(1));
+  const RunResult nul =
+      Rockcal("simulate " + ws_ + "/site/nul.json --rocks 1 --quiet --out " + dir + "/o");
+  fs::remove(ws_ + "/site/nul.json");
+  EXPECT_EQ(nul.status, 2) << nul.err;
+  EXPECT_THAT(nul.err, HasSubstr("nul.json: $.name: holds the control character U+0000 at "
+                                 "character 3"));
   EXPECT_FALSE(fs::exists(dir + "/o"));
   fs::remove_all(dir);
 }

@@ -195,8 +195,16 @@ TEST(ResumableOutputDir, ANewFolderAppearsWholeAndResumeNeedsTheLog) {
         ResumableOutputDir dir(out, false, false, {"calibrate", {}}, "evaluations.jsonl", "done");
       }),
       HasSubstr("--resume to continue"));
+  const std::string marker = Slurp(out + "/.rockcal-output");
   { ResumableOutputDir dir(out, true, false, {"calibrate", {}}, "evaluations.jsonl", "done"); }
-  EXPECT_FALSE(fs::exists(out + "/done")) << "resume removes the completion mark";
+  EXPECT_EQ(Slurp(out + "/done"), "{}") << "a resume not continued (refused) changes nothing";
+  EXPECT_EQ(Slurp(out + "/.rockcal-output"), marker);
+  {
+    ResumableOutputDir dir(out, true, false, {"calibrate", {}}, "evaluations.jsonl", "done");
+    dir.Continue();
+    dir.Continue();  // once only
+  }
+  EXPECT_FALSE(fs::exists(out + "/done")) << "a resume continued removes the completion mark";
   EXPECT_THAT(InputErrorOf([&] {
                 ResumableOutputDir dir(out, true, false, {"calibrate", {}}, "other.jsonl", "done");
               }),

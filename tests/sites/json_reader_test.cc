@@ -116,6 +116,27 @@ TEST(JsonNode, NumbersCheckTypeAndRange) {
   EXPECT_THAT(ErrorOf([&] { node.Get("i").Integer(0, 9); }), HasSubstr("expected a whole number"));
 }
 
+// Issue 56: a NUL in a site's name was accepted and written raw into
+// report.html. Names, ids and file names hold no control character (the
+// message escapes it); a description or a CRS may hold tabs and line breaks.
+TEST(JsonNode, StringsHoldNoControlCharacters) {
+  const nlohmann::json j = nlohmann::json::parse(
+      R"({"nul": "mi\u0000ni", "tab": "a\tb", "del": "x\u007f", "ok": "Col de l'Ours \u00e9"})");
+  const JsonNode node(&j, "f.json", "$");
+  const std::string nul = ErrorOf([&] { node.Get("nul").String(); });
+  EXPECT_THAT(nul, HasSubstr("f.json: $.nul: holds the control character U+0000 at character 3; "
+                             "expected printable text"));
+  EXPECT_THAT(nul, HasSubstr("(found \"mi\\u0000ni\")"));
+  EXPECT_EQ(nul.find('\0'), std::string::npos) << "the message holds no NUL itself";
+  EXPECT_THAT(ErrorOf([&] { node.Get("tab").String(); }),
+              HasSubstr("$.tab: holds the control character U+0009 at character 2"));
+  EXPECT_THAT(ErrorOf([&] { node.Get("del").String(); }),
+              HasSubstr("$.del: holds the control character U+007F at character 2"));
+  EXPECT_EQ(node.Get("ok").String(), "Col de l'Ours \xc3\xa9");
+  EXPECT_EQ(node.Get("tab").Text(), "a\tb");
+  EXPECT_THAT(ErrorOf([&] { node.Get("nul").Text(); }), HasSubstr("U+0000"));
+}
+
 TEST(JsonNode, ArraysNameTheirElements) {
   const nlohmann::json j = nlohmann::json::parse(R"({"p": [[1, 2], [3, "y"]]})");
   const JsonNode node(&j, "f.json", "$");

@@ -17,6 +17,7 @@ using ::testing::ElementsAre;
 using ::testing::EndsWith;
 using testing::ErrorOf;
 using ::testing::HasSubstr;
+using ::testing::Not;
 using testing::TempDir;
 
 constexpr double kPi = 3.14159265358979323846;
@@ -345,6 +346,63 @@ TEST(ReadSurface, ErrorsNameFileAndJsonPath) {
               HasSubstr(site + "$.surface.points_file: expected a file name"));
   EXPECT_THAT(ReadError(R"({"grid_file": "."})", dir),
               HasSubstr(site + "$.surface.grid_file: '" + dir.path() + "/.' is a folder"));
+}
+
+// Issue 56: a grid or GeoTIFF cell of 1e30 ran ("elevation 0 to 3.152e+29
+// m") where a points file refused it; xllcenter 1e300 and an STL vertex at
+// 6e300 were "less than one grid spacing", a points file's z = 1e30 and an
+// inline point at 1e300 were blamed on $.surface.resolution. Every source
+// takes one range, +-1e7 m, and the error names the value, the file and
+// where in it.
+TEST(ReadSurface, EveryTerrainSourceTakesOneRangeNamingTheValue) {
+  TempDir dir;
+  const std::string site = dir.path() + "/site.json: ";
+  const std::string grid_head = "ncols 3\nnrows 3\nxllcenter 0\nyllcenter 0\ncellsize 5\n";
+  const std::string asc = dir.Write("big.asc", grid_head + "1 2 3\n4 1e30 6\n7 8 9\n");
+  std::string error = ReadError(R"({"grid_file": "big.asc", "sphere_spacing": 5})", dir);
+  EXPECT_THAT(error, HasSubstr(asc + ": the elevation of row 2 (counted from the north), column 2 "
+                                     "is 1e+30, out of range; expected coordinates and elevations "
+                                     "within +-10000000 (file units)"));
+  dir.Write("far.asc",
+            "ncols 3\nnrows 3\nxllcenter 1e300\nyllcenter 0\ncellsize 5\n1 2 3\n4 5 6\n7 8 9\n");
+  error = ReadError(R"({"grid_file": "far.asc", "sphere_spacing": 5})", dir);
+  EXPECT_THAT(error, HasSubstr("far.asc: the x of the lower-left cell's centre is 1e+300, out of "
+                               "range"));
+  EXPECT_THAT(error, Not(HasSubstr("grid spacing")));
+
+  testing::RasterSpec spec;
+  spec.nx = 3;
+  spec.ny = 3;
+  spec.geotransform = {0, 5, 0, 15, 0, -5};
+  spec.values = {1, 2, 3, 4, 5, 6, 7, 8, -1e30};
+  testing::WriteRaster(dir.path() + "/big.tif", spec);
+  error = ReadError(R"({"raster": "big.tif", "sphere_spacing": 5})", dir);
+  EXPECT_THAT(error, HasSubstr("/big.tif: the elevation of row 3 (counted from the north), "
+                               "column 3 is -1.000000015e+30, out of range"));
+
+  // A vertex far away, Z up.
+  dir.Write("far.stl",
+            "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 6e300 0 0\n"
+            "vertex 0 10 0\nendloop\nendfacet\nendsolid s\n");
+  error = ReadError(
+      R"({"resolution": 2, "sphere_spacing": 2, "stl": {"files": [{"file": "far.stl",
+          "material": "a"}]}})",
+      dir);
+  EXPECT_THAT(error, HasSubstr("/far.stl: the x of a vertex of triangle 1 is 6e+300, out of "
+                               "range"));
+
+  dir.Write("high.csv", "0 0 0\n10 0 0\n0 10 1e30\n");
+  error = ReadError(R"({"resolution": 2, "sphere_spacing": 2, "points_file": "high.csv"})", dir);
+  EXPECT_THAT(error, HasSubstr(site + "$.surface.points_file: surface point 3 of '" + dir.path() +
+                               "/high.csv' (0, 10, 1e+30) is out of range"));
+  EXPECT_THAT(error, Not(HasSubstr("resolution")));
+  error = ReadError(
+      R"({"resolution": 2, "sphere_spacing": 2, "points": [[0,0,0],[1e300,0,0],[0,9,0]]})", dir);
+  EXPECT_THAT(error, HasSubstr(site + "$.surface.points: surface point 2 (1e+300, 0, 0) is out "
+                                      "of range"));
+  // At the limit: accepted.
+  dir.Write("edge.asc", grid_head + "1 2 3\n4 1e7 6\n7 8 9\n");
+  EXPECT_NO_THROW(Read(R"({"grid_file": "edge.asc", "sphere_spacing": 5})", dir));
 }
 
 // Issue 14: /dev/zero as a points file read for ever. Issue 40: a device is

@@ -99,6 +99,13 @@ class EvaluationLog final {
   // calibration (other parameters, seed or rock count) is an InputError.
   EvaluationLog(std::string path, bool resume, const ParameterSpace& space, std::uint64_t seed,
                 int rocks, Fingerprint fingerprint = {});
+  // Reads the log at `path` as a resume would and throws the InputError it
+  // would throw, changing nothing: so that a refused --resume is refused
+  // before the folder is touched or anything simulated. `rocks` unknown
+  // (nullopt: the rocks a noise check may raise) leaves the fingerprint's
+  // "rocks" uncompared, and the records must hold the header's.
+  static void Check(const std::string& path, const ParameterSpace& space, std::uint64_t seed,
+                    std::optional<int> rocks, const Fingerprint& fingerprint);
   // The logged evaluation of `stage` at exactly `physical`, if any.
   const Evaluation* Find(const Stage& stage, const std::vector<double>& physical) const;
   void Append(const Evaluation& evaluation);

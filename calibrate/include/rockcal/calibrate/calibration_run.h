@@ -157,6 +157,11 @@ struct CalibrationCallbacks {
   CalibrationProgress evaluated;  // after every evaluation
   std::function<void(const MethodResult&)> method_finished;
   PosteriorProgress posterior;  // during the posterior stage
+  // Once the first log of the run is open (a resumed one read and found to
+  // belong to this run), before anything is written to it: the caller's
+  // output folder may now change (a resumed folder loses its completion
+  // marker). Called again by each fold; must be idempotent.
+  std::function<void()> log_opened;
 };
 
 // Whether a misfit `own` at the calibration's seed lies below what the
@@ -318,6 +323,14 @@ void SearchMethods(const ObjectiveFunction& objective, const std::vector<double>
 // (invalid options, a site without calibrated parameters), so that a caller
 // can check before it writes anything.
 void CheckCalibration(const sites::Site& site, const CalibrationOptions& options);
+
+// With options.resume: reads every log Calibrate (and CrossValidate with
+// `folds` > 0) would resume, changing nothing and simulating nothing, and
+// throws the InputError the resume would throw (a changed input or option,
+// a log two runs wrote). The rocks a noise check may raise are compared
+// later, when the log is opened (CalibrationCallbacks::log_opened).
+void CheckResume(const sites::Site& site, const observations::Observations& observations,
+                 const CalibrationOptions& options, int folds = 0);
 
 // The noise check's yardstick: the misfits the search ranks between are the
 // design's best, not its far points (which set a spread that any noise looks

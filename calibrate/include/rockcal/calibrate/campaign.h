@@ -250,6 +250,11 @@ Fingerprint CampaignFingerprint(const Campaign& campaign, const JointSpace& join
 // invalid joint space).
 void CheckCampaign(const Campaign& campaign, const CalibrationOptions& options);
 
+// With options.resume: reads the log RunCampaign would resume, changing
+// nothing and simulating nothing, and throws the InputError the resume
+// would throw (a changed input or option, a log two runs wrote).
+void CheckCampaignResume(const Campaign& campaign, const CalibrationOptions& options);
+
 // Calibrates the campaign's sites jointly: SearchMethods on a
 // CampaignObjective from JointSpace::FromSiteValues of the sites' own
 // values, then the uncertainty at the best values and each site's fit there

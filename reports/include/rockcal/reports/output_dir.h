@@ -114,23 +114,30 @@ class OutputDir final {
 
 // A folder a run writes in place and a stopped run resumes (a calibration):
 // the same checks as OutputDir, the same lock, held while this lives.
-//   resume: `path` must hold `log` (else InputError); its stale temporaries
-//           (in its subfolders too: RemoveStaleTemporariesInside)
+//   resume: `path` must hold `log` (else InputError); it is locked and
+//           nothing in it changes until Continue(), which the caller calls
+//           once it has checked that the run may resume (a refused resume
+//           leaves the folder as it was): Continue() removes its stale
+//           temporaries (in its subfolders too: RemoveStaleTemporariesInside)
 //           and `complete_file` (which marks the folder complete and is
-//           written last) are removed and the marker is rewritten.
+//           written last), and rewrites the marker.
 //   else:   a new folder appears whole, with its marker and an empty `log`
 //           (built under a temporary name and renamed into place); with
 //           `force`, an existing folder rockcal wrote is replaced.
+//           Continue() does nothing.
 // A failure to write (read-only or full file system) is std::runtime_error.
 class ResumableOutputDir final {
  public:
   ResumableOutputDir(std::string path, bool resume, bool force, OutputOrigin origin,
                      const std::string& log, const std::string& complete_file);
+  void Continue();
   const std::string& path() const { return path_; }
 
  private:
   std::string path_;
   OutputLock lock_;
+  bool pending_ = false;  // a resume whose changes Continue() has not made yet
+  std::string command_, complete_file_;
 };
 
 // Writes `text` to `path` through a temporary file renamed into place. A

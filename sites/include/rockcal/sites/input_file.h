@@ -15,6 +15,14 @@ namespace rockcal::sites {
 // that does not exist is left to the reader ("cannot open file").
 void CheckInputFile(const std::string& path);
 
+// Why `path` cannot be read as an input file (`what`: "CSV file"), as a
+// sentence naming it, for a reader that reports at a JSON path: empty when
+// it is a regular file it may open; "'P' is a folder, expected a file" and
+// the other kinds as CheckInputFile names them; "cannot open CSV file 'P':
+// " and the system's reason (no such file, too many levels of symbolic
+// links, permission denied).
+std::string InputFileProblem(const std::string& path, const std::string& what);
+
 // The deepest nesting of arrays and objects a JSON input may have. The
 // deepest file rockcal reads nests 6 levels (a site's zone polygons); a
 // deeper one is refused before it is parsed, naming the depth.

@@ -51,7 +51,12 @@ class JsonNode final {
   double Positive() const;                  // > 0
   double NonNegative() const;               // >= 0
   long Integer(long lo, long hi) const;
+  // A string without control characters (U+0000 to U+001F, U+007F): names,
+  // ids and file names are written into CSV, Markdown, HTML and the console
+  // as they are (docs/reference/site-file.md).
   std::string String() const;
+  // A string that may also hold tabs and line breaks (a description, a CRS).
+  std::string Text() const;
   bool Bool() const;
 
   // Arrays.
@@ -60,6 +65,7 @@ class JsonNode final {
   std::vector<double> Numbers(std::size_t n) const;
 
  private:
+  std::string StringAllowing(const char* allowed) const;
   const nlohmann::json* value_;
   std::string file_;
   std::string path_;

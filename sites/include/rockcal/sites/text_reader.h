@@ -21,7 +21,8 @@ bool ParseNumber(const std::string& text, double* value);
 
 // Splits a data row into fields. A row holding a comma is split at commas
 // (each field trimmed; an empty field is kept as ""); otherwise at runs of
-// blanks (spaces, tabs). A trailing '\r' is ignored.
+// blanks (spaces, tabs), a field in double quotes being one field with its
+// blanks (the quotes kept). A trailing '\r' is ignored.
 std::vector<std::string> SplitFields(const std::string& line);
 
 // True when the line holds only blanks.
