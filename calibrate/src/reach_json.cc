@@ -15,8 +15,6 @@ using nlohmann::json;
 using text::JsonNum;
 using namespace json_fields;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
 // ---- reach -------------------------------------------------------------------------
 
 constexpr const char* kReachRule =

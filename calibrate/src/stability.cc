@@ -25,8 +25,6 @@ namespace {
 using text::Num;
 using text::Percent;
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kPi = 3.14159265358979323846;
 
 // ---- Small helpers -------------------------------------------------------------
