@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <random>
+#include <tuple>
 
 #include "twin_fixture.h"
 
@@ -140,6 +141,17 @@ ParameterSpace LogSpace() {
   return ParameterSpace({hardness, roughness});
 }
 
+// The header and two records of the fuzz seed log two_records.jsonl.
+std::tuple<std::string, std::string, std::string> SeedLogLines() {
+  std::ifstream in(std::string(ROCKCAL_SOURCE_DIR) +
+                   "/fuzz/seeds/evaluation_log_fuzz/two_records.jsonl");
+  std::string header, first, second;
+  std::getline(in, header);
+  std::getline(in, first);
+  std::getline(in, second);
+  return {header, first, second};
+}
+
 Fingerprint LogFingerprint() {
   Fingerprint fingerprint;
   fingerprint.Add("site file", "0123456789abcdef");
@@ -154,9 +166,10 @@ TEST(Calibration, LogWithAWholeNumberOutOfRangeIsRefused) {
   const ParameterSpace space = LogSpace();
   const Fingerprint fingerprint = LogFingerprint();
   const std::string dir = std::string(ROCKCAL_SOURCE_DIR) + "/tests/calibrate/evaluation_logs/";
-  for (const auto& [file, field] : {std::pair<const char*, const char*>{"evaluation_1e300", "evaluation"},
-                                    {"rocks_minus_1e300", "rocks"},
-                                    {"seed_1e30", "seed"}}) {
+  for (const auto& [file, field] :
+       {std::pair<const char*, const char*>{"evaluation_1e300", "evaluation"},
+        {"rocks_minus_1e300", "rocks"},
+        {"seed_1e30", "seed"}}) {
     const std::string path = TempPath(std::string(file) + ".jsonl");
     std::filesystem::copy_file(dir + file + ".jsonl", path,
                                std::filesystem::copy_options::overwrite_existing);
@@ -178,16 +191,14 @@ TEST(Calibration, LogWithAWholeNumberOutOfRangeIsRefused) {
 TEST(Calibration, LogOfTwoRunsDeepLinesAndUnwritableLogs) {
   const ParameterSpace space = LogSpace();
   const Fingerprint fingerprint = LogFingerprint();
-  std::ifstream in(std::string(ROCKCAL_SOURCE_DIR) +
-                   "/fuzz/seeds/evaluation_log_fuzz/two_records.jsonl");
-  std::string header, first, second;
-  std::getline(in, header);
-  std::getline(in, first);
-  std::getline(in, second);
+  auto [header, first, second] = SeedLogLines();
   const std::string path = TempPath("two_runs.jsonl");
   std::ofstream(path) << header << '\n' << first << '\n' << second << '\n';
   EXPECT_EQ(EvaluationLog(path, true, space, 1, 6, fingerprint).size(), 2);
-  std::ofstream(path) << header << '\n' << first << '\n' << first << '\n' << second << '\n'
+  std::ofstream(path) << header << '\n'
+                      << first << '\n'
+                      << first << '\n'
+                      << second << '\n'
                       << second << '\n';
   try {
     EvaluationLog log(path, true, space, 1, 6, fingerprint);
@@ -196,8 +207,9 @@ TEST(Calibration, LogOfTwoRunsDeepLinesAndUnwritableLogs) {
     EXPECT_THAT(e.what(), HasSubstr(path + ":3: nlopt:bobyqa evaluation 1 after its evaluation 1 "
                                            "(line 2): the log holds the lines of two runs"));
   }
-  std::ofstream(path) << header << '\n' << std::string(100000, '[') << std::string(100000, ']')
-                      << '\n' << first << '\n';
+  std::ofstream(path) << header << '\n'
+                      << std::string(100000, '[') << std::string(100000, ']') << '\n'
+                      << first << '\n';
   try {
     EvaluationLog log(path, true, space, 1, 6, fingerprint);
     ADD_FAILURE() << "expected an InputError, read " << log.size() << " records";
@@ -223,12 +235,7 @@ TEST(Calibration, CheckReadsALogAsAResumeWithoutWritingIt) {
   const ParameterSpace space = LogSpace();
   Fingerprint fingerprint = LogFingerprint();
   fingerprint.Add("rocks", "6");
-  std::ifstream in(std::string(ROCKCAL_SOURCE_DIR) +
-                   "/fuzz/seeds/evaluation_log_fuzz/two_records.jsonl");
-  std::string header, first, second;
-  std::getline(in, header);
-  std::getline(in, first);
-  std::getline(in, second);
+  auto [header, first, second] = SeedLogLines();
   header = R"({"fingerprint":{"rocks":"6","seed":"1","site file":"0123456789abcdef"}})";
   const std::string path = TempPath("check.jsonl");
   const std::string text = header + "\n" + first + "\n" + second + "\n" + "{\"torn";
@@ -400,8 +407,8 @@ struct LinearResiduals {
     return p;
   }
   Eigen::Vector2d optimum{0.4, 0.6};
-  Eigen::Matrix<double, 5, 2> a = (Eigen::Matrix<double, 5, 2>() << 8, 1, -3, 6, 5, 5, 0, -7, 2,
-                                   2).finished();
+  Eigen::Matrix<double, 5, 2> a =
+      (Eigen::Matrix<double, 5, 2>() << 8, 1, -3, 6, 5, 5, 0, -7, 2, 2).finished();
 
   std::vector<Evaluation> Trace(const std::vector<Eigen::Vector2d>& units, double noise) const {
     std::mt19937_64 rng(7);
@@ -419,9 +426,9 @@ struct LinearResiduals {
     return trace;
   }
   static const Evaluation& Lowest(const std::vector<Evaluation>& trace) {
-    return *std::min_element(trace.begin(), trace.end(), [](const Evaluation& x, const Evaluation& y) {
-      return x.misfit < y.misfit;
-    });
+    return *std::min_element(
+        trace.begin(), trace.end(),
+        [](const Evaluation& x, const Evaluation& y) { return x.misfit < y.misfit; });
   }
 };
 
@@ -432,8 +439,8 @@ TEST(SmoothedEstimate, ExactForLinearResiduals) {
     for (double y : {0.5, 0.65, 0.8}) units.emplace_back(x, y);
   const std::vector<Evaluation> trace = lin.Trace(units, 0.0);
   SmoothedEstimate info;
-  const auto u = FitSmoothedEstimate(trace, lin.space, LinearResiduals::Lowest(trace).parameters,
-                                     0.2, &info);
+  const auto u =
+      FitSmoothedEstimate(trace, lin.space, LinearResiduals::Lowest(trace).parameters, 0.2, &info);
   ASSERT_TRUE(u.has_value()) << info.message;
   EXPECT_NEAR((*u)[0], 0.4, 1e-9);
   EXPECT_NEAR((*u)[1], 0.6, 1e-9);
@@ -535,7 +542,8 @@ TEST(SmoothedEstimate, SaysWhenTheEvaluationsCannotDetermineIt) {
   EXPECT_FALSE(FitSmoothedEstimate(trace, lin.space, trace[4].parameters, 0.2, &info));
   EXPECT_THAT(info.message, HasSubstr("do not span every parameter"));
   // A penalised evaluation does not count.
-  trace = lin.Trace({{0.3, 0.5}, {0.5, 0.5}, {0.3, 0.7}, {0.5, 0.7}, {0.4, 0.6}, {0.45, 0.55}}, 0.0);
+  trace =
+      lin.Trace({{0.3, 0.5}, {0.5, 0.5}, {0.3, 0.7}, {0.5, 0.7}, {0.4, 0.6}, {0.45, 0.55}}, 0.0);
   ASSERT_TRUE(FitSmoothedEstimate(trace, lin.space, trace[4].parameters, 0.2, &info));
   trace[0].penalised = true;
   EXPECT_FALSE(FitSmoothedEstimate(trace, lin.space, trace[4].parameters, 0.2, &info));
