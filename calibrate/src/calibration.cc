@@ -1065,10 +1065,12 @@ std::vector<Evaluation> ReadLog(const std::string& path, const Fingerprint& fing
 }  // namespace
 
 EvaluationLog::EvaluationLog(std::string path, bool resume, const ParameterSpace& space,
-                             std::uint64_t seed, int rocks, Fingerprint fingerprint)
+                             std::uint64_t seed, int rocks, Fingerprint fingerprint,
+                             const std::function<void()>& accepted)
     : path_(std::move(path)), seed_(seed), rocks_(rocks), fingerprint_(std::move(fingerprint)) {
   for (const auto& p : space.parameters()) names_.push_back(p.label());
   if (resume) ReadBack();
+  if (accepted) accepted();
   Rewrite();
 }
 

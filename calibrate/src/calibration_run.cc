@@ -111,14 +111,17 @@ std::string Numbers(const std::vector<double>& values) {
 
 // The evaluation log at options.log_path (none when it is empty), resumed
 // when options.resume, fingerprinted with what determines `scene`'s
-// evaluations.
+// evaluations; `accepted` as EvaluationLog's (also called without a log).
 std::optional<EvaluationLog> OpenLog(const sites::Site& site, const observations::Observations& obs,
                                      const CalibrationOptions& options,
-                                     const ParameterSpace& space, const core::Scene& scene) {
+                                     const ParameterSpace& space, const core::Scene& scene,
+                                     const std::function<void()>& accepted = {}) {
   std::optional<EvaluationLog> log;
   if (!options.log_path.empty())
     log.emplace(options.log_path, options.resume, space, scene.options.seed, scene.total_rocks(),
-                CalibrationFingerprint(site, obs, options, space));
+                CalibrationFingerprint(site, obs, options, space), accepted);
+  else if (accepted)
+    accepted();
   return log;
 }
 
@@ -570,7 +573,7 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
   }
   std::optional<EvaluationLog> log;
   try {
-    log = OpenLog(site, obs, options, space, scene);
+    log = OpenLog(site, obs, options, space, scene, callbacks.log_opened);
   } catch (const InputError& e) {
     // The rocks the noise check chose follow the reach design, which
     // --max-evals and --reach size: say so rather than blame "rocks" alone.
@@ -584,7 +587,6 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
                          " points, which --max-evals and --reach size: give the stopped run's, "
                          "or --rocks N to fix the count)");
   }
-  if (callbacks.log_opened) callbacks.log_opened();
   SearchMethods(*objective, summary.search_start, options.methods, method_options,
                 log ? &*log : nullptr, callbacks, &summary);
   summary.final_rocks = summary.rocks;

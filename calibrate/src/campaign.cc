@@ -659,8 +659,9 @@ CampaignSummary RunCampaign(const Campaign& campaign, const CalibrationOptions& 
   std::optional<EvaluationLog> log;
   if (!options.log_path.empty())
     log.emplace(options.log_path, options.resume, joint.space(), seed, rocks,
-                CampaignFingerprint(campaign, joint, options));
-  if (callbacks.log_opened) callbacks.log_opened();
+                CampaignFingerprint(campaign, joint, options), callbacks.log_opened);
+  else if (callbacks.log_opened)
+    callbacks.log_opened();
   MethodOptions method_options = options.method;
   method_options.seed = seed;
   SearchMethods(objective, cal.search_start, options.methods, method_options, log ? &*log : nullptr,

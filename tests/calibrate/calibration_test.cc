@@ -94,6 +94,40 @@ TEST(Calibration, LogOfAnotherCalibrationIsRefused) {
   EXPECT_EQ(log.size(), 2);
 }
 
+// The log a resume accepts is left as it was until `accepted` has run (the
+// caller's folder stops saying it is complete there), then rewritten without
+// its torn last line; a refused log never calls it.
+TEST(Calibration, AResumedLogIsRewrittenOnlyOnceAccepted) {
+  Small small;
+  const std::string path = TempPath("accepted.jsonl");
+  {
+    EvaluationLog log(path, false, small.space, 1, 6);
+    MethodOptions options;
+    options.max_evals = 2;
+    RunMethod(Method::kSbplx, small.objective, small.space.Current(small.site.scene), options,
+              &log);
+  }
+  const auto read = [&] {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string torn = "{\"method\": \"nlopt:sb";
+  std::ofstream(path, std::ios::app) << torn;
+  const std::string before = read();
+  int calls = 0;
+  EXPECT_THROW(EvaluationLog(path, true, small.space, 7, 6, {}, [&] { ++calls; }), InputError);
+  EXPECT_EQ(calls, 0);
+  std::string seen;
+  const EvaluationLog log(path, true, small.space, 1, 6, {}, [&] {
+    ++calls;
+    seen = read();
+  });
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(seen, before);
+  EXPECT_EQ(read().find(torn), std::string::npos);
+  EXPECT_EQ(log.size(), 2);
+}
+
 // A logged evaluation whose residuals do not fit the objective (a log edited
 // by hand) is refused before a method replays it: Ceres' residual array has
 // the objective's count, and 500 more overran it.

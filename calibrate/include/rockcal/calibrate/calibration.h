@@ -97,8 +97,12 @@ class EvaluationLog final {
   // from `fingerprint` (the InputError names the parts), a log without a
   // header (an older rockcal's), or a record that does not belong to this
   // calibration (other parameters, seed or rock count) is an InputError.
+  // `accepted`, if given, is called once the log is found to be this run's
+  // and before the log is first written (rewritten without a torn last line):
+  // a resumed output folder ceases to say it is complete before it changes.
   EvaluationLog(std::string path, bool resume, const ParameterSpace& space, std::uint64_t seed,
-                int rocks, Fingerprint fingerprint = {});
+                int rocks, Fingerprint fingerprint = {},
+                const std::function<void()>& accepted = {});
   // Reads the log at `path` as a resume would and throws the InputError it
   // would throw, changing nothing: so that a refused --resume is refused
   // before the folder is touched or anything simulated. `rocks` unknown
