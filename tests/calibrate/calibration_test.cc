@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <random>
+#include <sstream>
 #include <tuple>
 
 #include "twin_fixture.h"
@@ -108,8 +109,9 @@ TEST(Calibration, AResumedLogIsRewrittenOnlyOnceAccepted) {
               &log);
   }
   const auto read = [&] {
-    std::ifstream in(path);
-    return std::string(std::istreambuf_iterator<char>(in), {});
+    std::ostringstream bytes;
+    bytes << std::ifstream(path).rdbuf();
+    return bytes.str();
   };
   const std::string torn = "{\"method\": \"nlopt:sb";
   std::ofstream(path, std::ios::app) << torn;
@@ -275,8 +277,9 @@ TEST(Calibration, CheckReadsALogAsAResumeWithoutWritingIt) {
   const std::string text = header + "\n" + first + "\n" + second + "\n" + "{\"torn";
   std::ofstream(path) << text;
   const auto contents = [&] {
-    std::ifstream f(path);
-    return std::string(std::istreambuf_iterator<char>(f), {});
+    std::ostringstream bytes;
+    bytes << std::ifstream(path).rdbuf();
+    return bytes.str();
   };
   EXPECT_NO_THROW(EvaluationLog::Check(path, space, 1, 6, fingerprint));
   EXPECT_NO_THROW(EvaluationLog::Check(path, space, 1, std::nullopt, fingerprint));
