@@ -51,8 +51,8 @@ const MethodInfo kMethods[] = {
 
 bool MethodOptions::IsValid(std::string* error) const {
   std::ostringstream s;
-  if (max_evals < 2) {
-    s << "max_evals = " << max_evals << ": must be >= 2";
+  if (max_evals < kMinEvals) {
+    s << "max_evals = " << max_evals << ": must be >= " << kMinEvals;
   } else if (!(max_seconds >= 0)) {
     s << "max_seconds = " << max_seconds << ": must be >= 0 (0: no limit)";
   } else if (!(polish_fraction >= 0 && polish_fraction <= 0.9)) {

@@ -57,8 +57,6 @@ bool CalibrationOptions::IsValid(std::string* error) const {
     s << "race_points = " << race_points << ": must be kAuto (-1) or >= 0 (0: no race)";
   } else if (noise_seeds < 0) {
     s << "noise_seeds = " << noise_seeds << ": must be >= 0";
-  } else if (predictive_draws < 0 || (predictive_draws > 0 && !posterior)) {
-    s << "predictive_draws = " << predictive_draws << ": must be >= 0, and 0 without a posterior";
   } else if (resume && log_path.empty()) {
     s << "resume needs a log_path";
   } else {

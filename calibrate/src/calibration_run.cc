@@ -299,7 +299,7 @@ PosteriorResult RunPosteriorStage(const sites::Site& site, const observations::O
   PosteriorResult result = SamplePosterior(objective, reused, po, log ? &*log : nullptr,
                                            callbacks.posterior, summary.misfit_before.residuals);
   PredictiveBands(SiteDraw(site, obs, options.misfit, space, scene.total_rocks(), options.threads),
-                  scene.options.seed, scene.total_rocks(), options.predictive_draws, &result,
+                  scene.options.seed, scene.total_rocks(), options.posterior->predictive_draws, &result,
                   callbacks.posterior);
   return result;
 }
@@ -432,7 +432,6 @@ void CheckResume(const sites::Site& site, const observations::Observations& obs,
     // As CrossValidate names and fingerprints each fold's log.
     CalibrationOptions o = options;
     o.posterior.reset();
-    o.predictive_draws = 0;
     o.observations_subset = "fold " + std::to_string(k) + " of " + std::to_string(folds) +
                             ", seed " + std::to_string(scene.options.seed);
     o.log_path = (std::filesystem::path(options.log_path).parent_path() /

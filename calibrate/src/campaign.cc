@@ -281,7 +281,7 @@ void CampaignPosterior(const Campaign& campaign, const CalibrationOptions& optio
   po.mcmc.seed = cal.seed;
   cal.posterior =
       SamplePosterior(objective, reused, po, log, callbacks.posterior, cal.misfit_before.residuals);
-  PredictiveBands(CampaignDraw(campaign, options), cal.seed, cal.rocks, options.predictive_draws,
+  PredictiveBands(CampaignDraw(campaign, options), cal.seed, cal.rocks, po.predictive_draws,
                   &*cal.posterior, callbacks.posterior);
   SplitPosterior(objective.joint(), po.undetermined_share, summary);
 }

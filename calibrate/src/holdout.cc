@@ -34,7 +34,6 @@ HoldoutSummary CrossValidate(const sites::Site& site, const observations::Observ
     r.held_out_values += static_cast<int>(fold.runout.size());
     CalibrationOptions o = options;
     o.posterior.reset();  // the folds check the point estimate only
-    o.predictive_draws = 0;
     // Each fold searches as the full calibration does, reach check and race
     // included, on its own part of the observations: a fold that started
     // from the full run's values would have seen its held-out blocks.

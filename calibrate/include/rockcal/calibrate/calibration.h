@@ -35,9 +35,10 @@ std::string EstimateNames();
 
 // Options of one method run. Defaults in brackets.
 struct MethodOptions {
-  int max_evals = 100;           // evaluations (replayed ones count) [100], >= 2
-  double max_seconds = 0.0;      // wall seconds for the method, 0 = no limit [0]
-  std::uint64_t seed = 1;        // random seed of the stochastic global methods
+  static constexpr int kMinEvals = 2;  // the smallest max_evals
+  int max_evals = 100;                 // evaluations (replayed ones count) [100], >= kMinEvals
+  double max_seconds = 0.0;            // wall seconds for the method, 0 = no limit [0]
+  std::uint64_t seed = 1;              // random seed of the stochastic global methods
   double polish_fraction = 0.3;  // share of a global method's budget for the local polish, [0, 0.9]
   double initial_step = 0.2;     // first step of the local methods, in the unit box, (0, 1]
   // Ceres: finite-difference step in the unbounded parameters t (unit-box
