@@ -124,9 +124,12 @@ calibrate::CalibrationOptions OptionsFromArgs(const Args& args, const std::strin
     options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
   if (args.Has("threads")) options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
   if (args.Has("max-evals"))
-    options.method.max_evals = static_cast<int>(args.Integer("max-evals", 0, 2, 1000000));
-  if (args.Has("max-seconds")) options.method.max_seconds = args.Number("max-seconds", 0.0, 0.0, 1e9);
-  if (args.Has("loss") && !calibrate::StringToCeresLoss(args.Get("loss"), &options.method.ceres_loss))
+    options.method.max_evals = static_cast<int>(
+        args.Integer("max-evals", 0, calibrate::MethodOptions::kMinEvals, 1000000));
+  if (args.Has("max-seconds"))
+    options.method.max_seconds = args.Number("max-seconds", 0.0, 0.0, 1e9);
+  if (args.Has("loss") &&
+      !calibrate::StringToCeresLoss(args.Get("loss"), &options.method.ceres_loss))
     throw InputError("argument --loss", "unknown loss '" + args.Get("loss") +
                                             "' (allowed: " + calibrate::CeresLossNames() + ")");
   if (args.Has("estimate") &&
@@ -135,7 +138,8 @@ calibrate::CalibrationOptions OptionsFromArgs(const Args& args, const std::strin
                                                 "' (allowed: " + calibrate::EstimateNames() + ")");
   options.log_path = out + "/evaluations.jsonl";
   options.resume = args.Flag("resume");
-  if (args.Has("refine")) options.refine_factor = static_cast<int>(args.Integer("refine", 0, 1, 1000));
+  if (args.Has("refine"))
+    options.refine_factor = static_cast<int>(args.Integer("refine", 0, 1, 1000));
   if (args.Has("reach")) {
     options.reach_points = static_cast<int>(args.Integer("reach", 0, 0, 100000));
     if (options.reach_points == 1)
@@ -146,14 +150,15 @@ calibrate::CalibrationOptions OptionsFromArgs(const Args& args, const std::strin
 }
 
 calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
-                                                  std::optional<Progress>* progress) {
+                                                  std::optional<Progress>* progress,
+                                                  const std::string& stages) {
   calibrate::CalibrationCallbacks callbacks;
-  callbacks.started = [quiet](const calibrate::CalibrationSummary& s) {
+  callbacks.started = [quiet, stages](const calibrate::CalibrationSummary& s) {
     if (!quiet)
       std::printf(
-          "%s: %d parameters, %d rocks per evaluation, misfit at the start %.4g (at %d "
+          "%s: %d parameters, %d rocks per evaluation%s, misfit at the start %.4g (at %d "
           "rocks)\n",
-          s.site.c_str(), s.space.size(), s.rocks, s.misfit_before.value, s.rocks);
+          s.site.c_str(), s.space.size(), s.rocks, stages.c_str(), s.misfit_before.value, s.rocks);
   };
   callbacks.reach_done = [quiet](const calibrate::ReachResult& r) {
     const std::vector<std::string> warnings = calibrate::OutOfReachWarnings(r, false);
@@ -200,14 +205,15 @@ void PosteriorFromArgs(const Args& args, calibrate::CalibrationOptions* options)
   calibrate::PosteriorOptions p;
   p.design_points = static_cast<int>(args.Integer("posterior-points", 0, 0, 100000));
   p.rounds = static_cast<int>(args.Integer("posterior-rounds", p.rounds, 0, 1000));
+  p.predictive_draws = static_cast<int>(args.Integer("predictive", p.predictive_draws, 0, 100000));
   options->posterior = p;
   const std::string stage = args.Get("posterior-stage", "first");
   if (!calibrate::ParsePosteriorStage(stage, &options->posterior_stage))
     throw InputError("argument --posterior-stage", "'" + stage + "': expected first or final");
-  options->predictive_draws = static_cast<int>(args.Integer("predictive", 20, 0, 100000));
 }
 
-calibrate::PosteriorProgress PosteriorProgressPrinter(bool quiet, std::optional<Progress>* progress) {
+calibrate::PosteriorProgress PosteriorProgressPrinter(bool quiet,
+                                                      std::optional<Progress>* progress) {
   auto last = std::make_shared<std::string>();
   return [quiet, progress, last](const std::string& stage, int done, int total) {
     if (stage != *last) {
@@ -256,12 +262,12 @@ void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
   reports::WriteFileAtomically(out + "/parameters.md", reports::ParametersMarkdown(summary));
   reports::WriteFileAtomically(out + "/trace.csv", reports::TraceCsv(summary));
   if (summary.posterior)
-    reports::WriteFileAtomically(out + "/posterior.csv", calibrate::PosteriorCsv(*summary.posterior));
+    reports::WriteFileAtomically(out + "/posterior.csv",
+                                 calibrate::PosteriorCsv(*summary.posterior));
   nlohmann::json calibration = reports::CalibrationJson(summary);
   if (holdout) {
     calibration["holdout"] = reports::HoldoutJson(*holdout, summary);
-    reports::WriteFileAtomically(out + "/holdout.json",
-                                 calibration["holdout"].dump(2) + "\n");
+    reports::WriteFileAtomically(out + "/holdout.json", calibration["holdout"].dump(2) + "\n");
     reports::WriteFileAtomically(out + "/holdout.csv", reports::HoldoutCsv(*holdout, summary));
   }
   if (summary.reach)
@@ -292,27 +298,28 @@ void PrintCalibration(const std::string& out, const calibrate::CalibrationSummar
     std::printf("\nrefining from %s\n",
                 summary.race[static_cast<std::size_t>(summary.race_winner)].from.c_str());
   }
-  std::printf("\nat the calibrated values: %d of %zu rocks stopped, %d left the terrain, %d timed "
-              "out\nfit %s\n",
-              sim.count(core::Outcome::kStopped), sim.rocks.size(),
-              sim.count(core::Outcome::kLeft), sim.count(core::Outcome::kTimeout),
-              observations::AssessFit(summary.misfit_after).Sentence().c_str());
+  std::printf(
+      "\nat the calibrated values: %d of %zu rocks stopped, %d left the terrain, %d timed "
+      "out\nfit %s\n",
+      sim.count(core::Outcome::kStopped), sim.rocks.size(), sim.count(core::Outcome::kLeft),
+      sim.count(core::Outcome::kTimeout),
+      observations::AssessFit(summary.misfit_after).Sentence().c_str());
   if (!summary.misfit_after.runs.empty())
-    std::printf("tracked runs: %zu, mean |median simulated - observed| runout %.3g m, %d simulated "
-                "rocks stuck at their release\n",
-                summary.misfit_after.runs.size(), summary.misfit_after.MeanRunError(),
-                summary.misfit_after.StuckRocks());
+    std::printf(
+        "tracked runs: %zu, mean |median simulated - observed| runout %.3g m, %d simulated "
+        "rocks stuck at their release\n",
+        summary.misfit_after.runs.size(), summary.misfit_after.MeanRunError(),
+        summary.misfit_after.StuckRocks());
   // The noise check's NOISE line was printed once, when it was made.
   std::printf("\n%s", reports::ParametersMarkdown(summary).c_str());
-  if (summary.methods.size() > 1)
-    std::printf("\n%s", reports::ComparisonMarkdown(summary).c_str());
-  std::printf("\nwrote %s/ in %.1f s: parameters.{json,csv,md}, trace.csv, calibration.json, "
-              "evaluations.jsonl, summary.json, rocks.csv, report.html%s%s%s\n",
-              out.c_str(), wall_seconds,
-              summary.methods.size() > 1 ? ", comparison.{csv,md}" : "",
-              holdout ? ", holdout.{json,csv}, evaluations-fold-*.jsonl" : "", rasters.c_str());
-  if (summary.posterior) std::printf("  and posterior.csv (%zu posterior samples)\n",
-                                     summary.posterior->samples.size());
+  if (summary.methods.size() > 1) std::printf("\n%s", reports::ComparisonMarkdown(summary).c_str());
+  std::printf(
+      "\nwrote %s/ in %.1f s: parameters.{json,csv,md}, trace.csv, calibration.json, "
+      "evaluations.jsonl, summary.json, rocks.csv, report.html%s%s%s\n",
+      out.c_str(), wall_seconds, summary.methods.size() > 1 ? ", comparison.{csv,md}" : "",
+      holdout ? ", holdout.{json,csv}, evaluations-fold-*.jsonl" : "", rasters.c_str());
+  if (summary.posterior)
+    std::printf("  and posterior.csv (%zu posterior samples)\n", summary.posterior->samples.size());
 }
 
 }  // namespace
@@ -347,7 +354,8 @@ int Calibrate(const std::vector<std::string>& argv) {
   const bool quiet = args.Flag("quiet");
   std::optional<Progress> progress;
   calibrate::CalibrationCallbacks callbacks =
-      ProgressCallbacks(quiet, options.method.max_evals, &progress);
+      ProgressCallbacks(quiet, options.method.max_evals, &progress,
+                        args.Has("rocks") ? " in one stage (--rocks: no refining stage)" : "");
   std::optional<reports::ResumableOutputDir> dir;  // locked for the life of the run
   PrepareCalibrationFolder(
       args, out, inputs, "calibrate", "calibration.json",

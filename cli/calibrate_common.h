@@ -51,14 +51,16 @@ calibrate::CalibrationOptions OptionsFromArgs(
     const Args& args, const std::string& out,
     calibrate::CalibrationOptions base = calibrate::CalibrationOptions{});
 
-// What a calibration shows as it goes: the start, the reach check, a
-// progress bar per method and each method's result.
+// What a calibration shows as it goes: the start (with `stages` after its
+// rocks per evaluation, e.g. " in one stage (--rocks: no refining stage)"),
+// the reach check, a progress bar per method and each method's result.
 calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
-                                                  std::optional<Progress>* progress);
+                                                  std::optional<Progress>* progress,
+                                                  const std::string& stages = "");
 
 // --posterior with --posterior-points, --posterior-rounds, --posterior-stage
 // (calibrate's; a campaign has one stage) and --predictive (20 draws by
-// default) into options->posterior, posterior_stage and predictive_draws;
+// default) into options->posterior (with its predictive_draws) and posterior_stage;
 // those without --posterior are an InputError naming them.
 void PosteriorFromArgs(const Args& args, calibrate::CalibrationOptions* options);
 

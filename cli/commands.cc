@@ -117,7 +117,7 @@ SimulateInputs ReadSimulateInputs(const Args& args, const std::string& site_path
   in.needs.trajectories = static_cast<int>(args.Integer("trajectories", 0, 0, 1000000));
   if (args.Has("sample-seconds") && !args.Has("trajectories"))
     throw InputError("argument --sample-seconds", "goes with --trajectories N");
-  in.needs.sample_seconds = args.Number("sample-seconds", 0.05, 1e-6, 1e6);
+  in.needs.sample_seconds = args.Number("sample-seconds", in.needs.sample_seconds, 1e-6, 1e6);
   return in;
 }
 

@@ -26,7 +26,7 @@ int Sensitivity(const std::vector<std::string>& argv) {
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   calibrate::SensitivityOptions opt;
-  const std::string method = args.Get("method", "morris");
+  const std::string method = args.Get("method", calibrate::SensitivityMethodName(opt.method));
   if (!calibrate::ParseSensitivityMethod(method, &opt.method))
     throw InputError("argument --method", "unknown method '" + method + "' (allowed: " +
                                               calibrate::SensitivityMethodList() + ")");

@@ -1,3 +1,6 @@
+// One calibration from start to end: the reach check, the noise check, the
+// search, the refining stage with its race, the posterior stage and the
+// final run (calibration_run.h).
 #include "rockcal/calibrate/calibration_run.h"
 
 #include <algorithm>
@@ -15,65 +18,6 @@
 #include "rockcal/parallel/parallel.h"
 
 namespace rockcal::calibrate {
-
-const char* PosteriorStageName(PosteriorStage stage) {
-  return stage == PosteriorStage::kFirst ? "first" : "final";
-}
-
-bool ParsePosteriorStage(const std::string& name, PosteriorStage* stage) {
-  for (PosteriorStage s : {PosteriorStage::kFirst, PosteriorStage::kFinal})
-    if (name == PosteriorStageName(s)) {
-      *stage = s;
-      return true;
-    }
-  return false;
-}
-
-bool CalibrationOptions::IsValid(std::string* error) const {
-  std::ostringstream s;
-  if (methods.empty()) {
-    s << "methods: empty; give at least one of " << MethodNames();
-  } else if (rocks < 0) {
-    s << "rocks = " << rocks << ": must be >= 0 (0: the site's counts)";
-  } else if (threads < 0) {
-    s << "threads = " << threads << ": must be >= 0 (0: OpenMP's default)";
-  } else if (reach_points < kAuto || reach_points == 1) {
-    s << "reach_points = " << reach_points << ": must be kAuto (-1), 0 (none) or at least 2";
-  } else if (refine_factor < 1) {
-    s << "refine_factor = " << refine_factor << ": must be >= 1 (1: one stage)";
-  } else if (!(refine_share > 0.0 && refine_share < 1.0)) {
-    s << "refine_share = " << refine_share << ": must be in (0, 1)";
-  } else if (!(refine_step > 0.0 && refine_step <= 1.0)) {
-    s << "refine_step = " << refine_step << ": must be in (0, 1]";
-  } else if (noise_check_seeds < 0) {
-    s << "noise_check_seeds = " << noise_check_seeds << ": must be >= 0 (0: no check)";
-  } else if (!(noise_check_ratio > 0.0 && noise_check_ratio <= 1.0)) {
-    s << "noise_check_ratio = " << noise_check_ratio << ": must be in (0, 1]";
-  } else if (noise_raise < 1) {
-    s << "noise_raise = " << noise_raise << ": must be >= 1 (1: never raise the rocks)";
-  } else if (race_points < kAuto) {
-    s << "race_points = " << race_points << ": must be kAuto (-1) or >= 0 (0: no race)";
-  } else if (noise_seeds < 0) {
-    s << "noise_seeds = " << noise_seeds << ": must be >= 0";
-  } else if (predictive_draws < 0 || (predictive_draws > 0 && !posterior)) {
-    s << "predictive_draws = " << predictive_draws << ": must be >= 0, and 0 without a posterior";
-  } else if (resume && log_path.empty()) {
-    s << "resume needs a log_path";
-  } else {
-    for (const Method m : methods)
-      if (!*MethodToString(m)) {
-        s << "methods: unknown method " << static_cast<int>(m) << " (allowed: " << MethodNames()
-          << ")";
-        *error = s.str();
-        return false;
-      }
-    if (!method.IsValid(error) || !misfit.IsValid(error)) return false;
-    if (posterior && !posterior->IsValid(error)) return false;
-    return true;
-  }
-  *error = s.str();
-  return false;
-}
 
 std::string CalibrationSummary::BriefReport() const {
   std::ostringstream out;
@@ -113,8 +57,8 @@ std::string Numbers(const std::vector<double>& values) {
 // when options.resume, fingerprinted with what determines `scene`'s
 // evaluations; `accepted` as EvaluationLog's (also called without a log).
 std::optional<EvaluationLog> OpenLog(const sites::Site& site, const observations::Observations& obs,
-                                     const CalibrationOptions& options,
-                                     const ParameterSpace& space, const core::Scene& scene,
+                                     const CalibrationOptions& options, const ParameterSpace& space,
+                                     const core::Scene& scene,
                                      const std::function<void()>& accepted = {}) {
   std::optional<EvaluationLog> log;
   if (!options.log_path.empty())
@@ -209,8 +153,7 @@ core::Scene RefineStage(const sites::Site& site, const observations::Observation
   std::optional<EvaluationLog> log = OpenLog(site, obs, o, space, scene);
   MethodOptions method_options = options.method;
   method_options.seed = scene.options.seed;
-  method_options.max_evals =
-      std::max(2, options.method.max_evals - FirstStageEvaluations(options));
+  method_options.max_evals = std::max(2, options.method.max_evals - FirstStageEvaluations(options));
   method_options.initial_step = options.refine_step;
   Stage stage = summary->best_method().stage;
   stage.rocks = scene.total_rocks();
@@ -235,7 +178,8 @@ void MeasureMisfitNoise(const sites::Site& site, const observations::Observation
     const std::uint64_t seed = summary->seed + static_cast<std::uint64_t>(k + 1);
     const core::Scene scene = RunScene(site, summary->final_rocks, seed, options.threads);
     parallel::Writer w;
-    w.Double(Objective(scene, space, obs, options.misfit).Evaluate(summary->best_method().best).value);
+    w.Double(
+        Objective(scene, space, obs, options.misfit).Evaluate(summary->best_method().best).value);
     return w.bytes();
   });
   for (int k = 1; k <= options.noise_seeds; ++k) {
@@ -314,9 +258,9 @@ void CheckNoise(const sites::Site& site, const observations::Observations& obs,
 // that stage's evaluations (the first stage's: the reach design's too) and
 // appending to its log.
 PosteriorResult RunPosteriorStage(const sites::Site& site, const observations::Observations& obs,
-                               const CalibrationOptions& options, const ParameterSpace& space,
-                               const core::Scene& scene, const CalibrationCallbacks& callbacks,
-                               const CalibrationSummary& summary) {
+                                  const CalibrationOptions& options, const ParameterSpace& space,
+                                  const core::Scene& scene, const CalibrationCallbacks& callbacks,
+                                  const CalibrationSummary& summary) {
   const Objective objective(scene, space, obs, options.misfit);
   const bool refined =
       options.refine_factor > 1 && options.posterior_stage == PosteriorStage::kFinal;
@@ -352,26 +296,15 @@ PosteriorResult RunPosteriorStage(const sites::Site& site, const observations::O
   }
   PosteriorOptions po = *options.posterior;
   po.mcmc.seed = scene.options.seed;
-  PosteriorResult result =
-      SamplePosterior(objective, reused, po, log ? &*log : nullptr, callbacks.posterior,
-                      summary.misfit_before.residuals);
+  PosteriorResult result = SamplePosterior(objective, reused, po, log ? &*log : nullptr,
+                                           callbacks.posterior, summary.misfit_before.residuals);
   PredictiveBands(SiteDraw(site, obs, options.misfit, space, scene.total_rocks(), options.threads),
-                  scene.options.seed, scene.total_rocks(), options.predictive_draws, &result,
+                  scene.options.seed, scene.total_rocks(), options.posterior->predictive_draws, &result,
                   callbacks.posterior);
   return result;
 }
 
 }  // namespace
-
-CalibrationOptions CalibrationOptions::SingleStage() {
-  CalibrationOptions o;
-  o.reach_points = 0;
-  o.refine_factor = 1;
-  o.race_points = 0;
-  o.noise_seeds = 0;
-  o.noise_check_seeds = 0;
-  return o;
-}
 
 bool NoiseDip(double own, const std::vector<double>& others) {
   if (others.size() < 2) return false;
@@ -381,18 +314,6 @@ bool NoiseDip(double own, const std::vector<double>& others) {
   const double bound = mean - core::StudentT975(static_cast<int>(others.size()) - 1) *
                                   core::SampleStandardDeviation(others) * std::sqrt(1.0 + 1.0 / k);
   return own < bound;
-}
-
-CalibrationOptions CalibrationOptions::Resolved(int parameters) const {
-  CalibrationOptions o = *this;
-  if (o.reach_points == kAuto) o.reach_points = DefaultReachPoints(parameters, method.max_evals);
-  if (o.race_points == kAuto)
-    o.race_points = o.refine_factor > 1 ? std::max(2, o.reach_points / 12) : 0;
-  return o;
-}
-
-int CalibrationOptions::DefaultReachPoints(int parameters, int max_evals) {
-  return std::max(4 * (parameters + 1), max_evals / 2);
 }
 
 Fingerprint CalibrationFingerprint(const sites::Site& site, const observations::Observations& obs,
@@ -511,7 +432,6 @@ void CheckResume(const sites::Site& site, const observations::Observations& obs,
     // As CrossValidate names and fingerprints each fold's log.
     CalibrationOptions o = options;
     o.posterior.reset();
-    o.predictive_draws = 0;
     o.observations_subset = "fold " + std::to_string(k) + " of " + std::to_string(folds) +
                             ", seed " + std::to_string(scene.options.seed);
     o.log_path = (std::filesystem::path(options.log_path).parent_path() /
@@ -598,10 +518,10 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
   const MethodResult& best = summary.best_method();
   summary.termination = best.termination;
   if (options.posterior)
-    summary.posterior = RunPosteriorStage(
-        site, obs, options, space,
-        options.posterior_stage == PosteriorStage::kFinal ? final_scene : scene, callbacks,
-        summary);
+    summary.posterior =
+        RunPosteriorStage(site, obs, options, space,
+                          options.posterior_stage == PosteriorStage::kFinal ? final_scene : scene,
+                          callbacks, summary);
 
   // The site at the calibrated values, simulated with what its files, the
   // misfit and the report need.
@@ -615,73 +535,6 @@ CalibrationSummary Calibrate(const sites::Site& site, const observations::Observ
   summary.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
   return summary;
-}
-
-HoldoutSummary CrossValidate(const sites::Site& site, const observations::Observations& obs,
-                             const CalibrationOptions& options, int folds,
-                             const CalibrationCallbacks& callbacks) {
-  CheckCalibration(site, options);
-  HoldoutSummary out;
-  out.folds = folds;
-  out.seed = options.seed ? *options.seed : site.scene.options.seed;
-  const std::vector<observations::Fold> split = observations::MakeFolds(obs, folds, out.seed);
-  out.repeat_scatter = observations::RunRepeatScatter(obs, site.scene);
-  std::vector<double> errors;
-  for (const observations::Fold& fold : split) {
-    FoldResult r;
-    r.fold = fold.index + 1;
-    for (const auto& s : fold.scars) r.held_out_values += static_cast<int>(s.size());
-    r.held_out_values += static_cast<int>(fold.runout.size());
-    CalibrationOptions o = options;
-    o.posterior.reset();  // the folds check the point estimate only
-    o.predictive_draws = 0;
-    // Each fold searches as the full calibration does, reach check and race
-    // included, on its own part of the observations: a fold that started
-    // from the full run's values would have seen its held-out blocks.
-    o.observations_subset = "fold " + std::to_string(r.fold) + " of " + std::to_string(folds) +
-                            ", seed " + std::to_string(out.seed);
-    if (!options.log_path.empty())
-      o.log_path = (std::filesystem::path(options.log_path).parent_path() /
-                    ("evaluations-fold-" + std::to_string(r.fold) + ".jsonl"))
-                       .string();
-    // A run stopped before this fold began left no log of it: start it afresh.
-    o.resume = options.resume && !o.log_path.empty() && std::filesystem::exists(o.log_path);
-    const CalibrationSummary cal =
-        Calibrate(site, observations::Subset(obs, fold, false), o, callbacks);
-    const ScoreSummary score =
-        Score(cal.calibrated, observations::Subset(obs, fold, true), options.misfit);
-    r.in_sample_misfit = cal.misfit_after.value;
-    r.held_out_misfit = score.misfit.value;
-    r.calibrated = cal.best_method().best;
-    r.termination = cal.termination;
-    std::vector<double> gaps;
-    if (!score.misfit.runs.empty()) {
-      // Tracked runs: the mean over the held-out runs of |median simulated
-      // runout of the run's group - the run's runout|.
-      r.runout_error_m = score.misfit.MeanRunError();
-      errors.push_back(*r.runout_error_m);
-    }
-    for (const observations::Residual& res : score.misfit.residuals)
-      if (score.misfit.runs.empty())
-        if (res.id.kind == observations::ObservationKind::kRunoutDistance &&
-            res.id.statistic != observations::Statistic::kMax)
-          gaps.push_back(std::abs(res.simulated - res.observed));
-    if (!gaps.empty()) {
-      std::sort(gaps.begin(), gaps.end());
-      const std::size_t m = gaps.size() / 2;
-      r.runout_error_m = gaps.size() % 2 ? gaps[m] : 0.5 * (gaps[m - 1] + gaps[m]);
-      errors.push_back(*r.runout_error_m);
-    }
-    out.mean_in_sample_misfit += r.in_sample_misfit / folds;
-    out.mean_held_out_misfit += r.held_out_misfit / folds;
-    out.results.push_back(std::move(r));
-  }
-  if (!errors.empty()) {
-    double sum = 0.0;
-    for (double e : errors) sum += e;
-    out.mean_runout_error_m = sum / static_cast<double>(errors.size());
-  }
-  return out;
 }
 
 }  // namespace rockcal::calibrate

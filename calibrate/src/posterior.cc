@@ -41,6 +41,8 @@ bool PosteriorOptions::IsValid(std::string* error) const {
     s << "warp = " << warp << ": must be > 0";
   else if (!(undetermined_share > 0.0 && undetermined_share <= 1.0))
     s << "undetermined_share = " << undetermined_share << ": must be in (0, 1]";
+  else if (predictive_draws < 0)
+    s << "predictive_draws = " << predictive_draws << ": must be >= 0 (0: no predictive bands)";
   else
     return mcmc.IsValid(error) && emulator.IsValid(error);
   *error = s.str();

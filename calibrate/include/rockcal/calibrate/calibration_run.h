@@ -132,10 +132,6 @@ struct CalibrationOptions {
   // unset: none [unset].
   std::optional<PosteriorOptions> posterior;
   PosteriorStage posterior_stage = PosteriorStage::kFirst;  // [first]
-  // With a posterior: its predictive bands from this many posterior draws,
-  // each simulated at its own seed with the final stage's rocks
-  // (PredictiveBands); 0: none [0], >= 0.
-  int predictive_draws = 0;
 
   // Checks each field (the methods' names, the method options, the misfit
   // options); on failure sets *error naming the field, its value and the rule.

@@ -259,8 +259,8 @@ void CheckCampaignResume(const Campaign& campaign, const CalibrationOptions& opt
 // CampaignObjective from JointSpace::FromSiteValues of the sites' own
 // values, then the uncertainty at the best values and each site's fit there
 // and at its own start. Takes CalibrationOptions' methods, method options,
-// misfit, rocks, seed, threads, log_path and resume, and posterior and
-// predictive_draws: the joint posterior (SamplePosterior on the joint
+// misfit, rocks, seed, threads, log_path and resume, and posterior (with its
+// predictive_draws): the joint posterior (SamplePosterior on the joint
 // objective, the search's evaluations reused, its own appended to the log
 // as for a calibration), each site's and each offset's from it, and the
 // predictive bands of every site's statistics from draws simulating every

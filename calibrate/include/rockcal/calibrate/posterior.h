@@ -62,6 +62,10 @@ struct PosteriorOptions {
   // A parameter is "not determined by the data" when its 5-95 % interval is
   // wider than this share of the prior's (90 % of the range) [0.75], (0, 1].
   double undetermined_share = 0.75;
+  // The predictive bands from this many posterior draws, each simulated at
+  // its own seed with the final stage's rocks (PredictiveBands); 0: none
+  // [20], >= 0.
+  int predictive_draws = 20;
 
   bool IsValid(std::string* error) const;
   int DesignPoints(int parameters) const;
@@ -80,8 +84,8 @@ struct ParameterPosterior {
 
 // One compared statistic's posterior predictive band (PredictiveBands).
 struct PredictiveBand {
-  observations::ResidualId id;        // the residual's: its observation and quantity
-  double observed = 0.0;              // SI
+  observations::ResidualId id;                // the residual's: its observation and quantity
+  double observed = 0.0;                      // SI
   double p05 = 0.0, median = 0.0, p95 = 0.0;  // of the simulated value over the draws, SI
   bool inside() const { return observed >= p05 && observed <= p95; }
 };
@@ -95,11 +99,11 @@ struct PosteriorResult {
   double max_rhat = 0.0;
   double min_ess = 0.0;  // the smallest effective sample size over the parameters
   double acceptance = 0.0;
-  int reused = 0;        // evaluations of the calibration emulated
-  int evaluated = 0;     // points of the posterior stage (design and rounds)
-  int simulated = 0;     // of them, simulated now (the rest replayed from the log)
-  int emulated = 0;      // points of the final emulator
-  int rounds = 0;        // refining rounds that added points
+  int reused = 0;     // evaluations of the calibration emulated
+  int evaluated = 0;  // points of the posterior stage (design and rounds)
+  int simulated = 0;  // of them, simulated now (the rest replayed from the log)
+  int emulated = 0;   // points of the final emulator
+  int rounds = 0;     // refining rounds that added points
   // The emulator's variance at the posterior samples, averaged over the
   // residuals, in sigma^2: its median (how much it widened the posterior).
   double emulator_variance = 0.0;
