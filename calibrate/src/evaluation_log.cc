@@ -281,12 +281,16 @@ void EvaluationLog::Append(const Evaluation& evaluation) {
   j["seed"] = seed_;
   j["rocks"] = rocks_;
   j["names"] = names_;
+  // The first write that fails (a full disk, a file size limit) stops the
+  // run here, the records before it kept whole: the stream is flushed and
+  // closed, and either failing is the write failing (docs/reference/errors.md).
   std::ofstream out(path_, std::ios::app);
   errno = 0;
-  out << j.dump() << '\n';
-  out.flush();
+  if (out) out << j.dump() << '\n';
+  if (out) out.flush();
+  if (out) out.close();
   if (!out)
-    throw std::runtime_error("cannot append to " + path_ + ": " +
+    throw std::runtime_error("cannot write the evaluation log " + path_ + ": " +
                              std::strerror(errno != 0 ? errno : EIO));
   records_.push_back(evaluation);
 }

@@ -1,5 +1,6 @@
 // NLopt's algorithms as search methods (search.h).
 #include <algorithm>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -53,28 +54,40 @@ Termination RunNlopt(nlopt::algorithm algorithm, std::vector<double> unit, int e
     opt.set_initial_step(step);
   }
   nlopt::srand(options.seed);
+  // NLopt turns an exception of the objective into its own bare "nlopt
+  // failure": the evaluator's errors (a log that cannot be written, a log
+  // that does not fit) are kept here and thrown again once NLopt has stopped.
   struct Data {
     Evaluator* ev;
-  } data{ev};
+    std::exception_ptr error;
+  } data{ev, nullptr};
   opt.set_min_objective(
       [](const std::vector<double>& x, std::vector<double>& grad, void* p) -> double {
         (void)grad;  // derivative-free methods only
-        Evaluator* e = static_cast<Data*>(p)->ev;
-        if (e->exhausted()) throw nlopt::forced_stop();
-        return e->Evaluate(x).misfit;
+        Data* d = static_cast<Data*>(p);
+        if (d->ev->exhausted()) throw nlopt::forced_stop();
+        try {
+          return d->ev->Evaluate(x).misfit;
+        } catch (...) {
+          d->error = std::current_exception();
+          throw nlopt::forced_stop();
+        }
       },
       &data);
   double f = 0.0;
+  Termination termination;
   try {
-    return NloptTermination(opt.optimize(unit, f));
+    termination = NloptTermination(opt.optimize(unit, f));
   } catch (const nlopt::forced_stop&) {
-    if (ev->exhausted()) return {TerminationType::kBudgetUsed, "budget used"};
-    return {TerminationType::kStopped, "stopped"};
+    termination = ev->exhausted() ? Termination{TerminationType::kBudgetUsed, "budget used"}
+                                  : Termination{TerminationType::kStopped, "stopped"};
   } catch (const nlopt::roundoff_limited&) {
-    return {TerminationType::kStopped, "round-off limited"};
+    termination = {TerminationType::kStopped, "round-off limited"};
   } catch (const std::exception& e) {
-    return {TerminationType::kFailed, std::string("nlopt: ") + e.what()};
+    termination = {TerminationType::kFailed, std::string("nlopt: ") + e.what()};
   }
+  if (data.error) std::rethrow_exception(data.error);
+  return termination;
 }
 
 }  // namespace

@@ -140,6 +140,15 @@ void ReadSimulation(const JsonNode& node, Units units, core::SimulationOptions* 
   if (auto v = node.Find("exact_flight")) o->exact_flight = v->Bool();
   if (auto v = node.Find("reference_path")) o->reference_path = v->Bool();
   if (auto v = node.Find("threads")) o->threads = static_cast<int>(v->Integer(0, 4096));
+  // stop_duration below max_time, named at the key given (the other's value
+  // is the default when absent).
+  if (!(o->stop_duration < o->max_time)) {
+    if (auto v = node.Find("stop_duration"))
+      v->Fail("expected a number of seconds below max_time (" + FormatNumber(o->max_time) + " s)");
+    node.Get("max_time")
+        .Fail("expected a number of seconds above stop_duration (" +
+              FormatNumber(o->stop_duration) + " s, the default)");
+  }
   std::string error;
   if (!o->IsValid(&error)) throw InputError(node.where(), error);
 }

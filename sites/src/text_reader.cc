@@ -95,7 +95,7 @@ std::string Excerpt(const std::string& text) {
       break;
     }
     const unsigned char c = static_cast<unsigned char>(text[i]);
-    if (c >= 0x20 && c < 0x7f && c != '\\') {
+    if (c >= 0x20 && c < 0x7f && c != '\\' && c != '\'') {
       out += static_cast<char>(c);
     } else {
       char hex[8];

@@ -262,6 +262,44 @@ TEST(Calibration, LogOfTwoRunsDeepLinesAndUnwritableLogs) {
   }
 }
 
+// Issue 56: a log write that failed on a full disk went unnoticed by the
+// NLopt methods (NLopt turns an objective's exception into its bare "nlopt
+// failure", a failed method) until a later file was written. The first
+// failed append now stops every method with the log's name and the cause,
+// the records before it kept. /dev/full fails every write with ENOSPC.
+TEST(Calibration, AFullDiskStopsTheMethodAtTheFirstFailedAppend) {
+  Small small;
+  namespace fs = std::filesystem;
+  for (const Method method : {Method::kSbplx, Method::kCeres}) {
+    SCOPED_TRACE(MethodToString(method));
+    const std::string path = TempPath("full.jsonl");
+    EvaluationLog log(path, false, small.space, 1, 6);
+    MethodOptions options;
+    options.max_evals = 2;
+    RunMethod(method, small.objective, small.space.Current(small.site.scene), options, &log);
+    ASSERT_EQ(log.size(), 2);
+    const std::string kept = path + ".kept";
+    fs::rename(path, kept);
+    fs::create_symlink("/dev/full", path);
+    options.max_evals = 4;
+    try {
+      const MethodResult r =
+          RunMethod(method, small.objective, small.space.Current(small.site.scene), options, &log);
+      ADD_FAILURE() << "expected a failure to write; the method ended " << r.termination.message
+                    << " after " << r.evaluations << " evaluations";
+    } catch (const InputError& e) {
+      ADD_FAILURE() << "bad input? " << e.what();
+    } catch (const std::runtime_error& e) {
+      EXPECT_THAT(e.what(), HasSubstr("cannot write the evaluation log " + path +
+                                      ": No space left on device"));
+    }
+    EXPECT_EQ(log.size(), 2) << "the failed evaluation is not taken as logged";
+    fs::remove(path);
+    fs::rename(kept, path);
+    EXPECT_EQ(EvaluationLog(path, true, small.space, 1, 6).size(), 2);
+  }
+}
+
 // Issue 56: a refused --resume deleted a finished result's marker. Check
 // reads a log as a resume does and refuses what it refuses, writing
 // nothing; with the rocks unknown (a noise check may raise them) the

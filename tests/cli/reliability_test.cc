@@ -595,14 +595,26 @@ TEST_F(Reliability, UsageSeedsAndExitClasses) {
   }
 
   // A file size limit stops the log's writing half-way, as a full disk
-  // would (SIGXFSZ ignored: the write fails with EFBIG).
+  // would (SIGXFSZ ignored: the write fails with EFBIG). Issue 56: the
+  // first failed append stops the run there (it went on to write the
+  // results, and failed only at report.html); the lines before it stay.
   const std::string full = ws_ + "/full";
   run = testing::Run("/bin/sh -c \"trap '' XFSZ; ulimit -f 8; exec " + std::string(ROCKCAL_EXE) +
                      " " + calibrate + " --rocks 4 --max-evals 40 --reach 0 --out " + full + "\"");
   EXPECT_EQ(run.status, 1) << run.err;
-  EXPECT_THAT(run.err, HasSubstr("File too large"));
-  EXPECT_THAT(run.err, HasSubstr(full + " keeps the evaluations logged so far"));
+  EXPECT_THAT(run.err, HasSubstr("rockcal: failed: cannot write the evaluation log " + full +
+                                 "/evaluations.jsonl: File too large; " + full +
+                                 " keeps the evaluations logged so far"));
   EXPECT_THAT(run.err, HasSubstr("--resume"));
+  EXPECT_FALSE(fs::exists(full + "/parameters.json"));
+  EXPECT_FALSE(fs::exists(full + "/calibration.json"));
+  {
+    std::ifstream log(full + "/evaluations.jsonl");
+    std::string line;
+    int whole = 0;
+    while (std::getline(log, line) && !log.eof()) ++whole;
+    EXPECT_GE(whole, 3) << "the header and the evaluations before the failed write";
+  }
   fs::remove_all(full);
 }
 

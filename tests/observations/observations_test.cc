@@ -274,6 +274,11 @@ const BadCase kBadCases[] = {
      "$.passing[0].fraction", "expected a number in [0, 1]"},
     {"fraction below 0", R"({"units": "si", "passing": [{"partition": "BP-2", "fraction": -0.1}]})",
      "$.passing[0].fraction", "expected a number in [0, 1]"},
+    {"passing a partition twice",
+     R"({"units": "si", "passing": [{"partition": "BP-2", "fraction": 0.1},
+        {"partition": "BP-1", "fraction": 0.5}, {"partition": "BP-2", "fraction": 0.3}]})",
+     "$.passing[2].partition",
+     "partition 'BP-2' is given twice (first at $.passing[0]); expected each partition once"},
     {"passing and passing_file",
      R"({"units": "si", "passing": [{"partition": "BP-2", "fraction": 0.1}], "passing_file": "p.csv"})",
      "obs.json: $", "'passing' and 'passing_file' both given"},
@@ -466,6 +471,11 @@ TEST_F(ObservationsFileTest, BadCsvFilesOfEachForm) {
   Write("passing.csv", "BP-1,1.5\n");
   EXPECT_THAT(LoadError(R"({"units": "si", "passing_file": "passing.csv"})"),
               HasSubstr("passing.csv:1: expected 'fraction' in [0, 1] (found 1.5)"));
+
+  Write("passing.csv", "partition,fraction\nBP-1,0.5\n# the lower barrier\nBP-2,0.2\nBP-1,0.4\n");
+  EXPECT_THAT(LoadError(R"({"units": "si", "passing_file": "passing.csv"})"),
+              HasSubstr("passing.csv:5: partition 'BP-1' is given twice (first on line 2); "
+                        "expected each partition once"));
 
   Write("trees.csv", "1,2,0.5,1\n1,2,0.7,2\n");
   EXPECT_THAT(LoadError(R"({"units": "si", "tree_scars": [{"trees_file": "trees.csv"}],

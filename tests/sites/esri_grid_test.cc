@@ -84,6 +84,8 @@ TEST(ReadEsriGrid, ErrorsNameFileAndLine) {
                 ":8: more rows than nrows = 2"},
            Case{"ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ndx 1\n",
                 ":5: unknown header key 'dx' (allowed: "},
+           Case{"ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\nfoo' 1\n",
+                ":5: unknown header key 'foo\\x27' (allowed: "},
            Case{"ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\n1 2 3\n", ": header lacks 'cellsize'"},
            Case{"ncols 2.5\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n",
                 ": header 'ncols' = 2.5: expected a whole number >= 2"},

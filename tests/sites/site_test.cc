@@ -621,7 +621,14 @@ TEST(LoadSite, TopLevelErrors) {
   EXPECT_THAT(LoadError([](Json& s) { s["simulation"]["max_time"] = -1; }),
               HasSubstr("$.simulation.max_time: expected a number > 0"));
   EXPECT_THAT(LoadError([](Json& s) { s["simulation"]["stop_duration"] = 40; }),
-              HasSubstr("$.simulation: simulation.stop_duration = 40: must be below max_time"));
+              HasSubstr("$.simulation.stop_duration: expected a number of seconds below max_time "
+                        "(30 s) (found 40)"));
+  EXPECT_THAT(LoadError([](Json& s) {
+                s["simulation"].erase("stop_duration");
+                s["simulation"]["max_time"] = 0.5;
+              }),
+              HasSubstr("$.simulation.max_time: expected a number of seconds above stop_duration "
+                        "(1 s, the default) (found 0.5)"));
   EXPECT_THAT(LoadError([](Json& s) { s["simulation"]["steps"] = 40; }),
               HasSubstr("$.simulation.steps: unknown key 'steps'"));
   EXPECT_THAT(LoadError([](Json& s) { s["simulation"]["seed"] = -1; }),

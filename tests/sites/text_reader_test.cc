@@ -65,6 +65,8 @@ TEST(LineReader, CountsLinesAndNamesBadFields) {
 // Issue 14: messages quoted whole lines of other files, control bytes and all.
 TEST(Excerpt, ShortPrintableAndEscaped) {
   EXPECT_EQ(Excerpt("abc"), "'abc'");
+  // Issue 56: a quote in the text doubled the closing one ('foo'').
+  EXPECT_EQ(Excerpt("foo'"), "'foo\\x27'");
   EXPECT_EQ(Excerpt(std::string("a\0b\x1b[2J\n", 8)), "'a\\x00b\\x1B[2J\\x0A'");
   const std::string excerpt = Excerpt(std::string(5000, 'x'));
   EXPECT_EQ(excerpt, "'" + std::string(kMaxExcerpt, 'x') + "...'");

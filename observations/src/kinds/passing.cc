@@ -14,6 +14,19 @@ using sites::JsonNode;
 // ---------------------------------------------------------------------------
 // Reader
 
+// The index in `out` of the entry for `partition`, or -1: one fraction per
+// partition (two would both enter the misfit).
+int EntryOf(const std::vector<Passing>& out, int partition) {
+  for (std::size_t i = 0; i < out.size(); ++i)
+    if (out[i].partition == partition) return static_cast<int>(i);
+  return -1;
+}
+
+std::string GivenTwice(const Reader& reader, int partition, const std::string& first) {
+  return "partition '" + reader.scene().partitions[static_cast<std::size_t>(partition)].id +
+         "' is given twice (first " + first + "); expected each partition once";
+}
+
 // The "passing" array.
 std::vector<Passing> ReadPassing(const Reader& reader, const JsonNode& node) {
   std::vector<Passing> out;
@@ -21,6 +34,11 @@ std::vector<Passing> ReadPassing(const Reader& reader, const JsonNode& node) {
     e.Keys(ObservationsKeysAt("$.passing[]"));
     Passing p;
     p.partition = reader.FindPartition(e.Get("partition"));
+    if (const int first = EntryOf(out, p.partition); first >= 0) {
+      throw InputError(
+          e.Get("partition").where(),
+          GivenTwice(reader, p.partition, "at " + node.path() + "[" + std::to_string(first) + "]"));
+    }
     p.fraction = e.Get("fraction").Number(0.0, 1.0);
     p.label = "passing[" + std::to_string(out.size()) + "] " +
               reader.scene().partitions[static_cast<std::size_t>(p.partition)].id;
@@ -33,6 +51,7 @@ std::vector<Passing> ReadPassing(const Reader& reader, const JsonNode& node) {
 std::vector<Passing> ReadPassingFile(const Reader& reader, const JsonNode& ref) {
   const CsvTable table = reader.ReadCsv(ref, {"partition", "fraction"});
   std::vector<Passing> out;
+  std::vector<int> lines;
   for (const CsvRow& row : table.rows) {
     Passing p;
     p.partition = reader.FindPartition(row.fields[0]);
@@ -41,6 +60,12 @@ std::vector<Passing> ReadPassingFile(const Reader& reader, const JsonNode& ref) 
               "unknown partition id " + sites::Excerpt(row.fields[0]) + " (" +
                   reader.PartitionIds() + ")");
     }
+    if (const int first = EntryOf(out, p.partition); first >= 0) {
+      CsvFail(table, row,
+              GivenTwice(reader, p.partition,
+                         "on line " + std::to_string(lines[static_cast<std::size_t>(first)])));
+    }
+    lines.push_back(row.line);
     p.fraction = CsvNumber(table, row, 1, "fraction");
     if (p.fraction < 0 || p.fraction > 1) {
       CsvFail(table, row, "expected 'fraction' in [0, 1] (found " + row.fields[1] + ")");

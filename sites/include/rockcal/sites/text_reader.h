@@ -29,8 +29,9 @@ std::vector<std::string> SplitFields(const std::string& line);
 bool IsBlank(const std::string& line);
 
 // At most kMaxExcerpt characters of `text` for a message, quoted, with
-// non-printable bytes escaped (\xNN) and "..." when cut: a message never
-// carries a whole line of another file, nor its control characters.
+// non-printable bytes, the backslash and the quote escaped (\xNN: 'foo\x27'
+// for foo', not 'foo'') and "..." when cut: a message never carries a whole
+// line of another file, nor its control characters.
 inline constexpr std::size_t kMaxExcerpt = 80;
 std::string Excerpt(const std::string& text);
 
