@@ -647,6 +647,48 @@ TEST(MisfitTest, TreeScarsPoolTheTreesOfASet) {
   EXPECT_GT(ComputeMisfit(obs, scene, result).value, 0.0);
 }
 
+// A tree that is a stem of the forest is compared with the heights at which
+// rocks struck that stem, every strike on it counted, not with passages.
+TEST(MisfitTest, TreeScarsAtAStemCompareTheStrikes) {
+  const core::Scene scene = TwoPartitionScene();
+  Observations obs;
+  ScarSet set;
+  set.label = "tree_scars[0] trees";
+  Tree tree;
+  tree.probe = 0;
+  tree.stem = 3;
+  tree.heights = {0.4, 0.9, 1.6};
+  set.trees = {tree};
+  obs.tree_scars.push_back(set);
+  obs.error.height = 0.2;
+
+  core::SimulationResult result;
+  const std::vector<std::vector<double>> strikes = {{0.4}, {}, {0.9, 1.6}};
+  for (int i = 0; i < 3; ++i) {
+    core::RockRecord rock = StoppedRock(i, 100, 0);
+    rock.crossings.clear();
+    rock.trees.resize(1);
+    rock.trees[0] = core::Crossing{true, 5.0 + i, 1.0, 1.0, Eigen::Vector3d::Zero()};  // passages
+    for (const double h : strikes[static_cast<std::size_t>(i)]) {
+      core::TreeStrike s;
+      s.tree = 3;
+      s.height = h;
+      rock.strikes.push_back(s);
+    }
+    core::TreeStrike other;  // a strike on another stem
+    other.tree = 2;
+    other.height = 7.0;
+    rock.strikes.push_back(other);
+    result.rocks.push_back(rock);
+  }
+  const Misfit m = ComputeMisfit(obs, scene, result);
+  EXPECT_FALSE(m.penalised) << m.message;
+  EXPECT_EQ(m.value, 0.0);
+
+  result.rocks[2].strikes[1].height = 3.0;  // a higher strike on the stem
+  EXPECT_GT(ComputeMisfit(obs, scene, result).value, 0.0);
+}
+
 TEST(MisfitTest, MissingRecordsAreAProgrammerError) {
   const core::Scene scene = TwoPartitionScene();
   core::SimulationResult result = CrossingAt(0, SomeHeights());

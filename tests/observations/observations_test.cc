@@ -94,6 +94,35 @@ std::string DesignExample(const std::string& units) {
   return text;
 }
 
+// A tree of the observations whose trunk touches a stem of the scene's
+// forest is that stem: its scars are compared with the strikes on it, and
+// the simulation is asked to record strikes; a tree nowhere near a stem is
+// compared with passages, as without a forest.
+TEST_F(ObservationsFileTest, ATreeAtAForestStemIsThatStem) {
+  scene_.forest.Add(94.0, 30.0, 0.4, 20.0, core::SpeciesClass::kConifer);   // stem 0
+  scene_.forest.Add(94.7, 30.0, 0.3, 20.0, core::SpeciesClass::kBroadleaf);  // stem 1
+  const std::string json = R"({"units": "si", "tree_scars": [{"trees": [
+      {"x": 94.6, "y": 30.0, "radius": 0.1, "heights": [1.0]},
+      {"x": 94.1, "y": 30.0, "radius": 0.05, "heights": [1.5]},
+      {"x": 60.0, "y": 30.0, "radius": 0.5, "heights": [0.8]}]}],
+      "error": {"height": 0.2}})";
+  const Observations obs = LoadObservations(Write("obs.json", json), scene_);
+  const std::vector<Tree>& trees = obs.tree_scars[0].trees;
+  EXPECT_EQ(trees[0].stem, 1);  // 0.1 m from stem 1's axis, 0.6 m from stem 0's (radii 0.15 + 0.1)
+  EXPECT_EQ(trees[1].stem, 0);  // 0.1 m from stem 0's axis (radii 0.2 + 0.05)
+  EXPECT_EQ(trees[2].stem, -1);
+  EXPECT_TRUE(RequiredRecording(obs, core::RecordOptions{}).tree_strikes);
+  bool noted = false;
+  for (const std::string& note : obs.notes)
+    noted = noted || note.find("2 of them at stems of the forest") != std::string::npos;
+  EXPECT_TRUE(noted);
+
+  scene_.forest = core::Forest{};
+  const Observations bare = LoadObservations(Write("obs.json", json), scene_);
+  for (const Tree& tree : bare.tree_scars[0].trees) EXPECT_EQ(tree.stem, -1);
+  EXPECT_FALSE(RequiredRecording(bare, core::RecordOptions{}).tree_strikes);
+}
+
 TEST_F(ObservationsFileTest, ReadsTheDesignExampleInUsUnits) {
   const std::string path = Write("obs.json", DesignExample("us"));
   const Observations obs = LoadObservations(path, scene_);

@@ -1,5 +1,7 @@
 #include "scars.h"
 
+#include <cmath>
+#include <string>
 #include <utility>
 
 #include "../compare.h"
@@ -107,6 +109,22 @@ ScarSet ReadScarSet(const Reader& reader, const JsonNode& node, std::size_t inde
   return set;
 }
 
+// The stem of `forest` that `tree` is (Tree::stem): the nearest whose trunk
+// touches or overlaps the tree's in plan; -1 when none does.
+int StemOf(const Tree& tree, const core::Forest& forest) {
+  int found = -1;
+  double nearest = 0.0;
+  for (std::size_t k = 0; k < forest.stems.size(); ++k) {
+    const core::Stem& stem = forest.stems[k];
+    const double d = std::hypot(stem.x - tree.x, stem.y - tree.y);
+    if (d <= 0.5 * stem.dbh + tree.radius && (found < 0 || d < nearest)) {
+      found = static_cast<int>(k);
+      nearest = d;
+    }
+  }
+  return found;
+}
+
 void Read(const Reader& reader, const JsonNode& root, Observations* obs) {
   const auto scars = root.Find("tree_scars");
   if (!scars) return;
@@ -115,13 +133,22 @@ void Read(const Reader& reader, const JsonNode& root, Observations* obs) {
     obs->tree_scars.push_back(ReadScarSet(reader, sets[i], i));
   int probe = 0;
   for (ScarSet& set : obs->tree_scars) {
-    for (Tree& tree : set.trees) tree.probe = probe++;
+    int at_stems = 0;
+    for (Tree& tree : set.trees) {
+      tree.probe = probe++;
+      tree.stem = StemOf(tree, reader.scene().forest);
+      at_stems += tree.stem >= 0;
+    }
     const std::size_t n = set.ObservedHeights().size();
-    obs->notes.push_back(set.label + ": " + std::to_string(n) + " scar height" +
-                         (n == 1 ? "" : "s") +
-                         (set.at_partition() ? ""
-                                             : " at " + std::to_string(set.trees.size()) + " tree" +
-                                                   (set.trees.size() == 1 ? "" : "s")));
+    std::string note = set.label + ": " + std::to_string(n) + " scar height" + (n == 1 ? "" : "s");
+    if (!set.at_partition()) {
+      note += " at " + std::to_string(set.trees.size()) + " tree" +
+              (set.trees.size() == 1 ? "" : "s");
+      if (at_stems > 0)
+        note += "; " + std::to_string(at_stems) + " of them at stems of the forest, compared with " +
+                "the heights at which rocks strike those stems";
+    }
+    obs->notes.push_back(note);
   }
 }
 
@@ -151,13 +178,16 @@ void Record(const Observations& obs, core::RecordOptions* base, bool* partitions
       probe.y = tree.y;
       probe.radius = tree.radius;
       base->trees.push_back(probe);
+      if (tree.stem >= 0) base->tree_strikes = true;
     }
   }
 }
 
 // Each set's heights against the bounce heights of the rocks that crossed
 // its partition, or those at its trees pooled (a rock passing two trees
-// counts twice).
+// counts twice): at a tree that is a stem of the forest, the heights at
+// which rocks struck it; at any other tree, the heights at which they
+// passed it.
 void AddResiduals(const Observations& obs, const MisfitTerms& terms) {
   const core::SimulationResult& result = terms.result;
   for (std::size_t i = 0; i < obs.tree_scars.size(); ++i) {
@@ -171,6 +201,12 @@ void AddResiduals(const Observations& obs, const MisfitTerms& terms) {
       }
     } else {
       for (const Tree& tree : set.trees) {
+        if (tree.stem >= 0) {
+          for (const core::RockRecord& rock : result.rocks)
+            for (const core::TreeStrike& strike : rock.strikes)
+              if (strike.tree == tree.stem) simulated.push_back(strike.height);
+          continue;
+        }
         terms.CheckProbe(set.label, tree.probe);
         const std::size_t k = static_cast<std::size_t>(tree.probe);
         for (const core::RockRecord& rock : result.rocks) {

@@ -25,6 +25,12 @@ struct Tree {
   // core::RockRecord::trees. Set by LoadObservations (trees numbered in file
   // order over all tree-form scar sets).
   int probe = -1;
+  // The stem of the scene's forest (index in core::Forest::stems) this tree
+  // is: the nearest stem whose trunk touches or overlaps this one in plan
+  // (axes at most the two radii apart); its scars are then compared with the
+  // heights at which simulated rocks struck that stem (core::TreeStrike),
+  // not the heights at which they passed it. -1: none (passages).
+  int stem = -1;
 };
 
 // One set of tree scar heights, tied either to a partition (CRSP's practice)
