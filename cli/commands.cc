@@ -238,7 +238,6 @@ int Simulate(const std::vector<std::string>& argv) {
   calibrate::RecordingNeeds report_needs = in.needs;
   report_needs.report = true;
   recorded.options.record = calibrate::RecordingFor(scene, report_needs);
-  recorded.options.record.tree_strikes = !scene.forest.empty();
   std::optional<calibrate::PosteriorRun> run;
   const core::SimulationResult result = RunSimulate(args, in, scene, recorded, &progress, &run);
   // One set of maps for rasters.tif and the report's plan view.

@@ -19,6 +19,7 @@ core::RecordOptions RecordingFor(const core::Scene& scene, const RecordingNeeds&
   record.sample_seconds = needs.sample_seconds;
   if (needs.report) {
     record.passages = true;
+    record.tree_strikes = record.tree_strikes || !scene.forest.empty();  // the Forest section
     if (record.trajectories == 0) {
       // A sample of every group (the profile shows how each behaves), not the
       // first rocks, which may all be of the first group.

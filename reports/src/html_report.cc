@@ -83,6 +83,7 @@ std::vector<ReportSection> Sections(const Context& c) {
   }
   if (!c.scene.partitions.empty()) add("barrier", "Barrier check", sections::BarrierSection);
   if (Rocks(c) > 0) add("runout", "Runout", sections::RunoutSection);
+  if (sections::HasForestStrikes(c)) add("forest", "Forest", sections::ForestSection);
   if (c.several_shapes) add("shapes", "Rock shapes", sections::ShapesSection);
   if (sections::HasScannedShapes(c.scene))
     add("scanned", "Scanned shapes", sections::ScannedShapesSection);

@@ -16,8 +16,11 @@ namespace {
 using core::FormatNumber;
 
 nlohmann::json StatsJson(const core::Stats& s, double scale = 1.0) {
-  return {{"mean", s.mean * scale}, {"p50", s.p50 * scale}, {"p90", s.p90 * scale},
-          {"p95", s.p95 * scale},   {"max", s.max * scale}};
+  return {{"mean", s.mean * scale},
+          {"p50", s.p50 * scale},
+          {"p90", s.p90 * scale},
+          {"p95", s.p95 * scale},
+          {"max", s.max * scale}};
 }
 
 // A figure over every rock (core::BeyondStats): a number, or the string
@@ -69,24 +72,27 @@ nlohmann::json SummaryJson(const core::Scene& scene, const core::SimulationResul
                           {"velocity_mps", StatsJson(p.velocity)},
                           {"energy_kj", StatsJson(p.energy, 1e-3)}});
   }
-  return {{"site", scene.name},
-          {"rocks", static_cast<int>(result.rocks.size())},
-          {"seed", scene.options.seed},
-          {"wall_seconds", result.wall_seconds},
-          {"steps", result.figures.steps},
-          {"dt_seconds", result.figures.dt_min},
-          {"outcomes",
-           {{"stopped", result.count(core::Outcome::kStopped)},
-            {"left", result.count(core::Outcome::kLeft)},
-            {"timeout", result.count(core::Outcome::kTimeout)}}},
-          {"partitions", partitions},
-          {"runout",
-           {{"rocks", stats.runout.rocks},
-            {"beyond_edge", stats.runout.beyond_edge},
-            {"distance_m", BeyondJson(stats.runout.distance_m)},
-            {"travel_angle_deg", BeyondJson(stats.runout.travel_angle_deg)},
-            {"x_m", StatsJson(stats.runout_x)}}},
-          {"energy_check", {{"max_relative_gain", result.figures.max_relative_energy_gain}}}};
+  nlohmann::json j = {
+      {"site", scene.name},
+      {"rocks", static_cast<int>(result.rocks.size())},
+      {"seed", scene.options.seed},
+      {"wall_seconds", result.wall_seconds},
+      {"steps", result.figures.steps},
+      {"dt_seconds", result.figures.dt_min},
+      {"outcomes",
+       {{"stopped", result.count(core::Outcome::kStopped)},
+        {"left", result.count(core::Outcome::kLeft)},
+        {"timeout", result.count(core::Outcome::kTimeout)}}},
+      {"partitions", partitions},
+      {"runout",
+       {{"rocks", stats.runout.rocks},
+        {"beyond_edge", stats.runout.beyond_edge},
+        {"distance_m", BeyondJson(stats.runout.distance_m)},
+        {"travel_angle_deg", BeyondJson(stats.runout.travel_angle_deg)},
+        {"x_m", StatsJson(stats.runout_x)}}},
+      {"energy_check", {{"max_relative_gain", result.figures.max_relative_energy_gain}}}};
+  if (!scene.forest.empty()) j["forest"] = ForestSummaryJson(scene, result);
+  return j;
 }
 
 std::vector<DiagnosticFigure> DiagnosticFigures(const core::Scene& scene,
@@ -193,7 +199,6 @@ void WriteSimulationFiles(const std::string& folder, const core::Scene& scene,
   // Everything is built and checked before anything is written.
   nlohmann::json summary = SummaryJson(scene, result);
   if (!parameters.is_null()) summary["parameters"] = parameters;
-  if (!scene.forest.empty()) summary["forest"] = ForestSummaryJson(scene, result);
   const nlohmann::json diagnostics = DiagnosticsJson(scene, result);
   CheckFinite(summary, "summary.json", "$");
   CheckFinite(diagnostics, "diagnostics.json", "$");

@@ -143,6 +143,33 @@ TEST(HtmlReportTest, AuthumeIsSmallAndHasNoShapes) {
   EXPECT_LT(p.html.size(), 1000000u) << "report of " << p.html.size() << " bytes";
 }
 
+// A site with a forest whose strikes were recorded has a Forest section
+// holding every figure of summary.json's "forest"; without the strikes, or
+// without stems, it has none.
+TEST(HtmlReportTest, AForestHasItsSectionWhenItsStrikesWereRecorded) {
+  SimulatedSite run = Simulated("tutorial", 6);
+  core::Scene& scene = run.site.scene;
+  for (int k = 0; k < 40; ++k)  // a row of stems across the slope, 1.5 m apart
+    scene.forest.Add(60.0, 1.0 + 1.5 * k, 0.3, 20.0,
+                     k % 2 ? core::SpeciesClass::kBroadleaf : core::SpeciesClass::kConifer);
+  scene.options.record.tree_strikes = true;
+  run.result = core::Simulate(scene);
+  long strikes = 0;
+  for (const core::RockRecord& r : run.result.rocks) strikes += static_cast<long>(r.strikes.size());
+  ASSERT_GT(strikes, 0) << "no rock reached the row of stems";
+  Parsed p = Render(Input(run));
+  CheckSimulationReport(run, p);
+  const XmlNode* forest = FindSection(p, "forest");
+  ASSERT_NE(forest, nullptr);
+  EXPECT_NE(forest->AllText().find("40 stems stand on the slope"), std::string::npos)
+      << forest->AllText();
+  EXPECT_NE(forest->AllText().find("Stems struck most"), std::string::npos);
+
+  scene.options.record.tree_strikes = false;
+  run.result = core::Simulate(scene);
+  EXPECT_FALSE(HasSection(Render(Input(run)), "forest"));
+}
+
 TEST(HtmlReportTest, SectionsFollowTheRun) {
   SimulatedSite run = Simulated("tutorial", 4);
   core::Scene& scene = run.site.scene;

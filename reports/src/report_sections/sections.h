@@ -136,6 +136,9 @@ std::string RunsSection(const Context& c);              // runs_section.cc
 std::string PosteriorSection(const Context& c);         // posterior_section.cc
 std::string PosteriorDrawsSection(const Context& c);    // posterior_draws_section.cc
 std::string DiagnosticsSection(const Context& c);       // diagnostics_section.cc
+// True when the scene has a forest and the run recorded its strikes.
+bool HasForestStrikes(const Context& c);                // forest_section.cc
+std::string ForestSection(const Context& c);            // forest_section.cc
 // The reach section is reach_report.h's ReachSection.
 
 }  // namespace rockcal::reports::sections
