@@ -201,7 +201,8 @@ TEST(DetectFlights, ARollingRockHasNoFlight) {
 }
 
 TEST(DetectFlights, RefusesTimesThatDoNotIncreaseAndBadOptions) {
-  std::vector<TrackSample> track = {{0.0, {}}, {0.1, {}}, {0.1, {}}};
+  const Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  std::vector<TrackSample> track = {{0.0, origin}, {0.1, origin}, {0.1, origin}};
   EXPECT_THROW(DetectFlights(track, FlightOptions{}), std::invalid_argument);
   FlightOptions o;
   o.noise = 0;
