@@ -304,6 +304,8 @@ int Validate(const std::vector<std::string>& argv) {
                 shrunk ? " (shrunk for stability)" : "");
   }
   PrintWarnings(sites::IdenticalCopyWarnings(scene));
+  if (args.Has("write-impacts") && !args.Has("observations"))
+    throw InputError("argument --write-impacts", "expected --observations with a 'tracks_file' too");
   if (args.Has("observations")) {
     const observations::Observations obs =
         observations::LoadObservations(args.Get("observations"), scene);
@@ -312,6 +314,18 @@ int Validate(const std::vector<std::string>& argv) {
     if (const auto scatter = observations::RunRepeatScatter(obs, scene))
       std::printf("  %s\n", scatter->Sentence().c_str());
     PrintWarnings(observations::DuplicateRunWarnings(obs));
+    if (args.Has("write-impacts")) {
+      // The tracks' detected impacts as an impacts file
+      // (docs/field-campaigns.md, section 6).
+      if (!obs.tracks)
+        throw InputError("argument --write-impacts", "the observations have no 'tracks_file' to read "
+                                            "impacts from (expected one)");
+      const std::string path = args.Get("write-impacts");
+      const std::string csv = observations::DetectedImpactsCsv(obs, scene);
+      reports::WriteFileAtomically(path, csv);
+      const long rows = static_cast<long>(std::count(csv.begin(), csv.end(), '\n')) - 1;
+      std::printf("wrote %s: %ld impacts detected in the tracks\n", path.c_str(), rows);
+    }
   }
   return 0;
 }

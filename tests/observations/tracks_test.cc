@@ -131,6 +131,60 @@ TEST_F(TracksTest, ReadsTracksAndFindsTheirFlights) {
   EXPECT_NEAR(record.sample_seconds, 0.05, 1e-12);
 }
 
+// The impacts the detector finds in the tracks, written as an impacts file:
+// each hop's impact at t = 1 s, x = 5 m, z = 0.5 + 4.9 - g / 2 m, in at
+// (5, 0, 4.9 - g) m/s and out at (5, 0, 4.9) m/s, in the file's units.
+TEST_F(TracksTest, DetectedImpactsAreWrittenAsAnImpactsFile) {
+  Write("runs.csv", "id,group,stop_x,stop_y\na,g,50,20\nb,g,60,20\n");
+  Write("tracks.csv", "run,t,x,y,z\n" + Hops("a") + Hops("b"));
+  for (const std::string units : {"si", "us"}) {
+    const double unit = units == "si" ? 1.0 : 0.3048;  // m per file unit
+    if (units == "us") {                               // the same hops in feet
+      std::ostringstream ft;
+      ft.precision(12);
+      ft << "run,t,x,y,z\n";
+      std::istringstream in(Hops("a") + Hops("b"));
+      std::string line;
+      while (std::getline(in, line)) {
+        std::istringstream row(line);
+        std::string run, t, x, y, z;
+        std::getline(row, run, ',');
+        std::getline(row, t, ',');
+        std::getline(row, x, ',');
+        std::getline(row, y, ',');
+        std::getline(row, z, ',');
+        ft << run << "," << t << "," << std::stod(x) / unit << "," << std::stod(y) / unit << ","
+           << std::stod(z) / unit << "\n";
+      }
+      Write("tracks.csv", ft.str());
+    }
+    const Observations obs =
+        LoadObservations(Write("obs.json", R"({"units": ")" + units + R"(", "runs_file": "runs.csv",
+          "tracks_file": "tracks.csv", "error": {"runout": 2, "track": 0.02,
+          "impact_speed": 0.5}})"),
+                         FlatScene());
+    std::istringstream csv(DetectedImpactsCsv(obs, FlatScene()));
+    std::string line;
+    std::getline(csv, line);
+    EXPECT_EQ(line, "id,group,x,y,z,vx_in,vy_in,vz_in,vx_out,vy_out,vz_out");
+    const double expected[9] = {5, 20, 0.5 + 4.9 - 9.80665 / 2, 5, 0, 4.9 - 9.80665, 5, 0, 4.9};
+    int rows = 0;
+    while (std::getline(csv, line)) {
+      std::istringstream row(line);
+      std::string id, group, field;
+      std::getline(row, id, ',');
+      std::getline(row, group, ',');
+      EXPECT_EQ(id, rows == 0 ? "a-1" : "b-1");
+      EXPECT_EQ(group, "g");
+      for (int k = 0; k < 9 && std::getline(row, field, ','); ++k)
+        EXPECT_NEAR(std::stod(field) * unit, expected[k], k < 3 ? 0.01 : 0.05)
+            << units << " row " << rows << " column " << k << ": " << line;
+      ++rows;
+    }
+    EXPECT_EQ(rows, 2) << units;
+  }
+}
+
 TEST_F(TracksTest, BadTracksNameTheFileLineAndColumn) {
   const std::string header = "run,t,x,y,z\n";
   EXPECT_THAT(TracksError(header + Hops("a") + "c,0,1,2,3\n"),

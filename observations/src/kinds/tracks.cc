@@ -20,10 +20,11 @@ namespace rockcal::observations {
 
 std::vector<double> Tracks::Levels() { return {0.25, 0.5, 0.75}; }
 
+using sites::FormatNumber;
+
 namespace kinds {
 namespace {
 
-using sites::FormatNumber;
 using sites::JsonNode;
 
 // The residual names of the three distributions, in order (ResidualId::index).
@@ -333,4 +334,28 @@ Kind TracksKind() {
 }
 
 }  // namespace kinds
+
+std::string DetectedImpactsCsv(const Observations& observations, const core::Scene& scene) {
+  std::string out = "id,group,x,y,z,vx_in,vy_in,vz_in,vx_out,vy_out,vz_out\n";
+  if (!observations.tracks || !observations.runout) return out;
+  const double unit = sites::LengthToSI(1.0, observations.units);  // m per file unit
+  const Ground ground = kinds::SiteGround(scene.grid);
+  for (const Track& track : observations.tracks->tracks) {
+    const int run = kinds::RunIndex(*observations.runout, track.run);
+    if (run < 0) continue;
+    const std::size_t g =
+        static_cast<std::size_t>(observations.runout->run_groups[static_cast<std::size_t>(run)]);
+    const std::string group = g < scene.groups.size() ? scene.groups[g].id : "";
+    const TrackFlights found = DetectFlights(track.samples, observations.tracks->flight, ground);
+    int k = 0;
+    for (const TrackImpact& impact : found.impacts) {
+      out += track.run + "-" + std::to_string(++k) + "," + group;
+      for (const Eigen::Vector3d* v : {&impact.x, &impact.v_in, &impact.v_out})
+        for (int d = 0; d < 3; ++d) out += "," + FormatNumber((*v)[d] / unit, "%.10g");
+      out += "\n";
+    }
+  }
+  return out;
+}
+
 }  // namespace rockcal::observations

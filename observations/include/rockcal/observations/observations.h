@@ -160,6 +160,14 @@ struct Observations {
 // (or the CSV line), the value and what was expected.
 Observations LoadObservations(const std::string& path, const core::Scene& scene);
 
+// The impacts DetectFlights finds in the tracks (Observations::tracks, with
+// their error as its noise, over `scene`'s surface), as an impacts file: the
+// header "id,group,x,y,z,vx_in,vy_in,vz_in,vx_out,vy_out,vz_out", then one
+// row per impact in track order; `id` is "<run>-<k>" (k from 1 along the
+// track), `group` the run's rock group's id, lengths in the observations
+// file's units (velocities per second). Header only without tracks.
+std::string DetectedImpactsCsv(const Observations& observations, const core::Scene& scene);
+
 // One warning per pair of tracked runs with the same release point and the
 // same stop point (within 1 mm): most likely one run written twice, which
 // counts twice in the misfit. Empty without runs.
