@@ -268,6 +268,8 @@ int Simulate(const std::vector<std::string>& argv) {
 int Validate(const std::vector<std::string>& argv) {
   const Args args(argv, FlagsOf("validate"));
   const std::string site_path = args.OnlyPositional("SITE.json");
+  if (args.Has("write-impacts") && !args.Has("observations"))
+    throw InputError("argument --write-impacts", "expected --observations with a 'tracks_file' too");
   const sites::Site site = sites::LoadSite(site_path);
   const core::Scene& scene = site.scene;
   std::printf("site '%s' (%s): OK\n", scene.name.c_str(), site_path.c_str());
@@ -304,8 +306,6 @@ int Validate(const std::vector<std::string>& argv) {
                 shrunk ? " (shrunk for stability)" : "");
   }
   PrintWarnings(sites::IdenticalCopyWarnings(scene));
-  if (args.Has("write-impacts") && !args.Has("observations"))
-    throw InputError("argument --write-impacts", "expected --observations with a 'tracks_file' too");
   if (args.Has("observations")) {
     const observations::Observations obs =
         observations::LoadObservations(args.Get("observations"), scene);

@@ -129,6 +129,16 @@ TEST_F(TracksTest, ReadsTracksAndFindsTheirFlights) {
   const core::RecordOptions record = RequiredRecording(obs, {});
   EXPECT_EQ(record.trajectory_groups, (std::vector<int>{0}));
   EXPECT_NEAR(record.sample_seconds, 0.05, 1e-12);
+  // --holdout: a track goes with its run, into the fold that holds it out.
+  const std::vector<Fold> folds = MakeFolds(obs, 2, 7);
+  for (const Fold& fold : folds)
+    for (const bool held_out : {false, true}) {
+      const Observations part = Subset(obs, fold, held_out);
+      ASSERT_TRUE(part.runout && part.tracks) << fold.index << " " << held_out;
+      ASSERT_EQ(part.runout->run_ids.size(), 1u);
+      ASSERT_EQ(part.tracks->tracks.size(), 1u);
+      EXPECT_EQ(part.tracks->tracks[0].run, part.runout->run_ids[0]);
+    }
 }
 
 // The impacts the detector finds in the tracks, written as an impacts file:

@@ -49,7 +49,7 @@ std::string DistributionPlot(const std::vector<double>& observed,
   return Figure(plot.Svg(),
                 "The " + Escape(what) +
                     " of the tracks' flights (black) and of the simulated rocks' flights, measured "
-                    "alike (grey-blue): the share of values at or below each value.",
+                    "alike (orange): the share of values at or below each value.",
                 360);
 }
 
