@@ -339,7 +339,9 @@ nlohmann::json TracksJson(const observations::Misfit& misfit) {
           {"jump_height_m", both(t.observed_heights, t.simulated_heights)},
           {"jump_length_m", both(t.observed_lengths, t.simulated_lengths)},
           {"impact_speed_m_s", both(t.observed_speeds, t.simulated_speeds)},
-          {"verdict", v.poor ? "poor" : v.fair ? "fair" : "good"},
+          {"verdict", v.poor   ? "poor"
+                      : v.fair ? "fair"
+                               : "good"},
           {"sentence", observations::TracksVerdictSentence(misfit)}};
 }
 

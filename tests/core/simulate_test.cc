@@ -59,8 +59,8 @@ TEST(Simulate, RecordsThePathsOfEveryRockOfTheTrajectoryGroups) {
   ASSERT_TRUE(scene.options.IsValid(&error)) << error;
   const SimulationResult result = Simulate(scene);
   for (const RockRecord& r : result.rocks)
-    EXPECT_EQ(r.trajectory.empty(), r.group == 0)
-        << "rock " << r.rock << " of group " << r.group << ": " << r.trajectory.size() << " samples";
+    EXPECT_EQ(r.trajectory.empty(), r.group == 0) << "rock " << r.rock << " of group " << r.group
+                                                  << ": " << r.trajectory.size() << " samples";
   scene.options.record.trajectory_groups = {1, 0};
   EXPECT_FALSE(scene.options.IsValid(&error));
   EXPECT_NE(error.find("record.trajectory_groups"), std::string::npos) << error;

@@ -130,7 +130,7 @@ struct MeasurementErrors {
   double height = 0.0;    // m, of a scar height (> 0 when tree scars are given)
   double runout = 0.0;    // m, of a stop position along and across the direction
   double passing = 0.05;  // of a passing fraction, in (0, 1]
-  double track = 0.0;         // m, of a track sample's position per axis (> 0 with tracks)
+  double track = 0.0;     // m, of a track sample's position per axis (> 0 with tracks)
   double impact_speed = 0.0;  // m/s, of a track's impact speed (> 0 with tracks)
 };
 
