@@ -304,6 +304,9 @@ void PrintCalibration(const std::string& out, const calibrate::CalibrationSummar
       sim.count(core::Outcome::kStopped), sim.rocks.size(), sim.count(core::Outcome::kLeft),
       sim.count(core::Outcome::kTimeout),
       observations::AssessFit(summary.misfit_after).Sentence().c_str());
+  if (const std::string tracks = observations::TracksVerdictSentence(summary.misfit_after);
+      !tracks.empty())
+    std::printf("%s\n", tracks.c_str());
   if (!summary.misfit_after.runs.empty())
     std::printf(
         "tracked runs: %zu, mean |median simulated - observed| runout %.3g m, %d simulated "

@@ -38,7 +38,7 @@ const std::vector<CommandFlags>& AllCommandFlags() {
         "threads", "observations", "points", "design", "out"},
        {"set"}},
       {"table", {"force", "include-at-bound", "quiet"}, {"bound-tolerance", "out"}, {}},
-      {"validate", {}, {"observations"}, {}},
+      {"validate", {}, {"observations", "write-impacts"}, {}},
   };
   return table;
 }

@@ -267,6 +267,9 @@ int Simulate(const std::vector<std::string>& argv) {
 int Validate(const std::vector<std::string>& argv) {
   const Args args(argv, FlagsOf("validate"));
   const std::string site_path = args.OnlyPositional("SITE.json");
+  if (args.Has("write-impacts") && !args.Has("observations"))
+    throw InputError("argument --write-impacts",
+                     "expected --observations with a 'tracks_file' too");
   const sites::Site site = sites::LoadSite(site_path);
   const core::Scene& scene = site.scene;
   std::printf("site '%s' (%s): OK\n", scene.name.c_str(), site_path.c_str());
@@ -311,6 +314,19 @@ int Validate(const std::vector<std::string>& argv) {
     if (const auto scatter = observations::RunRepeatScatter(obs, scene))
       std::printf("  %s\n", scatter->Sentence().c_str());
     PrintWarnings(observations::DuplicateRunWarnings(obs));
+    if (args.Has("write-impacts")) {
+      // The tracks' detected impacts as an impacts file
+      // (docs/field-campaigns.md, section 6).
+      if (!obs.tracks)
+        throw InputError("argument --write-impacts",
+                         "the observations have no 'tracks_file' to read "
+                         "impacts from (expected one)");
+      const std::string path = args.Get("write-impacts");
+      const std::string csv = observations::DetectedImpactsCsv(obs, scene);
+      reports::WriteFileAtomically(path, csv);
+      const long rows = static_cast<long>(std::count(csv.begin(), csv.end(), '\n')) - 1;
+      std::printf("wrote %s: %ld impacts detected in the tracks\n", path.c_str(), rows);
+    }
   }
   return 0;
 }

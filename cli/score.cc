@@ -56,6 +56,9 @@ int Score(const std::vector<std::string>& argv) {
                 sim.count(core::Outcome::kStopped), sim.count(core::Outcome::kLeft),
                 sim.count(core::Outcome::kTimeout));
     std::printf("fit %s\n", fit.Sentence().c_str());
+    if (const std::string tracks = observations::TracksVerdictSentence(score.misfit);
+        !tracks.empty())
+      std::printf("%s\n", tracks.c_str());
     std::printf("wrote %s/score.json, summary.json, rocks.csv, diagnostics.json, report.html\n",
                 out.c_str());
   }

@@ -105,6 +105,9 @@ Objective::Objective(core::Scene scene, ParameterSpace space,
     r.outcome = core::Outcome::kStopped;
     r.crossings.assign(scene_.partitions.size(), crossed);
     r.trees.assign(scene_.options.record.trees.size(), crossed);
+    r.trajectory.assign(
+        1, core::TrajectorySample{0.0, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                  Eigen::Vector3d::Zero(), Eigen::Vector4d(1, 0, 0, 0)});
   }
   shape.rocks[1].stop = Eigen::Vector3d(1, 1, 0);
   residual_count_ = static_cast<int>(

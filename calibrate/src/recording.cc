@@ -16,7 +16,9 @@ core::RecordOptions RecordingFor(const core::Scene& scene, const RecordingNeeds&
   record.partitions = record.partitions || needs.partitions;
   record.energy_check = needs.energy_check;
   record.trajectories = needs.trajectories;
-  record.sample_seconds = needs.sample_seconds;
+  // Tracks fix the sampling interval (theirs, so that the simulated paths
+  // are measured as the tracks are: docs/field-campaigns.md, section 6).
+  if (record.trajectory_groups.empty()) record.sample_seconds = needs.sample_seconds;
   if (needs.report) {
     record.passages = true;
     record.tree_strikes = record.tree_strikes || !scene.forest.empty();  // the Forest section

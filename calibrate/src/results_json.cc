@@ -111,6 +111,14 @@ observations::ResidualId ResidualIdOf(const std::string& observation, const std:
     id = indexed(ObservationKind::kTreeScars);
   } else if (starts("passing[")) {
     id = indexed(ObservationKind::kPassing);
+  } else if (starts("tracks ")) {
+    const std::string name = observation.substr(7);
+    id = ResidualId::Of(ObservationKind::kTracks,
+                        name == "jump height"    ? 0
+                        : name == "jump length"  ? 1
+                        : name == "impact speed" ? 2
+                                                 : -1,
+                        name);
   } else if (!observation.empty()) {
     throw std::invalid_argument("unknown residual observation '" + observation + "'");
   }

@@ -26,7 +26,8 @@ void Recorder::Start(const RockState& s) {
   rec_->trees.assign(opt_.trees.size(), Crossing{});
   trajectory_ =
       opt_.trajectories > rec_->rock ||
-      std::binary_search(opt_.trajectory_rocks.begin(), opt_.trajectory_rocks.end(), rec_->rock);
+      std::binary_search(opt_.trajectory_rocks.begin(), opt_.trajectory_rocks.end(), rec_->rock) ||
+      std::binary_search(opt_.trajectory_groups.begin(), opt_.trajectory_groups.end(), rec_->group);
   next_sample_ = 0.0;
   Sample(s);
   if (opt_.passages) VisitAt(s, s, true);

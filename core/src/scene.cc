@@ -36,7 +36,8 @@ bool SimulationOptions::IsValid(std::string* error) const {
   if (threads < 0) return fail("threads", threads, "must be >= 0 (0: all cores)");
   if (record.trajectories < 0)
     return fail("record.trajectories", record.trajectories, "must be >= 0");
-  const bool sampled = record.trajectories > 0 || !record.trajectory_rocks.empty();
+  const bool sampled = record.trajectories > 0 || !record.trajectory_rocks.empty() ||
+                       !record.trajectory_groups.empty();
   if (sampled && !(record.sample_seconds > 0))
     return fail("record.sample_seconds", record.sample_seconds, "must be > 0");
   for (std::size_t k = 0; k < record.trajectory_rocks.size(); ++k)
@@ -44,6 +45,11 @@ bool SimulationOptions::IsValid(std::string* error) const {
         (k > 0 && record.trajectory_rocks[k] <= record.trajectory_rocks[k - 1]))
       return fail("record.trajectory_rocks", record.trajectory_rocks[k],
                   "must be rock indices >= 0 in ascending order");
+  for (std::size_t k = 0; k < record.trajectory_groups.size(); ++k)
+    if (record.trajectory_groups[k] < 0 ||
+        (k > 0 && record.trajectory_groups[k] <= record.trajectory_groups[k - 1]))
+      return fail("record.trajectory_groups", record.trajectory_groups[k],
+                  "must be group indices >= 0 in ascending order");
   return true;
 }
 

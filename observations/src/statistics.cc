@@ -89,6 +89,24 @@ FitVerdict AssessFit(const Misfit& misfit) {
   return v;
 }
 
+FitVerdict AssessTracks(const Misfit& misfit) {
+  // A tracks distribution with fewer than 2 simulated values has residuals
+  // of sqrt(2 penalty / 3) each, so its verdict is poor by the largest alone.
+  Misfit tracks;
+  for (const Residual& r : misfit.residuals)
+    if (r.id.kind == ObservationKind::kTracks) tracks.residuals.push_back(r);
+  return AssessFit(tracks);
+}
+
+std::string TracksVerdictSentence(const Misfit& misfit) {
+  const FitVerdict v = AssessTracks(misfit);
+  if (v.compared == 0) return "";
+  const std::string what = v.poor   ? "the jumps are not reproduced: "
+                           : v.fair ? "the jumps are reproduced only fairly: "
+                                    : "the jumps are reproduced: ";
+  return "tracks: " + what + v.Sentence();
+}
+
 double QuantileStandardError(const std::vector<double>& sorted, double level) {
   const std::size_t n = sorted.size();
   if (n < 2) return 0.0;

@@ -10,6 +10,7 @@
 #include "rockcal/calibrate/score.h"
 #include "rockcal/core/format.h"
 #include "rockcal/core/scene.h"
+#include "rockcal/core/statistics.h"
 #include "rockcal/observations/misfit.h"
 #include "rockcal/sites/json_reader.h"
 
@@ -318,6 +319,32 @@ nlohmann::json RunsJson(const observations::Misfit& misfit) {
           {"per_run", runs}};
 }
 
+// The tracks' distributions (observed and simulated: count and quartiles)
+// and their verdict.
+nlohmann::json TracksJson(const observations::Misfit& misfit) {
+  const observations::TrackFit& t = misfit.tracks;
+  auto side = [](const std::vector<double>& v) {
+    nlohmann::json j = {{"n", v.size()}};
+    for (const double level : observations::Tracks::Levels())
+      j[observations::LevelName(level)] =
+          v.empty() ? nlohmann::json(nullptr) : nlohmann::json(core::Quantile(v, level));
+    return j;
+  };
+  auto both = [&](const std::vector<double>& observed, const std::vector<double>& simulated) {
+    return nlohmann::json{{"observed", side(observed)}, {"simulated", side(simulated)}};
+  };
+  const observations::FitVerdict v = observations::AssessTracks(misfit);
+  return {{"tracks", t.tracks},
+          {"simulated_rocks", t.rocks},
+          {"jump_height_m", both(t.observed_heights, t.simulated_heights)},
+          {"jump_length_m", both(t.observed_lengths, t.simulated_lengths)},
+          {"impact_speed_m_s", both(t.observed_speeds, t.simulated_speeds)},
+          {"verdict", v.poor   ? "poor"
+                      : v.fair ? "fair"
+                               : "good"},
+          {"sentence", observations::TracksVerdictSentence(misfit)}};
+}
+
 }  // namespace
 
 nlohmann::json CalibrationJson(const CalibrationSummary& record) {
@@ -393,6 +420,7 @@ nlohmann::json CalibrationJson(const CalibrationSummary& record) {
           {"methods", methods}};
   if (record.noise_check.done) out["noise_check"] = NoiseCheckJson(record);
   if (!record.misfit_after.runs.empty()) out["runs"] = RunsJson(record.misfit_after);
+  if (record.misfit_after.tracks.tracks > 0) out["tracks"] = TracksJson(record.misfit_after);
   if (record.posterior) out["posterior"] = calibrate::PosteriorJson(*record.posterior);
   return out;
 }

@@ -200,5 +200,43 @@ TEST(Validate, PrintsWhatItFound) {
   EXPECT_EQ(Rockcal("validate /nonexistent/site.json").status, 2);
 }
 
+// --write-impacts: the impacts found in the observations' tracks, as an
+// impacts file. Two hops of run v004 of the Tschamut example, off its grid
+// (no ground: the track alone decides), one impact at t = 1 s.
+TEST(Validate, WritesTheTracksImpacts) {
+  const std::string dir = FreshDir("tracks");
+  fs::create_directories(dir);
+  {
+    std::ofstream tracks(dir + "/tracks.csv");
+    tracks << "run,t,x,y,z\n";
+    for (int k = 0; k <= 40; ++k) {
+      const double t = 0.05 * k, tau = t < 1.0 ? t : t - 1.0;
+      tracks << "v004," << t << "," << -500 + 5 * t << ",0," << 4.9 * tau - 4.903325 * tau * tau
+             << "\n";
+    }
+    std::ofstream obs(dir + "/obs.json");
+    obs << R"({"units": "si", "runs_file": ")" << ROCKCAL_SOURCE_DIR
+        << R"(/sites/examples/tschamut/data/runs.csv", "tracks_file": "tracks.csv",
+          "error": {"runout": 2, "track": 0.02, "impact_speed": 0.5}})";
+  }
+  const std::string site = Example("tschamut"), impacts = dir + "/impacts.csv";
+  RunResult run = Rockcal("validate " + site + " --observations " + dir +
+                          "/obs.json --write-impacts " + impacts);
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_THAT(run.out, HasSubstr("2 flights and 1 impacts found"));
+  const std::string csv = testing::ReadFile(impacts);
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "id,group,x,y,z,vx_in,vy_in,vz_in,vx_out,vy_out,vz_out");
+  EXPECT_THAT(csv, HasSubstr("\nv004-1,v004,-495.00"));
+  // Without tracks, or without observations: exit 2, nothing written.
+  run = Rockcal("validate " + site + " --observations " + std::string(ROCKCAL_SOURCE_DIR) +
+                "/sites/examples/tschamut/observations.json --write-impacts " + dir + "/none.csv");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_THAT(run.err, HasSubstr("no 'tracks_file'"));
+  run = Rockcal("validate " + site + " --write-impacts " + dir + "/none.csv");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_THAT(run.err, HasSubstr("expected --observations"));
+  EXPECT_FALSE(fs::exists(dir + "/none.csv"));
+}
+
 }  // namespace
 }  // namespace rockcal::cli

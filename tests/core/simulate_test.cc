@@ -45,6 +45,26 @@ void ExpectParabola(bool exact_flight) {
 }
 
 TEST(Simulate, FreeFallExactFlight) { ExpectParabola(true); }
+
+// RecordOptions::trajectory_groups records the paths of every rock of those
+// groups (the tracks' misfit), and of no other rock.
+TEST(Simulate, RecordsThePathsOfEveryRockOfTheTrajectoryGroups) {
+  Scene scene = FlatScene(SmoothMaterial(0.5, 0.005, 0.5));
+  scene.groups = {PointGroup(Shape::kSphere, 0.2, 2.0, 10.0, 1.0, 2),
+                  PointGroup(Shape::kSphere, 0.2, 4.0, 10.0, 1.0, 3)};
+  scene.options.max_time = 2.0;
+  scene.options.record.trajectory_groups = {1};
+  scene.options.record.sample_seconds = 0.1;
+  std::string error;
+  ASSERT_TRUE(scene.options.IsValid(&error)) << error;
+  const SimulationResult result = Simulate(scene);
+  for (const RockRecord& r : result.rocks)
+    EXPECT_EQ(r.trajectory.empty(), r.group == 0) << "rock " << r.rock << " of group " << r.group
+                                                  << ": " << r.trajectory.size() << " samples";
+  scene.options.record.trajectory_groups = {1, 0};
+  EXPECT_FALSE(scene.options.IsValid(&error));
+  EXPECT_NE(error.find("record.trajectory_groups"), std::string::npos) << error;
+}
 TEST(Simulate, FreeFallSmallSteps) { ExpectParabola(false); }
 
 // Drops a sphere on flat ground; returns apex heights (of the sphere's

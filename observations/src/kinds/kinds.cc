@@ -10,6 +10,7 @@
 #include "runout.h"
 #include "runs.h"
 #include "scars.h"
+#include "tracks.h"
 
 namespace rockcal::observations::kinds {
 
@@ -19,6 +20,7 @@ const std::vector<Kind>& Kinds() {
       RunoutKind(),   // runout
       RunsKind(),     // runs, runs_file
       PassingKind(),  // passing, passing_file
+      TracksKind(),   // tracks_file
   };
   return kinds;
 }

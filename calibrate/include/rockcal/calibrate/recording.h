@@ -22,7 +22,9 @@ struct RecordingNeeds {
   bool report = false;
   int report_trajectories = 30;  // >= 0
   int trajectories = 0;          // the paths of the first N rocks (trajectories.csv), >= 0
-  double sample_seconds = 0.05;  // s between trajectory samples, > 0
+  // s between trajectory samples, > 0; with tracks observed, the tracks'
+  // median interval instead (observations::RequiredRecording).
+  double sample_seconds = 0.05;
 };
 
 // The recording options of `scene` (its rock count) for `needs`.

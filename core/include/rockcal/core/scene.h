@@ -119,6 +119,10 @@ struct RecordOptions {
   // and the paths of these rocks (indices in the run, ascending): a sample
   // of every group for a report's profile (SpreadOverGroups)
   std::vector<int> trajectory_rocks;
+  // and the paths of every rock of these groups (indices into
+  // Scene::groups, ascending): the tracked runs' rocks, for the tracks'
+  // misfit (docs/field-campaigns.md, section 6), whatever the rock count
+  std::vector<int> trajectory_groups;
   double sample_seconds = 0.05;  // trajectory sampling interval
 };
 

@@ -65,6 +65,7 @@ enum class ObservationKind {
   kRunoutStopped,    // the share of rocks that stopped: "runout stopped"
   kRun,              // one tracked run's runout: "run <id>"
   kPassing,          // a passing fraction: its label, "passing[0] BP-2"
+  kTracks,           // a distribution of the tracks: "tracks jump height" (its name)
   kPrior,            // a campaign's offset prior: "prior"
 };
 
@@ -153,10 +154,22 @@ struct RunFit {
   }
 };
 
+// How the tracked runs' simulated paths compare with the observed tracks:
+// each distribution, observed and simulated, ascending.
+struct TrackFit {
+  int tracks = 0;  // observed tracks compared
+  int rocks = 0;   // simulated rocks of their groups (each once)
+  std::vector<double> observed_heights, simulated_heights;  // m, jump heights
+  std::vector<double> observed_lengths, simulated_lengths;  // m, jump lengths
+  std::vector<double> observed_speeds, simulated_speeds;    // m/s, impact speeds
+};
+
 struct Misfit {
   std::vector<Residual> residuals;  // empty when the result was non-finite
   // Per-run observations only: each run's fit, in the observations' order.
   std::vector<RunFit> runs;
+  // With tracks (Observations::tracks): their distributions; tracks = 0 without.
+  TrackFit tracks;
   // Mean over the runs of |simulated - observed| runout [m] (0 without runs).
   double MeanRunError() const;
   int StuckRocks() const;  // summed over the runs
@@ -211,6 +224,12 @@ struct FitVerdict {
   std::string Sentence() const;
 };
 FitVerdict AssessFit(const Misfit& misfit);
+// The verdict on the tracks' residuals alone (ObservationKind::kTracks), and
+// its sentence: "tracks: the jumps are not reproduced: poor: ...", "tracks:
+// the jumps are reproduced only fairly: ..." or "tracks: the jumps are
+// reproduced: good: ..."; "" without tracks residuals.
+FitVerdict AssessTracks(const Misfit& misfit);
+std::string TracksVerdictSentence(const Misfit& misfit);
 
 // Standard error of the level-p quantile of an ascending sample of n values,
 // from order statistics: positions c -/+ h with c = (n - 1) p (the type-7

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rockcal/core/scene.h"
+#include "rockcal/observations/track_flights.h"
 #include "rockcal/sites/json_reader.h"
 
 namespace rockcal::observations {
@@ -101,11 +102,42 @@ struct Passing {
   double fraction = 0;  // in [0, 1]
 };
 
+// One tracked run's path (the file's "tracks_file"): the rock's centre over
+// time, and what DetectFlights reads off it (docs/field-campaigns.md,
+// section 6).
+struct Track {
+  std::string run;                   // the run's id (Runout::run_ids)
+  int line = 0;                      // the tracks file's line of its first sample
+  std::vector<TrackSample> samples;  // SI, in increasing time
+  // Detected once the track's error is known (LoadObservations): one jump
+  // height and length per flight, one incoming speed per impact.
+  std::vector<double> jump_heights;   // m, the centre's highest point above the ground
+  std::vector<double> jump_lengths;   // m, in plan
+  std::vector<double> impact_speeds;  // m/s, the speed just before the impact
+};
+
+// The tracked runs' paths, compared as distributions of jump heights, jump
+// lengths and impact speeds with those of the tracked runs' groups'
+// simulated rocks, measured alike (the same detector and thresholds).
+struct Tracks {
+  std::string file;           // the tracks file (resolved)
+  std::vector<Track> tracks;  // in the order of their first rows
+  // s, the median interval between consecutive samples over every track:
+  // the simulated paths are sampled at this interval.
+  double sample_seconds = 0.0;
+  // The detector's options: `noise` is the track error (error.track).
+  FlightOptions flight;
+  // The quantile levels each distribution is compared at.
+  static std::vector<double> Levels();  // 0.25, 0.5, 0.75
+};
+
 // One-sigma measurement errors, SI.
 struct MeasurementErrors {
   double height = 0.0;    // m, of a scar height (> 0 when tree scars are given)
   double runout = 0.0;    // m, of a stop position along and across the direction
   double passing = 0.05;  // of a passing fraction, in (0, 1]
+  double track = 0.0;     // m, of a track sample's position per axis (> 0 with tracks)
+  double impact_speed = 0.0;  // m/s, of a track's impact speed (> 0 with tracks)
 };
 
 struct Observations {
@@ -114,6 +146,7 @@ struct Observations {
   std::vector<ScarSet> tree_scars;
   std::optional<Runout> runout;
   std::vector<Passing> passing;
+  std::optional<Tracks> tracks;  // tracks of tracked runs (needs runout with runs)
   MeasurementErrors error;
   // What the reader found and chose (e.g. the runout direction), one line each,
   // for `rockcal validate`.
@@ -122,7 +155,7 @@ struct Observations {
   // the CSV files it named (as resolved). A calibration's log fingerprints them.
   std::vector<std::string> inputs;
 
-  bool empty() const { return tree_scars.empty() && !runout && passing.empty(); }
+  bool empty() const { return tree_scars.empty() && !runout && passing.empty() && !tracks; }
 };
 
 // Reads and validates the observations file at `path` against `scene` (whose
@@ -132,6 +165,14 @@ struct Observations {
 // empty lists and bad CSV rows throw InputError naming the file, the JSON path
 // (or the CSV line), the value and what was expected.
 Observations LoadObservations(const std::string& path, const core::Scene& scene);
+
+// The impacts DetectFlights finds in the tracks (Observations::tracks, with
+// their error as its noise, over `scene`'s surface), as an impacts file: the
+// header "id,group,x,y,z,vx_in,vy_in,vz_in,vx_out,vy_out,vz_out", then one
+// row per impact in track order; `id` is "<run>-<k>" (k from 1 along the
+// track), `group` the run's rock group's id, lengths in the observations
+// file's units (velocities per second). Header only without tracks.
+std::string DetectedImpactsCsv(const Observations& observations, const core::Scene& scene);
 
 // One warning per pair of tracked runs with the same release point and the
 // same stop point (within 1 mm): most likely one run written twice, which
@@ -166,6 +207,8 @@ std::optional<RepeatScatter> RunRepeatScatter(const Observations& observations,
 // set only when a scar set or a passing fraction refers to a partition, and
 // `trees` replaced by the trees of the tree-form scar sets (in Tree::probe
 // order; empty when there are none). Other fields are left as in `base`.
+// With tracks, also the paths of every rock of the tracked runs' groups
+// (trajectory_groups), sampled every Tracks::sample_seconds.
 core::RecordOptions RequiredRecording(const Observations& observations, core::RecordOptions base);
 
 // One fold of a K-fold split of the observations: the values it holds out.
