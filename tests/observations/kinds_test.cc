@@ -23,7 +23,8 @@ std::vector<std::string> Strings(const std::vector<const char*>& keys) {
 TEST(KindsTest, TheTableListsEveryKindOnceInResidualOrder) {
   std::vector<std::string> names;
   for (const Kind& kind : Kinds()) names.emplace_back(kind.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"tree_scars", "runout", "runs", "passing"}));
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"tree_scars", "runout", "runs", "passing", "impacts"}));
   for (const Kind& kind : Kinds()) {
     EXPECT_NE(kind.read, nullptr) << kind.name << " has no reader";
     EXPECT_NE(kind.misfit, nullptr) << kind.name << " has no misfit terms";
@@ -49,9 +50,11 @@ TEST(KindsTest, EveryResidualKindHasOneKindAndItsText) {
   for (const ObservationKind k :
        {ObservationKind::kTreeScars, ObservationKind::kRunoutDistance,
         ObservationKind::kRunoutMassClass, ObservationKind::kRunoutLateral,
-        ObservationKind::kRunoutStopped, ObservationKind::kRun, ObservationKind::kPassing})
+        ObservationKind::kRunoutStopped, ObservationKind::kRun, ObservationKind::kPassing,
+        ObservationKind::kImpact, ObservationKind::kImpactsNormal,
+        ObservationKind::kImpactsTangential})
     EXPECT_EQ(owner.count(k), 1u) << "residual kind " << static_cast<int>(k) << " has no kind";
-  EXPECT_EQ(owner.size(), 7u);
+  EXPECT_EQ(owner.size(), 10u);
   EXPECT_EQ(owner.count(ObservationKind::kNone), 0u);
   EXPECT_EQ(owner.count(ObservationKind::kPrior), 0u);
 }
@@ -90,8 +93,9 @@ TEST(KindsTest, TheFileKeysAreTheTablesEachOwnedByOneKind) {
   EXPECT_EQ(file.size(), objects.size() + 2);
   // The keys as the reader has always taken them (docs/reference/observations-file.md).
   EXPECT_EQ(root, (std::vector<std::string>{"units", "tree_scars", "runout", "runs", "runs_file",
-                                            "passing", "passing_file", "error"}));
-  EXPECT_EQ(error, (std::vector<std::string>{"height", "runout", "passing"}));
+                                            "passing", "passing_file", "impacts", "impacts_file",
+                                            "impact_draws", "error"}));
+  EXPECT_EQ(error, (std::vector<std::string>{"height", "runout", "passing", "rebound"}));
 }
 
 }  // namespace

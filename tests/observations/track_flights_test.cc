@@ -201,7 +201,8 @@ TEST(DetectFlights, ARollingRockHasNoFlight) {
 }
 
 TEST(DetectFlights, RefusesTimesThatDoNotIncreaseAndBadOptions) {
-  std::vector<TrackSample> track = {{0.0, {}}, {0.1, {}}, {0.1, {}}};
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  std::vector<TrackSample> track = {{0.0, zero}, {0.1, zero}, {0.1, zero}};
   EXPECT_THROW(DetectFlights(track, FlightOptions{}), std::invalid_argument);
   FlightOptions o;
   o.noise = 0;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 
+#include "impacts.h"
 #include "passing.h"
 #include "runout.h"
 #include "runs.h"
@@ -19,6 +20,7 @@ const std::vector<Kind>& Kinds() {
       RunoutKind(),   // runout
       RunsKind(),     // runs, runs_file
       PassingKind(),  // passing, passing_file
+      ImpactsKind(),  // impacts, impacts_file
   };
   return kinds;
 }

@@ -95,11 +95,25 @@ struct Passing {
   double fraction = 0;  // in [0, 1]
 };
 
+// One measured impact of a tracked rock (the file's "impacts" or
+// "impacts_file"; docs/field-campaigns.md): the rock's centre at the impact
+// and its velocity before and after, replayed by core/impact_replay.h.
+struct Impact {
+  std::string id;  // its id (the file's, or "impact <row>")
+  int group = 0;   // index into core::Scene::groups
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();        // m
+  Eigen::Vector3d velocity_in = Eigen::Vector3d::Zero();   // m/s
+  Eigen::Vector3d velocity_out = Eigen::Vector3d::Zero();  // m/s
+  std::optional<Eigen::Vector3d> spin;                     // rad/s, measured incoming spin
+};
+constexpr int kDefaultImpactDraws = 16;
+
 // One-sigma measurement errors, SI.
 struct MeasurementErrors {
   double height = 0.0;    // m, of a scar height (> 0 when tree scars are given)
   double runout = 0.0;    // m, of a stop position along and across the direction
   double passing = 0.05;  // of a passing fraction, in (0, 1]
+  double rebound = 0.05;  // of a rebound ratio (normal or tangential), > 0
 };
 
 struct Observations {
@@ -108,6 +122,8 @@ struct Observations {
   std::vector<ScarSet> tree_scars;
   std::optional<Runout> runout;
   std::vector<Passing> passing;
+  std::vector<Impact> impacts;
+  int impact_draws = kDefaultImpactDraws;  // replays per impact ("impact_draws")
   MeasurementErrors error;
   // What the reader found and chose (e.g. the runout direction), one line each,
   // for `rockcal validate`.
@@ -116,7 +132,9 @@ struct Observations {
   // the CSV files it named (as resolved). A calibration's log fingerprints them.
   std::vector<std::string> inputs;
 
-  bool empty() const { return tree_scars.empty() && !runout && passing.empty(); }
+  bool empty() const {
+    return tree_scars.empty() && !runout && passing.empty() && impacts.empty();
+  }
 };
 
 // Reads and validates the observations file at `path` against `scene` (whose
@@ -169,6 +187,7 @@ struct Fold {
   std::vector<std::vector<std::size_t>> scars;
   // Indices into runout.distances (and stop_points, lateral).
   std::vector<std::size_t> runout;
+  std::vector<std::size_t> impacts;  // indices into impacts
 };
 
 // Splits the observations into `k` (>= 2) folds: the runout values and each
