@@ -120,12 +120,13 @@ observations::ResidualId ResidualIdOf(const std::string& observation, const std:
   } else if (!observation.empty()) {
     throw std::invalid_argument("unknown residual observation '" + observation + "'");
   }
-  const std::pair<const char*, Statistic> named[] = {{"max", Statistic::kMax},
-                                                     {"share", Statistic::kShare},
-                                                     {"fraction", Statistic::kFraction},
-                                                     {"runout", Statistic::kRunout},
-                                                     {"normal_ratio", Statistic::kNormalRatio},
-                                                     {"tangential_ratio", Statistic::kTangentialRatio}};
+  const std::pair<const char*, Statistic> named[] = {
+      {"max", Statistic::kMax},
+      {"share", Statistic::kShare},
+      {"fraction", Statistic::kFraction},
+      {"runout", Statistic::kRunout},
+      {"normal_ratio", Statistic::kNormalRatio},
+      {"tangential_ratio", Statistic::kTangentialRatio}};
   for (const auto& [text, statistic] : named)
     if (quantity == text) return id.With(statistic);
   if (quantity.size() > 1 && quantity[0] == 'p')
