@@ -97,6 +97,8 @@ std::vector<ReportSection> Sections(const Context& c) {
     if (!rec.misfit_after.residuals.empty())
       add("fit", "Fit to the observations", sections::FitSection);
     if (!rec.misfit_after.runs.empty()) add("runs", "Tracked runs", sections::RunsSection);
+    if (!rec.misfit_after.impacts.empty())
+      add("impacts", "Measured impacts", sections::ImpactsSection);
     if (rec.posterior && !rec.posterior->samples.empty())
       add("posterior", "Posterior and predictive bands", sections::PosteriorSection);
   }

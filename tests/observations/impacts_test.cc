@@ -103,6 +103,11 @@ TEST_F(ImpactsFileTest, ReadsTheCsvAndJsonForms) {
   EXPECT_EQ(csv.impacts[0].velocity_out, Eigen::Vector3d(5, 0, 2));
   ASSERT_TRUE(csv.impacts[0].spin.has_value());
   EXPECT_EQ(*csv.impacts[0].spin, Eigen::Vector3d(0, -3, 0));
+  // The ground's normal as the replays take it (core::GroundNormal).
+  Eigen::Vector3d n;
+  ASSERT_TRUE(core::GroundNormal(core::BuildTerrain(scene_), 10, 10, &n));
+  EXPECT_NEAR((csv.impacts[0].normal - n).norm(), 0.0, 1e-12) << csv.impacts[0].normal.transpose();
+  EXPECT_NEAR((n - Eigen::Vector3d(0.3, 0, 1).normalized()).norm(), 0.0, 1e-12);
   EXPECT_EQ(csv.impact_draws, 8);
   EXPECT_DOUBLE_EQ(csv.error.rebound, 0.08);
   EXPECT_FALSE(csv.empty());
@@ -217,6 +222,7 @@ Twin MakeTwin() {
     impact.centre = replays[k].centre;
     impact.velocity_in = v;
     impact.velocity_out = -mn * v.dot(n) * n + mt * vt;
+    impact.normal = n;
     twin.obs.impacts.push_back(impact);
   }
   twin.obs.error.rebound = 0.05;

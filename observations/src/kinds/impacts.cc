@@ -94,6 +94,7 @@ void AddImpact(const Reader& reader, const std::string& where, const std::string
     throw InputError(where, "columns 'vx_out', 'vy_out', 'vz_out': " + Vec(impact.velocity_out) +
                                 " m/s does not leave the ground (normal " + Vec(n) +
                                 "); expected the velocity after the impact");
+  impact.normal = n;
   obs->impacts.push_back(std::move(impact));
 }
 
@@ -249,16 +250,18 @@ void CompareRatio(const MisfitTerms& terms, const ResidualId& id, Statistic stat
   terms.compare.Residual(id, statistic, median, observed, *sigma, (median - observed) / *sigma);
 }
 
+// The ratios are taken about the impact's own normal (read from the grid),
+// so which residuals an impact has never depends on a simulation.
 ImpactFit FitImpact(const Impact& impact, const core::ImpactRebound& rebound) {
   ImpactFit fit;
   fit.id = impact.id;
   fit.group = impact.group;
-  fit.normal = rebound.normal;
+  fit.normal = impact.normal;
   fit.observed = impact.velocity_out;
   const Eigen::Vector3d& v = impact.velocity_in;
   fit.incidence_deg =
-      std::acos(std::clamp(-v.dot(rebound.normal) / v.norm(), -1.0, 1.0)) * 180.0 / kPi;
-  const core::ReboundRatios observed = core::RatiosOf(v, impact.velocity_out, rebound.normal);
+      std::acos(std::clamp(-v.dot(impact.normal) / v.norm(), -1.0, 1.0)) * 180.0 / kPi;
+  const core::ReboundRatios observed = core::RatiosOf(v, impact.velocity_out, impact.normal);
   fit.normal_observed = observed.normal;
   fit.tangential_observed = observed.tangential;
   std::vector<double> component[3], speed;
@@ -269,7 +272,7 @@ ImpactFit FitImpact(const Impact& impact, const core::ImpactRebound& rebound) {
     fit.left += rebound.left[d] ? 1 : 0;
     for (int k = 0; k < 3; ++k) component[k].push_back(out[k]);
     speed.push_back(out.norm());
-    const core::ReboundRatios r = core::RatiosOf(v, out, rebound.normal);
+    const core::ReboundRatios r = core::RatiosOf(v, out, impact.normal);
     fit.normal_draws.push_back(r.normal);
     if (std::isfinite(r.tangential)) fit.tangential_draws.push_back(r.tangential);
   }
@@ -293,11 +296,15 @@ void AddResiduals(const Observations& obs, const MisfitTerms& terms) {
   for (std::size_t i = 0; i < obs.impacts.size(); ++i) {
     ImpactFit fit = FitImpact(obs.impacts[i], rebounds[i]);
     const ResidualId id = ResidualId::Of(ObservationKind::kImpact, static_cast<int>(i), fit.id);
-    if (fit.draws == 0) {
-      const double value = std::sqrt(terms.options.penalty);  // 2 residuals: the penalty in all
+    const bool tangential = std::isfinite(fit.tangential_observed);
+    observed_n.push_back(fit.normal_observed);
+    if (tangential) observed_t.push_back(fit.tangential_observed);
+    if (fit.draws == 0) {  // its residuals add up to the penalty
+      const double value = std::sqrt(2.0 * terms.options.penalty / (tangential ? 2.0 : 1.0));
       terms.compare.Residual(id, Statistic::kNormalRatio, 0.0, fit.normal_observed, 1.0, value);
-      terms.compare.Residual(id, Statistic::kTangentialRatio, 0.0, fit.tangential_observed, 1.0,
-                             value);
+      if (tangential)
+        terms.compare.Residual(id, Statistic::kTangentialRatio, 0.0, fit.tangential_observed, 1.0,
+                               value);
       terms.misfit->penalised = true;
       terms.misfit->message += "impact " + fit.id + ": no replay ended with a finite velocity. ";
       terms.misfit->impacts.push_back(std::move(fit));
@@ -305,14 +312,12 @@ void AddResiduals(const Observations& obs, const MisfitTerms& terms) {
     }
     CompareRatio(terms, id, Statistic::kNormalRatio, fit.normal_draws, fit.normal_observed, e,
                  &fit.normal_simulated, &fit.normal_spread, &fit.normal_sigma);
-    if (std::isfinite(fit.tangential_observed) && !fit.tangential_draws.empty())
+    if (tangential)  // then every draw's is defined too (RatiosOf: v_in and n alone decide)
       CompareRatio(terms, id, Statistic::kTangentialRatio, fit.tangential_draws,
                    fit.tangential_observed, e, &fit.tangential_simulated, &fit.tangential_spread,
                    &fit.tangential_sigma);
     pooled_n.insert(pooled_n.end(), fit.normal_draws.begin(), fit.normal_draws.end());
     pooled_t.insert(pooled_t.end(), fit.tangential_draws.begin(), fit.tangential_draws.end());
-    observed_n.push_back(fit.normal_observed);
-    if (std::isfinite(fit.tangential_observed)) observed_t.push_back(fit.tangential_observed);
     terms.misfit->impacts.push_back(std::move(fit));
   }
   if (observed_n.size() >= kMinPooled)

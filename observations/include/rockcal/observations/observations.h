@@ -105,6 +105,9 @@ struct Impact {
   Eigen::Vector3d velocity_in = Eigen::Vector3d::Zero();   // m/s
   Eigen::Vector3d velocity_out = Eigen::Vector3d::Zero();  // m/s
   std::optional<Eigen::Vector3d> spin;                     // rad/s, measured incoming spin
+  // The ground's unit normal there (core::GroundNormal's, from the grid):
+  // the rebound ratios are taken about it.
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
 };
 constexpr int kDefaultImpactDraws = 16;
 
