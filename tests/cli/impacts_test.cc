@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "../reports/report_check.h"
 #include "cli_fixture.h"
 
 namespace rockcal::cli {
@@ -73,6 +74,13 @@ TEST(Impacts, CalibrateAndScoreWriteTheImpactsFiguresAndTheReportSection) {
   const std::string report = ReadFile(out + "/report.html");
   EXPECT_THAT(report, HasSubstr("Measured impacts"));
   EXPECT_THAT(report, HasSubstr("Rebound ratios against the impact angle"));
+  // Its numbers are calibration.json's, and the page stays self-contained.
+  const reports::testing::Parsed parsed = reports::testing::ParseReport(report);
+  EXPECT_TRUE(reports::testing::HasSection(parsed, "impacts"));
+  reports::testing::ExpectSelfContained(parsed);
+  const auto seen = reports::testing::CheckNumbers(parsed, {{"calibration.json", cal}});
+  ASSERT_EQ(seen.count("calibration.json"), 1u);
+  EXPECT_EQ(seen.at("calibration.json").count("/impacts/per_impact/3/normal_ratio/observed"), 1u);
 
   const std::string scored = FreshDir("score");
   r = Rockcal("score " + site + "/site.json --observations " + site +
