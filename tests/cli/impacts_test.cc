@@ -90,6 +90,21 @@ TEST(Impacts, CalibrateAndScoreWriteTheImpactsFiguresAndTheReportSection) {
   EXPECT_EQ(ReadFile(scored + "/impacts.csv").substr(0, 40), csv.substr(0, 40));
 }
 
+TEST(Impacts, HoldoutDealsTheImpactsOverTheFolds) {
+  const std::string site = TutorialWithImpacts(FreshDir("site"), kImpacts);
+  const std::string out = FreshDir("out");
+  const RunResult r =
+      Rockcal("calibrate " + site + "/site.json --observations " + site +
+              "/observations.json --rocks 4 --reach 0 --seed 2 --max-evals 3 --holdout 2 "
+              "--quiet --out " +
+              out);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json h = nlohmann::json::parse(ReadFile(out + "/holdout.json"));
+  int held = 0;
+  for (const auto& fold : h["per_fold"]) held += fold["held_out_values"].get<int>();
+  EXPECT_EQ(held, 30 + 30 + 4) << "every scar, stop point and impact held out once";
+}
+
 TEST(Impacts, ABadImpactsFileIsExit2NamingFileAndLine) {
   const std::string site = TutorialWithImpacts(
       FreshDir("site"), std::string(kImpacts) + "e,s9,150,100,118.9,15,0,-35,20,0,8\n");
