@@ -24,6 +24,7 @@
 #include "rockcal/parallel/parallel.h"
 #include "rockcal/reports/calibration_outputs.h"
 #include "rockcal/reports/html_report.h"
+#include "rockcal/reports/impact_outputs.h"
 #include "rockcal/reports/output_dir.h"
 #include "rockcal/reports/raster_outputs.h"
 #include "rockcal/reports/result_files.h"
@@ -261,6 +262,10 @@ void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
   reports::WriteFileAtomically(out + "/parameters.csv", reports::ParametersCsv(summary));
   reports::WriteFileAtomically(out + "/parameters.md", reports::ParametersMarkdown(summary));
   reports::WriteFileAtomically(out + "/trace.csv", reports::TraceCsv(summary));
+  if (!summary.misfit_after.impacts.empty())
+    reports::WriteFileAtomically(out + "/impacts.csv",
+                                 reports::ImpactsCsv(summary.misfit_after, summary.calibrated,
+                                                     1.0 / sites::LengthToSI(1.0, site.units)));
   if (summary.posterior)
     reports::WriteFileAtomically(out + "/posterior.csv",
                                  calibrate::PosteriorCsv(*summary.posterior));
@@ -307,6 +312,8 @@ void PrintCalibration(const std::string& out, const calibrate::CalibrationSummar
   if (const std::string tracks = observations::TracksVerdictSentence(summary.misfit_after);
       !tracks.empty())
     std::printf("%s\n", tracks.c_str());
+  if (!summary.misfit_after.impacts.empty())
+    std::printf("impacts: %s\n", observations::ImpactVerdict(summary.misfit_after).c_str());
   if (!summary.misfit_after.runs.empty())
     std::printf(
         "tracked runs: %zu, mean |median simulated - observed| runout %.3g m, %d simulated "

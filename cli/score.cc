@@ -12,6 +12,7 @@
 #include "rockcal/observations/misfit.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/reports/html_report.h"
+#include "rockcal/reports/impact_outputs.h"
 #include "rockcal/reports/output_dir.h"
 #include "rockcal/reports/result_files.h"
 #include "rockcal/reports/simulation_outputs.h"
@@ -44,6 +45,10 @@ int Score(const std::vector<std::string>& argv) {
   reports::WriteSimulationFiles(dir.folder(), score.scene, sim);
   reports::WriteScoreFile(dir.folder(),
                           calibrate::ScoreResultOf(score, obs.path, options.parameters_file));
+  if (!score.misfit.impacts.empty())
+    reports::WriteFileAtomically(
+        dir.File("impacts.csv"),
+        reports::ImpactsCsv(score.misfit, score.scene, 1.0 / sites::LengthToSI(1.0, site.units)));
   const core::RasterSet rasters = core::ComputeRasters(score.scene, sim);
   reports::ReportInput report = SiteReport(site, score.scene, sim, &rasters);
   report.observations = &obs;
@@ -59,6 +64,8 @@ int Score(const std::vector<std::string>& argv) {
     if (const std::string tracks = observations::TracksVerdictSentence(score.misfit);
         !tracks.empty())
       std::printf("%s\n", tracks.c_str());
+    if (!score.misfit.impacts.empty())
+      std::printf("impacts: %s (impacts.csv)\n", observations::ImpactVerdict(score.misfit).c_str());
     std::printf("wrote %s/score.json, summary.json, rocks.csv, diagnostics.json, report.html\n",
                 out.c_str());
   }

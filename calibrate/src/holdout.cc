@@ -31,7 +31,7 @@ HoldoutSummary CrossValidate(const sites::Site& site, const observations::Observ
     FoldResult r;
     r.fold = fold.index + 1;
     for (const auto& s : fold.scars) r.held_out_values += static_cast<int>(s.size());
-    r.held_out_values += static_cast<int>(fold.runout.size());
+    r.held_out_values += static_cast<int>(fold.runout.size() + fold.impacts.size());
     CalibrationOptions o = options;
     o.posterior.reset();  // the folds check the point estimate only
     // Each fold searches as the full calibration does, reach check and race

@@ -110,6 +110,12 @@ Objective::Objective(core::Scene scene, ParameterSpace space,
                                   Eigen::Vector3d::Zero(), Eigen::Vector4d(1, 0, 0, 0)});
   }
   shape.rocks[1].stop = Eigen::Vector3d(1, 1, 0);
+  for (const core::ImpactReplay& impact : scene_.options.record.impacts) {
+    core::ImpactRebound replays;
+    replays.velocity.assign(static_cast<std::size_t>(impact.draws), Eigen::Vector3d(1, 0, 1));
+    replays.left.assign(static_cast<std::size_t>(impact.draws), 1);
+    shape.impacts.push_back(std::move(replays));
+  }
   residual_count_ = static_cast<int>(
       observations::ComputeMisfit(observations_, scene_, shape, misfit_).residuals.size());
 }

@@ -107,6 +107,12 @@ observations::ResidualId ResidualIdOf(const std::string& observation, const std:
     id = ResidualId::Of(ObservationKind::kRunoutStopped);
   } else if (starts("run ")) {
     id = ResidualId::Of(ObservationKind::kRun, -1, observation.substr(4));
+  } else if (observation == "impacts normal ratio") {
+    id = ResidualId::Of(ObservationKind::kImpactsNormal);
+  } else if (observation == "impacts tangential ratio") {
+    id = ResidualId::Of(ObservationKind::kImpactsTangential);
+  } else if (starts("impact ")) {
+    id = ResidualId::Of(ObservationKind::kImpact, -1, observation.substr(7));
   } else if (starts("tree_scars[")) {
     id = indexed(ObservationKind::kTreeScars);
   } else if (starts("passing[")) {
@@ -122,10 +128,13 @@ observations::ResidualId ResidualIdOf(const std::string& observation, const std:
   } else if (!observation.empty()) {
     throw std::invalid_argument("unknown residual observation '" + observation + "'");
   }
-  const std::pair<const char*, Statistic> named[] = {{"max", Statistic::kMax},
-                                                     {"share", Statistic::kShare},
-                                                     {"fraction", Statistic::kFraction},
-                                                     {"runout", Statistic::kRunout}};
+  const std::pair<const char*, Statistic> named[] = {
+      {"max", Statistic::kMax},
+      {"share", Statistic::kShare},
+      {"fraction", Statistic::kFraction},
+      {"runout", Statistic::kRunout},
+      {"normal_ratio", Statistic::kNormalRatio},
+      {"tangential_ratio", Statistic::kTangentialRatio}};
   for (const auto& [text, statistic] : named)
     if (quantity == text) return id.With(statistic);
   if (quantity.size() > 1 && quantity[0] == 'p')

@@ -16,10 +16,12 @@
 #include "contact_search.h"
 #include "flight.h"
 #include "look_ahead.h"
+#include "rebound.h"
 #include "recording.h"
 #include "rest.h"
 #include "rock_state.h"
 #include "rockcal/core/contact.h"
+#include "rockcal/core/impact_replay.h"
 #include "rockcal/core/polygon.h"
 #include "rockcal/core/random.h"
 #include "stems.h"
@@ -106,6 +108,39 @@ class RockRun {
       }
     }
     Finish(outcome);
+  }
+
+  // An observed impact replayed (core/impact_replay.h): from s on the
+  // production path until the rock has touched the ground and is in flight
+  // again, moving away from it along `normal`, or until max_time (or
+  // contact_seconds after its first contact, if sooner). Returns
+  // true when it left the ground; *velocity is its velocity then.
+  bool Rebound(const RockState& s, const Eigen::Vector3d& normal, double max_time,
+               double contact_seconds, Eigen::Vector3d* velocity) {
+    Start(s);
+    bool touched = false, left = false;
+    Outcome outcome = Outcome::kTimeout;
+    while (s_.t < max_time) {
+      Advance();
+      if (!s_.x.allFinite() || !s_.v.allFinite() || !s_.w.allFinite()) {
+        outcome = Outcome::kLeft;
+        break;
+      }
+      if (forces_.touching()) {
+        if (!touched) max_time = std::min(max_time, s_.t + contact_seconds);
+        touched = true;
+      } else if (touched && s_.v.dot(normal) > 0.0) {
+        left = true;
+        break;
+      }
+      if (!ctx_.terrain.OnSlope(s_.x.x(), s_.x.y())) {
+        outcome = Outcome::kLeft;
+        break;
+      }
+    }
+    Finish(outcome);
+    *velocity = s_.v;
+    return left;
   }
 
  private:
@@ -598,10 +633,8 @@ SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const Prog
 
 namespace {
 
-// Rocks first, first + stride, ... below last (SimulateRocks: stride 1).
-SimulationResult SimulateStridedRocks(const Scene& scene, const Terrain& terrain, int first,
-                                      int last, int stride, const ProgressFn& progress) {
-  const auto start = std::chrono::steady_clock::now();
+// What every rock of a run shares: the contact laws, the forest's stems.
+SceneContext MakeContext(const Scene& scene, const Terrain& terrain) {
   SceneContext ctx{scene, terrain, {}, Eigen::Vector3d(0, 0, -scene.gravity), 0.0, {}, -1};
   for (const auto& m : scene.materials) {
     ctx.laws.push_back(DeriveContactLaw(m, scene.hardness_model));
@@ -614,6 +647,14 @@ SimulationResult SimulateStridedRocks(const Scene& scene, const Terrain& terrain
       ctx.laws.push_back(scene.forest.Law());
     }
   }
+  return ctx;
+}
+
+// Rocks first, first + stride, ... below last (SimulateRocks: stride 1).
+SimulationResult SimulateStridedRocks(const Scene& scene, const Terrain& terrain, int first,
+                                      int last, int stride, const ProgressFn& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  const SceneContext ctx = MakeContext(scene, terrain);
   struct Job {
     int group;
     int rock;
@@ -703,12 +744,47 @@ SimulationResult SimulateStridedRocks(const Scene& scene, const Terrain& terrain
   for (double b : busy) result.busy_seconds += b;
   result.cells_recorded = scene.options.record.passages;
   result.strikes_recorded = scene.options.record.tree_strikes && !scene.forest.empty();
+  if (first == 0 && !scene.options.record.impacts.empty())
+    result.impacts = ReplayImpacts(scene, terrain, scene.options.record.impacts);
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 
 }  // namespace
+
+void RunRebounds(const Scene& scene, const Terrain& terrain, std::vector<ReboundJob>* jobs) {
+  const SceneContext ctx = MakeContext(scene, terrain);
+  const int threads = scene.options.threads > 0 ? scene.options.threads : omp_get_max_threads();
+  const long n = static_cast<long>(jobs->size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (long k = 0; k < n; ++k) {
+    ReboundJob& job = (*jobs)[static_cast<std::size_t>(k)];
+    bool any_shrunk = false;
+    const StepSizes steps = RockSteps(job.body, ctx.laws, scene, &any_shrunk);
+    RockRecord rec;
+    rec.rock = std::numeric_limits<int>::max();  // no trajectory
+    const bool cluster = job.body.elements.size() > 1 || scene.options.reference_path;
+    RockState s = job.start;
+    if (!cluster) s.q = Eigen::Quaterniond::Identity();
+    const bool forest = !ctx.stems.empty();
+    if (cluster) {
+      if (forest)
+        job.left = RockRun<true, true>(ctx, job.body, steps, &rec)
+                       .Rebound(s, job.normal, job.max_time, job.contact_seconds, &job.velocity);
+      else
+        job.left = RockRun<true, false>(ctx, job.body, steps, &rec)
+                       .Rebound(s, job.normal, job.max_time, job.contact_seconds, &job.velocity);
+    } else {
+      if (forest)
+        job.left = RockRun<false, true>(ctx, job.body, steps, &rec)
+                       .Rebound(s, job.normal, job.max_time, job.contact_seconds, &job.velocity);
+      else
+        job.left = RockRun<false, false>(ctx, job.body, steps, &rec)
+                       .Rebound(s, job.normal, job.max_time, job.contact_seconds, &job.velocity);
+    }
+  }
+}
 
 SimulationResult SimulateRocks(const Scene& scene, const Terrain& terrain, int first, int last,
                                const ProgressFn& progress) {

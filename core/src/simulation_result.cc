@@ -93,6 +93,7 @@ SimulationResult JoinRockBlocks(std::vector<SimulationResult> blocks) {
     out.busy_seconds += b.busy_seconds;
     out.cells_recorded = out.cells_recorded || b.cells_recorded;
     out.strikes_recorded = out.strikes_recorded || b.strikes_recorded;
+    if (out.impacts.empty()) out.impacts = std::move(b.impacts);  // the first block's
     if (b.rocks.empty()) continue;
     out.figures += b.figures;
     if (out.rocks.empty()) {

@@ -84,6 +84,10 @@ std::string ResidualId::quantity() const {
       return "runout";
     case Statistic::kOffset:
       return site + ":" + name + "_offset";
+    case Statistic::kNormalRatio:
+      return "normal_ratio";
+    case Statistic::kTangentialRatio:
+      return "tangential_ratio";
   }
   return "";
 }

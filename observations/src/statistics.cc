@@ -107,6 +107,19 @@ std::string TracksVerdictSentence(const Misfit& misfit) {
   return "tracks: " + what + v.Sentence();
 }
 
+std::string ImpactVerdict(const Misfit& misfit) {
+  if (misfit.impacts.empty()) return "";
+  Misfit own;
+  own.penalised = misfit.penalised;
+  for (const Residual& r : misfit.residuals)
+    if (r.id.kind == ObservationKind::kImpact || r.id.kind == ObservationKind::kImpactsNormal ||
+        r.id.kind == ObservationKind::kImpactsTangential)
+      own.residuals.push_back(r);
+  const FitVerdict v = AssessFit(own);
+  return std::string(v.poor ? "rebounds NOT reproduced" : "rebounds reproduced") + " (" +
+         v.Sentence() + ")";
+}
+
 double QuantileStandardError(const std::vector<double>& sorted, double level) {
   const std::size_t n = sorted.size();
   if (n < 2) return 0.0;

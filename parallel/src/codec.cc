@@ -223,6 +223,15 @@ std::string EncodeResult(const core::SimulationResult& result) {
   w.Double(result.busy_seconds);
   w.Int(result.cells_recorded ? 1 : 0);
   w.Int(result.strikes_recorded ? 1 : 0);
+  w.Int(static_cast<long long>(result.impacts.size()));
+  for (const core::ImpactRebound& impact : result.impacts) {
+    std::vector<double> v(impact.normal.data(), impact.normal.data() + 3);
+    for (std::size_t d = 0; d < impact.velocity.size(); ++d) {
+      v.insert(v.end(), impact.velocity[d].data(), impact.velocity[d].data() + 3);
+      v.push_back(impact.left[d]);
+    }
+    w.Doubles(v);
+  }
   return w.bytes();
 }
 
@@ -238,6 +247,20 @@ core::SimulationResult DecodeResult(const std::string& bytes) {
   result.busy_seconds = r.Double();
   result.cells_recorded = r.Int() != 0;
   result.strikes_recorded = r.Int() != 0;
+  const long long impacts = r.Int();
+  if (impacts < 0) throw std::runtime_error("parallel: a message ended early");
+  for (long long k = 0; k < impacts; ++k) {
+    const std::vector<double> v = r.Doubles();
+    if (v.size() < 3 || (v.size() - 3) % 4 != 0)
+      throw std::runtime_error("parallel: a replayed impact's message is malformed");
+    core::ImpactRebound impact;
+    impact.normal = Eigen::Vector3d(v[0], v[1], v[2]);
+    for (std::size_t i = 3; i < v.size(); i += 4) {
+      impact.velocity.emplace_back(v[i], v[i + 1], v[i + 2]);
+      impact.left.push_back(v[i + 3] != 0.0 ? 1 : 0);
+    }
+    result.impacts.push_back(std::move(impact));
+  }
   if (!r.done()) throw std::runtime_error("parallel: a simulation message has extra bytes");
   return result;
 }

@@ -99,6 +99,8 @@ std::vector<ReportSection> Sections(const Context& c) {
       add("fit", "Fit to the observations", sections::FitSection);
     if (!rec.misfit_after.runs.empty()) add("runs", "Tracked runs", sections::RunsSection);
     if (rec.misfit_after.tracks.tracks > 0) add("tracks", "Tracks", sections::TracksSection);
+    if (!rec.misfit_after.impacts.empty())
+      add("impacts", "Measured impacts", sections::ImpactsSection);
     if (rec.posterior && !rec.posterior->samples.empty())
       add("posterior", "Posterior and predictive bands", sections::PosteriorSection);
   }

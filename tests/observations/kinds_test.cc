@@ -24,7 +24,8 @@ TEST(KindsTest, TheTableListsEveryKindOnceInResidualOrder) {
   std::vector<std::string> names;
   for (const Kind& kind : Kinds()) names.emplace_back(kind.name);
   EXPECT_EQ(names,
-            (std::vector<std::string>{"tree_scars", "runout", "runs", "passing", "tracks_file"}));
+            (std::vector<std::string>{"tree_scars", "runout", "runs", "passing", "tracks_file",
+                                      "impacts"}));
   for (const Kind& kind : Kinds()) {
     EXPECT_NE(kind.read, nullptr) << kind.name << " has no reader";
     EXPECT_NE(kind.misfit, nullptr) << kind.name << " has no misfit terms";
@@ -51,9 +52,10 @@ TEST(KindsTest, EveryResidualKindHasOneKindAndItsText) {
        {ObservationKind::kTreeScars, ObservationKind::kRunoutDistance,
         ObservationKind::kRunoutMassClass, ObservationKind::kRunoutLateral,
         ObservationKind::kRunoutStopped, ObservationKind::kRun, ObservationKind::kPassing,
-        ObservationKind::kTracks})
+        ObservationKind::kTracks, ObservationKind::kImpact, ObservationKind::kImpactsNormal,
+        ObservationKind::kImpactsTangential})
     EXPECT_EQ(owner.count(k), 1u) << "residual kind " << static_cast<int>(k) << " has no kind";
-  EXPECT_EQ(owner.size(), 8u);
+  EXPECT_EQ(owner.size(), 11u);
   EXPECT_EQ(owner.count(ObservationKind::kNone), 0u);
   EXPECT_EQ(owner.count(ObservationKind::kPrior), 0u);
 }
@@ -92,9 +94,10 @@ TEST(KindsTest, TheFileKeysAreTheTablesEachOwnedByOneKind) {
   EXPECT_EQ(file.size(), objects.size() + 2);
   // The keys as the reader has always taken them (docs/reference/observations-file.md).
   EXPECT_EQ(root, (std::vector<std::string>{"units", "tree_scars", "runout", "runs", "runs_file",
-                                            "passing", "passing_file", "tracks_file", "error"}));
-  EXPECT_EQ(error,
-            (std::vector<std::string>{"height", "runout", "passing", "track", "impact_speed"}));
+                                            "passing", "passing_file", "tracks_file", "impacts",
+                                            "impacts_file", "impact_draws", "error"}));
+  EXPECT_EQ(error, (std::vector<std::string>{"height", "runout", "passing", "track",
+                                             "impact_speed", "rebound"}));
 }
 
 }  // namespace

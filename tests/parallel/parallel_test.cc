@@ -58,6 +58,11 @@ core::SimulationResult SampleResult() {
   r.figures.non_finite = 0;
   r.cells_recorded = true;
   r.figures.tunneled = 1;
+  core::ImpactRebound impact;
+  impact.normal = Eigen::Vector3d(0.6, 0, 0.8);
+  impact.velocity = {Eigen::Vector3d(1.0 / 3.0, 2, -0.0), Eigen::Vector3d(4, 5, 6)};
+  impact.left = {1, 0};
+  r.impacts = {impact, core::ImpactRebound{}};
   return r;
 }
 
@@ -80,6 +85,11 @@ TEST(Codec, SimulationResultRoundTripsBitForBit) {
   EXPECT_EQ(back.figures.tunneled, 1);
   EXPECT_EQ(back.figures.rocks, 3);
   EXPECT_EQ(back.busy_seconds, 0.25);
+  ASSERT_EQ(back.impacts.size(), 2u);
+  EXPECT_EQ(back.impacts[0].normal, Eigen::Vector3d(0.6, 0, 0.8));
+  EXPECT_EQ(back.impacts[0].velocity[0].x(), 1.0 / 3.0);
+  EXPECT_EQ(back.impacts[0].left, (std::vector<char>{1, 0}));
+  EXPECT_TRUE(back.impacts[1].velocity.empty());
 }
 
 TEST(Codec, ACutMessageIsAnError) {

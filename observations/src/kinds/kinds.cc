@@ -6,6 +6,7 @@
 
 #include <algorithm>
 
+#include "impacts.h"
 #include "passing.h"
 #include "runout.h"
 #include "runs.h"
@@ -21,6 +22,7 @@ const std::vector<Kind>& Kinds() {
       RunsKind(),     // runs, runs_file
       PassingKind(),  // passing, passing_file
       TracksKind(),   // tracks_file
+      ImpactsKind(),  // impacts, impacts_file
   };
   return kinds;
 }

@@ -134,6 +134,7 @@ std::string TraceSection(const Context& c);             // trace_section.cc
 std::string FitSection(const Context& c);               // fit_section.cc
 std::string RunsSection(const Context& c);              // runs_section.cc
 std::string TracksSection(const Context& c);            // tracks_section.cc
+std::string ImpactsSection(const Context& c);           // impacts_section.cc
 std::string PosteriorSection(const Context& c);         // posterior_section.cc
 std::string PosteriorDrawsSection(const Context& c);    // posterior_draws_section.cc
 std::string DiagnosticsSection(const Context& c);       // diagnostics_section.cc

@@ -108,6 +108,19 @@ struct TreeProbe {
   double radius = 0.0;      // trunk radius [m]
 };
 
+// One observed impact to replay (RecordOptions::impacts; core/impact_replay.h,
+// docs/physics.md "Replayed impacts"): a rock of `group` at `centre` arriving
+// at `velocity_in`, replayed `draws` times with drawn orientations (and spins,
+// unless `spin` is set).
+struct ImpactReplay {
+  int group = 0;                                          // index into Scene::groups
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();       // m, rock centre at the impact
+  Eigen::Vector3d velocity_in = Eigen::Vector3d::Zero();  // m/s, incoming
+  std::optional<Eigen::Vector3d> spin;                    // rad/s, measured incoming spin
+  int draws = 16;                                         // replays, 1 to kMaxImpactDraws
+};
+constexpr int kMaxImpactDraws = 1000;
+
 // What the simulation records; the misfit and reports ask only for what they use.
 struct RecordOptions {
   bool partitions = true;    // crossings at partitions
@@ -124,6 +137,8 @@ struct RecordOptions {
   // misfit (docs/field-campaigns.md, section 6), whatever the rock count
   std::vector<int> trajectory_groups;
   double sample_seconds = 0.05;  // trajectory sampling interval
+  // Observed impacts replayed after the rocks (SimulationResult::impacts).
+  std::vector<ImpactReplay> impacts;
 };
 
 struct SimulationOptions {

@@ -102,8 +102,22 @@ struct RunFigures {
   RunFigures& operator+=(const RunFigures& other);
 };
 
+// The replays of one observed impact (RecordOptions::impacts; core/impact_replay.h).
+struct ImpactRebound {
+  // Unit normal of the ground at the impact, pointing out of it.
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  // m/s, each draw's velocity when in flight again (ImpactReplay::draws).
+  std::vector<Eigen::Vector3d> velocity;
+  // Per draw: 1 when it left the ground, 0 when it was still touching at the
+  // replay's time limit (its velocity then is the one kept).
+  std::vector<char> left;
+};
+
 struct SimulationResult {
   std::vector<RockRecord> rocks;  // in rock order
+  // Per RecordOptions::impacts entry, in order (replayed with the block
+  // holding rock 0: a run split in blocks carries them in its first).
+  std::vector<ImpactRebound> impacts;
   RunFigures figures;             // of `rocks`
   double wall_seconds = 0.0;
   // Wall time the threads spent inside rocks, summed over rocks: at T

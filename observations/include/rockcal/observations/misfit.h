@@ -67,6 +67,11 @@ enum class ObservationKind {
   kPassing,          // a passing fraction: its label, "passing[0] BP-2"
   kTracks,           // a distribution of the tracks: "tracks jump height" (its name)
   kPrior,            // a campaign's offset prior: "prior"
+  kImpact,           // one measured impact's rebound: "impact <id>"
+  // Every impact's normal rebound ratio, pooled: "impacts normal ratio".
+  kImpactsNormal,
+  // Every impact's tangential rebound ratio, pooled: "impacts tangential ratio".
+  kImpactsTangential,
 };
 
 // Which number of an observation a residual compares. Each prints as the
@@ -79,6 +84,10 @@ enum class Statistic {
   kFraction,  // a passing fraction: "fraction"
   kRunout,    // a tracked run's median runout against its stop: "runout"
   kOffset,    // a site's offset of a shared parameter: "<site>:<class>.<parameter>_offset"
+  // An impact's normal rebound ratio (its draws' median): "normal_ratio".
+  kNormalRatio,
+  // An impact's tangential rebound ratio (its draws' median): "tangential_ratio".
+  kTangentialRatio,
 };
 
 // A residual's identity, typed: compare these fields, never the text.
@@ -164,8 +173,30 @@ struct TrackFit {
   std::vector<double> observed_speeds, simulated_speeds;    // m/s, impact speeds
 };
 
+// How the replays of one measured impact (Observations::impacts) compare with
+// it (docs/field-campaigns.md, "Impacts").
+struct ImpactFit {
+  std::string id;
+  int group = 0;                    // index into core::Scene::groups
+  double incidence_deg = 0.0;       // incoming velocity's angle from the ground's normal
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();       // the ground's at the impact
+  Eigen::Vector3d observed = Eigen::Vector3d::Zero();      // m/s, the measured rebound
+  Eigen::Vector3d simulated = Eigen::Vector3d::Zero();     // m/s, the draws' median per component
+  double speed_sd = 0.0;            // m/s, the draws' robust spread of the rebound speed
+  int draws = 0, left = 0;          // replays, of which in flight again
+  // The rebound ratios (core::RatiosOf): observed, the draws' median and
+  // robust spread (1.4826 MAD), and the residual's sigma; tangential NaN for
+  // a near-normal impact.
+  double normal_observed = 0.0, normal_simulated = 0.0, normal_spread = 0.0, normal_sigma = 0.0;
+  double tangential_observed = 0.0, tangential_simulated = 0.0, tangential_spread = 0.0,
+         tangential_sigma = 0.0;
+  std::vector<double> normal_draws, tangential_draws;  // each draw's ratios
+};
+
 struct Misfit {
   std::vector<Residual> residuals;  // empty when the result was non-finite
+  // Measured impacts only: each impact's fit, in the observations' order.
+  std::vector<ImpactFit> impacts;
   // Per-run observations only: each run's fit, in the observations' order.
   std::vector<RunFit> runs;
   // With tracks (Observations::tracks): their distributions; tracks = 0 without.
@@ -230,6 +261,12 @@ FitVerdict AssessFit(const Misfit& misfit);
 // reproduced: good: ..."; "" without tracks residuals.
 FitVerdict AssessTracks(const Misfit& misfit);
 std::string TracksVerdictSentence(const Misfit& misfit);
+
+// The verdict on the measured impacts' residuals alone (ObservationKind
+// kImpact, kImpactsNormal and kImpactsTangential), as AssessFit forms it, in one sentence that
+// says plainly whether the rebounds are reproduced: "rebounds reproduced
+// (good: ...)", or "rebounds NOT reproduced (poor: ...)"; "" without impacts.
+std::string ImpactVerdict(const Misfit& misfit);
 
 // Standard error of the level-p quantile of an ascending sample of n values,
 // from order statistics: positions c -/+ h with c = (n - 1) p (the type-7

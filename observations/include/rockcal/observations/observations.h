@@ -131,6 +131,22 @@ struct Tracks {
   static std::vector<double> Levels();  // 0.25, 0.5, 0.75
 };
 
+// One measured impact of a tracked rock (the file's "impacts" or
+// "impacts_file"; docs/field-campaigns.md): the rock's centre at the impact
+// and its velocity before and after, replayed by core/impact_replay.h.
+struct Impact {
+  std::string id;  // its id (the file's, or "impact <row>")
+  int group = 0;   // index into core::Scene::groups
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();        // m
+  Eigen::Vector3d velocity_in = Eigen::Vector3d::Zero();   // m/s
+  Eigen::Vector3d velocity_out = Eigen::Vector3d::Zero();  // m/s
+  std::optional<Eigen::Vector3d> spin;                     // rad/s, measured incoming spin
+  // The ground's unit normal there (core::GroundNormal's, from the grid):
+  // the rebound ratios are taken about it.
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+};
+constexpr int kDefaultImpactDraws = 16;
+
 // One-sigma measurement errors, SI.
 struct MeasurementErrors {
   double height = 0.0;    // m, of a scar height (> 0 when tree scars are given)
@@ -138,6 +154,7 @@ struct MeasurementErrors {
   double passing = 0.05;  // of a passing fraction, in (0, 1]
   double track = 0.0;     // m, of a track sample's position per axis (> 0 with tracks)
   double impact_speed = 0.0;  // m/s, of a track's impact speed (> 0 with tracks)
+  double rebound = 0.05;  // of a rebound ratio (normal or tangential), > 0
 };
 
 struct Observations {
@@ -147,6 +164,8 @@ struct Observations {
   std::optional<Runout> runout;
   std::vector<Passing> passing;
   std::optional<Tracks> tracks;  // tracks of tracked runs (needs runout with runs)
+  std::vector<Impact> impacts;
+  int impact_draws = kDefaultImpactDraws;  // replays per impact ("impact_draws")
   MeasurementErrors error;
   // What the reader found and chose (e.g. the runout direction), one line each,
   // for `rockcal validate`.
@@ -155,7 +174,9 @@ struct Observations {
   // the CSV files it named (as resolved). A calibration's log fingerprints them.
   std::vector<std::string> inputs;
 
-  bool empty() const { return tree_scars.empty() && !runout && passing.empty() && !tracks; }
+  bool empty() const {
+    return tree_scars.empty() && !runout && passing.empty() && !tracks && impacts.empty();
+  }
 };
 
 // Reads and validates the observations file at `path` against `scene` (whose
@@ -218,6 +239,7 @@ struct Fold {
   std::vector<std::vector<std::size_t>> scars;
   // Indices into runout.distances (and stop_points, lateral).
   std::vector<std::size_t> runout;
+  std::vector<std::size_t> impacts;  // indices into impacts
 };
 
 // Splits the observations into `k` (>= 2) folds: the runout values and each

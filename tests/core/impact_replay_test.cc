@@ -1,0 +1,138 @@
+// Observed impacts replayed on the production path (core/impact_replay.h):
+// a sphere on a smooth plane, without spin, against the exact answer of the
+// contact law (oblique_impact.h, docs/contact-law.md); the ground's normal;
+// the ratios; the draws the same at any thread count.
+#include "rockcal/core/impact_replay.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "oblique_impact.h"
+#include "rockcal/core/material.h"
+#include "rockcal/core/scene.h"
+#include "rockcal/core/simulate.h"
+#include "scene_fixtures.h"
+
+namespace rockcal::core {
+namespace {
+
+using testing::GridScene;
+using testing::ImpactEnd;
+using testing::ImpactLaw;
+using testing::ImpactStart;
+using testing::PointGroup;
+using testing::SmoothMaterial;
+using testing::SolveImpact;
+
+constexpr double kDeg = M_PI / 180.0;
+constexpr double kRadius = 0.5;        // m
+constexpr double kContactTime = 5e-4;  // s
+constexpr double kSpeed = 8.0;         // m/s
+
+// The step's error on this path, as oblique_impact_test.cc measures it: at
+// most 1.1e-3 of the impact speed at N_c = 50; the replay ends at the first
+// step after the contact (gravity's g dt = 1e-4 m/s more). Measured here:
+// at most 4.0e-4 (normal) and 2.4e-4 (tangential) of the impact speed.
+constexpr double kTolerance = 2e-3;  // of the impact speed
+
+Scene PlaneScene(double e, double friction) {
+  Scene scene = GridScene(
+      21, 21, 1.0, [](double, double) { return 0.0; }, SmoothMaterial(e, kContactTime, friction));
+  scene.groups = {PointGroup(Shape::kSphere, 2 * kRadius, 10, 10, 1.0)};
+  scene.options.threads = 1;
+  return scene;
+}
+
+ImpactReplay Arriving(double incidence, int draws = 1) {
+  ImpactReplay impact;
+  impact.group = 0;
+  impact.centre = Eigen::Vector3d(10, 10, kRadius);  // touching
+  impact.velocity_in = kSpeed * Eigen::Vector3d(std::sin(incidence), 0, -std::cos(incidence));
+  impact.spin = Eigen::Vector3d::Zero();
+  impact.draws = draws;
+  return impact;
+}
+
+TEST(ImpactReplay, ASphereOnASmoothPlaneReboundsAsTheContactLawSays) {
+  for (double e : {0.3, 0.7})
+    for (double f : {0.1, 0.5})
+      for (int deg : {10, 30, 60}) {
+        Scene scene = PlaneScene(e, f);
+        const ImpactReplay impact = Arriving(deg * kDeg);
+        scene.options.record.impacts = {impact};
+        const SimulationResult result = Simulate(scene);
+        ASSERT_EQ(result.impacts.size(), 1u);
+        const ImpactRebound& r = result.impacts[0];
+        ASSERT_EQ(r.velocity.size(), 1u);
+        EXPECT_EQ(r.left[0], 1) << "it left the ground";
+        EXPECT_NEAR((r.normal - Eigen::Vector3d::UnitZ()).norm(), 0.0, 1e-12);
+
+        const ContactLaw law = DeriveContactLaw(scene.materials[0], scene.hardness_model);
+        ImpactLaw il;
+        il.omega = std::sqrt(law.stiffness_per_mass);
+        il.zeta = law.damping_ratio;
+        il.tangential_ratio = law.tangential_ratio;
+        il.friction = law.friction;
+        ImpactStart in;
+        in.gn = scene.gravity;
+        in.vn = kSpeed * std::cos(deg * kDeg);
+        in.slip = kSpeed * std::sin(deg * kDeg);
+        const ImpactEnd end = SolveImpact(il, in);
+        const double vn = r.velocity[0].z(), vt = r.velocity[0].x();
+        const double vt_exact = in.slip + end.impulse;
+        const ReboundRatios ratios = RatiosOf(impact.velocity_in, r.velocity[0], r.normal);
+        const std::string values =
+            "e " + std::to_string(e) + ", f " + std::to_string(f) + ", incidence " +
+            std::to_string(deg) + " deg: v_n " + std::to_string(vn) + " (exact " +
+            std::to_string(end.vn) + "), v_t " + std::to_string(vt) + " (exact " +
+            std::to_string(vt_exact) + "), R_n " + std::to_string(ratios.normal);
+        EXPECT_NEAR(vn, end.vn, kTolerance * kSpeed) << values;
+        EXPECT_NEAR(vt, vt_exact, kTolerance * kSpeed) << values;
+        EXPECT_NEAR(r.velocity[0].y(), 0.0, 1e-9) << values;
+        // The normal ratio is the restitution, less gravity's impulse over
+        // the contact (at most g t_c / v_n = 1.2e-3 here).
+        EXPECT_NEAR(ratios.normal, e, kTolerance + scene.gravity * kContactTime / in.vn) << values;
+        EXPECT_NEAR(ratios.tangential, vt_exact / in.slip, kTolerance * kSpeed / in.slip) << values;
+      }
+}
+
+TEST(ImpactReplay, DrawsAreTheSameAtAnyThreadCountAndDifferAcrossDraws) {
+  Material m = SmoothMaterial(0.5, kContactTime, 0.5);
+  m.roughness_m = 0.2;
+  Scene scene = GridScene(
+      21, 21, 1.0, [](double x, double) { return -0.3 * x; }, m);
+  scene.groups = {PointGroup(Shape::kBox, 1.0, 10, 10, 1.0)};
+  scene.groups[0].box = Eigen::Vector3d(1.0, 0.7, 0.5);
+  ImpactReplay impact;
+  impact.centre = Eigen::Vector3d(10, 10, -3.0 + 0.5);
+  impact.velocity_in = Eigen::Vector3d(6, 0, -4);
+  impact.draws = 6;
+  scene.options.record.impacts = {impact};
+  const Terrain terrain = BuildTerrain(scene);
+  scene.options.threads = 1;
+  const std::vector<ImpactRebound> one = ReplayImpacts(scene, terrain, {impact});
+  scene.options.threads = 2;
+  const std::vector<ImpactRebound> two = ReplayImpacts(scene, terrain, {impact});
+  ASSERT_EQ(one[0].velocity.size(), 6u);
+  double spread = 0.0;
+  for (int d = 0; d < 6; ++d) {
+    EXPECT_EQ(one[0].velocity[d], two[0].velocity[d]) << "draw " << d;
+    spread = std::max(spread, (one[0].velocity[d] - one[0].velocity[0]).norm());
+  }
+  EXPECT_GT(spread, 0.01) << "a box's draws land on different corners";
+  // The normal of the plane z = -0.3 x.
+  const Eigen::Vector3d n = Eigen::Vector3d(0.3, 0, 1).normalized();
+  EXPECT_NEAR((one[0].normal - n).norm(), 0.0, 1e-9) << one[0].normal.transpose();
+}
+
+TEST(ImpactReplay, RatiosAreTheComponentsAboutTheNormal) {
+  const Eigen::Vector3d n(0, 0, 1);
+  const ReboundRatios r = RatiosOf({3, 4, -5}, {1.5, 2, 2}, n);
+  EXPECT_DOUBLE_EQ(r.normal, 0.4);
+  EXPECT_DOUBLE_EQ(r.tangential, 0.5);
+  EXPECT_TRUE(std::isnan(RatiosOf({0.01, 0, -5}, {0, 0, 2}, n).tangential)) << "near-normal";
+}
+
+}  // namespace
+}  // namespace rockcal::core
