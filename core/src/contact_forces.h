@@ -21,6 +21,7 @@
 #include "rockcal/core/contact.h"
 #include "rockcal/core/material.h"
 #include "rockcal/core/rock_shape.h"
+#include "rockcal/core/scene.h"
 #include "rockcal/core/terrain.h"
 
 namespace rockcal::core {
@@ -35,6 +36,10 @@ struct StepSizes {
   std::vector<MaterialSteps> material;  // Scene::materials order
   double finest = 0.0;                  // the shortest contact step
 };
+// A rock's contact steps on each of `laws` (the scene's materials'); sets
+// *any_shrunk when one was cut below t_c / N_c for stability (time_step.cc).
+StepSizes RockSteps(const RockBody& body, const std::vector<ContactLaw>& laws, const Scene& scene,
+                    bool* any_shrunk);
 
 // The force along the normal [N] of a contact of a rock of `mass` on `law`
 // with `damping_share` of the law's dashpot (DampingShare), at `overlap` and

@@ -604,27 +604,6 @@ Terrain BuildTerrain(const Scene& scene) {
   return Terrain(scene.grid, roughness, max_radius, scene.options.threads);
 }
 
-namespace {
-
-// A rock's contact steps on each material of the scene; sets *any_shrunk
-// when one was cut below t_c / N_c for stability.
-StepSizes RockSteps(const RockBody& body, const std::vector<ContactLaw>& laws, const Scene& scene,
-                    bool* any_shrunk) {
-  StepSizes steps;
-  steps.finest = kInf;
-  for (const auto& law : laws) {
-    bool sh = false;
-    const double dt = ContactTimeStep(body, law, scene.options, &sh);
-    steps.material.push_back({dt, std::max(dt, GentleTimeStep(body, law, scene.options)),
-                              scene.gravity * law.contact_time});
-    steps.finest = std::min(steps.finest, dt);
-    *any_shrunk = *any_shrunk || sh;
-  }
-  return steps;
-}
-
-}  // namespace
-
 SimulationResult Simulate(const Scene& scene) { return Simulate(scene, BuildTerrain(scene)); }
 
 SimulationResult Simulate(const Scene& scene, const Terrain& terrain, const ProgressFn& progress) {

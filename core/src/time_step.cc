@@ -1,6 +1,6 @@
 // The time steps of a rock on a contact law: the stable step, the contact
 // step, the gentle step and the smallest step of a group and of a scene
-// (simulate.h).
+// (simulate.h), and a rock's steps on each material (contact_forces.h).
 #include <omp.h>
 
 #include <Eigen/Geometry>
@@ -93,6 +93,21 @@ double GentleTimeStep(const RockBody& body, const ContactLaw& law, const Simulat
   if (opt.gentle_steps_per_contact <= 0 || opt.reference_path) return 0.0;
   return std::min(law.contact_time / opt.gentle_steps_per_contact,
                   StableTimeStep(body, law, opt.gentle_safety));
+}
+
+StepSizes RockSteps(const RockBody& body, const std::vector<ContactLaw>& laws, const Scene& scene,
+                    bool* any_shrunk) {
+  StepSizes steps;
+  steps.finest = kInf;
+  for (const auto& law : laws) {
+    bool sh = false;
+    const double dt = ContactTimeStep(body, law, scene.options, &sh);
+    steps.material.push_back({dt, std::max(dt, GentleTimeStep(body, law, scene.options)),
+                              scene.gravity * law.contact_time});
+    steps.finest = std::min(steps.finest, dt);
+    *any_shrunk = *any_shrunk || sh;
+  }
+  return steps;
 }
 
 }  // namespace rockcal::core
