@@ -22,6 +22,7 @@
 #include "rockcal/core/rasters.h"
 #include "rockcal/observations/misfit.h"
 #include "rockcal/parallel/parallel.h"
+#include "rockcal/reports/calibration_folder.h"
 #include "rockcal/reports/calibration_outputs.h"
 #include "rockcal/reports/html_report.h"
 #include "rockcal/reports/impact_outputs.h"
@@ -246,50 +247,6 @@ std::string RankCalibrationFolder(const std::string& out) {
 
 namespace {
 
-// Every file of a finished calibration in DIR `out` (with `rasters`, the
-// maps of the simulation at the calibrated values that the report shows);
-// calibration.json, which marks the folder complete, after every other file.
-void WriteCalibrationFiles(const std::string& out, const sites::Site& site,
-                           const observations::Observations& obs,
-                           const calibrate::CalibrationSummary& summary,
-                           const std::optional<calibrate::HoldoutSummary>& holdout, bool rasters) {
-  // One set of maps for rasters.tif and the report's plan view.
-  const core::RasterSet maps = core::ComputeRasters(summary.calibrated, summary.simulation);
-  reports::WriteSimulationFiles(out, summary.calibrated, summary.simulation);
-  if (rasters) reports::WriteRasterFiles(out, maps, SiteRasterFrame(site));
-  reports::WriteFileAtomically(out + "/parameters.json",
-                               reports::ParametersJson(summary).dump(2) + "\n");
-  reports::WriteFileAtomically(out + "/parameters.csv", reports::ParametersCsv(summary));
-  reports::WriteFileAtomically(out + "/parameters.md", reports::ParametersMarkdown(summary));
-  reports::WriteFileAtomically(out + "/trace.csv", reports::TraceCsv(summary));
-  if (!summary.misfit_after.impacts.empty())
-    reports::WriteFileAtomically(out + "/impacts.csv",
-                                 reports::ImpactsCsv(summary.misfit_after, summary.calibrated,
-                                                     1.0 / sites::LengthToSI(1.0, site.units)));
-  if (summary.posterior)
-    reports::WriteFileAtomically(out + "/posterior.csv",
-                                 calibrate::PosteriorCsv(*summary.posterior));
-  nlohmann::json calibration = reports::CalibrationJson(summary);
-  if (holdout) {
-    calibration["holdout"] = reports::HoldoutJson(*holdout, summary);
-    reports::WriteFileAtomically(out + "/holdout.json", calibration["holdout"].dump(2) + "\n");
-    reports::WriteFileAtomically(out + "/holdout.csv", reports::HoldoutCsv(*holdout, summary));
-  }
-  if (summary.reach)
-    reports::WriteFileAtomically(out + "/reach.json", reports::JsonText(*summary.reach));
-  reports::ReportInput report = SiteReport(site, summary.calibrated, summary.simulation, &maps);
-  report.calibration = &summary;
-  report.observations = &obs;
-  if (holdout) report.holdout = &*holdout;
-  reports::WriteFileAtomically(out + "/report.html", reports::HtmlReport(report));
-  if (summary.methods.size() > 1) {
-    reports::WriteFileAtomically(out + "/comparison.csv", reports::ComparisonCsv(summary));
-    reports::WriteFileAtomically(out + "/comparison.md", reports::ComparisonMarkdown(summary));
-  }
-  // Last: calibration.json marks the folder complete (PrepareFolder).
-  reports::WriteFileAtomically(out + "/calibration.json", calibration.dump(2) + "\n");
-}
-
 // The closing lines: the rocks at the calibrated values, the verdict on the
 // fit, the parameter table and what was written.
 void PrintCalibration(const std::string& out, const calibrate::CalibrationSummary& summary,
@@ -392,7 +349,8 @@ int Calibrate(const std::vector<std::string>& argv) {
       }
     }
     // The rasters: asked for, or by default for a site read from GIS files.
-    WriteCalibrationFiles(folder, site, obs, summary, holdout, args.Flag("rasters") || site.gis);
+    reports::WriteCalibrationFolder(folder, site, obs, summary, holdout,
+                                    args.Flag("rasters") || site.gis);
   });
   if (!quiet)
     PrintCalibration(

@@ -29,28 +29,6 @@
 
 namespace rockcal::cli {
 
-reports::ReportInput SiteReport(const sites::Site& site, const core::Scene& scene,
-                                const core::SimulationResult& result,
-                                const core::RasterSet* rasters) {
-  reports::ReportInput report;
-  report.scene = &scene;
-  report.result = &result;
-  report.rasters = rasters;
-  report.site_file = site.path;
-  report.units = site.units;
-  report.notes = site.notes;
-  report.options.barrier_height_m = site.barrier_height_m;
-  report.options.barrier_energy_j = site.barrier_energy_j;
-  return report;
-}
-
-reports::RasterFrame SiteRasterFrame(const sites::Site& site) {
-  reports::RasterFrame frame;
-  frame.crs_wkt = site.crs_wkt;
-  frame.units = site.units;
-  return frame;
-}
-
 std::string RastersWritten(bool asked, const sites::Site& site) {
   if (!asked && !site.gis) return "";
   return std::string(", rasters.tif, rasters/*.asc") +
@@ -102,11 +80,12 @@ SimulateInputs ReadSimulateInputs(const Args& args, const std::string& site_path
                      "goes with --parameters (a calibration's parameters.json or its folder)");
   in.drawn = parameters && parameters->has_posterior() && !args.Flag("point-values");
   if (args.Has("draws") && !in.drawn)
-    throw InputError("argument --draws",
-                     parameters && parameters->has_posterior()
-                         ? "draws posterior parameter sets; --point-values takes the point values only"
-                         : "needs --parameters of a calibration with a posterior (rockcal calibrate "
-                           "--posterior)");
+    throw InputError(
+        "argument --draws",
+        parameters && parameters->has_posterior()
+            ? "draws posterior parameter sets; --point-values takes the point values only"
+            : "needs --parameters of a calibration with a posterior (rockcal calibrate "
+              "--posterior)");
   if (in.drawn) {
     in.samples = calibrate::ReadPosteriorSamples(*parameters);
     in.draws =
@@ -207,7 +186,7 @@ void PrintSimulate(const Args& args, const SimulateInputs& in, const core::Scene
   std::printf("wrote %s/summary.json, rocks.csv, diagnostics.json, report.html%s%s%s%s\n",
               args.Get("out").c_str(),
               scene.options.record.trajectories > 0 ? ", trajectories.csv" : "",
-              scene.forest.empty()                              ? ""
+              scene.forest.empty()                                 ? ""
               : site.drawn_stems_first < scene.forest.stems.size() ? ", tree_impacts.csv, trees.csv"
                                                                    : ", tree_impacts.csv",
               run ? ", draws.csv" : "", RastersWritten(args.Flag("rasters"), site).c_str());
@@ -248,8 +227,8 @@ int Simulate(const std::vector<std::string>& argv) {
   if (run) reports::WriteFileAtomically(dir.File("draws.csv"), calibrate::DrawsCsv(*run));
   if (!scene.forest.empty()) WriteForestFiles(dir, site, result);
   if (args.Flag("rasters") || site.gis)
-    reports::WriteRasterFiles(dir.folder(), rasters, SiteRasterFrame(site));
-  reports::ReportInput report = SiteReport(site, scene, result, &rasters);
+    reports::WriteRasterFiles(dir.folder(), rasters, reports::SiteRasterFrame(site));
+  reports::ReportInput report = reports::SiteReport(site, scene, result, &rasters);
   report.posterior_run = run ? &*run : nullptr;
   reports::WriteFileAtomically(dir.File("report.html"), reports::HtmlReport(report));
   dir.Commit();
@@ -302,8 +281,7 @@ int Validate(const std::vector<std::string>& argv) {
     const double dt = core::GroupContactStep(scene, g, &shrunk);
     std::printf("  %5d %-11s size %.3f-%.3f m  mass %.4g-%.4g kg  contact step %.3g s%s\n", g.count,
                 core::ShapeName(g.shape), std::min(lo.size, hi.size), std::max(lo.size, hi.size),
-                lo.mass, hi.mass, dt,
-                shrunk ? " (shrunk for stability)" : "");
+                lo.mass, hi.mass, dt, shrunk ? " (shrunk for stability)" : "");
   }
   PrintWarnings(sites::IdenticalCopyWarnings(scene));
   if (args.Has("observations")) {

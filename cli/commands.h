@@ -13,16 +13,6 @@
 
 namespace rockcal::cli {
 
-// The report of `result` (simulated from `scene`) with what the site file
-// gives it: the file, its units, the reader's notes and the barrier; its plan
-// view draws `rasters` (the maps of `result`, as written to rasters.tif).
-reports::ReportInput SiteReport(const sites::Site& site, const core::Scene& scene,
-                                const core::SimulationResult& result,
-                                const core::RasterSet* rasters);
-
-// Where the maps lie: the site's CRS and the unit of its coordinates.
-reports::RasterFrame SiteRasterFrame(const sites::Site& site);
-
 // What --rasters adds to the printed list of files: "" without rasters.
 std::string RastersWritten(bool asked, const sites::Site& site);
 

@@ -50,7 +50,7 @@ int Score(const std::vector<std::string>& argv) {
         dir.File("impacts.csv"),
         reports::ImpactsCsv(score.misfit, score.scene, 1.0 / sites::LengthToSI(1.0, site.units)));
   const core::RasterSet rasters = core::ComputeRasters(score.scene, sim);
-  reports::ReportInput report = SiteReport(site, score.scene, sim, &rasters);
+  reports::ReportInput report = reports::SiteReport(site, score.scene, sim, &rasters);
   report.observations = &obs;
   reports::WriteFileAtomically(dir.File("report.html"), reports::HtmlReport(report));
   dir.Commit();

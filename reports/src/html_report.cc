@@ -215,4 +215,18 @@ std::string HtmlReport(const ReportInput& in) {
   return html::PageHtml(page);
 }
 
+ReportInput SiteReport(const sites::Site& site, const core::Scene& scene,
+                       const core::SimulationResult& result, const core::RasterSet* rasters) {
+  ReportInput report;
+  report.scene = &scene;
+  report.result = &result;
+  report.rasters = rasters;
+  report.site_file = site.path;
+  report.units = site.units;
+  report.notes = site.notes;
+  report.options.barrier_height_m = site.barrier_height_m;
+  report.options.barrier_energy_j = site.barrier_energy_j;
+  return report;
+}
+
 }  // namespace rockcal::reports

@@ -239,4 +239,11 @@ void WriteRasterFiles(const std::string& folder, const core::RasterSet& rasters,
   }
 }
 
+RasterFrame SiteRasterFrame(const sites::Site& site) {
+  RasterFrame frame;
+  frame.crs_wkt = site.crs_wkt;
+  frame.units = site.units;
+  return frame;
+}
+
 }  // namespace rockcal::reports

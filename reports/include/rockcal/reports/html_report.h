@@ -77,6 +77,12 @@ std::vector<std::string> ReportSections(const ReportInput& in);
 // digit, '-' or '_' replaced by '_'.
 std::string PartitionSectionId(const std::string& partition_id);
 
+// The report of `result` (simulated from `scene`) with what the site file
+// gives it: the file, its units, the reader's notes and the barrier; its plan
+// view draws `rasters` (the maps of `result`, as written to rasters.tif).
+ReportInput SiteReport(const sites::Site& site, const core::Scene& scene,
+                       const core::SimulationResult& result, const core::RasterSet* rasters);
+
 }  // namespace rockcal::reports
 
 #endif  // ROCKCAL_REPORTS_HTML_REPORT_H_

@@ -9,6 +9,7 @@
 
 #include "rockcal/core/rasters.h"
 #include "rockcal/sites/json_reader.h"
+#include "rockcal/sites/site.h"
 
 namespace rockcal::reports {
 
@@ -26,6 +27,8 @@ struct RasterFrame {
   // band keeps its SI unit (RasterBand::unit: energies in kJ, heights in m).
   sites::Units units = sites::Units::kSI;
 };
+// Where the maps of `site` lie: its CRS and the unit of its coordinates.
+RasterFrame SiteRasterFrame(const sites::Site& site);
 
 // The GDAL geotransform of `rasters` in the length unit of `units`: north
 // up, origin at the north-west corner of cell (0, ny - 1), a cell of
