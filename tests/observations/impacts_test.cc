@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "file_fixture.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/impact_replay.h"
 #include "rockcal/core/simulate.h"
@@ -51,22 +52,8 @@ core::Scene PlaneScene(double hardness = 0.5, double roughness = 0.0) {
   return scene;
 }
 
-class ImpactsFileTest : public ::testing::Test {
+class ImpactsFileTest : public testing::FileTest {
  protected:
-  void SetUp() override {
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() /
-           ("rockcal_impacts_" + std::string(info->test_suite_name()) + "_" + info->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
-  std::string Write(const std::string& name, const std::string& text) const {
-    std::ofstream out(dir_ / name, std::ios::binary);
-    out << text;
-    return (dir_ / name).string();
-  }
   Observations Load(const std::string& json) const {
     return LoadObservations(Write("obs.json", json), scene_);
   }
@@ -81,7 +68,6 @@ class ImpactsFileTest : public ::testing::Test {
     return "";
   }
 
-  std::filesystem::path dir_;
   core::Scene scene_ = PlaneScene();
 };
 

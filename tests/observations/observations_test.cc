@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "file_fixture.h"
 #include "rockcal/core/error.h"
 #include "rockcal/sites/site.h"
 
@@ -44,25 +45,9 @@ core::Scene TutorialScene() {
   return scene;
 }
 
-// A fresh directory per test, removed afterwards.
-class ObservationsFileTest : public ::testing::Test {
+// Observations files read against the tutorial scene.
+class ObservationsFileTest : public testing::FileTest {
  protected:
-  void SetUp() override {
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() /
-           ("rockcal_observations_" + std::string(info->test_suite_name()) + "_" + info->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
-  std::string Write(const std::string& name, const std::string& text) const {
-    const std::filesystem::path p = dir_ / name;
-    std::ofstream out(p, std::ios::binary);
-    out << text;
-    return p.string();
-  }
-
   // Loads `json` written as obs.json; returns the error message ("" if none).
   std::string LoadError(const std::string& json) const {
     try {
@@ -73,7 +58,6 @@ class ObservationsFileTest : public ::testing::Test {
     return "";
   }
 
-  std::filesystem::path dir_;
   core::Scene scene_ = TutorialScene();
 };
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "../core/scene_fixtures.h"
+#include "file_fixture.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/random.h"
 #include "rockcal/core/simulate.h"
@@ -47,21 +48,8 @@ core::Scene TwinScene(double e) {
   return scene;
 }
 
-class TracksTest : public ::testing::Test {
+class TracksTest : public testing::FileTest {
  protected:
-  void SetUp() override {
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() / ("rockcal_tracks_" + std::string(info->name()));
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
-  std::string Write(const std::string& name, const std::string& text) const {
-    std::ofstream out(dir_ / name, std::ios::binary);
-    out << text;
-    return (dir_ / name).string();
-  }
   // The error LoadObservations gives for these tracks ("" when none), with
   // runs "a" and "b" of the flat scene below.
   std::string TracksError(const std::string& tracks_csv,
@@ -87,8 +75,6 @@ class TracksTest : public ::testing::Test {
     scene.groups = {g};
     return scene;
   }
-
-  std::filesystem::path dir_;
 };
 
 // Two flights of a point over level ground z = 0: 1 s each, 5 m/s along x,
