@@ -6,10 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <set>
 #include <vector>
 
 #include "rockcal/core/statistics.h"
+#include "rockcal/reports/forest_outputs.h"
 #include "sections.h"
 
 namespace rockcal::reports::sections {
@@ -32,39 +32,27 @@ std::map<int, StemStrikes> StrikesByStem(const core::SimulationResult& result) {
   return by;
 }
 
-// The opening sentence, every figure from summary.json's "forest".
+// The opening sentence: every figure of summary.json's "forest", as
+// ForestSummaryJson writes it.
 std::string Figures(const Context& c) {
-  long strikes = 0, breaks = 0;
-  int struck = 0, stopped = 0;
-  double absorbed = 0.0;
-  std::set<int> broken;
-  for (const core::RockRecord& r : c.result.rocks) {
-    strikes += static_cast<long>(r.strikes.size());
-    struck += !r.strikes.empty();
-    stopped += !r.strikes.empty() && r.outcome == core::Outcome::kStopped;
-    for (const core::TreeStrike& s : r.strikes) {
-      absorbed += s.absorbed;
-      breaks += s.broken;
-      if (s.broken) broken.insert(s.tree);
-    }
-  }
-  const long stems_broken = static_cast<long>(broken.size());
-  const auto span = [](const char* key, double v, const std::string& shown) {
-    return RefSpan(Ref("summary.json", std::string("/forest/") + key), v, shown);
+  const nlohmann::json f = ForestSummaryJson(c.scene, c.result);
+  const auto span = [&f](const char* key, const std::string& shown) {
+    return RefSpan(Ref("summary.json", std::string("/forest/") + key), f.at(key).get<double>(),
+                   shown);
   };
+  const auto count = [&f](const char* key) { return Int(f.at(key).get<long>()); };
+  const double absorbed = f.at("energy_absorbed_j").get<double>();
   const int rocks = Rocks(c);
-  return "<p>" +
-         span("stems", static_cast<double>(c.scene.forest.stems.size()),
-              Int(static_cast<long>(c.scene.forest.stems.size()))) +
-         " stems stand on the slope. " + span("rocks_struck", struck, Int(struck)) + " of " +
-         Int(rocks) + " rocks (" + Percent(rocks > 0 ? static_cast<double>(struck) / rocks : 0.0) +
-         ") struck a stem, " + span("strikes", static_cast<double>(strikes), Int(strikes)) +
-         " strikes in all; " + span("rocks_stopped_after_strike", stopped, Int(stopped)) +
+  const long struck = f.at("rocks_struck").get<long>();
+  return "<p>" + span("stems", count("stems")) + " stems stand on the slope. " +
+         span("rocks_struck", count("rocks_struck")) + " of " + Int(rocks) + " rocks (" +
+         Percent(rocks > 0 ? static_cast<double>(struck) / rocks : 0.0) + ") struck a stem, " +
+         span("strikes", count("strikes")) + " strikes in all; " +
+         span("rocks_stopped_after_strike", count("rocks_stopped_after_strike")) +
          " of the rocks that struck a stem stopped on the slope. The trunks took " +
-         span("energy_absorbed_j", absorbed, Int(std::lround(absorbed)) + " J") + " (" +
-         Label(absorbed / 1e6, 3) + " MJ)" + " from the rocks, and " +
-         span("breaks", static_cast<double>(breaks), Int(breaks)) + " strikes broke their stem, " +
-         span("stems_broken", static_cast<double>(stems_broken), Int(stems_broken)) +
+         span("energy_absorbed_j", Int(std::lround(absorbed)) + " J") + " (" +
+         Label(absorbed / 1e6, 3) + " MJ) from the rocks, and " + span("breaks", count("breaks")) +
+         " strikes broke their stem, " + span("stems_broken", count("stems_broken")) +
          " different stems (a stem broken by one rock stands again for the next). "
          "A rock that struck no stem ran as on a bare slope.</p>";
 }
