@@ -1,30 +1,16 @@
 // What a simulation returns, summed and summarised: outcome names, a rock's
 // run figures and their sum, blocks of rocks joined, the statistics, the
 // fence check and the runout (simulate.h).
-#include <omp.h>
-
-#include <Eigen/Geometry>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdint>
-#include <iterator>
-#include <limits>
+#include <set>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
-#include "contact_forces.h"
-#include "contact_search.h"
-#include "flight.h"
-#include "look_ahead.h"
-#include "recording.h"
-#include "rest.h"
-#include "rock_state.h"
-#include "rockcal/core/contact.h"
-#include "rockcal/core/polygon.h"
-#include "rockcal/core/random.h"
 #include "rockcal/core/simulate.h"
-#include "stems.h"
+#include "rockcal/core/statistics.h"
 
 namespace rockcal::core {
 namespace {

@@ -1,30 +1,13 @@
 // The time steps of a rock on a contact law: the stable step, the contact
 // step, the gentle step and the smallest step of a group and of a scene
 // (simulate.h), and a rock's steps on each material (contact_forces.h).
-#include <omp.h>
-
-#include <Eigen/Geometry>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdint>
-#include <iterator>
 #include <limits>
-#include <stdexcept>
-#include <string>
+#include <vector>
 
 #include "contact_forces.h"
-#include "contact_search.h"
-#include "flight.h"
-#include "look_ahead.h"
-#include "recording.h"
-#include "rest.h"
-#include "rock_state.h"
-#include "rockcal/core/contact.h"
-#include "rockcal/core/polygon.h"
-#include "rockcal/core/random.h"
 #include "rockcal/core/simulate.h"
-#include "stems.h"
 
 namespace rockcal::core {
 namespace {
