@@ -54,7 +54,7 @@ ReachVerdict VerdictOf(const std::string& text) {
 
 ReachStatistic StatisticOf(const json& j) {
   ReachStatistic s;
-  s.id = ResidualIdOf(j.at("observation").get<std::string>(), j.at("quantity").get<std::string>());
+  s.id = observations::ResidualId::Parse(j.at("observation").get<std::string>(), j.at("quantity").get<std::string>());
   s.observed = Number(j, "observed");
   s.sigma = Number(j, "sigma");
   s.min = Number(j, "min");

@@ -77,73 +77,6 @@ Parameter ParameterOf(const std::string& material, std::string name) {
   return p;
 }
 
-// The identity of a residual from its texts, ResidualId::observation and
-// ::quantity, as one site's misfit prints them (reach.json and score.json
-// hold them so): the kind and name from the observation, the statistic and
-// level from the quantity. A campaign's site prefix and offsets are not
-// among them; an index the text does not carry (a mass class's, a run's)
-// stays -1.
-observations::ResidualId ResidualIdOf(const std::string& observation, const std::string& quantity) {
-  using observations::ObservationKind;
-  using observations::ResidualId;
-  using observations::Statistic;
-  auto starts = [&](const std::string& prefix) { return observation.rfind(prefix, 0) == 0; };
-  // "tree_scars[2] <label>", "passing[0] <label>": the index in brackets.
-  auto indexed = [&](ObservationKind kind) {
-    return ResidualId::Of(kind, std::atoi(observation.c_str() + observation.find('[') + 1),
-                          observation);
-  };
-  const std::string mass = "runout distance, mass ", kg = " kg";
-  ResidualId id;
-  if (observation == "runout distance") {
-    id = ResidualId::Of(ObservationKind::kRunoutDistance);
-  } else if (starts(mass) && observation.size() > mass.size() + kg.size()) {
-    id = ResidualId::Of(
-        ObservationKind::kRunoutMassClass, -1,
-        observation.substr(mass.size(), observation.size() - mass.size() - kg.size()));
-  } else if (observation == "runout lateral") {
-    id = ResidualId::Of(ObservationKind::kRunoutLateral);
-  } else if (observation == "runout stopped") {
-    id = ResidualId::Of(ObservationKind::kRunoutStopped);
-  } else if (starts("run ")) {
-    id = ResidualId::Of(ObservationKind::kRun, -1, observation.substr(4));
-  } else if (observation == "impacts normal ratio") {
-    id = ResidualId::Of(ObservationKind::kImpactsNormal);
-  } else if (observation == "impacts tangential ratio") {
-    id = ResidualId::Of(ObservationKind::kImpactsTangential);
-  } else if (starts("impact ")) {
-    id = ResidualId::Of(ObservationKind::kImpact, -1, observation.substr(7));
-  } else if (starts("tree_scars[")) {
-    id = indexed(ObservationKind::kTreeScars);
-  } else if (starts("passing[")) {
-    id = indexed(ObservationKind::kPassing);
-  } else if (starts("tracks ")) {
-    const std::string name = observation.substr(7);
-    id = ResidualId::Of(ObservationKind::kTracks,
-                        name == "jump height"    ? 0
-                        : name == "jump length"  ? 1
-                        : name == "impact speed" ? 2
-                                                 : -1,
-                        name);
-  } else if (!observation.empty()) {
-    throw std::invalid_argument("unknown residual observation '" + observation + "'");
-  }
-  const std::pair<const char*, Statistic> named[] = {
-      {"max", Statistic::kMax},
-      {"share", Statistic::kShare},
-      {"fraction", Statistic::kFraction},
-      {"runout", Statistic::kRunout},
-      {"normal_ratio", Statistic::kNormalRatio},
-      {"tangential_ratio", Statistic::kTangentialRatio}};
-  for (const auto& [text, statistic] : named)
-    if (quantity == text) return id.With(statistic);
-  if (quantity.size() > 1 && quantity[0] == 'p')
-    return id.With(Statistic::kQuantile, std::stod(quantity.substr(1)) / 100.0);
-  if (!quantity.empty())
-    throw std::invalid_argument("unknown residual quantity '" + quantity + "'");
-  return id;
-}
-
 // The parameter labelled "<material>.<name>" (Parameter::label).
 Parameter ParameterOfLabel(const std::string& label) {
   const std::size_t dot = label.rfind('.');
@@ -432,7 +365,7 @@ void from_json(const json& j, ScoreResult& s) {
   for (const json& r : j.at("residuals")) {
     observations::Residual res;
     res.id =
-        ResidualIdOf(r.at("observation").get<std::string>(), r.at("quantity").get<std::string>());
+        observations::ResidualId::Parse(r.at("observation").get<std::string>(), r.at("quantity").get<std::string>());
     res.simulated = r.at("simulated").get<double>();
     res.observed = r.at("observed").get<double>();
     res.sigma = r.at("sigma").get<double>();

@@ -29,9 +29,6 @@ nlohmann::json Outcomes(int stopped, int left, int timeout);
 // The parameter of `material` called `name` (a field's name, with "_offset"
 // after it for an offset).
 Parameter ParameterOf(const std::string& material, std::string name);
-// The identity of a residual from its texts, ResidualId::observation and
-// ::quantity, as one site's misfit prints them.
-observations::ResidualId ResidualIdOf(const std::string& observation, const std::string& quantity);
 // The parameter labelled "<material>.<name>" (Parameter::label).
 Parameter ParameterOfLabel(const std::string& label);
 // The time steps and work of a run (RunFigures) as the stability cases and

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <tuple>
@@ -90,6 +91,26 @@ std::string ResidualId::quantity() const {
       return "tangential_ratio";
   }
   return "";
+}
+
+ResidualId ResidualId::Parse(const std::string& observation, const std::string& quantity) {
+  ResidualId id;
+  if (!observation.empty()) {
+    std::optional<ResidualId> found;
+    for (const kinds::Kind& k : kinds::Kinds())
+      if (!found && k.parse_text) found = k.parse_text(observation);
+    if (!found) throw std::invalid_argument("unknown residual observation '" + observation + "'");
+    id = *found;
+  }
+  for (const Statistic s :
+       {Statistic::kMax, Statistic::kShare, Statistic::kFraction, Statistic::kRunout,
+        Statistic::kNormalRatio, Statistic::kTangentialRatio})
+    if (quantity == id.With(s).quantity()) return id.With(s);
+  if (quantity.size() > 1 && quantity[0] == 'p')
+    return id.With(Statistic::kQuantile, std::stod(quantity.substr(1)) / 100.0);
+  if (!quantity.empty())
+    throw std::invalid_argument("unknown residual quantity '" + quantity + "'");
+  return id;
 }
 
 ResidualId ResidualId::Of(ObservationKind kind, int index, std::string name) {

@@ -8,6 +8,7 @@
 
 #include <map>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -23,9 +24,8 @@ std::vector<std::string> Strings(const std::vector<const char*>& keys) {
 TEST(KindsTest, TheTableListsEveryKindOnceInResidualOrder) {
   std::vector<std::string> names;
   for (const Kind& kind : Kinds()) names.emplace_back(kind.name);
-  EXPECT_EQ(names,
-            (std::vector<std::string>{"tree_scars", "runout", "runs", "passing", "tracks_file",
-                                      "impacts"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"tree_scars", "runout", "runs", "passing",
+                                             "tracks_file", "impacts"}));
   for (const Kind& kind : Kinds()) {
     EXPECT_NE(kind.read, nullptr) << kind.name << " has no reader";
     EXPECT_NE(kind.misfit, nullptr) << kind.name << " has no misfit terms";
@@ -33,6 +33,36 @@ TEST(KindsTest, TheTableListsEveryKindOnceInResidualOrder) {
     EXPECT_EQ(std::string(kind.root_keys.front()), kind.name)
         << kind.name << ": its first key at $ is " << kind.root_keys.front();
   }
+}
+
+// ResidualId::Parse reads back what the kinds print (reach.json and
+// score.json are read through it), each kind's text by the kind itself.
+TEST(KindsTest, EveryKindReadsBackTheTextItPrints) {
+  const ResidualId ids[] = {
+      ResidualId::Of(ObservationKind::kTreeScars, 2, "tree_scars[2] BP-1")
+          .With(Statistic::kQuantile, 0.9),
+      ResidualId::Of(ObservationKind::kTreeScars, 0, "tree_scars[0] x").With(Statistic::kMax),
+      ResidualId::Of(ObservationKind::kRunoutDistance).With(Statistic::kQuantile, 0.025),
+      ResidualId::Of(ObservationKind::kRunoutMassClass, -1, "10-40")
+          .With(Statistic::kQuantile, 0.5),
+      ResidualId::Of(ObservationKind::kRunoutLateral).With(Statistic::kQuantile, 0.1),
+      ResidualId::Of(ObservationKind::kRunoutStopped).With(Statistic::kShare),
+      ResidualId::Of(ObservationKind::kRun, -1, "v083").With(Statistic::kRunout),
+      ResidualId::Of(ObservationKind::kPassing, 1, "passing[1] BP-2").With(Statistic::kFraction),
+      ResidualId::Of(ObservationKind::kTracks, 1, "jump length").With(Statistic::kQuantile, 0.75),
+      ResidualId::Of(ObservationKind::kImpact, -1, "i7").With(Statistic::kNormalRatio),
+      ResidualId::Of(ObservationKind::kImpact, -1, "i7").With(Statistic::kTangentialRatio),
+      ResidualId::Of(ObservationKind::kImpactsNormal).With(Statistic::kQuantile, 0.5),
+      ResidualId::Of(ObservationKind::kImpactsTangential).With(Statistic::kQuantile, 0.5),
+      ResidualId{}};
+  for (const ResidualId& id : ids) {
+    const ResidualId back = ResidualId::Parse(id.observation(), id.quantity());
+    EXPECT_TRUE(back == id) << "'" << id.observation() << "' '" << id.quantity()
+                            << "' read back as '" << back.observation() << "' '" << back.quantity()
+                            << "' (index " << back.index << ", name '" << back.name << "')";
+  }
+  EXPECT_THROW(ResidualId::Parse("runout somewhere", "p10"), std::invalid_argument);
+  EXPECT_THROW(ResidualId::Parse("runout distance", "median"), std::invalid_argument);
 }
 
 TEST(KindsTest, EveryResidualKindHasOneKindAndItsText) {
@@ -96,8 +126,8 @@ TEST(KindsTest, TheFileKeysAreTheTablesEachOwnedByOneKind) {
   EXPECT_EQ(root, (std::vector<std::string>{"units", "tree_scars", "runout", "runs", "runs_file",
                                             "passing", "passing_file", "tracks_file", "impacts",
                                             "impacts_file", "impact_draws", "error"}));
-  EXPECT_EQ(error, (std::vector<std::string>{"height", "runout", "passing", "track",
-                                             "impact_speed", "rebound"}));
+  EXPECT_EQ(error, (std::vector<std::string>{"height", "runout", "passing", "track", "impact_speed",
+                                             "rebound"}));
 }
 
 }  // namespace

@@ -341,6 +341,15 @@ std::string Text(const ResidualId& id) {
   }
 }
 
+std::optional<ResidualId> ParseText(const std::string& text) {
+  if (text == "impacts normal ratio") return ResidualId::Of(ObservationKind::kImpactsNormal);
+  if (text == "impacts tangential ratio")
+    return ResidualId::Of(ObservationKind::kImpactsTangential);
+  if (const auto id = After(text, "impact "))
+    return ResidualId::Of(ObservationKind::kImpact, -1, *id);
+  return std::nullopt;
+}
+
 // ---------------------------------------------------------------------------
 // Folds: the impacts are dealt over the folds like the other values.
 
@@ -374,6 +383,7 @@ Kind ImpactsKind() {
   kind.residual_kinds = {ObservationKind::kImpact, ObservationKind::kImpactsNormal,
                          ObservationKind::kImpactsTangential};
   kind.observation_text = Text;
+  kind.parse_text = ParseText;
   kind.read = Read;
   kind.read_error = ReadError;
   kind.record = Record;

@@ -5,6 +5,7 @@
 #include "kinds.h"
 
 #include <algorithm>
+#include <cstdlib>
 
 #include "impacts.h"
 #include "passing.h"
@@ -38,6 +39,13 @@ std::vector<std::vector<std::size_t>> Deal(std::size_t n, int k, std::mt19937_64
   for (std::size_t i = 0; i < n; ++i) out[i % static_cast<std::size_t>(k)].push_back(order[i]);
   for (auto& fold : out) std::sort(fold.begin(), fold.end());
   return out;
+}
+
+std::optional<ResidualId> IndexedText(ObservationKind kind, const std::string& key,
+                                      const std::string& text) {
+  const auto rest = After(text, key + "[");
+  if (!rest) return std::nullopt;
+  return ResidualId::Of(kind, std::atoi(rest->c_str()), text);
 }
 
 bool Keep(const std::vector<std::size_t>& fold_indices, std::size_t i, bool held_out) {

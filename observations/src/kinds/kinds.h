@@ -9,6 +9,7 @@
 #define ROCKCAL_OBSERVATIONS_SRC_KINDS_KINDS_H_
 
 #include <cstddef>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -27,6 +28,18 @@ struct MisfitTerms;  // ../compare.h
 
 namespace kinds {
 
+// `text` after `prefix` when it begins with it, else nullopt: the name of a
+// residual text such as "run v083".
+inline std::optional<std::string> After(const std::string& text, const std::string& prefix) {
+  if (text.size() <= prefix.size() || text.compare(0, prefix.size(), prefix) != 0)
+    return std::nullopt;
+  return text.substr(prefix.size());
+}
+// The index of a text "<key>[<index>] <label>" (a scar set's, a passing
+// fraction's) with the whole text as its name, or nullopt for another text.
+std::optional<ResidualId> IndexedText(ObservationKind kind, const std::string& key,
+                                      const std::string& text);
+
 // One kind of observation. Every function may be null (the kind has no part
 // in that step); each one of a kind with nothing observed does nothing.
 struct Kind {
@@ -42,6 +55,9 @@ struct Kind {
   // that lists a residual's kind for its text).
   std::vector<ObservationKind> residual_kinds;
   std::string (*observation_text)(const ResidualId& id) = nullptr;
+  // Its inverse (ResidualId::Parse): the kind, index and name of a text of
+  // this kind, or nullopt for a text that is not this kind's.
+  std::optional<ResidualId> (*parse_text)(const std::string& text) = nullptr;
 
   // Reads its keys of the file's top object `root` into `observations`
   // (with its notes); nothing when the file has none of them.

@@ -123,6 +123,10 @@ void AddResiduals(const Observations& obs, const MisfitTerms& terms) {
 
 std::string Text(const ResidualId& id) { return id.name; }
 
+std::optional<ResidualId> ParseText(const std::string& text) {
+  return IndexedText(ObservationKind::kPassing, "passing", text);
+}
+
 // Folds: the fractions are in no fold; they stay in every training set and
 // leave every held-out one.
 void KeepFold(const Observations&, const observations::Fold&, bool held_out, Observations* out) {
@@ -139,6 +143,7 @@ Kind PassingKind() {
   kind.error_keys = {"passing"};
   kind.residual_kinds = {ObservationKind::kPassing};
   kind.observation_text = Text;
+  kind.parse_text = ParseText;
   kind.read = Read;
   kind.read_error = ReadError;
   kind.record = Record;

@@ -304,6 +304,19 @@ std::string Text(const ResidualId& id) {
   }
 }
 
+std::optional<ResidualId> ParseText(const std::string& text) {
+  const std::string mass = "runout distance, mass ", kg = " kg";
+  if (text == "runout distance") return ResidualId::Of(ObservationKind::kRunoutDistance);
+  if (text == "runout lateral") return ResidualId::Of(ObservationKind::kRunoutLateral);
+  if (text == "runout stopped") return ResidualId::Of(ObservationKind::kRunoutStopped);
+  if (const auto rest = After(text, mass);
+      rest && rest->size() > kg.size() &&
+      rest->compare(rest->size() - kg.size(), kg.size(), kg) == 0)
+    return ResidualId::Of(ObservationKind::kRunoutMassClass, -1,
+                          rest->substr(0, rest->size() - kg.size()));
+  return std::nullopt;
+}
+
 // ---------------------------------------------------------------------------
 // Folds: the runout values, pooled or tracked runs alike (both fill
 // Observations::runout), dealt after the other kinds' in table order.
@@ -382,6 +395,7 @@ Kind RunoutKind() {
   kind.residual_kinds = {ObservationKind::kRunoutDistance, ObservationKind::kRunoutMassClass,
                          ObservationKind::kRunoutLateral, ObservationKind::kRunoutStopped};
   kind.observation_text = Text;
+  kind.parse_text = ParseText;
   kind.read = Read;
   kind.read_error = ReadError;
   kind.missing_error = MissingError;

@@ -272,6 +272,11 @@ void AddResiduals(const Observations& obs, const MisfitTerms& terms) {
 
 std::string Text(const ResidualId& id) { return "run " + id.name; }
 
+std::optional<ResidualId> ParseText(const std::string& text) {
+  if (const auto id = After(text, "run ")) return ResidualId::Of(ObservationKind::kRun, -1, *id);
+  return std::nullopt;
+}
+
 }  // namespace
 
 Kind RunsKind() {
@@ -281,6 +286,7 @@ Kind RunsKind() {
   kind.objects = {{"$.runs[]", {"id", "group", "stop"}}};
   kind.residual_kinds = {ObservationKind::kRun};
   kind.observation_text = Text;
+  kind.parse_text = ParseText;
   kind.read = Read;
   kind.misfit = AddResiduals;
   return kind;

@@ -142,10 +142,11 @@ void Read(const Reader& reader, const JsonNode& root, Observations* obs) {
     const std::size_t n = set.ObservedHeights().size();
     std::string note = set.label + ": " + std::to_string(n) + " scar height" + (n == 1 ? "" : "s");
     if (!set.at_partition()) {
-      note += " at " + std::to_string(set.trees.size()) + " tree" +
-              (set.trees.size() == 1 ? "" : "s");
+      note +=
+          " at " + std::to_string(set.trees.size()) + " tree" + (set.trees.size() == 1 ? "" : "s");
       if (at_stems > 0)
-        note += "; " + std::to_string(at_stems) + " of them at stems of the forest, compared with " +
+        note += "; " + std::to_string(at_stems) +
+                " of them at stems of the forest, compared with " +
                 "the heights at which rocks strike those stems";
     }
     obs->notes.push_back(note);
@@ -222,6 +223,10 @@ void AddResiduals(const Observations& obs, const MisfitTerms& terms) {
 
 std::string Text(const ResidualId& id) { return id.name; }
 
+std::optional<ResidualId> ParseText(const std::string& text) {
+  return IndexedText(ObservationKind::kTreeScars, "tree_scars", text);
+}
+
 // ---------------------------------------------------------------------------
 // Folds: each set's heights dealt on their own.
 
@@ -282,6 +287,7 @@ Kind ScarsKind() {
   kind.error_keys = {"height"};
   kind.residual_kinds = {ObservationKind::kTreeScars};
   kind.observation_text = Text;
+  kind.parse_text = ParseText;
   kind.read = Read;
   kind.read_error = ReadError;
   kind.missing_error = MissingError;

@@ -296,6 +296,15 @@ void AddResiduals(const Observations& obs, const MisfitTerms& terms) {
 
 std::string Text(const ResidualId& id) { return "tracks " + id.name; }
 
+std::optional<ResidualId> ParseText(const std::string& text) {
+  const auto name = After(text, "tracks ");
+  if (!name) return std::nullopt;
+  const char* const names[] = {kHeight, kLength, kSpeed};  // indices 0, 1, 2 (AddResiduals)
+  for (int k = 0; k < 3; ++k)
+    if (*name == names[k]) return ResidualId::Of(ObservationKind::kTracks, k, *name);
+  return ResidualId::Of(ObservationKind::kTracks, -1, *name);
+}
+
 // Folds: a track goes with its run (the runs' folds, runout.cc): kept when
 // its run is kept. Tracks left without a run are dropped.
 void KeepFold(const Observations& observations, const observations::Fold&, bool,
@@ -324,6 +333,7 @@ Kind TracksKind() {
   kind.error_keys = {"track", "impact_speed"};
   kind.residual_kinds = {ObservationKind::kTracks};
   kind.observation_text = Text;
+  kind.parse_text = ParseText;
   kind.read = Read;
   kind.read_error = ReadError;
   kind.missing_error = MissingError;

@@ -121,6 +121,12 @@ struct ResidualId {
   std::string quantity() const;
   // This identity without its statistic: the key of its observation.
   ResidualId observation_id() const;
+  // The identity one site's misfit prints as `observation` and `quantity`
+  // (reach.json and score.json hold them so), read back by the kind that
+  // prints it. A campaign's site prefix, priors and offsets are not read; an
+  // index the text does not carry (a mass class's, a run's) stays -1.
+  // Throws std::invalid_argument naming a text no kind prints.
+  static ResidualId Parse(const std::string& observation, const std::string& quantity);
 
   bool operator==(const ResidualId& other) const;
   bool operator!=(const ResidualId& other) const { return !(*this == other); }
