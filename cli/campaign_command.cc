@@ -3,7 +3,6 @@
 // evaluation log, resume and posterior.
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <optional>
 #include <string>
 
@@ -17,53 +16,13 @@
 #include "rockcal/core/limits.h"
 #include "rockcal/observations/misfit.h"
 #include "rockcal/parallel/parallel.h"
+#include "rockcal/reports/calibration_folder.h"
 #include "rockcal/reports/calibration_outputs.h"
 #include "rockcal/reports/campaign_outputs.h"
 #include "rockcal/reports/output_dir.h"
 
 namespace rockcal::cli {
 namespace {
-
-// Each site's values at the joint calibration (with its posterior) as a
-// calibration's parameters files in its folder (reports::CampaignSiteFolders),
-// for rockcal simulate --parameters and rockcal table.
-void WriteSiteFiles(const std::string& out, const calibrate::CampaignSummary& summary) {
-  const std::vector<std::string> folders = reports::CampaignSiteFolders(summary);
-  for (std::size_t k = 0; k < folders.size(); ++k) {
-    const std::string dir = out + "/" + folders[k];
-    std::filesystem::create_directories(dir);
-    const calibrate::CalibrationSummary site =
-        reports::CampaignSiteRecord(summary, static_cast<int>(k));
-    if (site.posterior)
-      reports::WriteFileAtomically(dir + "/posterior.csv",
-                                   calibrate::PosteriorCsv(*site.posterior));
-    reports::WriteFileAtomically(dir + "/parameters.csv", reports::ParametersCsv(site));
-    reports::WriteFileAtomically(dir + "/parameters.json",
-                                 reports::ParametersJson(site).dump(2) + "\n");
-  }
-}
-
-// Every file of a finished campaign in DIR `out`; summary.json, which marks
-// the folder complete, after every other file.
-void WriteCampaignFiles(const std::string& out, const calibrate::CampaignSummary& summary) {
-  const calibrate::CalibrationSummary& cal = summary.calibration;
-  WriteSiteFiles(out, summary);
-  if (cal.posterior)
-    reports::WriteFileAtomically(out + "/posterior.csv", calibrate::PosteriorCsv(*cal.posterior));
-  reports::WriteFileAtomically(out + "/parameters.json",
-                               reports::ParametersJson(cal).dump(2) + "\n");
-  reports::WriteFileAtomically(out + "/parameters.csv", reports::ParametersCsv(cal));
-  reports::WriteFileAtomically(out + "/parameters.md", reports::CampaignMarkdown(summary));
-  reports::WriteFileAtomically(out + "/trace.csv", reports::TraceCsv(cal));
-  reports::WriteFileAtomically(out + "/sites.csv", reports::CampaignSitesCsv(summary));
-  if (cal.methods.size() > 1) {
-    reports::WriteFileAtomically(out + "/comparison.csv", reports::ComparisonCsv(cal));
-    reports::WriteFileAtomically(out + "/comparison.md", reports::ComparisonMarkdown(cal));
-  }
-  // Last: summary.json marks the folder complete (PrepareCalibrationFolder).
-  reports::WriteFileAtomically(out + "/summary.json",
-                               reports::CampaignJson(summary).dump(2) + "\n");
-}
 
 void PrintCampaign(const std::string& out, const calibrate::CampaignSummary& summary,
                    double wall_seconds) {
@@ -134,7 +93,7 @@ int Campaign(const std::vector<std::string>& argv) {
   calibrate::CampaignSummary summary;
   ContinuableRun(out, [&] {
     summary = calibrate::RunCampaign(campaign, options, callbacks);
-    WriteCampaignFiles(folder, summary);
+    reports::WriteCampaignFolder(folder, summary);
   });
   if (!quiet)
     PrintCampaign(

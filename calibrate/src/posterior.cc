@@ -431,18 +431,6 @@ Eigen::MatrixXd QuantileWhitening(const std::vector<observations::Residual>& lay
   return w;
 }
 
-std::string PosteriorCsv(const PosteriorResult& result) {
-  std::ostringstream out;
-  for (std::size_t k = 0; k < result.space.parameters().size(); ++k)
-    out << (k ? "," : "") << text::CsvField(result.space.parameters()[k].label());
-  out << "\n";
-  for (const auto& s : result.samples) {
-    for (std::size_t k = 0; k < s.size(); ++k) out << (k ? "," : "") << text::Num(s[k], "%.8g");
-    out << "\n";
-  }
-  return out.str();
-}
-
 nlohmann::json PosteriorJson(const PosteriorResult& result) {
   using text::JsonNum;
   nlohmann::json parameters = nlohmann::json::array();

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "rockcal/calibrate/default_table.h"
+#include "rockcal/calibrate/parameters_file.h"
 #include "rockcal/calibrate/score.h"
 #include "rockcal/core/format.h"
 #include "rockcal/core/scene.h"
@@ -23,23 +24,6 @@ using core::FormatNumber;
 using calibrate::MethodResult;
 using calibrate::Parameter;
 using calibrate::ParameterKind;
-
-const char* SiUnit(const Parameter& p) {
-  switch (p.kind) {
-    case ParameterKind::kHardness:
-      return "";
-    case ParameterKind::kRoughness:
-      return "m";
-    case ParameterKind::kContactTime:
-      return "s";
-    case ParameterKind::kRollingResistance:
-    case ParameterKind::kFriction:
-      return "";
-    case ParameterKind::kVegetation:
-      return "Pa";
-  }
-  return "";
-}
 
 // A value in the site's units for display (roughness in ft for US sites).
 std::string SiteValue(const Parameter& p, double v, sites::Units units) {
@@ -60,62 +44,21 @@ const double* StdError(const MethodResult& m, std::size_t k) {
 
 }  // namespace
 
-nlohmann::json ParameterListJson(const CalibrationSummary& record) {
-  const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
-  nlohmann::json params = nlohmann::json::array();
-  const auto& ps = record.space.parameters();
-  for (std::size_t k = 0; k < ps.size(); ++k) {
-    const double* se = StdError(best, k);
-    params.push_back({{"material", ps[k].material},
-                      {"class", ps[k].class_name()},
-                      {"name", ps[k].name()},
-                      {"value", best.best[k]},
-                      {"lower", ps[k].lower},
-                      {"upper", ps[k].upper},
-                      {"std_error", se ? nlohmann::json(*se) : nlohmann::json(nullptr)}});
-    if (record.posterior) {
-      const calibrate::ParameterPosterior& q = record.posterior->parameters[k];
-      params.back()["posterior"] = {{"median", q.median},
-                                    {"p05", q.p05},
-                                    {"p95", q.p95},
-                                    {"determined", !q.undetermined}};
-    }
-  }
-  return params;
-}
-
-nlohmann::json ParametersJson(const CalibrationSummary& record) {
-  const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
-  nlohmann::json out = {{"site", record.site},
-                        {"method", best.stage.name()},
-                        {"misfit", best.best_misfit},
-                        {"evaluations", best.evaluations},
-                        {"wall_seconds", best.wall_seconds}};
-  if (record.grid_spacing_m > 0) out["grid_spacing_m"] = record.grid_spacing_m;
-  out["parameters"] = ParameterListJson(record);
-  // rockcal simulate --parameters draws from these (ReadPosteriorSamples).
-  if (record.posterior) out["posterior_samples"] = "posterior.csv";
-  return out;
-}
-
-std::string ParametersCsv(const CalibrationSummary& record) {
-  const MethodResult& best = record.methods[static_cast<std::size_t>(record.best)];
+std::string ParametersCsv(const calibrate::CalibratedSite& site) {
   std::ostringstream out;
-  const bool post = record.posterior.has_value();
+  const bool post = site.has_posterior();
   out << "material,class,name,value,lower,upper,std_error,unit"
       << (post ? ",posterior_median,posterior_p05,posterior_p95,determined" : "") << "\n";
-  const auto& ps = record.space.parameters();
-  for (std::size_t k = 0; k < ps.size(); ++k) {
-    const double* se = StdError(best, k);
-    out << ps[k].material << ',' << ps[k].class_name() << ',' << ps[k].name() << ','
-        << FormatNumber(best.best[k], "%.10g") << ',' << FormatNumber(ps[k].lower, "%.10g") << ','
-        << FormatNumber(ps[k].upper, "%.10g") << ',' << (se ? FormatNumber(*se, "%.6g") : "") << ','
-        << SiUnit(ps[k]);
-    if (post) {
-      const calibrate::ParameterPosterior& q = record.posterior->parameters[k];
-      out << ',' << FormatNumber(q.median, "%.6g") << ',' << FormatNumber(q.p05, "%.6g") << ','
-          << FormatNumber(q.p95, "%.6g") << ',' << (q.undetermined ? "no" : "yes");
-    }
+  for (const calibrate::CalibratedParameter& p : site.parameters) {
+    out << p.material << ',' << p.material_class << ',' << p.name << ','
+        << FormatNumber(p.value, "%.10g") << ',' << FormatNumber(p.lower, "%.10g") << ','
+        << FormatNumber(p.upper, "%.10g") << ','
+        << (p.std_error ? FormatNumber(*p.std_error, "%.6g") : "") << ','
+        << calibrate::SiUnitOf(p);
+    if (p.posterior)
+      out << ',' << FormatNumber(p.posterior->median, "%.6g") << ','
+          << FormatNumber(p.posterior->p05, "%.6g") << ',' << FormatNumber(p.posterior->p95, "%.6g")
+          << ',' << (p.posterior->determined ? "yes" : "no");
     out << '\n';
   }
   return out.str();

@@ -4,6 +4,7 @@
 #include <set>
 #include <sstream>
 
+#include "rockcal/calibrate/parameters_file.h"
 #include "rockcal/core/format.h"
 #include "rockcal/observations/misfit.h"
 #include "rockcal/reports/calibration_outputs.h"
@@ -85,30 +86,6 @@ std::vector<std::string> CampaignSiteFolders(const CampaignSummary& summary) {
   return out;
 }
 
-CalibrationSummary CampaignSiteRecord(const CampaignSummary& summary, int site) {
-  const CampaignSiteFit& fit = summary.sites[static_cast<std::size_t>(site)];
-  const CalibrationSummary& cal = summary.calibration;
-  CalibrationSummary record;
-  record.site = fit.name;
-  record.units = cal.units;
-  record.grid_spacing_m = fit.grid_spacing_m;
-  record.space = fit.space;
-  record.start = fit.start;
-  record.misfit_before = fit.misfit_start;
-  record.misfit_after = fit.misfit_joint;
-  calibrate::MethodResult method;
-  method.stage = cal.best_method().stage;
-  method.best = fit.calibrated;
-  method.best_misfit = fit.misfit_joint.value;
-  method.evaluations = cal.best_method().evaluations;
-  method.wall_seconds = cal.best_method().wall_seconds;
-  record.methods.push_back(std::move(method));
-  record.rocks = record.final_rocks = fit.rocks;
-  record.seed = cal.seed;
-  record.posterior = fit.posterior;
-  return record;
-}
-
 nlohmann::json CampaignJson(const CampaignSummary& summary) {
   const CalibrationSummary& cal = summary.calibration;
   const calibrate::MethodResult& best = cal.best_method();
@@ -153,7 +130,7 @@ nlohmann::json CampaignJson(const CampaignSummary& summary) {
                         {"parameter_names", names},
                         {"start", cal.start},
                         {"calibrated", best.best},
-                        {"parameters", ParameterListJson(cal)},
+                        {"parameters", calibrate::ParameterListJson(calibrate::CalibratedSiteOf(cal))},
                         {"uncertainty",
                          {{"computed", u.computed},
                           {"rank_deficient", u.rank_deficient},

@@ -19,6 +19,9 @@ using sites::testing::TempDir;
 using ::testing::HasSubstr;
 using ::testing::Not;
 using Json = nlohmann::json;
+using testing::ParametersFile;
+using testing::WithPosterior;
+using testing::WriteResult;
 
 TEST(Statistics, CountsDistinctSites) {
   const ValueStatistics s = Statistics({0.5, 0.2, 0.9, 0.4}, {"a", "b", "a", "c"});
@@ -43,186 +46,6 @@ TEST(AtBound, WithinOnePercentOfTheRange) {
   EXPECT_STREQ(BoundName(BoundPosition::kAtUpper), "upper");
 }
 
-// parameters.json as rockcal calibrate writes it.
-Json ParametersFile() {
-  return Json::parse(R"({
-    "site": "Tutorial slope", "method": "nlopt:bobyqa", "misfit": 12.5, "evaluations": 40,
-    "wall_seconds": 3.2, "grid_spacing_m": 3.6576,
-    "parameters": [
-      {"material": "talus", "class": "scree", "name": "hardness", "value": 0.35,
-       "lower": 0.1, "upper": 0.7, "std_error": null},
-      {"material": "talus", "class": "scree", "name": "roughness", "value": 0.4,
-       "lower": 0.1524, "upper": 1.8288, "std_error": 0.05},
-      {"material": "soil", "class": "soil", "name": "contact_time", "value": 0.006,
-       "lower": 0.002, "upper": 0.01, "std_error": null}
-    ]})");
-}
-
-std::string WriteResult(const TempDir& dir, const std::string& name, const Json& json) {
-  return std::filesystem::path(dir.Write(name + "/parameters.json", json.dump(2)))
-      .parent_path()
-      .string();
-}
-
-TEST(ReadCalibratedSite, ReadsEveryKey) {
-  TempDir dir;
-  const std::string folder = WriteResult(dir, "t1", ParametersFile());
-  const CalibratedSite s = ReadCalibratedSite(folder);
-  EXPECT_EQ(s.result_dir, folder);
-  EXPECT_EQ(s.file, folder + "/parameters.json");
-  EXPECT_EQ(s.site, "Tutorial slope");
-  EXPECT_EQ(s.stage, Stage{Method::kBobyqa});
-  EXPECT_DOUBLE_EQ(s.misfit, 12.5);
-  EXPECT_EQ(s.evaluations, 40);
-  ASSERT_TRUE(s.grid_spacing_m.has_value());
-  EXPECT_DOUBLE_EQ(*s.grid_spacing_m, 3.6576);
-  ASSERT_EQ(s.parameters.size(), 3u);
-  EXPECT_EQ(s.parameters[0].material, "talus");
-  EXPECT_EQ(s.parameters[0].material_class, "scree");
-  EXPECT_TRUE(s.parameters[0].class_given);
-  EXPECT_EQ(s.parameters[0].name, "hardness");
-  EXPECT_DOUBLE_EQ(s.parameters[0].value, 0.35);
-  EXPECT_FALSE(s.parameters[0].std_error.has_value());
-  ASSERT_TRUE(s.parameters[1].std_error.has_value());
-  EXPECT_DOUBLE_EQ(*s.parameters[1].std_error, 0.05);
-  EXPECT_DOUBLE_EQ(s.parameters[1].upper, 1.8288);
-  EXPECT_EQ(s.parameters[2].name, "contact_time");
-}
-
-TEST(ReadCalibratedSite, OlderFilesFallBackToTheMaterialId) {
-  TempDir dir;
-  Json json = ParametersFile();
-  json.erase("grid_spacing_m");
-  for (Json& p : json["parameters"]) p.erase("class");
-  const CalibratedSite s = ReadCalibratedSite(WriteResult(dir, "old", json));
-  EXPECT_FALSE(s.grid_spacing_m.has_value());
-  EXPECT_EQ(s.parameters[0].material_class, "talus");
-  EXPECT_FALSE(s.parameters[0].class_given);
-  EXPECT_EQ(s.parameters[2].material_class, "soil");
-
-  const DefaultTable t = BuildDefaultTable({s}, {});
-  std::string notes;
-  for (const std::string& n : t.notes) notes += n + "\n";
-  EXPECT_THAT(notes, HasSubstr(s.file + ": no \"class\" on talus, soil"));
-  EXPECT_THAT(notes, HasSubstr("each material id stands for its class"));
-  ASSERT_EQ(t.rows.size(), 3u);
-  EXPECT_EQ(t.rows[0].material_class, "soil");
-  EXPECT_EQ(t.rows[1].material_class, "talus");
-}
-
-// The error of reading the result folder holding ParametersFile() changed by
-// `edit`; it must name the file.
-std::string ReadError(const std::function<void(Json&)>& edit) {
-  TempDir dir;
-  Json json = ParametersFile();
-  edit(json);
-  const std::string folder = WriteResult(dir, "bad", json);
-  const std::string msg = ErrorOf([&] { ReadCalibratedSite(folder); });
-  EXPECT_THAT(msg, HasSubstr(folder + "/parameters.json: ")) << "the message must name the file";
-  return msg;
-}
-
-TEST(ReadCalibratedSite, ErrorsNameTheFileAndPath) {
-  EXPECT_THAT(ReadError([](Json& j) { j["parameters"][1].erase("value"); }),
-              HasSubstr("$.parameters[1]: missing required key 'value'"));
-  EXPECT_THAT(ReadError([](Json& j) { j["parameters"][0]["value"] = "0.3"; }),
-              HasSubstr("$.parameters[0].value: expected a number (found \"0.3\")"));
-  EXPECT_THAT(ReadError([](Json& j) { j["parameters"][0]["class"] = 4; }),
-              HasSubstr("$.parameters[0].class: expected a string (found 4)"));
-  EXPECT_THAT(ReadError([](Json& j) { j["parameters"][0]["class"] = ""; }),
-              HasSubstr("$.parameters[0].class: expected a class name (not empty)"));
-  EXPECT_THAT(ReadError([](Json& j) { j["parameters"][2]["name"] = "colour"; }),
-              HasSubstr("$.parameters[2].name: unknown parameter name (allowed: hardness, "
-                        "roughness, contact_time, rolling_resistance, friction, vegetation) (found "
-                        "\"colour\")"));
-  EXPECT_THAT(ReadError([](Json& j) { j["parameters"][0]["value"] = 0.8; }),
-              HasSubstr("$.parameters[0].value: expected a value within its bounds [0.1, 0.7] "
-                        "(found 0.8)"));
-  EXPECT_THAT(ReadError([](Json& j) { j["parameters"][0]["upper"] = 0.1; }),
-              HasSubstr("$.parameters[0].upper: expected upper > lower"));
-  EXPECT_THAT(ReadError([](Json& j) { j["parameters"][0]["lower"] = -0.1; }),
-              HasSubstr("$.parameters[0].lower: expected a number in [0, 1] (found -0.1)"));
-  EXPECT_THAT(ReadError([](Json& j) { j["parameters"][1]["std_error"] = -1; }),
-              HasSubstr("$.parameters[1].std_error: expected a number >= 0 (found -1)"));
-  EXPECT_THAT(ReadError([](Json& j) { j["parameters"][1]["std_error"] = "n/a"; }),
-              HasSubstr("$.parameters[1].std_error: expected a standard error >= 0 or null"));
-  EXPECT_THAT(ReadError([](Json& j) { j["parameters"][1]["upper"] = 2.0; }),
-              HasSubstr("$.parameters[1].upper: expected a roughness bound <= half the grid "
-                        "spacing (1.8288 m)"));
-  EXPECT_THAT(ReadError([](Json& j) { j["parameters"][2] = j["parameters"][0]; }),
-              HasSubstr("$.parameters[2]: parameter talus.hardness given twice"));
-  EXPECT_THAT(ReadError([](Json& j) { j["parameters"][0]["colour"] = "red"; }),
-              HasSubstr("$.parameters[0].colour: unknown key 'colour'"));
-  EXPECT_THAT(ReadError([](Json& j) { j.erase("site"); }),
-              HasSubstr("$: missing required key 'site'"));
-  EXPECT_THAT(ReadError([](Json& j) { j["parameters"] = Json::array(); }),
-              HasSubstr("$.parameters: expected an array of at least 1 entries"));
-  EXPECT_THAT(ReadError([](Json& j) { j["evaluations"] = 2.5; }),
-              HasSubstr("$.evaluations: expected a whole number"));
-}
-
-// ParametersFile() with a posterior per parameter, as calibrate --posterior writes it.
-Json WithPosterior() {
-  Json json = ParametersFile();
-  json["parameters"][0]["posterior"] = {{"median", 0.3}, {"p05", 0.2}, {"p95", 0.5}, {"determined", true}};
-  json["parameters"][1]["posterior"] = {{"median", 0.5}, {"p05", 0.3}, {"p95", 1.2}, {"determined", false}};
-  json["parameters"][2]["posterior"] = {{"median", 0.006}, {"p05", 0.004}, {"p95", 0.008}, {"determined", true}};
-  json["posterior_samples"] = "posterior.csv";
-  return json;
-}
-
-TEST(ReadCalibratedSite, ReadsThePosteriorAndItsSamples) {
-  TempDir dir;
-  const std::string folder = WriteResult(dir, "post", WithPosterior());
-  dir.Write("post/posterior.csv",
-            "talus.hardness,talus.roughness,soil.contact_time\n0.25,0.4,0.005\n0.3,0.6,0.007\n");
-  const CalibratedSite s = ReadCalibratedSite(folder);
-  ASSERT_TRUE(s.has_posterior());
-  EXPECT_EQ(s.samples_file, folder + "/posterior.csv");
-  ASSERT_TRUE(s.parameters[1].posterior.has_value());
-  EXPECT_DOUBLE_EQ(s.parameters[1].posterior->p95, 1.2);
-  EXPECT_FALSE(s.parameters[1].posterior->determined);
-  const std::vector<std::vector<double>> samples = ReadPosteriorSamples(s);
-  ASSERT_EQ(samples.size(), 2u);
-  EXPECT_EQ(samples[1], (std::vector<double>{0.3, 0.6, 0.007}));
-
-  // Errors name the file, the line and column, the value and what was expected.
-  dir.Write("post/posterior.csv", "talus.hardness,soil.contact_time\n0.25,0.005\n");
-  EXPECT_THAT(ErrorOf([&] { ReadPosteriorSamples(s); }),
-              HasSubstr(folder + "/posterior.csv: line 1: header 'talus.hardness,soil.contact_time'; "
-                                 "expected 'talus.hardness,talus.roughness,soil.contact_time'"));
-  dir.Write("post/posterior.csv",
-            "talus.hardness,talus.roughness,soil.contact_time\n0.25,0.4,0.005\n0.9,0.4,0.005\n");
-  EXPECT_THAT(ErrorOf([&] { ReadPosteriorSamples(s); }),
-              HasSubstr("posterior.csv: line 3, column 1 (talus.hardness): 0.9: expected a value "
-                        "within the bounds [0.1, 0.7]"));
-  dir.Write("post/posterior.csv",
-            "talus.hardness,talus.roughness,soil.contact_time\n0.25,x,0.005\n");
-  EXPECT_THAT(ErrorOf([&] { ReadPosteriorSamples(s); }),
-              HasSubstr("line 2, column 2 (talus.roughness): 'x': expected a number"));
-  dir.Write("post/posterior.csv", "talus.hardness,talus.roughness,soil.contact_time\n0.25,0.4\n");
-  EXPECT_THAT(ErrorOf([&] { ReadPosteriorSamples(s); }), HasSubstr("line 2"));
-  dir.Write("post/posterior.csv", "talus.hardness,talus.roughness,soil.contact_time\n");
-  EXPECT_THAT(ErrorOf([&] { ReadPosteriorSamples(s); }), HasSubstr("no samples"));
-
-  // A posterior of some parameters only, or an interval out of order, is refused.
-  EXPECT_THAT(ReadError([](Json& j) {
-                j = WithPosterior();
-                j["parameters"][2].erase("posterior");
-              }),
-              HasSubstr("$.parameters[2]: no \"posterior\" where other parameters have one"));
-  EXPECT_THAT(ReadError([](Json& j) {
-                j = WithPosterior();
-                j["parameters"][0]["posterior"]["p05"] = 0.4;
-              }),
-              HasSubstr("$.parameters[0].posterior: expected p05 <= median <= p95"));
-  EXPECT_THAT(ReadError([](Json& j) {
-                j = WithPosterior();
-                j["parameters"][0]["posterior"]["p95"] = 0.9;
-              }),
-              HasSubstr("$.parameters[0].posterior.p95: expected a value within the parameter's "
-                        "bounds [0.1, 0.7]"));
-}
 
 TEST(BuildDefaultTable, ARowOfValuesWithPosteriorsHasTheirIntervalsEnvelope) {
   TempDir dir;
@@ -255,19 +78,6 @@ TEST(BuildDefaultTable, ARowOfValuesWithPosteriorsHasTheirIntervalsEnvelope) {
   EXPECT_THAT(notes, HasSubstr("scree hardness: 1 of 2 counted values have a posterior"));
 }
 
-TEST(ReadCalibratedSite, MissingFolderFileAndBadJson) {
-  TempDir dir;
-  const std::string none = dir.path() + "/none";
-  EXPECT_THAT(ErrorOf([&] { ReadCalibratedSite(none); }),
-              HasSubstr(none + ": no such result folder"));
-  const std::string empty = dir.path() + "/empty";
-  std::filesystem::create_directories(empty);
-  EXPECT_THAT(ErrorOf([&] { ReadCalibratedSite(empty); }),
-              HasSubstr(empty + "/parameters.json: missing"));
-  dir.Write("broken/parameters.json", "{\"site\": \"x\",\n \"method\": }");
-  EXPECT_THAT(ErrorOf([&] { ReadCalibratedSite(dir.path() + "/broken"); }),
-              HasSubstr(dir.path() + "/broken/parameters.json:2:"));
-}
 
 // A hand-made calibration of `site` in folder `dir`.
 CalibratedSite Site(const std::string& site, const std::string& dir,

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "rockcal/calibrate/calibration.h"
+#include "rockcal/calibrate/parameters_file.h"
 
 namespace rockcal::calibrate {
 
@@ -20,60 +21,6 @@ enum class BoundPosition { kInside, kAtLower, kAtUpper };
 // a bound was stopped by the bound, not by the data: it is no calibrated value.
 BoundPosition AtBound(double value, double lower, double upper, double fraction);
 const char* BoundName(BoundPosition position);  // "", "lower", "upper"
-
-// One entry of a parameters.json, SI units (roughness m, contact time s).
-struct CalibratedParameter {
-  std::string material;        // material id at its site
-  std::string material_class;  // "class", or the material id when the file has none
-  bool class_given = true;     // false: the file has no "class" (written before classes)
-  std::string name;            // "hardness", "roughness" or "contact_time"
-  double value = 0.0, lower = 0.0, upper = 0.0;
-  std::optional<double> std_error;  // null in the file: not computed
-  // "posterior" (rockcal calibrate --posterior): the posterior's median and
-  // 5-95 % interval (SI) and whether the data determine the value.
-  struct Interval {
-    double median = 0.0, p05 = 0.0, p95 = 0.0;
-    bool determined = true;
-  };
-  std::optional<Interval> posterior;  // absent: no posterior
-};
-
-// One calibrated site: RESULT_DIR/parameters.json.
-struct CalibratedSite {
-  std::string result_dir;  // as given
-  std::string file;        // result_dir + "/parameters.json"
-  std::string site;        // the site's name
-  Stage stage;             // "method": the best method, at a refining stage's rocks
-  double misfit = 0.0;
-  int evaluations = 0;
-  std::optional<double> grid_spacing_m;  // absent in files written before it
-  std::vector<CalibratedParameter> parameters;
-  // The posterior samples' file (every parameter has a posterior): the
-  // "posterior_samples" key, relative to the file's folder, or else
-  // posterior.csv beside it; empty without a posterior.
-  std::string samples_file;
-  bool has_posterior() const { return !samples_file.empty(); }
-};
-
-// Reads RESULT_DIR/parameters.json strictly: a missing folder or file, bad
-// JSON, a missing, unknown or mistyped key, an unknown parameter name, bounds
-// with lower >= upper, a value outside its bounds, a negative standard error,
-// a method no rockcal names (Stage::FromName) or a parameter given twice are
-// each an InputError naming the file, the JSON
-// path, the value and what was expected.
-CalibratedSite ReadCalibratedSite(const std::string& result_dir);
-// The same for a parameters.json named by its path, or by its folder
-// (result_dir is its folder).
-CalibratedSite ReadParametersFile(const std::string& file);
-
-// The posterior samples of `site` (site.samples_file, as rockcal calibrate
-// --posterior writes it: a header of the parameters' labels
-// material.name in the order of site.parameters, one sample per line, SI):
-// sample k is samples[k], one value per parameter. A missing file, a header
-// naming other parameters, a line of another length, a value that is not a
-// number or lies outside its bounds, or no sample at all is an InputError
-// naming the file, the line (and column) and what was expected.
-std::vector<std::vector<double>> ReadPosteriorSamples(const CalibratedSite& site);
 
 struct DefaultTableOptions {
   // A value within this fraction of its range from a bound is "at a bound".

@@ -198,8 +198,6 @@ PredictiveDraw SiteDraw(const sites::Site& site, const observations::Observation
 void PredictiveBands(const PredictiveDraw& draw, std::uint64_t seed, int rocks, int draws,
                      PosteriorResult* result, const PosteriorProgress& progress = nullptr);
 
-// posterior.csv: a header of the parameters' labels, one sample per line (SI).
-std::string PosteriorCsv(const PosteriorResult& result);
 // The posterior as JSON: per parameter its summary, the correlations, the
 // diagnostics and the bands.
 nlohmann::json PosteriorJson(const PosteriorResult& result);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "rockcal/calibrate/calibration_run.h"
+#include "rockcal/calibrate/parameters_file.h"
 #include "rockcal/observations/misfit.h"
 #include "rockcal/sites/site.h"
 
@@ -18,16 +19,10 @@ namespace rockcal::reports {
 // calibrate::Calibrate); these write it.
 using calibrate::CalibrationSummary;
 
-// parameters.json of docs/reference/outputs.md (SI), for the best method, with each
-// parameter's material "class" and the terrain grid's "grid_spacing_m" (when
-// known; the virtual spheres' spacing) added: a roughness means the same
-// ground only at the same sphere spacing.
-nlohmann::json ParametersJson(const CalibrationSummary& record);
-// Its "parameters" list: per parameter its material, class, name, value,
-// bounds, standard error and (with a posterior) the posterior's quantiles.
-nlohmann::json ParameterListJson(const CalibrationSummary& record);
-// parameters.csv: material,class,name,value,lower,upper,std_error,unit.
-std::string ParametersCsv(const CalibrationSummary& record);
+// parameters.csv: material,class,name,value,lower,upper,std_error,unit (and
+// the posterior's median, 5-95 % interval and "determined" with one); the
+// same values as parameters.json (calibrate::ParametersFileJson).
+std::string ParametersCsv(const calibrate::CalibratedSite& site);
 // parameters.md: a Markdown table ready for a report (site units beside SI).
 std::string ParametersMarkdown(const CalibrationSummary& record);
 // The posterior's table (median, 5-95 % interval, share of the prior's

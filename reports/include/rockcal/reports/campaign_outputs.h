@@ -38,14 +38,6 @@ std::string CampaignMarkdown(const calibrate::CampaignSummary& summary);
 // "sites/<name>" with the characters of the name other than letters,
 // digits, '.', '-' and '_' as '_' (and "-2", "-3", ... after a name taken).
 std::vector<std::string> CampaignSiteFolders(const calibrate::CampaignSummary& summary);
-// Site k's values at the joint calibration as one calibration's record
-// (its own parameters and bounds, its misfit at the joint values, the best
-// method's name and budget, its posterior), for calibration_outputs.h's
-// ParametersJson and ParametersCsv: the site's parameters.json, which
-// rockcal simulate --parameters and rockcal table read.
-calibrate::CalibrationSummary CampaignSiteRecord(const calibrate::CampaignSummary& summary,
-                                                 int site);
-
 }  // namespace rockcal::reports
 
 #endif  // ROCKCAL_REPORTS_CAMPAIGN_OUTPUTS_H_
