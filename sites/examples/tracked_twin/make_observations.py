@@ -12,9 +12,13 @@ over, with measurement noise added (random.seed(7)):
   runs.csv     each run's stop point, 0.05 m of noise per axis;
   impacts.csv  the impacts `rockcal validate --write-impacts` finds in the
                noise-free paths (the flight detector at error.track
-               0.05 m), at most three a run, those of the largest incoming
-               speeds of at least 3 m/s; 0.1 m/s of noise (one sigma) per
-               velocity component.
+               2 mm: flights of 0.08 s and longer; at 5 cm only the
+               impacts before long flights, the high rebounds, are found),
+               at most three a run, those of the largest incoming speeds of
+               at least 3 m/s, with the spin before the impact (wx, wy, wz,
+               an in-rock gyroscope's reading); 0.1 m/s of noise (one
+               sigma) per velocity component. An impact the noise turns
+               back into the ground is dropped.
 The site file starts elsewhere (hardness 0.25, roughness 0.4 m, friction
 0.7). Deterministic for a given build of rockcal.
 
