@@ -12,8 +12,11 @@ calibrate` then starts from hardness 0.3, roughness 1 ft, friction 0.8
 (bounds [0.1, 0.8], [0.5, 4] ft, [0.3, 0.9]) at the same seed.
 
   bench/impacts_twin.py BUILD_DIR OUT_DIR [--friction 0.6] [--evals 150] [--reach 0]
+                       [--posterior]
 
-Prints the recovered values and their errors as shares of their ranges.
+Prints the recovered values and their errors as shares of their ranges
+(with --posterior, also each value's 90 % interval and whether it holds the
+hidden value).
 """
 import argparse
 import csv
@@ -40,6 +43,8 @@ def main():
     ap.add_argument("--friction", type=float, default=0.6)
     ap.add_argument("--evals", type=int, default=150)
     ap.add_argument("--reach", type=int, default=0, help="points of the global stage (0: none)")
+    ap.add_argument("--posterior", action="store_true",
+                    help="sample the posterior: do its 90 %% intervals hold the hidden values?")
     a = ap.parse_args()
     exe = os.path.join(a.build, "cli", "rockcal")
     os.makedirs(a.out, exist_ok=True)
@@ -97,8 +102,9 @@ def main():
     json.dump({"units": "us", "impacts_file": field, "error": {"rebound": 0.05}}, open(obs, "w"))
     start = write_site("start.json", {"hardness": 0.3, "roughness": 1.0, "friction": 0.8})
     out = os.path.join(a.out, "calibration")
+    extra = ["--posterior", "--predictive", "0"] if a.posterior else []
     run(exe, "calibrate", start, "--observations", obs, "--rocks", "4", "--reach", str(a.reach),
-        "--seed", "5", "--max-evals", str(a.evals), "--out", out)
+        "--seed", "5", "--max-evals", str(a.evals), *extra, "--out", out)
     params = json.load(open(os.path.join(out, "parameters.json")))["parameters"]
     print(f"{kept} impacts; misfit {json.load(open(os.path.join(out, 'calibration.json')))['misfit_after']:.4g}")
     for p in params:
@@ -107,8 +113,14 @@ def main():
         lo, hi = BOUNDS[p["name"]]
         truth = hidden[p["name"]]
         value = p["value"] / 0.3048 if p["name"] == "roughness" else p["value"]
-        print(f"{p['name']:10s} hidden {truth:.3g}  recovered {value:.3g}  "
-              f"error {100 * abs(value - truth) / (hi - lo):.1f} % of the range")
+        line = (f"{p['name']:10s} hidden {truth:.3g}  recovered {value:.3g}  "
+                f"error {100 * abs(value - truth) / (hi - lo):.1f} % of the range")
+        if p.get("posterior"):
+            scale = 1 / 0.3048 if p["name"] == "roughness" else 1.0
+            q05, q95 = p["posterior"]["p05"] * scale, p["posterior"]["p95"] * scale
+            line += (f"  90 % interval [{q05:.3g}, {q95:.3g}] "
+                     f"{'holds' if q05 <= truth <= q95 else 'MISSES'} it")
+        print(line)
 
 
 if __name__ == "__main__":

@@ -4,6 +4,7 @@
 // holds as null, being unknown, comes back as NaN or, for an error, +inf);
 // what the files show besides the struct (counts, the rules in words,
 // flags derived from indices) is written, not read.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -321,6 +322,89 @@ void from_json(const json& j, ConvergenceResult& result) {
   }
 }
 
+namespace {
+
+json Vector3(const Eigen::Vector3d& v) {
+  return json::array({JsonNum(v.x()), JsonNum(v.y()), JsonNum(v.z())});
+}
+
+Eigen::Vector3d Vector3Of(const json& j) {
+  const std::vector<double> v = Numbers(j);
+  if (v.size() != 3)
+    throw std::invalid_argument("an impact's vector has " + std::to_string(v.size()) +
+                                " components; expected 3");
+  return Eigen::Vector3d(v[0], v[1], v[2]);
+}
+
+// One impact's fit read back from ImpactsJson's per_impact entry; its group
+// is the index of its name in *groups (added when new).
+observations::ImpactFit ImpactFitOf(const json& j, std::vector<std::string>* groups) {
+  observations::ImpactFit f;
+  f.id = j.at("id").get<std::string>();
+  const std::string group = j.at("group").get<std::string>();
+  const auto at = std::find(groups->begin(), groups->end(), group);
+  f.group = static_cast<int>(at - groups->begin());
+  if (at == groups->end()) groups->push_back(group);
+  f.incidence_deg = Number(j, "incidence_deg", kNaN);
+  f.normal = Vector3Of(j.at("normal"));
+  f.observed = Vector3Of(j.at("observed_mps"));
+  f.simulated = Vector3Of(j.at("simulated_median_mps"));
+  f.speed_sd = Number(j, "speed_sd_mps", kNaN);
+  f.draws = j.at("draws").get<int>();
+  f.left = j.at("left").get<int>();
+  const json& n = j.at("normal_ratio");
+  f.normal_observed = Number(n, "observed", kNaN);
+  f.normal_simulated = Number(n, "simulated", kNaN);
+  f.normal_spread = Number(n, "spread", kNaN);
+  f.normal_sigma = Number(n, "sigma", kNaN);
+  const json& t = j.at("tangential_ratio");
+  f.tangential_observed = Number(t, "observed", kNaN);
+  f.tangential_simulated = Number(t, "simulated", kNaN);
+  f.tangential_spread = Number(t, "spread", kNaN);
+  f.tangential_sigma = Number(t, "sigma", kNaN);
+  return f;
+}
+
+}  // namespace
+
+std::vector<std::string> GroupIds(const core::Scene& scene) {
+  std::vector<std::string> ids;
+  for (const core::RockGroup& g : scene.groups) ids.push_back(g.id);
+  return ids;
+}
+
+json ImpactsJson(const observations::Misfit& misfit, const std::vector<std::string>& group_ids) {
+  json per = json::array();
+  for (const observations::ImpactFit& f : misfit.impacts) {
+    const std::size_t g = static_cast<std::size_t>(f.group);
+    const std::string group =
+        g < group_ids.size() && !group_ids[g].empty() ? group_ids[g] : std::to_string(f.group);
+    // A near-normal impact has no tangential residual (ImpactFit).
+    const bool tangential = std::isfinite(f.tangential_observed) && f.tangential_sigma > 0;
+    const json none = nullptr;
+    per.push_back({{"id", f.id},
+                   {"group", group},
+                   {"incidence_deg", JsonNum(f.incidence_deg)},
+                   {"normal", Vector3(f.normal)},
+                   {"observed_mps", Vector3(f.observed)},
+                   {"simulated_median_mps", Vector3(f.simulated)},
+                   {"speed_sd_mps", JsonNum(f.speed_sd)},
+                   {"draws", f.draws},
+                   {"left", f.left},
+                   {"normal_ratio",
+                    {{"observed", JsonNum(f.normal_observed)},
+                     {"simulated", JsonNum(f.normal_simulated)},
+                     {"spread", JsonNum(f.normal_spread)},
+                     {"sigma", JsonNum(f.normal_sigma)}}},
+                   {"tangential_ratio",
+                    {{"observed", JsonNum(f.tangential_observed)},
+                     {"simulated", tangential ? JsonNum(f.tangential_simulated) : none},
+                     {"spread", tangential ? JsonNum(f.tangential_spread) : none},
+                     {"sigma", tangential ? JsonNum(f.tangential_sigma) : none}}}});
+  }
+  return {{"verdict", observations::ImpactVerdict(misfit)}, {"per_impact", per}};
+}
+
 json ResidualsJson(const observations::Misfit& misfit) {
   json out = json::array();
   for (const observations::Residual& r : misfit.residuals)
@@ -345,6 +429,7 @@ void to_json(json& j, const ScoreResult& s) {
        {"outcomes", Outcomes(s.stopped, s.left, s.timeout)},
        {"fit", FitJson(observations::AssessFit(s.misfit))},
        {"residuals", ResidualsJson(s.misfit)}};
+  if (!s.misfit.impacts.empty()) j["impacts"] = ImpactsJson(s.misfit, s.groups);
 }
 
 void from_json(const json& j, ScoreResult& s) {
@@ -372,6 +457,9 @@ void from_json(const json& j, ScoreResult& s) {
     res.value = r.at("residual").get<double>();
     s.misfit.residuals.push_back(res);
   }
+  if (const auto impacts = j.find("impacts"); impacts != j.end())
+    for (const json& f : impacts->at("per_impact"))
+      s.misfit.impacts.push_back(ImpactFitOf(f, &s.groups));
 }
 
 }  // namespace rockcal::calibrate

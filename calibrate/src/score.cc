@@ -78,6 +78,7 @@ ScoreResult ScoreResultOf(const ScoreSummary& score, const std::string& observat
   out.left = score.simulation.count(core::Outcome::kLeft);
   out.timeout = score.simulation.count(core::Outcome::kTimeout);
   out.misfit = score.misfit;
+  out.groups = GroupIds(score.scene);
   return out;
 }
 

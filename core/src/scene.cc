@@ -50,6 +50,24 @@ bool SimulationOptions::IsValid(std::string* error) const {
         (k > 0 && record.trajectory_groups[k] <= record.trajectory_groups[k - 1]))
       return fail("record.trajectory_groups", record.trajectory_groups[k],
                   "must be group indices >= 0 in ascending order");
+  // The observed impacts to replay (docs/physics.md, "Replayed impacts"); the
+  // group's index is checked against the scene's groups by Scene::IsValid.
+  for (std::size_t k = 0; k < record.impacts.size(); ++k) {
+    const ImpactReplay& impact = record.impacts[k];
+    const std::string name = "record.impacts[" + std::to_string(k) + "].";
+    if (impact.group < 0) return fail(name + "group", impact.group, "must be a group index >= 0");
+    for (int c = 0; c < 3; ++c) {
+      if (!std::isfinite(impact.centre[c]))
+        return fail(name + "centre", impact.centre[c], "must be finite");
+      if (!std::isfinite(impact.velocity_in[c]))
+        return fail(name + "velocity_in", impact.velocity_in[c], "must be finite");
+      if (impact.spin && !std::isfinite((*impact.spin)[c]))
+        return fail(name + "spin", (*impact.spin)[c], "must be finite");
+    }
+    if (impact.draws < 1 || impact.draws > kMaxImpactDraws)
+      return fail(name + "draws", impact.draws,
+                  ("must be 1 to " + std::to_string(kMaxImpactDraws)).c_str());
+  }
   return true;
 }
 
@@ -62,6 +80,22 @@ double Scene::EstimatedSteps() const {
 bool Scene::IsValid(std::string* error) const {
   if (!options.IsValid(error)) return false;
   if (!forest.IsValid(error)) return false;
+  const std::size_t group_count = groups.size();
+  for (std::size_t k = 0; k < options.record.impacts.size(); ++k)
+    if (static_cast<std::size_t>(options.record.impacts[k].group) >= group_count) {
+      *error = "simulation.record.impacts[" + std::to_string(k) +
+               "].group = " + std::to_string(options.record.impacts[k].group) +
+               ": must be one of the " + std::to_string(group_count) + " rock groups (0 to " +
+               std::to_string(static_cast<long>(group_count) - 1) + ")";
+      return false;
+    }
+  for (int g : options.record.trajectory_groups)
+    if (static_cast<std::size_t>(g) >= group_count) {
+      *error = "simulation.record.trajectory_groups has " + std::to_string(g) +
+               ": must be one of the " + std::to_string(group_count) + " rock groups (0 to " +
+               std::to_string(static_cast<long>(group_count) - 1) + ")";
+      return false;
+    }
   const int rocks = total_rocks();
   if (rocks < 1 || rocks > kMaxRocks) {
     *error = "the run has " + std::to_string(rocks) + " rocks; expected 1 to " +
@@ -73,8 +107,8 @@ bool Scene::IsValid(std::string* error) const {
     std::ostringstream s;
     s << "the run would take up to " << steps << " steps (" << rocks << " rocks, max_time "
       << options.max_time << " s, smallest contact step " << options.max_time * rocks / steps
-      << " s); expected at most "
-      << kMaxEstimatedSteps << ": lengthen the contact time or shorten max_time";
+      << " s); expected at most " << kMaxEstimatedSteps
+      << ": lengthen the contact time or shorten max_time";
     *error = s.str();
     return false;
   }

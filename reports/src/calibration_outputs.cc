@@ -13,7 +13,6 @@
 #include "rockcal/core/scene.h"
 #include "rockcal/core/statistics.h"
 #include "rockcal/observations/misfit.h"
-#include "rockcal/reports/impact_outputs.h"
 #include "rockcal/sites/json_reader.h"
 
 namespace rockcal::reports {
@@ -366,7 +365,8 @@ nlohmann::json CalibrationJson(const CalibrationSummary& record) {
   if (!record.misfit_after.runs.empty()) out["runs"] = RunsJson(record.misfit_after);
   if (record.misfit_after.tracks.tracks > 0) out["tracks"] = TracksJson(record.misfit_after);
   if (!record.misfit_after.impacts.empty())
-    out["impacts"] = ImpactsJson(record.misfit_after, record.calibrated);
+    out["impacts"] =
+        calibrate::ImpactsJson(record.misfit_after, calibrate::GroupIds(record.calibrated));
   if (record.posterior) out["posterior"] = calibrate::PosteriorJson(*record.posterior);
   return out;
 }

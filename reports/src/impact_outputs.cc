@@ -20,12 +20,6 @@ std::string GroupName(const core::Scene& scene, int group) {
 // A CSV field: the number, or empty when it is not finite.
 std::string Field(double v) { return std::isfinite(v) ? FormatNumber(v, "%.6g") : ""; }
 
-nlohmann::json Number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
-
-nlohmann::json Vector(const Eigen::Vector3d& v) {
-  return nlohmann::json::array({Number(v.x()), Number(v.y()), Number(v.z())});
-}
-
 }  // namespace
 
 std::string ImpactsCsv(const observations::Misfit& misfit, const core::Scene& scene,
@@ -50,34 +44,6 @@ std::string ImpactsCsv(const observations::Misfit& misfit, const core::Scene& sc
         << f.left << '\n';
   }
   return out.str();
-}
-
-nlohmann::json ImpactsJson(const observations::Misfit& misfit, const core::Scene& scene) {
-  nlohmann::json per = nlohmann::json::array();
-  for (const observations::ImpactFit& f : misfit.impacts) {
-    const bool tangential = std::isfinite(f.tangential_observed) && f.tangential_sigma > 0;
-    per.push_back(
-        {{"id", f.id},
-         {"group", GroupName(scene, f.group)},
-         {"incidence_deg", Number(f.incidence_deg)},
-         {"normal", Vector(f.normal)},
-         {"observed_mps", Vector(f.observed)},
-         {"simulated_median_mps", Vector(f.simulated)},
-         {"speed_sd_mps", Number(f.speed_sd)},
-         {"draws", f.draws},
-         {"left", f.left},
-         {"normal_ratio",
-          {{"observed", Number(f.normal_observed)},
-           {"simulated", Number(f.normal_simulated)},
-           {"spread", Number(f.normal_spread)},
-           {"sigma", Number(f.normal_sigma)}}},
-         {"tangential_ratio",
-          {{"observed", Number(f.tangential_observed)},
-           {"simulated", tangential ? Number(f.tangential_simulated) : nlohmann::json(nullptr)},
-           {"spread", tangential ? Number(f.tangential_spread) : nlohmann::json(nullptr)},
-           {"sigma", tangential ? Number(f.tangential_sigma) : nlohmann::json(nullptr)}}}});
-  }
-  return {{"verdict", observations::ImpactVerdict(misfit)}, {"per_impact", per}};
 }
 
 }  // namespace rockcal::reports

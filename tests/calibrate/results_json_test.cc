@@ -332,6 +332,26 @@ TEST(ResultsJson, ScoreResultRoundTrips) {
     r.simulated = 45.1, r.observed = 40.0, r.sigma = 4.1, r.value = 1.25;
     s.misfit.residuals.push_back(r);
   }
+  // Two measured impacts of group "b2" (the scene's second), the second
+  // near-normal (no tangential residual: its tangential figures are null).
+  s.groups = {"b1", "b2"};
+  for (int k = 0; k < 2; ++k) {
+    observations::ImpactFit f;
+    f.id = k == 0 ? "i0" : "i1";
+    f.group = 1;
+    f.incidence_deg = k == 0 ? 35.5 : 1.5;
+    f.normal = Eigen::Vector3d(0.1, 0, 0.99498743710662);
+    f.observed = Eigen::Vector3d(3.25, 0.5, 2.0);
+    f.simulated = Eigen::Vector3d(3.0, 0.25, 2.5);
+    f.speed_sd = 0.375;
+    f.draws = 16, f.left = 15 - k;
+    f.normal_observed = 0.25, f.normal_simulated = 0.3125, f.normal_spread = 0.0625;
+    f.normal_sigma = 0.09;
+    f.tangential_observed = k == 0 ? 0.625 : std::numeric_limits<double>::quiet_NaN();
+    f.tangential_simulated = 0.5, f.tangential_spread = 0.125;
+    f.tangential_sigma = k == 0 ? 0.15 : 0.0;
+    s.misfit.impacts.push_back(f);
+  }
   for (const char* parameters : {"", "calibration/parameters.json"}) {
     s.parameters_file = parameters;
     const nlohmann::json j = s;
@@ -348,6 +368,23 @@ TEST(ResultsJson, ScoreResultRoundTrips) {
     for (std::size_t k = 0; k < ids.size(); ++k)
       EXPECT_EQ(back.misfit.residuals[k].id, ids[k]) << ids[k].observation() << ids[k].quantity();
     EXPECT_EQ(back.misfit.residuals[0].value, 1.25);
+    // The impacts: their block is calibration.json's (ImpactsJson), read back
+    // field for field; the group by its id.
+    ASSERT_EQ(j["impacts"]["per_impact"].size(), 2u);
+    EXPECT_EQ(j["impacts"]["per_impact"][0]["group"], "b2");
+    EXPECT_TRUE(j["impacts"]["per_impact"][1]["tangential_ratio"]["simulated"].is_null());
+    EXPECT_EQ(nlohmann::json(back), j);
+    ASSERT_EQ(back.misfit.impacts.size(), 2u);
+    EXPECT_EQ(back.groups, std::vector<std::string>{"b2"});
+    const observations::ImpactFit& f = back.misfit.impacts[0];
+    EXPECT_EQ(f.id, "i0");
+    EXPECT_EQ(f.group, 0);
+    EXPECT_EQ(f.incidence_deg, 35.5);
+    EXPECT_EQ(f.observed, Eigen::Vector3d(3.25, 0.5, 2.0));
+    EXPECT_EQ(f.simulated, Eigen::Vector3d(3.0, 0.25, 2.5));
+    EXPECT_EQ(f.left, 15);
+    EXPECT_EQ(f.tangential_sigma, 0.15);
+    EXPECT_TRUE(std::isnan(back.misfit.impacts[1].tangential_observed));
   }
 }
 

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "../reports/report_check.h"
 #include "cli_fixture.h"
@@ -88,6 +89,24 @@ TEST(Impacts, CalibrateAndScoreWriteTheImpactsFiguresAndTheReportSection) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("impacts: rebounds "));
   EXPECT_EQ(ReadFile(scored + "/impacts.csv").substr(0, 40), csv.substr(0, 40));
+  // score.json carries the same "impacts" block as calibration.json (one
+  // writer): the same fields per impact, the same observed rebounds (SI).
+  const nlohmann::json score = nlohmann::json::parse(ReadFile(scored + "/score.json"));
+  ASSERT_TRUE(score.contains("impacts")) << score.dump(1);
+  EXPECT_THAT(score["impacts"]["verdict"].get<std::string>(), HasSubstr("rebounds "));
+  ASSERT_EQ(score["impacts"]["per_impact"].size(), 4u);
+  for (std::size_t k = 0; k < 4; ++k) {
+    const nlohmann::json& s = score["impacts"]["per_impact"][k];
+    const nlohmann::json& c = cal["impacts"]["per_impact"][k];
+    std::vector<std::string> s_keys, c_keys;
+    for (const auto& [key, value] : s.items()) s_keys.push_back(key);
+    for (const auto& [key, value] : c.items()) c_keys.push_back(key);
+    EXPECT_EQ(s_keys, c_keys) << "impact " << k;
+    EXPECT_EQ(s["id"], c["id"]);
+    EXPECT_EQ(s["group"], "s1");
+    EXPECT_EQ(s["observed_mps"], c["observed_mps"]) << "impact " << k;
+    EXPECT_EQ(s["draws"].get<int>(), 4);
+  }
 }
 
 TEST(Impacts, HoldoutDealsTheImpactsOverTheFolds) {

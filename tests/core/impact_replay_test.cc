@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <string>
 
 #include "oblique_impact.h"
 #include "rockcal/core/material.h"
@@ -132,6 +134,50 @@ TEST(ImpactReplay, RatiosAreTheComponentsAboutTheNormal) {
   EXPECT_DOUBLE_EQ(r.normal, 0.4);
   EXPECT_DOUBLE_EQ(r.tangential, 0.5);
   EXPECT_TRUE(std::isnan(RatiosOf({0.01, 0, -5}, {0, 0, 2}, n).tangential)) << "near-normal";
+}
+
+// The impacts to replay are checked with the rest of the options: finite
+// values, 1 to kMaxImpactDraws draws, a group of the scene; the error names
+// the impact, the field and its value.
+TEST(ImpactReplay, TheSceneRejectsAnImpactItCannotReplay) {
+  Scene scene = PlaneScene(0.5, 0.5);
+  scene.options.record.impacts = {Arriving(30 * kDeg, 4), Arriving(30 * kDeg, 4)};
+  std::string error;
+  ASSERT_TRUE(scene.IsValid(&error)) << error;
+  struct Case {
+    const char* what;
+    void (*spoil)(ImpactReplay*);
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"no draws", [](ImpactReplay* i) { i->draws = 0; },
+       "record.impacts[1].draws = 0: must be 1 to"},
+      {"too many draws", [](ImpactReplay* i) { i->draws = kMaxImpactDraws + 1; },
+       "record.impacts[1].draws = 1001"},
+      {"NaN centre",
+       [](ImpactReplay* i) { i->centre.y() = std::numeric_limits<double>::quiet_NaN(); },
+       "record.impacts[1].centre = nan: must be finite"},
+      {"infinite velocity",
+       [](ImpactReplay* i) { i->velocity_in.z() = -std::numeric_limits<double>::infinity(); },
+       "record.impacts[1].velocity_in = -inf: must be finite"},
+      {"NaN spin",
+       [](ImpactReplay* i) {
+         i->spin = Eigen::Vector3d(0, std::numeric_limits<double>::quiet_NaN(), 0);
+       },
+       "record.impacts[1].spin = nan: must be finite"},
+      {"negative group", [](ImpactReplay* i) { i->group = -1; },
+       "record.impacts[1].group = -1: must be a group index >= 0"},
+      {"unknown group", [](ImpactReplay* i) { i->group = 1; },
+       "record.impacts[1].group = 1: must be one of the 1 rock groups (0 to 0)"},
+  };
+  for (const Case& c : cases) {
+    Scene spoilt = scene;
+    c.spoil(&spoilt.options.record.impacts[1]);
+    error.clear();
+    EXPECT_FALSE(spoilt.IsValid(&error)) << c.what;
+    EXPECT_NE(error.find(c.expected), std::string::npos)
+        << c.what << ": the error is \"" << error << "\", expected \"" << c.expected << "\"";
+  }
 }
 
 }  // namespace

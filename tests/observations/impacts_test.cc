@@ -129,9 +129,15 @@ TEST_F(ImpactsFileTest, EveryBadRowNamesFileLineAndColumn) {
   EXPECT_THAT(
       CsvError(std::string(kHeader) + good + good + "b1,25,10,-2.7,6,0,-4,5,0,2\n"),
       HasSubstr(file + ":4: columns 'x', 'y': the impact at (25, 10) m is off the terrain"));
-  EXPECT_THAT(CsvError(std::string(kHeader) + "b1,10,10,-3.5,6,0,-4,5,0,2\n"),
-              HasSubstr(file + ":2: column 'z': the rock's centre -3.5 m is below the ground "
-                               "(-3 m there): inside the terrain"));
+  // A centre below the surface is a rock sunk between rough ground's
+  // spheres, down to one sphere spacing (1 m here); deeper is inside the terrain.
+  EXPECT_THAT(CsvError(std::string(kHeader) + "b1,10,10,-4.1,6,0,-4,5,0,2\n"),
+              HasSubstr(file + ":2: column 'z': the rock's centre -4.1 m is 1.1 m below the "
+                               "ground (-3 m there): inside the terrain; expected the centre at "
+                               "the impact, at most one sphere spacing (1 m) below the ground"));
+  Write("impacts.csv", std::string(kHeader) + "b1,10,10,-3.9,6,0,-4,5,0,2\n");
+  EXPECT_EQ(Load(R"({"units": "si", "impacts_file": "impacts.csv"})").impacts.size(), 1u)
+      << "a centre 0.9 m below the surface is read";
   EXPECT_THAT(CsvError(std::string(kHeader) + "b1,10,10,-2.7,6,0,4,5,0,2\n"),
               HasSubstr(file + ":2: columns 'vx_in', 'vy_in', 'vz_in': (6, 0, 4) m/s does not "
                                "approach the ground"));

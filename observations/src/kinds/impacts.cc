@@ -80,11 +80,18 @@ void AddImpact(const Reader& reader, const std::string& where, const std::string
                                 FormatPoint(Eigen::Vector2d(c.x(), c.y())) +
                                 " m is off the terrain (outside the grid or over a hole); "
                                 "expected an impact on the terrain");
-  if (c.z() < *ground)
+  // On rough ground a rock sinks below the surface between the virtual
+  // spheres (docs/physics.md: a node's sphere sags R <= s/2 along the fall
+  // line, more at a cell's centre), so its centre at an impact may lie below
+  // the surface; one sphere spacing s below it is inside the terrain.
+  const double depth = grid.spacing;
+  if (c.z() < *ground - depth)
     throw InputError(where, "column 'z': the rock's centre " + FormatNumber(c.z(), "%.4g") +
-                                " m is below the ground (" + FormatNumber(*ground, "%.4g") +
+                                " m is " + FormatNumber(*ground - c.z(), "%.4g") +
+                                " m below the ground (" + FormatNumber(*ground, "%.4g") +
                                 " m there): inside the terrain; expected the centre at the "
-                                "impact, at least on the ground");
+                                "impact, at most one sphere spacing (" +
+                                FormatNumber(depth, "%.4g") + " m) below the ground");
   const Eigen::Vector3d n = GridNormal(grid, c.x(), c.y(), *ground);
   if (!(impact.velocity_in.dot(n) < 0.0))
     throw InputError(where, "columns 'vx_in', 'vy_in', 'vz_in': " + Vec(impact.velocity_in) +

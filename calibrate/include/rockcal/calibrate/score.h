@@ -76,9 +76,13 @@ struct ScoreResult {
   int rocks = 0;
   std::uint64_t seed = 0;
   int stopped = 0, left = 0, timeout = 0;  // the rocks' outcomes
-  // Its value, penalised and message, and the residuals (the runs'
-  // figures are not in score.json).
+  // Its value, penalised and message, the residuals and the measured
+  // impacts' fits (the runs' figures and each replay's ratios are not in
+  // score.json).
   observations::Misfit misfit;
+  // The ids of the rock groups misfit.impacts[i].group indexes (GroupIds of
+  // the scene); read back, the groups the impacts name, in order of first mention.
+  std::vector<std::string> groups;
 };
 
 // The record of `score` with the files it was given (ScoreOptions::parameters_file).
@@ -91,6 +95,17 @@ void from_json(const nlohmann::json& j, ScoreResult& result);
 // The residuals of `misfit` as score.json and calibration.json list them:
 // observation, quantity, simulated, observed, sigma and residual of each.
 nlohmann::json ResidualsJson(const observations::Misfit& misfit);
+// The measured impacts' fits as score.json and calibration.json hold them
+// ("impacts", SI; docs/reference/outputs.md#impactscsv): {"verdict":
+// observations::ImpactVerdict, "per_impact": [{id, group, incidence_deg,
+// normal, observed_mps, simulated_median_mps, speed_sd_mps, draws, left,
+// normal_ratio: {observed, simulated, spread, sigma}, tangential_ratio:
+// {...}}]}; null figures where undefined; `group` is group_ids[group] (the
+// index where that id is empty or missing).
+nlohmann::json ImpactsJson(const observations::Misfit& misfit,
+                           const std::vector<std::string>& group_ids);
+// The ids of the scene's rock groups, in order.
+std::vector<std::string> GroupIds(const core::Scene& scene);
 
 }  // namespace rockcal::calibrate
 

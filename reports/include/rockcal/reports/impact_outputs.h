@@ -1,10 +1,10 @@
 // What measured impacts (observations' "impacts") add to a calibration's or
 // a score's files (docs/reference/outputs.md#impactscsv): impacts.csv, one
-// row per observed impact, and calibration.json's "impacts".
+// row per observed impact (the "impacts" of calibration.json and score.json
+// is calibrate::ImpactsJson).
 #ifndef ROCKCAL_REPORTS_IMPACT_OUTPUTS_H_
 #define ROCKCAL_REPORTS_IMPACT_OUTPUTS_H_
 
-#include <nlohmann/json.hpp>
 #include <string>
 
 #include "rockcal/core/scene.h"
@@ -23,12 +23,6 @@ namespace rockcal::reports {
 // group's id in `scene` (its index when it has none).
 std::string ImpactsCsv(const observations::Misfit& misfit, const core::Scene& scene,
                        double to_site);
-
-// calibration.json's "impacts" (SI): {"verdict": ImpactVerdict, "per_impact":
-// [{id, group, incidence_deg, normal, observed_mps, simulated_median_mps,
-// speed_sd_mps, draws, left, normal_ratio: {observed, simulated, spread,
-// sigma}, tangential_ratio: {...}}]}; null figures where undefined.
-nlohmann::json ImpactsJson(const observations::Misfit& misfit, const core::Scene& scene);
 
 }  // namespace rockcal::reports
 
