@@ -65,7 +65,7 @@ int main(int argc, char** argv) {
         const Eigen::Vector3d rs = c.union_sides.cwiseQuotient(c.hull_sides);
         std::printf("%-8s %-7s %4d %10.2f %10.2f %10.2f %10.3f %8.1f  %.3f %.3f %.3f\n",
                     f.substr(slash == std::string::npos ? 0 : slash + 1, 8).c_str(),
-                    core::ClumpTargetName(target), n, 100 * c.volume_error, 100 * c.moment_error, 100 * c.side_error,
+                    core::ClumpTargetToString(target), n, 100 * c.volume_error, 100 * c.moment_error, 100 * c.side_error,
                     c.radius / c.hull_sides.z(), ms, rs.x(), rs.y(), rs.z());
       }
     }

@@ -65,6 +65,19 @@ std::vector<std::string> Args::All(const std::string& name) const {
   return out;
 }
 
+std::vector<std::string> Args::List(const std::string& name) const {
+  const std::string text = Get(name);
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    out.push_back(
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (comma == std::string::npos) return out;
+    start = comma + 1;
+  }
+}
+
 long Args::Integer(const std::string& name, long fallback, long lo, long hi) const {
   if (!Has(name)) return fallback;
   const std::string v = Get(name);
@@ -77,7 +90,8 @@ long Args::Integer(const std::string& name, long fallback, long lo, long hi) con
                                     (v[0] == '-' && v.size() > 1));
   if (!plain || *end != '\0' || errno == ERANGE || x < lo || x > hi)
     throw InputError("argument --" + name, "'" + v + "' is not a whole number in [" +
-                                               std::to_string(lo) + ", " + std::to_string(hi) + "]");
+                                               std::to_string(lo) + ", " + std::to_string(hi) +
+                                               "]");
   return x;
 }
 

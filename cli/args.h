@@ -29,6 +29,9 @@ class Args final {
   std::string Get(const std::string& name) const;  // required
   std::string Get(const std::string& name, const std::string& fallback) const;
   std::vector<std::string> All(const std::string& name) const;
+  // The comma-separated items of the required --name, empty ones kept
+  // ("a,," holds three) for the caller to refuse by name.
+  std::vector<std::string> List(const std::string& name) const;
   long Integer(const std::string& name, long fallback, long lo, long hi) const;
   double Number(const std::string& name, double fallback, double lo, double hi) const;
 

@@ -37,19 +37,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The comma separated items of `text`, empty ones kept ("a,," holds three).
-std::vector<std::string> SplitList(const std::string& text) {
-  std::vector<std::string> out;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = text.find(',', start);
-    out.push_back(
-        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-    if (comma == std::string::npos) return out;
-    start = comma + 1;
-  }
-}
-
 }  // namespace
 
 void PrepareCalibrationFolder(const Args& args, const std::string& out, const RunInputs& inputs,
@@ -84,9 +71,8 @@ void MethodsFromArgs(const Args& args, std::vector<calibrate::Method>* methods) 
     throw InputError("arguments", "give --method or --methods, not both");
   if (!args.Has("method") && !args.Has("methods")) return;
   const std::string flag = args.Has("methods") ? "methods" : "method";
-  const std::vector<std::string> names = args.Has("methods")
-                                             ? SplitList(args.Get("methods"))
-                                             : std::vector<std::string>{args.Get("method")};
+  const std::vector<std::string> names =
+      args.Has("methods") ? args.List("methods") : std::vector<std::string>{args.Get("method")};
   methods->clear();
   for (std::size_t k = 0; k < names.size(); ++k) {
     const std::string& name = names[k];
@@ -205,12 +191,13 @@ void PosteriorFromArgs(const Args& args, calibrate::CalibrationOptions* options)
     return;
   }
   calibrate::PosteriorOptions p;
-  p.design_points = static_cast<int>(args.Integer("posterior-points", 0, 0, 100000));
+  p.design_points = static_cast<int>(args.Integer("posterior-points", p.design_points, 0, 100000));
   p.rounds = static_cast<int>(args.Integer("posterior-rounds", p.rounds, 0, 1000));
   p.predictive_draws = static_cast<int>(args.Integer("predictive", p.predictive_draws, 0, 100000));
   options->posterior = p;
-  const std::string stage = args.Get("posterior-stage", "first");
-  if (!calibrate::ParsePosteriorStage(stage, &options->posterior_stage))
+  const std::string stage =
+      args.Get("posterior-stage", calibrate::PosteriorStageToString(options->posterior_stage));
+  if (!calibrate::StringToPosteriorStage(stage, &options->posterior_stage))
     throw InputError("argument --posterior-stage", "'" + stage + "': expected first or final");
 }
 

@@ -93,7 +93,8 @@ SimulateInputs ReadSimulateInputs(const Args& args, const std::string& site_path
   }
   in.needs.partitions = true;
   in.needs.energy_check = true;
-  in.needs.trajectories = static_cast<int>(args.Integer("trajectories", 0, 0, 1000000));
+  in.needs.trajectories =
+      static_cast<int>(args.Integer("trajectories", in.needs.trajectories, 0, 1000000));
   if (args.Has("sample-seconds") && !args.Has("trajectories"))
     throw InputError("argument --sample-seconds", "goes with --trajectories N");
   in.needs.sample_seconds = args.Number("sample-seconds", in.needs.sample_seconds, 1e-6, 1e6);
@@ -111,7 +112,7 @@ core::Scene SimulateScene(const Args& args, const SimulateInputs& in,
     scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, core::kMaxRocks)));
   if (args.Has("seed"))
     scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
-  scene.options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+  scene.options.threads = static_cast<int>(args.Integer("threads", scene.options.threads, 0, 1024));
   if (args.Flag("no-forest")) scene.forest = core::Forest{};
   scene.options.record = calibrate::RecordingFor(scene, in.needs);
   return scene;
@@ -280,8 +281,9 @@ int Validate(const std::vector<std::string>& argv) {
     bool shrunk = false;
     const double dt = core::GroupContactStep(scene, g, &shrunk);
     std::printf("  %5d %-11s size %.3f-%.3f m  mass %.4g-%.4g kg  contact step %.3g s%s\n", g.count,
-                core::ShapeName(g.shape), std::min(lo.size, hi.size), std::max(lo.size, hi.size),
-                lo.mass, hi.mass, dt, shrunk ? " (shrunk for stability)" : "");
+                core::ShapeToString(g.shape), std::min(lo.size, hi.size),
+                std::max(lo.size, hi.size), lo.mass, hi.mass, dt,
+                shrunk ? " (shrunk for stability)" : "");
   }
   PrintWarnings(sites::IdenticalCopyWarnings(scene));
   if (args.Has("observations")) {

@@ -32,7 +32,7 @@ int Score(const std::vector<std::string>& argv) {
   if (args.Has("rocks")) options.rocks = static_cast<int>(args.Integer("rocks", 0, 1, 100000000));
   if (args.Has("seed"))
     options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
-  options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+  options.threads = static_cast<int>(args.Integer("threads", options.threads, 0, 1024));
   if (args.Has("parameters")) options.parameters_file = args.Get("parameters");
   const core::Scene scene = calibrate::ScoreScene(site, options);
 

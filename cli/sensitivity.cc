@@ -26,16 +26,16 @@ int Sensitivity(const std::vector<std::string>& argv) {
   const std::string site_path = args.OnlyPositional("SITE.json");
   const std::string out = args.Get("out");
   calibrate::SensitivityOptions opt;
-  const std::string method = args.Get("method", calibrate::SensitivityMethodName(opt.method));
-  if (!calibrate::ParseSensitivityMethod(method, &opt.method))
+  const std::string method = args.Get("method", calibrate::SensitivityMethodToString(opt.method));
+  if (!calibrate::StringToSensitivityMethod(method, &opt.method))
     throw InputError("argument --method", "unknown method '" + method + "' (allowed: " +
-                                              calibrate::SensitivityMethodList() + ")");
+                                              calibrate::SensitivityMethodNames() + ")");
   const bool morris = opt.method == calibrate::SensitivityMethod::kMorris;
   if (args.Has("samples"))
     opt.samples = static_cast<int>(args.Integer("samples", 0, morris ? 2 : 4, 100000));
   if (args.Has("seed"))
     opt.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
-  opt.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+  opt.threads = static_cast<int>(args.Integer("threads", opt.threads, 0, 1024));
   std::string error;
   if (!opt.IsValid(&error)) throw InputError("arguments", error);
 

@@ -27,11 +27,7 @@ constexpr const char* kStudies = "stability, convergence, reach";
 std::vector<int> IntegerList(const Args& args, const std::string& name, long lo, long hi) {
   const std::string text = args.Get(name);
   std::vector<int> out;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = text.find(',', start);
-    const std::string item =
-        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+  for (const std::string& item : args.List(name)) {
     char* end = nullptr;
     const long x = std::strtol(item.c_str(), &end, 10);
     if (item.empty() || *end != '\0' || x < lo || x > hi)
@@ -41,21 +37,6 @@ std::vector<int> IntegerList(const Args& args, const std::string& name, long lo,
                            std::to_string(hi) +
                            "] (expected a comma-separated list, e.g. 10,20,50)");
     out.push_back(static_cast<int>(x));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return out;
-}
-
-std::vector<std::string> NameList(const std::string& text) {
-  std::vector<std::string> out;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = text.find(',', start);
-    out.push_back(
-        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
   }
   return out;
 }
@@ -92,9 +73,9 @@ int Stability(const Args& args, sites::Site* site, const std::string& out) {
   opt.rocks = static_cast<int>(args.Integer("rocks", opt.rocks, 1, 1000000));
   if (args.Has("seed"))
     opt.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
-  opt.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+  opt.threads = static_cast<int>(args.Integer("threads", opt.threads, 0, 1024));
   if (args.Has("cases"))
-    for (const std::string& name : NameList(args.Get("cases"))) {
+    for (const std::string& name : args.List("cases")) {
       calibrate::StabilityCaseId id;
       if (!calibrate::StringToStabilityCase(name, &id))
         throw InputError("argument --cases", "unknown case '" + name + "' (allowed: " +
@@ -143,7 +124,7 @@ int Convergence(const Args& args, sites::Site* site, const std::string& out) {
   opt.bootstrap = static_cast<int>(args.Integer("bootstrap", opt.bootstrap, 20, 1000000));
   if (args.Has("seed"))
     opt.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
-  opt.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+  opt.threads = static_cast<int>(args.Integer("threads", opt.threads, 0, 1024));
   std::string error;
   if (!opt.IsValid(&error)) throw InputError("arguments", error);
 
@@ -183,14 +164,14 @@ int Reach(const Args& args, sites::Site* site, const std::string& out) {
     scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, 100000000)));
   if (args.Has("seed"))
     scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
-  scene.options.threads = static_cast<int>(args.Integer("threads", 0, 0, 1024));
+  scene.options.threads = static_cast<int>(args.Integer("threads", scene.options.threads, 0, 1024));
   calibrate::ReachOptions opt;
   opt.seed = scene.options.seed;
   if (args.Has("points")) opt.points = static_cast<int>(args.Integer("points", 0, 2, 100000));
-  const std::string design = args.Get("design", calibrate::DesignKindName(opt.design));
-  if (!calibrate::ParseDesignKind(design, &opt.design))
+  const std::string design = args.Get("design", calibrate::DesignKindToString(opt.design));
+  if (!calibrate::StringToDesignKind(design, &opt.design))
     throw InputError("argument --design", "unknown design '" + design +
-                                              "' (allowed: " + calibrate::DesignKindList() + ")");
+                                              "' (allowed: " + calibrate::DesignKindNames() + ")");
   std::string error;
   if (!opt.IsValid(&error)) throw InputError("arguments", error);
   if (!scene.options.IsValid(&error)) throw InputError(site_path, error);

@@ -13,22 +13,22 @@
 #include "rockcal/calibrate/objective.h"
 #include "rockcal/calibrate/score.h"
 #include "rockcal/core/error.h"
+#include "rockcal/core/name_table.h"
 #include "rockcal/core/statistics.h"
 #include "rockcal/parallel/parallel.h"
 
 namespace rockcal::calibrate {
 
-const char* PosteriorStageName(PosteriorStage stage) {
-  return stage == PosteriorStage::kFirst ? "first" : "final";
-}
+namespace {
+constexpr core::Named<PosteriorStage> kPosteriorStages[] = {{PosteriorStage::kFirst, "first"},
+                                                            {PosteriorStage::kFinal, "final"}};
+}  // namespace
 
-bool ParsePosteriorStage(const std::string& name, PosteriorStage* stage) {
-  for (PosteriorStage s : {PosteriorStage::kFirst, PosteriorStage::kFinal})
-    if (name == PosteriorStageName(s)) {
-      *stage = s;
-      return true;
-    }
-  return false;
+const char* PosteriorStageToString(PosteriorStage stage) {
+  return core::NameOf(kPosteriorStages, stage);
+}
+bool StringToPosteriorStage(const std::string& name, PosteriorStage* stage) {
+  return core::IdOf(kPosteriorStages, name, stage);
 }
 
 bool CalibrationOptions::IsValid(std::string* error) const {

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "rockcal/core/name_table.h"
 #include "rockcal/core/random.h"
 #include "rockcal/core/statistics.h"
 
@@ -148,22 +149,15 @@ std::string G(double v, const char* format = "%.4g") {
 
 }  // namespace
 
-const char* DesignKindName(DesignKind kind) {
-  return kind == DesignKind::kHalton ? "halton" : "lhs";
-}
+namespace {
+constexpr core::Named<DesignKind> kDesignKinds[] = {{DesignKind::kLatinHypercube, "lhs"},
+                                                    {DesignKind::kHalton, "halton"}};
+}  // namespace
 
-std::string DesignKindList() { return "lhs, halton"; }
-
-bool ParseDesignKind(const std::string& name, DesignKind* kind) {
-  if (name == "lhs") {
-    *kind = DesignKind::kLatinHypercube;
-    return true;
-  }
-  if (name == "halton") {
-    *kind = DesignKind::kHalton;
-    return true;
-  }
-  return false;
+const char* DesignKindToString(DesignKind kind) { return core::NameOf(kDesignKinds, kind); }
+std::string DesignKindNames() { return core::NameList(kDesignKinds); }
+bool StringToDesignKind(const std::string& name, DesignKind* kind) {
+  return core::IdOf(kDesignKinds, name, kind);
 }
 
 std::vector<std::vector<double>> SpaceFillingDesign(DesignKind kind, int points, int dimensions,
@@ -229,7 +223,7 @@ bool ReachOptions::IsValid(std::string* error) const {
     return fail("candidates", std::to_string(candidates), "must be in [1, 1000]");
   if (design != DesignKind::kLatinHypercube && design != DesignKind::kHalton)
     return fail("design", std::to_string(static_cast<int>(design)),
-                "is not a design (allowed: " + DesignKindList() + ")");
+                "is not a design (allowed: " + DesignKindNames() + ")");
   return true;
 }
 
@@ -260,7 +254,7 @@ int ReachResult::out_of_reach() const {
 
 std::string ReachResult::BriefReport() const {
   std::ostringstream out;
-  out << "reach: " << points.size() << " points (" << DesignKindName(design) << ", seed "
+  out << "reach: " << points.size() << " points (" << DesignKindToString(design) << ", seed "
       << design_seed << ") of " << parameters.size() << " parameters, " << rocks
       << " rocks each, in " << G(wall_seconds, "%.1f") << " s; " << statistics.size()
       << " statistics, " << (statistics.size() - static_cast<std::size_t>(out_of_reach()))

@@ -96,7 +96,7 @@ void to_json(json& j, const ReachResult& r) {
   for (const ReachStatistic& s : r.statistics) stats.push_back(StatisticJson(s));
   for (const ReachPoint& p : r.points) points.push_back(PointJson(p));
   json design = {
-      {"kind", DesignKindName(r.design)}, {"points", r.points.size()}, {"seed", r.design_seed}};
+      {"kind", DesignKindToString(r.design)}, {"points", r.points.size()}, {"seed", r.design_seed}};
   if (r.design == DesignKind::kLatinHypercube) design["candidates"] = r.candidates;
   j = {{"site", r.site},
        {"study", "reach"},
@@ -120,7 +120,7 @@ void from_json(const json& j, ReachResult& r) {
   r.site = j.at("site").get<std::string>();
   const json& design = j.at("design");
   const std::string kind = design.at("kind").get<std::string>();
-  if (!ParseDesignKind(kind, &r.design))
+  if (!StringToDesignKind(kind, &r.design))
     throw std::invalid_argument("unknown design kind '" + kind + "'");
   r.design_seed = design.at("seed").get<std::uint64_t>();
   if (r.design == DesignKind::kLatinHypercube) r.candidates = design.at("candidates").get<int>();

@@ -238,7 +238,7 @@ void AddNotes(SensitivityMethod method, SensitivityResult* result) {
 std::string Summary(SensitivityMethod method, const SensitivityResult& res) {
   const int k = static_cast<int>(res.parameters.size()), m = static_cast<int>(res.outputs.size());
   std::ostringstream s;
-  s << SensitivityMethodName(method) << ", "
+  s << SensitivityMethodToString(method) << ", "
     << (method == SensitivityMethod::kMorris ? "r = " : "N = ") << res.samples << ": "
     << res.simulations << " simulations of " << res.rocks << " rocks in "
     << Num(res.wall_seconds, "%.3g") << " s (" << Num(res.SimulationsPerSecond(), "%.3g")
@@ -346,7 +346,7 @@ std::vector<std::vector<double>> SimulateDesign(const std::vector<std::vector<do
                                                 const std::vector<SiteOutput>& outputs,
                                                 const SensitivityOptions& opt, int total_runs,
                                                 DesignRunner* runner, SensitivityResult* res) {
-  const std::string what = SensitivityMethodName(opt.method);
+  const std::string what = SensitivityMethodToString(opt.method);
   int finished = res->simulations;
   const std::vector<std::string> runs = parallel::Map(
       static_cast<int>(points.size()),

@@ -159,7 +159,7 @@ void to_json(json& j, const SensitivityResult& r) {
   for (const SensitivityEntry& e : r.entries) entries.push_back(EntryJson(r, e));
   j = {{"site", r.site},
        {"study", "sensitivity"},
-       {"method", SensitivityMethodName(r.method)},
+       {"method", SensitivityMethodToString(r.method)},
        {"design", DesignJson(r)},
        {"seed", r.seed},
        {"rocks", r.rocks},
@@ -182,7 +182,7 @@ void from_json(const json& j, SensitivityResult& r) {
   r = SensitivityResult{};
   r.site = j.at("site").get<std::string>();
   const std::string method = j.at("method").get<std::string>();
-  if (!ParseSensitivityMethod(method, &r.method))
+  if (!StringToSensitivityMethod(method, &r.method))
     throw std::invalid_argument("unknown sensitivity method '" + method + "'");
   r.seed = j.at("seed").get<std::uint64_t>();
   r.rocks = j.at("rocks").get<int>();

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "rockcal/calibrate/sensitivity.h"
+#include "rockcal/core/name_table.h"
 #include "rockcal/core/random.h"
 #include "rockcal/core/statistics.h"
 #include "table_text.h"
@@ -55,22 +56,17 @@ std::pair<double, double> Interval(std::vector<double> values, double confidence
 
 // ---- Methods by name -------------------------------------------------------------
 
-const char* SensitivityMethodName(SensitivityMethod method) {
-  return method == SensitivityMethod::kMorris ? "morris" : "sobol";
+namespace {
+constexpr core::Named<SensitivityMethod> kSensitivityMethods[] = {
+    {SensitivityMethod::kMorris, "morris"}, {SensitivityMethod::kSobol, "sobol"}};
+}  // namespace
+
+const char* SensitivityMethodToString(SensitivityMethod method) {
+  return core::NameOf(kSensitivityMethods, method);
 }
-
-std::string SensitivityMethodList() { return "morris, sobol"; }
-
-bool ParseSensitivityMethod(const std::string& name, SensitivityMethod* method) {
-  if (name == "morris") {
-    *method = SensitivityMethod::kMorris;
-    return true;
-  }
-  if (name == "sobol") {
-    *method = SensitivityMethod::kSobol;
-    return true;
-  }
-  return false;
+std::string SensitivityMethodNames() { return core::NameList(kSensitivityMethods); }
+bool StringToSensitivityMethod(const std::string& name, SensitivityMethod* method) {
+  return core::IdOf(kSensitivityMethods, name, method);
 }
 
 // ---- Morris -------------------------------------------------------------------------

@@ -261,7 +261,7 @@ CaseScene SizesCase(const core::Scene& base, const StabilityOptions& opt) {
   huge.count = std::max(1, opt.rocks / 10);
   small.count = std::max(1, opt.rocks - huge.count);
   s.groups = {small, huge};
-  return {std::string("rocks of 1 cm and of 10 m (") + core::ShapeName(small.shape) +
+  return {std::string("rocks of 1 cm and of 10 m (") + core::ShapeToString(small.shape) +
               ", 9 small to 1 huge) released together from the first group's release",
           s};
 }

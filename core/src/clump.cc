@@ -6,27 +6,18 @@
 #include <cmath>
 #include <limits>
 
+#include "rockcal/core/name_table.h"
+
 namespace rockcal::core {
 
 namespace {
-constexpr std::pair<ClumpTarget, const char*> kTargets[] = {{ClumpTarget::kMoments, "moments"},
-                                                            {ClumpTarget::kSides, "sides"}};
+constexpr Named<ClumpTarget> kTargets[] = {{ClumpTarget::kMoments, "moments"},
+                                           {ClumpTarget::kSides, "sides"}};
 }  // namespace
 
-const char* ClumpTargetName(ClumpTarget target) {
-  for (const auto& [t, name] : kTargets)
-    if (t == target) return name;
-  return "?";
-}
-
-bool ParseClumpTarget(const std::string& name, ClumpTarget* target) {
-  for (const auto& [t, label] : kTargets) {
-    if (name == label) {
-      *target = t;
-      return true;
-    }
-  }
-  return false;
+const char* ClumpTargetToString(ClumpTarget target) { return NameOf(kTargets, target); }
+bool StringToClumpTarget(const std::string& name, ClumpTarget* target) {
+  return IdOf(kTargets, name, target);
 }
 
 bool ClumpOptions::IsValid(std::string* error) const {
@@ -59,8 +50,8 @@ MassProperties PolyhedronMassProperties(const Polyhedron& p) {
     const Eigen::Vector3d s = a + b + c;
     m.volume += v;
     first += v * s / 4.0;
-    second += v / 20.0 * (a * a.transpose() + b * b.transpose() + c * c.transpose() +
-                          s * s.transpose());
+    second +=
+        v / 20.0 * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
   }
   if (!(m.volume > 0)) return m;
   m.centroid = first / m.volume;
@@ -211,9 +202,12 @@ std::vector<Eigen::Vector3d> InteriorPoints(const Polyhedron& hull, const Eigen:
       for (std::size_t f = 0; f < planes.n.size() && zlo <= zhi; ++f) {
         const Eigen::Vector3d& nf = planes.n[f];
         const double rest = planes.d[f] - nf.x() * x - nf.y() * y;
-        if (nf.z() > 0) zhi = std::min(zhi, rest / nf.z());
-        else if (nf.z() < 0) zlo = std::max(zlo, rest / nf.z());
-        else if (rest < 0) zhi = zlo - 1.0;  // outside a vertical face
+        if (nf.z() > 0)
+          zhi = std::min(zhi, rest / nf.z());
+        else if (nf.z() < 0)
+          zlo = std::max(zlo, rest / nf.z());
+        else if (rest < 0)
+          zhi = zlo - 1.0;  // outside a vertical face
       }
       for (int k = 0; k < n; ++k) {
         const double z = lo.z() + (k + 0.5) * h.z();
@@ -303,8 +297,8 @@ Clump FitClump(const Polyhedron& hull, const ClumpOptions& options) {
 
   const int n = options.grid;
   const std::vector<Eigen::Vector3d> inside = InteriorPoints(hull, lo, clump.hull_sides, n);
-  const std::size_t count = std::min<std::size_t>(static_cast<std::size_t>(options.spheres),
-                                                  inside.size());
+  const std::size_t count =
+      std::min<std::size_t>(static_cast<std::size_t>(options.spheres), inside.size());
   std::vector<Eigen::Vector3d> centres = SeedCentres(inside, count);
   LloydIterations(inside, options.lloyd_iterations, 1e-9 * clump.hull_sides.maxCoeff(), &centres);
   if (count == 1) centres[0].setZero();
@@ -350,9 +344,8 @@ Clump FitClump(const Polyhedron& hull, const ClumpOptions& options) {
   Bounds(clump.centres, &ulo, &uhi);
   clump.union_sides = (uhi - ulo).array() + 2.0 * radius;
   clump.volume_error = clump.union_volume / clump.hull_volume - 1.0;
-  clump.moment_error = (clump.union_moments.cwiseQuotient(clump.hull_moments).array() - 1.0)
-                           .abs()
-                           .maxCoeff();
+  clump.moment_error =
+      (clump.union_moments.cwiseQuotient(clump.hull_moments).array() - 1.0).abs().maxCoeff();
   clump.side_error =
       (clump.union_sides.cwiseQuotient(clump.hull_sides).array() - 1.0).abs().maxCoeff();
   return clump;

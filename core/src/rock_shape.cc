@@ -3,42 +3,39 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rockcal/core/name_table.h"
+
 namespace rockcal::core {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-struct ShapeInfo {
-  Shape shape;
-  const char* name;
-};
-constexpr ShapeInfo kShapes[] = {{Shape::kSphere, "sphere"},
-                                 {Shape::kCylinder, "cylinder"},
-                                 {Shape::kDisc, "disc"},
-                                 {Shape::kTetrahedron, "tetrahedron"},
-                                 {Shape::kCube, "cube"},
-                                 {Shape::kBox, "box"},
-                                 {Shape::kScanned, "scanned"}};
+// The shapes by name; a scanned shape is read from its file, never named.
+constexpr Named<Shape> kShapes[] = {
+    {Shape::kSphere, "sphere"},           {Shape::kCylinder, "cylinder"}, {Shape::kDisc, "disc"},
+    {Shape::kTetrahedron, "tetrahedron"}, {Shape::kCube, "cube"},         {Shape::kBox, "box"},
+    {Shape::kScanned, "scanned"}};
 
 }  // namespace
 
-const char* ShapeName(Shape shape) {
-  for (const auto& s : kShapes)
-    if (s.shape == shape) return s.name;
-  return "?";
+const char* ShapeToString(Shape shape) { return NameOf(kShapes, shape); }
+
+bool StringToShape(const std::string& name, Shape* shape) {
+  Shape named = Shape::kScanned;
+  if (!IdOf(kShapes, name, &named) || named == Shape::kScanned) return false;
+  *shape = named;
+  return true;
 }
 
-bool ParseShape(const std::string& name, Shape* shape) {
-  for (const auto& s : kShapes) {
-    if (s.shape != Shape::kScanned && name == s.name) {
-      *shape = s.shape;
-      return true;
-    }
-  }
-  return false;
+const char* ShapeNames() {
+  static const std::string names = [] {
+    std::string list;
+    for (const Named<Shape>& s : kShapes)
+      if (s.id != Shape::kScanned) list += std::string(list.empty() ? "" : ", ") + s.name;
+    return list;
+  }();
+  return names.c_str();
 }
-
-const char* ShapeNames() { return "sphere, cylinder, disc, tetrahedron, cube, box"; }
 
 namespace {
 
@@ -181,7 +178,7 @@ RockBody MakeRockBody(Shape shape, double size, double unit_weight, double gravi
       for (int i = 0; i < 8; ++i)
         body.elements.emplace_back((i & 1) ? q : -q, (i & 2) ? q : -q, (i & 4) ? q : -q);
       break;
-    case Shape::kBox:  // handled above
+    case Shape::kBox:      // handled above
     case Shape::kScanned:  // ScannedBody (clump.h)
       break;
   }

@@ -12,6 +12,7 @@
 #include "compare.h"
 #include "kinds/kinds.h"
 #include "rockcal/core/format.h"
+#include "rockcal/core/name_table.h"
 
 namespace rockcal::observations {
 namespace {
@@ -37,26 +38,14 @@ int CountNonFiniteRecords(const core::SimulationResult& result) {
 
 }  // namespace
 
-const char* RunTermsName(RunTerms terms) {
-  switch (terms) {
-    case RunTerms::kPooled:
-      return "pooled";
-    case RunTerms::kPerRun:
-      return "per_run";
-    case RunTerms::kBoth:
-      return "both";
-  }
-  return "?";
-}
+namespace {
+constexpr core::Named<RunTerms> kRunTerms[] = {
+    {RunTerms::kPooled, "pooled"}, {RunTerms::kPerRun, "per_run"}, {RunTerms::kBoth, "both"}};
+}  // namespace
 
-bool ParseRunTerms(const std::string& name, RunTerms* terms) {
-  for (const RunTerms t : {RunTerms::kPooled, RunTerms::kPerRun, RunTerms::kBoth}) {
-    if (name == RunTermsName(t)) {
-      *terms = t;
-      return true;
-    }
-  }
-  return false;
+const char* RunTermsToString(RunTerms terms) { return core::NameOf(kRunTerms, terms); }
+bool StringToRunTerms(const std::string& name, RunTerms* terms) {
+  return core::IdOf(kRunTerms, name, terms);
 }
 
 std::string ResidualId::observation() const {

@@ -306,7 +306,7 @@ std::string RockGroupsTable(const core::Scene& sc, sites::Units units) {
             : Show(a.mass) + "-" + Show(b.mass) + " kg" +
                   (us ? " (" + Show(a.mass / kPound) + "-" + Show(b.mass / kPound) + " lb)" : "");
     s += "<tr>" + Td(Int(static_cast<long>(k + 1)), true) + Td(Int(grp.count), true) +
-         Td(grp.inventory.empty() ? core::ShapeName(grp.shape) : "blocks") + Td(size) +
+         Td(grp.inventory.empty() ? core::ShapeToString(grp.shape) : "blocks") + Td(size) +
          Td(Show(grp.unit_weight * 1e-3) + " kN/m³" +
             (us ? " (" + Show(grp.unit_weight / kLbfPerFt3) + " lbf/ft³)" : "")) +
          Td(mass) + Td(GroupRelease(grp, units)) + "</tr>";

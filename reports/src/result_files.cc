@@ -83,7 +83,7 @@ std::string SensitivityCsv(const calibrate::SensitivityResult& r) {
   for (const calibrate::SensitivityEntry& e : r.entries) {
     const std::size_t o = static_cast<std::size_t>(e.output);
     const calibrate::SensitivityOutputInfo& output = r.outputs[o];
-    out << calibrate::SensitivityMethodName(r.method) << ','
+    out << calibrate::SensitivityMethodToString(r.method) << ','
         << CsvField(r.parameters[static_cast<std::size_t>(e.parameter)].label()) << ','
         << CsvField(output.name) << ',' << CsvField(output.unit) << ',' << Num(output.value) << ','
         << Num(output.noise) << ',';

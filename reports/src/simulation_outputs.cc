@@ -157,7 +157,7 @@ std::string RocksCsv(const core::Scene& scene, const core::SimulationResult& res
   out << '\n';
   for (const auto& r : result.rocks) {
     const char* f = "rocks.csv";
-    out << r.rock << ',' << r.group << ',' << core::ShapeName(r.shape) << ','
+    out << r.rock << ',' << r.group << ',' << core::ShapeToString(r.shape) << ','
         << FiniteNumber(r.size, f, r.rock, "size_m") << ','
         << FiniteNumber(r.mass, f, r.rock, "mass_kg") << ',' << core::OutcomeName(r.outcome) << ','
         << FiniteNumber(r.stop.x(), f, r.rock, "stop_x") << ','

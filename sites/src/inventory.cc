@@ -101,7 +101,7 @@ std::vector<core::Block> ReadInventory(const std::string& path, Units units,
       if (is_file && shape_files) {
         b.shape = core::Shape::kScanned;
         file = field;
-      } else if (!core::ParseShape(name, &b.shape)) {
+      } else if (!core::StringToShape(name, &b.shape)) {
         in.Fail("shape '" + name.substr(0, 40) + "': expected one of " + core::ShapeNames() +
                 (shape_files ? " or a shape file (a name with an extension, e.g. SP1A.xyz)" : ""));
       }

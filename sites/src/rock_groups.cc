@@ -317,7 +317,7 @@ core::RockGroup ReadShapeGroup(const JsonNode& node, Units units, const core::He
   } else {
     if (auto sp = node.Find("spheres")) sp->Fail("'spheres' goes with \"shape_file\" only");
     const JsonNode shape = node.Get("shape");
-    if (!core::ParseShape(shape.String(), &g.shape))
+    if (!core::StringToShape(shape.String(), &g.shape))
       shape.Fail(std::string("unknown shape (allowed: ") + core::ShapeNames() + ")");
   }
   const JsonNode size = node.Get("size");
@@ -336,7 +336,7 @@ core::RockGroup ReadShapeGroup(const JsonNode& node, Units units, const core::He
   std::string release_note;
   g.release = ReadRelease(node.Get("release"), units, grid, &release_note);
   *note = std::to_string(g.count) + " " +
-          (g.scanned ? "of the shape " + FitSummary(*g.scanned) : core::ShapeName(g.shape)) +
+          (g.scanned ? "of the shape " + FitSummary(*g.scanned) : core::ShapeToString(g.shape)) +
           ", size " + FormatNumber(g.size_min) +
           (g.size_max > g.size_min ? "-" + FormatNumber(g.size_max) : "") + " m, unit weight " +
           FormatNumber(g.unit_weight / 1000.0) + " kN/m^3, release " + release_note;

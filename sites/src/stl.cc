@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "rockcal/core/error.h"
+#include "rockcal/core/name_table.h"
 #include "rockcal/sites/input_file.h"
 #include "rockcal/sites/text_reader.h"
 
@@ -119,15 +120,12 @@ class TokenCursor final {
 
 }  // namespace
 
-bool ParseStlAxes(const std::string& name, StlAxes* axes) {
-  if (name == "xyz") {
-    *axes = StlAxes::kXYZ;
-  } else if (name == "xzy") {
-    *axes = StlAxes::kXZY;
-  } else {
-    return false;
-  }
-  return true;
+namespace {
+constexpr core::Named<StlAxes> kStlAxes[] = {{StlAxes::kXYZ, "xyz"}, {StlAxes::kXZY, "xzy"}};
+}  // namespace
+
+bool StringToStlAxes(const std::string& name, StlAxes* axes) {
+  return core::IdOf(kStlAxes, name, axes);
 }
 
 std::vector<Triangle> ReadStl(const std::string& path, StlAxes axes, double length_scale) {

@@ -356,7 +356,7 @@ void ReadStlSource(const JsonNode& src, const SurfaceSettings& set,
   src.Keys(SiteKeysAt("$.surface.stl"));
   StlAxes axes = StlAxes::kXYZ;
   if (const std::optional<JsonNode> a = src.Find("axes")) {
-    if (!ParseStlAxes(a->String(), &axes)) a->Fail("unknown axes (allowed: xyz, xzy)");
+    if (!StringToStlAxes(a->String(), &axes)) a->Fail("unknown axes (allowed: xyz, xzy)");
   }
   std::vector<TriangleSet> sets;
   Box box;

@@ -39,8 +39,8 @@ TEST(SpaceFillingDesign, LatinHypercubeIsStratifiedInEveryCoordinate) {
 TEST(SpaceFillingDesign, IsDeterministicForASeed) {
   for (DesignKind kind : {DesignKind::kLatinHypercube, DesignKind::kHalton}) {
     const auto a = SpaceFillingDesign(kind, 9, 3, 42, 5);
-    EXPECT_EQ(a, SpaceFillingDesign(kind, 9, 3, 42, 5)) << DesignKindName(kind);
-    EXPECT_NE(a, SpaceFillingDesign(kind, 9, 3, 43, 5)) << DesignKindName(kind);
+    EXPECT_EQ(a, SpaceFillingDesign(kind, 9, 3, 42, 5)) << DesignKindToString(kind);
+    EXPECT_NE(a, SpaceFillingDesign(kind, 9, 3, 43, 5)) << DesignKindToString(kind);
     for (const auto& p : a)
       for (double u : p) EXPECT_TRUE(u >= 0.0 && u < 1.0) << u;
   }
@@ -86,9 +86,9 @@ TEST(ReachOptions, ValidatesAndNamesTheField) {
   EXPECT_FALSE(opt.IsValid(&error));
   EXPECT_THAT(error, HasSubstr("candidates = 0"));
   DesignKind kind;
-  EXPECT_TRUE(ParseDesignKind("halton", &kind));
+  EXPECT_TRUE(StringToDesignKind("halton", &kind));
   EXPECT_EQ(kind, DesignKind::kHalton);
-  EXPECT_FALSE(ParseDesignKind("sobol", &kind));
+  EXPECT_FALSE(StringToDesignKind("sobol", &kind));
 }
 
 TEST(ReachStatistic, AtTheEdgeWhenOnlyTheSigmaAllowancePutsItInReach) {

@@ -272,7 +272,7 @@ TEST(ContactTimeStep, DoublingTheStiffnessShrinksTheStepBySqrt2) {
         const double ratio =
             core::ContactTimeStep(body, law, opt) / core::ContactTimeStep(body, stiff, opt);
         EXPECT_NEAR(ratio / std::sqrt(2.0), 1.0, 1e-12)
-            << core::ShapeName(shape) << " H " << hardness << " N_c " << nc << " ratio " << ratio;
+            << core::ShapeToString(shape) << " H " << hardness << " N_c " << nc << " ratio " << ratio;
       }
     }
   }

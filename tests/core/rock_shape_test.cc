@@ -15,14 +15,14 @@ TEST(RockShape, MassCentreAndSymmetricInertia) {
   const double gamma = 26e3, g = 9.80665, size = 1.3;
   for (Shape shape : kAll) {
     const RockBody b = MakeRockBody(shape, size, gamma, g);
-    EXPECT_NEAR(b.mass, gamma * NominalVolume(shape, size) / g, 1e-9) << ShapeName(shape);
+    EXPECT_NEAR(b.mass, gamma * NominalVolume(shape, size) / g, 1e-9) << ShapeToString(shape);
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();
     for (const auto& e : b.elements) centre += e;
-    EXPECT_NEAR(centre.norm(), 0.0, 1e-12) << ShapeName(shape);
+    EXPECT_NEAR(centre.norm(), 0.0, 1e-12) << ShapeToString(shape);
     const Eigen::Matrix3d inertia = ClusterInertiaTensor(b);
     EXPECT_NEAR((inertia - inertia.transpose()).norm(), 0.0, 1e-12);
     const Eigen::Matrix3d off = inertia - Eigen::Matrix3d(inertia.diagonal().asDiagonal());
-    EXPECT_NEAR(off.norm(), 0.0, 1e-9 * inertia.norm()) << ShapeName(shape) << "\n" << inertia;
+    EXPECT_NEAR(off.norm(), 0.0, 1e-9 * inertia.norm()) << ShapeToString(shape) << "\n" << inertia;
     EXPECT_GT(b.inertia.minCoeff(), 0.0);
   }
 }
@@ -79,10 +79,10 @@ TEST(RockShape, FrontalAreaIsTheMeanProjectedArea) {
 TEST(RockShape, ParseNames) {
   Shape s;
   for (Shape shape : kAll) {
-    ASSERT_TRUE(ParseShape(ShapeName(shape), &s));
+    ASSERT_TRUE(StringToShape(ShapeToString(shape), &s));
     EXPECT_EQ(s, shape);
   }
-  EXPECT_FALSE(ParseShape("blob", &s));
+  EXPECT_FALSE(StringToShape("blob", &s));
 }
 
 

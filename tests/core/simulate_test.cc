@@ -291,10 +291,10 @@ TEST(Simulate, RoughSlopeEndsCleanlyWithoutEnergyGain) {
   EXPECT_EQ(result.figures.tunneled, 0);
   for (const auto& r : result.rocks) {
     EXPECT_TRUE(r.stop.allFinite()) << "rock " << r.rock;
-    EXPECT_FALSE(r.tunneled) << "rock " << r.rock << " " << ShapeName(r.shape) << " size " << r.size
+    EXPECT_FALSE(r.tunneled) << "rock " << r.rock << " " << ShapeToString(r.shape) << " size " << r.size
                              << " at " << r.stop.transpose();
     EXPECT_LT(r.max_relative_energy_gain, 1e-2)
-        << "rock " << r.rock << " shape " << ShapeName(r.shape);
+        << "rock " << r.rock << " shape " << ShapeToString(r.shape);
   }
   EXPECT_EQ(result.count(Outcome::kStopped) + result.count(Outcome::kLeft) +
                 result.count(Outcome::kTimeout),
@@ -320,7 +320,7 @@ TEST(Simulate, TheMostDampedSlopeKeepsItsStepAndAddsNoEnergy) {
   EXPECT_EQ(result.figures.non_finite, 0);
   for (const auto& r : result.rocks)
     EXPECT_LT(r.max_relative_energy_gain, 1e-6)
-        << "rock " << r.rock << " shape " << ShapeName(r.shape) << " size " << r.size;
+        << "rock " << r.rock << " shape " << ShapeToString(r.shape) << " size " << r.size;
 }
 
 // A sphere coming down a strip one cell wide (profile2d's: a slope, a face,
@@ -369,7 +369,7 @@ TEST(Simulate, VegetationOnARoughSlopeNeverAddsEnergy) {
   double bare_run = 0.0, run = 0.0;
   for (std::size_t k = 0; k < result.rocks.size(); ++k) {
     const RockRecord& r = result.rocks[k];
-    EXPECT_LT(r.max_relative_energy_gain, 1e-2) << "rock " << r.rock << " " << ShapeName(r.shape);
+    EXPECT_LT(r.max_relative_energy_gain, 1e-2) << "rock " << r.rock << " " << ShapeToString(r.shape);
     run += r.stop.x();
     bare_run += bare.rocks[k].stop.x();
   }

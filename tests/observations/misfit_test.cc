@@ -574,11 +574,11 @@ TEST(MisfitTest, RunTermsChooseTheComparisons) {
   EXPECT_EQ(pooled, 10);
   for (const RunTerms t : {RunTerms::kPooled, RunTerms::kPerRun, RunTerms::kBoth}) {
     RunTerms parsed = RunTerms::kPooled;
-    EXPECT_TRUE(ParseRunTerms(RunTermsName(t), &parsed));
+    EXPECT_TRUE(StringToRunTerms(RunTermsToString(t), &parsed));
     EXPECT_EQ(parsed, t);
   }
   RunTerms unused;
-  EXPECT_FALSE(ParseRunTerms("all", &unused));
+  EXPECT_FALSE(StringToRunTerms("all", &unused));
   MisfitOptions bad;
   bad.run_spread_prior = -1.0;
   std::string error;

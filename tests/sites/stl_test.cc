@@ -36,9 +36,9 @@ TEST(ReadStl, AsciiWithAxisMappingAndScale) {
   const std::vector<Triangle> xzy = ReadStl(path, StlAxes::kXZY, 0.5);
   EXPECT_EQ(xzy[0].b, Eigen::Vector3d(1, 0.5, 3));
   StlAxes axes;
-  EXPECT_TRUE(ParseStlAxes("xzy", &axes));
+  EXPECT_TRUE(StringToStlAxes("xzy", &axes));
   EXPECT_EQ(axes, StlAxes::kXZY);
-  EXPECT_FALSE(ParseStlAxes("yxz", &axes));
+  EXPECT_FALSE(StringToStlAxes("yxz", &axes));
 }
 
 TEST(ReadStl, ErrorsNameFileAndLine) {

@@ -160,7 +160,7 @@ std::vector<svg::Plot::LegendEntry> ProfileLegend(const Context& c, const Ground
   for (int grp : groups_drawn)
     legend.push_back({svg::Colour(grp),
                       "group " + std::to_string(grp + 1) + " (" +
-                          core::ShapeName(c.scene.groups[static_cast<std::size_t>(grp)].shape) +
+                          core::ShapeToString(c.scene.groups[static_cast<std::size_t>(grp)].shape) +
                           ") trajectory",
                       "line"});
   if (stops) legend.push_back({kStopColour, "stop point", "point"});

@@ -22,7 +22,7 @@ std::string ShapesSection(const Context& c) {
   };
   std::string head = "<tr><th></th>";
   for (const auto& [shape, rocks] : by_shape) {
-    head += Th(core::ShapeName(shape));
+    head += Th(core::ShapeToString(shape));
     int st = 0, le = 0, to = 0;
     std::vector<core::RockRecord> these;
     for (const auto* r : rocks) {

@@ -31,9 +31,9 @@ enum class PosteriorStage {
   kFirst,
   kFinal,  // the refining stage's (its rocks; its search's evaluations reused)
 };
-const char* PosteriorStageName(PosteriorStage stage);  // "first", "final"
+const char* PosteriorStageToString(PosteriorStage stage);  // "first", "final"
 // Sets *stage from its name; false for an unknown name.
-bool ParsePosteriorStage(const std::string& name, PosteriorStage* stage);
+bool StringToPosteriorStage(const std::string& name, PosteriorStage* stage);
 
 // Options of Calibrate. Defaults in brackets: CalibrationOptions{} is what
 // `rockcal calibrate` runs without flags (the command only maps its flags

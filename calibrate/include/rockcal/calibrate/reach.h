@@ -41,10 +41,10 @@ enum class DesignKind {
   // the strata are not guaranteed.
   kHalton,
 };
-const char* DesignKindName(DesignKind kind);  // "lhs", "halton"
-std::string DesignKindList();                 // "lhs, halton"
+const char* DesignKindToString(DesignKind kind);  // "lhs", "halton"
+std::string DesignKindNames();                 // "lhs, halton"
 // Sets *kind from its name; false for an unknown name.
-bool ParseDesignKind(const std::string& name, DesignKind* kind);
+bool StringToDesignKind(const std::string& name, DesignKind* kind);
 
 // `points` points of the unit box [0, 1)^dimensions, the same for the same
 // arguments on every machine. `candidates` (>= 1) is used by the Latin

@@ -41,10 +41,10 @@ using SensitivityModel = std::function<std::vector<double>(const std::vector<dou
 using SensitivityProgressFn = std::function<void(int done, int total)>;
 
 enum class SensitivityMethod { kMorris, kSobol };
-const char* SensitivityMethodName(SensitivityMethod method);  // "morris", "sobol"
-std::string SensitivityMethodList();                          // "morris, sobol"
+const char* SensitivityMethodToString(SensitivityMethod method);  // "morris", "sobol"
+std::string SensitivityMethodNames();                          // "morris, sobol"
 // Sets *method from its name; false for an unknown name.
-bool ParseSensitivityMethod(const std::string& name, SensitivityMethod* method);
+bool StringToSensitivityMethod(const std::string& name, SensitivityMethod* method);
 
 // ---- Morris elementary effects ------------------------------------------------
 

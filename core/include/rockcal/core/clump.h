@@ -39,9 +39,9 @@ enum class ClumpTarget {
   kMoments,  // the hull's three principal moments (the sides follow)
   kSides,    // the hull's bounding box along its principal axes (the moments follow)
 };
-const char* ClumpTargetName(ClumpTarget target);
+const char* ClumpTargetToString(ClumpTarget target);
 // Parses "moments" or "sides"; false otherwise.
-bool ParseClumpTarget(const std::string& name, ClumpTarget* target);
+bool StringToClumpTarget(const std::string& name, ClumpTarget* target);
 
 // The clump fit's settings (defaults measured on the Authume shapes,
 // docs/rock-shapes.md).

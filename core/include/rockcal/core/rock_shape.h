@@ -12,11 +12,11 @@ namespace rockcal::core {
 // by name (a site names the shape's file instead).
 enum class Shape { kSphere, kCylinder, kDisc, kTetrahedron, kCube, kBox, kScanned };
 
-const char* ShapeName(Shape shape);
+const char* ShapeToString(Shape shape);
 // Parses "sphere", "cylinder", "disc", "tetrahedron", "cube", "box"; false
 // otherwise (also for "scanned").
-bool ParseShape(const std::string& name, Shape* shape);
-// The names ParseShape accepts, comma separated (for error messages).
+bool StringToShape(const std::string& name, Shape* shape);
+// The names StringToShape accepts, comma separated (for error messages).
 const char* ShapeNames();
 
 // A rigid body made of equal spheres, in its principal frame (centre of mass at

@@ -20,9 +20,9 @@ enum class RunTerms {
   kPerRun,  // one residual per run: its group's median runout against its stop
   kBoth,    // both (the default; docs/field-campaigns.md says why)
 };
-const char* RunTermsName(RunTerms terms);  // "pooled", "per_run", "both"
-// Parses a name of RunTermsName; false when unknown.
-bool ParseRunTerms(const std::string& name, RunTerms* terms);
+const char* RunTermsToString(RunTerms terms);  // "pooled", "per_run", "both"
+// The value named `name` (RunTermsToString); false when unknown.
+bool StringToRunTerms(const std::string& name, RunTerms* terms);
 
 struct MisfitOptions {
   // 0.1, 0.2, ..., 0.9 (out of line: an initializer list here trips GCC 12's

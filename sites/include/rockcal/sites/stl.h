@@ -21,7 +21,7 @@ enum class StlAxes {
   kXZY,  // the file is Y-up: (x, y, z)_file -> (x, z, y)
 };
 // Parses "xyz" or "xzy"; false otherwise.
-bool ParseStlAxes(const std::string& name, StlAxes* axes);
+bool StringToStlAxes(const std::string& name, StlAxes* axes);
 
 // Reads an ASCII STL ("solid ... facet normal ... outer loop vertex x y z
 // (x3) endloop endfacet ... endsolid"), maps its axes and multiplies every
