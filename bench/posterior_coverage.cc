@@ -9,8 +9,16 @@
 // how many 5-95 % intervals hold the truth, the mean interval width as a
 // share of the range and the median's error; then the wall time.
 //
+// With --prior 1 the truths are drawn from the whole box (the prior), and
+// with --ranks L > 0 the program also prints simulation-based calibration
+// (Talts et al. 2018, Validating Bayesian inference algorithms with
+// simulation-based calibration, arXiv:1804.06788): per parameter the rank of
+// the truth among L posterior samples evenly spaced through the chains (0..L),
+// their histogram in 10 bins and the chi-square p-value of its uniformity.
+//
 //   posterior_coverage [--twins 20] [--parameters 2] [--obs-rocks 60]
 //                      [--rocks 120] [--threads 1] [--seed 1] [--independent 0]
+//                      [--prior 0] [--ranks 0]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -45,6 +53,8 @@ int main(int argc, char** argv) {
   const std::uint64_t seed = static_cast<std::uint64_t>(Arg(argc, argv, "seed", 1));
   // --independent 1: every residual independent (PosteriorOptions::correlated_quantiles off).
   const bool independent = Arg(argc, argv, "independent", 0) != 0;
+  const bool prior = Arg(argc, argv, "prior", 0) != 0;
+  const int ranks = static_cast<int>(Arg(argc, argv, "ranks", 0));
   if (parameters < 1 || parameters > 4 || twins < 1 || obs_rocks < 10 || rocks < 10) {
     std::fprintf(stderr, "posterior_coverage: --parameters 1..4, --twins >= 1, rocks >= 10\n");
     return 2;
@@ -54,10 +64,13 @@ int main(int argc, char** argv) {
   // Slope hardness, runout hardness, runout roughness, slope roughness.
   const std::vector<int> order = {0, 2, 3, 1};
   std::vector<sites::ParameterBound> bounds;
-  for (int k = 0; k < parameters; ++k) bounds.push_back(site.calibrate[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])]);
+  for (int k = 0; k < parameters; ++k)
+    bounds.push_back(site.calibrate[static_cast<std::size_t>(order[static_cast<std::size_t>(k)])]);
   site.calibrate = bounds;
   const calibrate::ParameterSpace space = calibrate::ParameterSpace::FromSite(site);
   std::vector<int> covered(static_cast<std::size_t>(parameters), 0);
+  // rank[k]: the truth's rank among `ranks` samples, per twin.
+  std::vector<std::vector<int>> rank(static_cast<std::size_t>(parameters));
   std::vector<double> width(static_cast<std::size_t>(parameters), 0.0),
       error(static_cast<std::size_t>(parameters), 0.0);
   double max_rhat = 0.0;
@@ -67,13 +80,13 @@ int main(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     core::RandomStream rng(seed, 0x5457494e00000000ull + static_cast<std::uint64_t>(t));  // "TWIN"
     std::vector<double> unit(static_cast<std::size_t>(parameters));
-    for (double& u : unit) u = 0.1 + 0.8 * rng.Uniform();
+    for (double& u : unit) u = prior ? rng.Uniform() : 0.1 + 0.8 * rng.Uniform();
     const std::vector<double> truth = space.ToPhysical(unit);
     sites::Site field = calibrate::testing::TwinSite(obs_rocks);
     field.calibrate = bounds;
     field.scene.options.threads = threads;
-    const observations::Observations obs =
-        calibrate::testing::TwinObservations(field, truth, 1000 + seed * 100 + static_cast<std::uint64_t>(t));
+    const observations::Observations obs = calibrate::testing::TwinObservations(
+        field, truth, 1000 + seed * 100 + static_cast<std::uint64_t>(t));
     const core::Scene scene = calibrate::RunScene(site, rocks, seed, threads);
     const calibrate::Objective objective(scene, space, obs, {});
     calibrate::PosteriorOptions options;
@@ -81,8 +94,8 @@ int main(int argc, char** argv) {
     options.correlated_quantiles = !independent;
     // The residuals' names (for the quantiles' correlation): one evaluation
     // at the box's centre.
-    const observations::Misfit layout =
-        objective.Evaluate(space.ToPhysical(std::vector<double>(static_cast<std::size_t>(parameters), 0.5)));
+    const observations::Misfit layout = objective.Evaluate(
+        space.ToPhysical(std::vector<double>(static_cast<std::size_t>(parameters), 0.5)));
     const calibrate::PosteriorResult r =
         calibrate::SamplePosterior(objective, {}, options, nullptr, nullptr, layout.residuals);
     simulations += r.simulated;
@@ -95,6 +108,15 @@ int main(int argc, char** argv) {
       const auto& par = space.parameters()[kk];
       const bool in = truth[kk] >= p.p05 && truth[kk] <= p.p95;
       covered[kk] += in;
+      if (ranks > 0) {
+        int below = 0;
+        const std::size_t n = r.samples.size();
+        for (int l = 0; l < ranks; ++l)
+          below +=
+              r.samples[(static_cast<std::size_t>(l) * n) / static_cast<std::size_t>(ranks)][kk] <
+              truth[kk];
+        rank[kk].push_back(below);
+      }
       width[kk] += (p.p95 - p.p05) / (par.upper - par.lower) / twins;
       error[kk] += std::abs(p.median - truth[kk]) / (par.upper - par.lower) / twins;
       char buf[64];
@@ -116,15 +138,51 @@ int main(int argc, char** argv) {
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("\n%d twins, %d parameters, %d observed rocks, %d rocks per evaluation, %d thread(s), "
-              "%s quantiles, %d simulations, %.0f s; max R-hat %.3f\n\n",
-              twins, parameters, obs_rocks, rocks, threads,
-              independent ? "independent" : "correlated", simulations, seconds, max_rhat);
-  std::printf("| parameter | 90 %% intervals holding the truth | mean width / range | mean |median - truth| / range |\n|---|---|---|---|\n");
+  std::printf(
+      "\n%d twins, %d parameters, %d observed rocks, %d rocks per evaluation, %d thread(s), "
+      "%s quantiles, %d simulations, %.0f s; max R-hat %.3f\n\n",
+      twins, parameters, obs_rocks, rocks, threads, independent ? "independent" : "correlated",
+      simulations, seconds, max_rhat);
+  std::printf(
+      "| parameter | 90 %% intervals holding the truth | mean width / range | mean |median - "
+      "truth| / range |\n|---|---|---|---|\n");
   for (int k = 0; k < parameters; ++k) {
     const auto kk = static_cast<std::size_t>(k);
     std::printf("| %s | %d of %d | %.3f | %.3f |\n", space.parameters()[kk].label().c_str(),
                 covered[kk], twins, width[kk], error[kk]);
+  }
+  if (ranks > 0) {
+    // Uniform ranks 0..L in 10 bins of equal probability; Pearson's
+    // chi-square with 9 degrees of freedom, its p-value by the regularised
+    // upper incomplete gamma function Q(9/2, x/2) (a series for P).
+    auto p_value = [](double x) {
+      const double a = 4.5, z = 0.5 * x;
+      double term = 1.0 / a, sum = term;
+      for (int n = 1; n < 500; ++n) {
+        term *= z / (a + n);
+        sum += term;
+      }
+      return 1.0 - std::exp(-z + a * std::log(z) - std::lgamma(a)) * sum;
+    };
+    std::printf(
+        "\nSimulation-based calibration (%d samples per posterior, %s truths): rank "
+        "histogram in 10 bins, chi-square (9 d.o.f.) p-value\n",
+        ranks, prior ? "prior" : "middle-80 %");
+    for (int k = 0; k < parameters; ++k) {
+      const auto kk = static_cast<std::size_t>(k);
+      std::vector<int> bins(10, 0);
+      for (const int q : rank[kk])
+        ++bins[static_cast<std::size_t>(std::min(9, (q * 10) / (ranks + 1)))];
+      const double expected = static_cast<double>(rank[kk].size()) / 10.0;
+      double chi = 0.0;
+      std::string line;
+      for (const int b : bins) {
+        chi += (b - expected) * (b - expected) / expected;
+        line += " " + std::to_string(b);
+      }
+      std::printf("| %s |%s | chi-square %.1f, p = %.3g |\n",
+                  space.parameters()[kk].label().c_str(), line.c_str(), chi, p_value(chi));
+    }
   }
   return 0;
 }

@@ -6,7 +6,6 @@
 #include <utility>
 
 #include "rockcal/core/format.h"
-#include "rockcal/core/statistics.h"
 #include "statistics.h"
 
 namespace rockcal::observations {
@@ -65,8 +64,9 @@ void Comparer::Quantiles(const ResidualId& of, std::vector<double> simulated,
     Add(of, statistic, level, sim, obs, sigma, value);
   };
   for (const double level : levels) {
-    const double sim = simulated.empty() ? 0.0 : core::Quantile(simulated, level);
-    compare(Statistic::kQuantile, level, sim, core::Quantile(observed, level),
+    // Type-8 quantiles: unbiased between samples of different sizes.
+    const double sim = simulated.empty() ? 0.0 : ComparedQuantile(simulated, level);
+    compare(Statistic::kQuantile, level, sim, ComparedQuantile(observed, level),
             QuantileStandardError(simulated, level), QuantileStandardError(observed, level));
   }
   if (include_max) {

@@ -120,11 +120,20 @@ std::string ImpactVerdict(const Misfit& misfit) {
          v.Sentence() + ")";
 }
 
+double ComparedQuantilePosition(std::size_t n, double level) {
+  const double count = static_cast<double>(n);
+  return std::clamp((count + 1.0 / 3.0) * level - 2.0 / 3.0, 0.0, count - 1.0);
+}
+
+double ComparedQuantile(const std::vector<double>& sorted, double level) {
+  return AtPosition(sorted, ComparedQuantilePosition(sorted.size(), level));
+}
+
 double QuantileStandardError(const std::vector<double>& sorted, double level) {
   const std::size_t n = sorted.size();
   if (n < 2) return 0.0;
   const double last = static_cast<double>(n - 1);
-  const double centre = last * level;
+  const double centre = ComparedQuantilePosition(n, level);
   const double half = std::sqrt(static_cast<double>(n) * level * (1.0 - level));
   const double lo = std::clamp(centre - half, 0.0, last);
   const double hi = std::clamp(centre + half, 0.0, last);

@@ -10,6 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "rockcal/core/random.h"
+#include "rockcal/core/statistics.h"
+
 namespace rockcal::observations {
 namespace {
 
@@ -155,6 +158,58 @@ TEST(MisfitTest, SigmaCombinesMeasurementMonteCarloAndSamplingErrors) {
   double sum = 0.0;
   for (const Residual& r : m.residuals) sum += r.value * r.value;
   EXPECT_NEAR(m.value, 0.5 * sum, 1e-12 * m.value);
+}
+
+// Samples of different sizes from one distribution: each quantile's
+// residual has mean 0 over many draws (within 4 standard errors of that
+// mean). 120 simulated values against 30 observed, from an exponential and
+// a normal distribution. The same draws compared at the type-7 quantiles
+// (core::Quantile, the misfit's before) are biased beyond that bound: a
+// smaller sample's type-7 p10 and p90 lie nearer its median, by
+// (1 - 2p) / (n + 1) in probability.
+TEST(MisfitTest, QuantileResidualsOfOneDistributionHaveMeanZeroAtUnequalCounts) {
+  const core::Scene scene = TwoPartitionScene();
+  core::RandomStream rng(54, 1);
+  const int draws = 2000, n = 120, m = 30;
+  for (const bool normal : {false, true}) {
+    auto sample = [&](int count) {
+      std::vector<double> v;
+      for (int i = 0; i < count; ++i) {
+        const double u = rng.Uniform(), w = rng.Uniform();
+        // Exponential of mean 1, or Box-Muller's normal about 5.
+        v.push_back(normal ? 5.0 + std::sqrt(-2.0 * std::log1p(-u)) * std::cos(2.0 * M_PI * w)
+                           : -std::log1p(-u));
+      }
+      return v;
+    };
+    std::vector<double> sum(9, 0.0), square(9, 0.0), type7(9, 0.0);
+    for (int k = 0; k < draws; ++k) {
+      const std::vector<double> simulated = sample(n), observed = sample(m);
+      const Misfit misfit =
+          ComputeMisfit(ScarsAt(0, observed, 1e-3), scene, CrossingAt(0, simulated));
+      ASSERT_EQ(misfit.residuals.size(), 10u);
+      std::vector<double> s = simulated, o = observed;
+      std::sort(s.begin(), s.end());
+      std::sort(o.begin(), o.end());
+      for (std::size_t l = 0; l < 9; ++l) {
+        const Residual& r = misfit.residuals[l];
+        sum[l] += r.value;
+        square[l] += r.value * r.value;
+        type7[l] += (core::Quantile(s, r.id.level) - core::Quantile(o, r.id.level)) / r.sigma;
+      }
+    }
+    for (const std::size_t l : {0u, 1u, 4u, 7u, 8u}) {
+      const double mean = sum[l] / draws;
+      const double error = std::sqrt((square[l] / draws - mean * mean) / draws);
+      const std::string what =
+          std::string(normal ? "normal" : "exponential") + " p" + std::to_string(10 * (l + 1));
+      EXPECT_LT(std::abs(mean), 4.0 * error) << what << ": mean " << mean << ", s.e. " << error;
+      if (l == 0 || l == 8) {
+        EXPECT_GT(std::abs(type7[l] / draws), 4.0 * error)
+            << what << " at type 7: mean " << type7[l] / draws << ", s.e. " << error;
+      }
+    }
+  }
 }
 
 TEST(MisfitTest, SigmaHasAPositiveFloor) {
@@ -469,8 +524,8 @@ struct RunCase {
       r.stop_points.push_back(g.release.point + Eigen::Vector2d(0, observed[i]));
       r.distances.push_back(observed[i]);
       for (const double d : runouts[i]) {
-        core::RockRecord rock = StoppedRock(static_cast<int>(result.rocks.size()),
-                                            g.release.point.x(), std::abs(d));
+        core::RockRecord rock =
+            StoppedRock(static_cast<int>(result.rocks.size()), g.release.point.x(), std::abs(d));
         rock.group = static_cast<int>(i);
         rock.start = Eigen::Vector3d(g.release.point.x(), 0, 0);
         if (d < 0) rock.outcome = core::Outcome::kLeft;

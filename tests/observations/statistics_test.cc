@@ -20,10 +20,12 @@ TEST(QuantileErrorTest, OrderStatisticsOfASample) {
   for (int i = 0; i < 100; ++i) s.push_back(i);
   // p = 0.5: centre 49.5, half width sqrt(100 * 0.25) = 5.
   EXPECT_NEAR(QuantileStandardError(s, 0.5), 5.0, 1e-12);
-  // p = 0.1: centre 9.9, half width sqrt(100 * 0.09) = 3.
+  // p = 0.1: centre 100.333 * 0.1 - 2/3 = 9.367, half width sqrt(100 * 0.09) = 3.
   EXPECT_NEAR(QuantileStandardError(s, 0.1), 3.0, 1e-12);
-  // p = 0.99: centre 98.01, half width sqrt(0.99) clamped at 99 above.
-  EXPECT_NEAR(QuantileStandardError(s, 0.99), 0.5 * (99.0 - (98.01 - std::sqrt(0.99))), 1e-12);
+  // p = 0.99: centre 100.333 * 0.99 - 2/3 = 98.663, half width sqrt(0.99)
+  // clamped at 99 above.
+  const double centre = (100.0 + 1.0 / 3.0) * 0.99 - 2.0 / 3.0;
+  EXPECT_NEAR(QuantileStandardError(s, 0.99), 0.5 * (99.0 - (centre - std::sqrt(0.99))), 1e-12);
   EXPECT_EQ(QuantileStandardError(s, 1.0), 0.0);
   EXPECT_EQ(QuantileStandardError({3.0}, 0.5), 0.0);
   EXPECT_EQ(QuantileStandardError({}, 0.5), 0.0);
@@ -35,6 +37,22 @@ TEST(QuantileErrorTest, OrderStatisticsOfASample) {
 // The maximum's error is the larger of the top gap and the top tenth's mean
 // excess over the next value: a tie at the top does not zero it, and a lone
 // far maximum keeps its gap.
+// Type 8: (n + 1/3) p - 2/3, clamped to the sample; the median as type 7.
+TEST(QuantileErrorTest, ComparedQuantileIsHyndmanAndFansType8) {
+  EXPECT_NEAR(ComparedQuantilePosition(100, 0.1), 10.0 + 1.0 / 30.0 - 2.0 / 3.0, 1e-12);
+  EXPECT_NEAR(ComparedQuantilePosition(100, 0.9), 90.3 - 2.0 / 3.0, 1e-12);
+  EXPECT_NEAR(ComparedQuantilePosition(41, 0.5), 20.0, 1e-12);
+  EXPECT_NEAR(ComparedQuantilePosition(40, 0.5), 19.5, 1e-12);
+  EXPECT_EQ(ComparedQuantilePosition(5, 0.05), 0.0);  // 0.267 - 0.667 < 0
+  EXPECT_EQ(ComparedQuantilePosition(5, 0.99), 4.0);  // 5.28 - 0.667 > 4
+  EXPECT_EQ(ComparedQuantilePosition(1, 0.3), 0.0);
+  std::vector<double> s;
+  for (int i = 0; i < 10; ++i) s.push_back(2.0 * i);
+  // n = 10, p = 0.25: position 10.333 / 4 - 2/3 = 1.9167, value 3.8333.
+  EXPECT_NEAR(ComparedQuantile(s, 0.25), 2.0 * (10.0 + 1.0 / 3.0) / 4.0 - 4.0 / 3.0, 1e-12);
+  EXPECT_EQ(ComparedQuantile({7.0}, 0.9), 7.0);
+}
+
 TEST(QuantileErrorTest, MaxStandardErrorIsTheTopGapOrTheTopTenthsMeanExcess) {
   // Below 20 values, one spacing: the gap of the two largest.
   std::vector<double> small = {0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 14.0};

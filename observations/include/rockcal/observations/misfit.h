@@ -274,10 +274,23 @@ std::string TracksVerdictSentence(const Misfit& misfit);
 // (good: ...)", or "rebounds NOT reproduced (poor: ...)"; "" without impacts.
 std::string ImpactVerdict(const Misfit& misfit);
 
+// The 0-based position of the level-p quantile the misfit compares in an
+// ascending sample of n values: Hyndman & Fan's type 8, (n + 1/3) p - 2/3
+// clamped to [0, n - 1], approximately median-unbiased whatever the
+// distribution and n (Hyndman & Fan 1996, Sample quantiles in statistical
+// packages, The American Statistician 50:361-365), so that samples of
+// different sizes from one distribution compare without bias. The type-7
+// position (n - 1) p lies nearer the median the fewer the values, by
+// (1 - 2p) / (n + 1) in probability, which set a smaller observed sample's
+// tails inside a larger simulated one's (observations/README.md). At p = 1/2
+// both are (n - 1) / 2. n >= 1.
+double ComparedQuantilePosition(std::size_t n, double level);
+// The value at ComparedQuantilePosition, interpolated linearly. n >= 1.
+double ComparedQuantile(const std::vector<double>& sorted, double level);
 // Standard error of the level-p quantile of an ascending sample of n values,
-// from order statistics: positions c -/+ h with c = (n - 1) p (the type-7
-// quantile position) and h = sqrt(n p (1 - p)), clamped to [0, n - 1],
-// interpolated linearly; the error is half the spread between them. 0 for n < 2.
+// from order statistics: positions c -/+ h with c = ComparedQuantilePosition
+// and h = sqrt(n p (1 - p)), clamped to [0, n - 1], interpolated linearly;
+// the error is half the spread between them. 0 for n < 2.
 double QuantileStandardError(const std::vector<double>& sorted, double level);
 // Standard error of the maximum: the larger of the gap between the two
 // largest values and the mean excess of the j = clamp(n / 10, 1, n - 1)
