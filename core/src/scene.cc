@@ -12,6 +12,28 @@
 
 namespace rockcal::core {
 
+bool CrossesLine(const std::vector<Eigen::Vector2d>& line, const Eigen::Vector2d& p0,
+                 const Eigen::Vector2d& p1, double* f) {
+  // p0 + t d = a + u e, solved by cross products; a path parallel to a
+  // segment does not cross it.
+  auto cross = [](const Eigen::Vector2d& v, const Eigen::Vector2d& w) {
+    return v.x() * w.y() - v.y() * w.x();
+  };
+  const Eigen::Vector2d d = p1 - p0;
+  bool found = false;
+  for (std::size_t k = 0; k + 1 < line.size(); ++k) {
+    const Eigen::Vector2d e = line[k + 1] - line[k], w = line[k] - p0;
+    const double denom = cross(d, e);
+    if (denom == 0.0) continue;
+    const double t = cross(w, e) / denom, u = cross(w, d) / denom;
+    if (t > 0.0 && t <= 1.0 && u >= 0.0 && u <= 1.0 && (!found || t < *f)) {
+      *f = t;
+      found = true;
+    }
+  }
+  return found;
+}
+
 bool SimulationOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& field, double value, const char* rule) {
     std::ostringstream s;
@@ -73,8 +95,8 @@ bool Scene::IsValid(std::string* error) const {
     std::ostringstream s;
     s << "the run would take up to " << steps << " steps (" << rocks << " rocks, max_time "
       << options.max_time << " s, smallest contact step " << options.max_time * rocks / steps
-      << " s); expected at most "
-      << kMaxEstimatedSteps << ": lengthen the contact time or shorten max_time";
+      << " s); expected at most " << kMaxEstimatedSteps
+      << ": lengthen the contact time or shorten max_time";
     *error = s.str();
     return false;
   }
