@@ -22,6 +22,7 @@ void WriteCalibrationFolder(const std::string& out, const sites::Site& site,
   // One set of maps for rasters.tif and the report's plan view.
   const core::RasterSet maps = core::ComputeRasters(summary.calibrated, summary.simulation);
   WriteSimulationFiles(out, summary.calibrated, summary.simulation);
+  WriteBarriersFile(out, summary.calibrated, summary.simulation, site.units);
   if (rasters) WriteRasterFiles(out, maps, SiteRasterFrame(site));
   WriteFileAtomically(out + "/parameters.json", ParametersJson(summary).dump(2) + "\n");
   WriteFileAtomically(out + "/parameters.csv", ParametersCsv(summary));

@@ -172,14 +172,30 @@ std::string ContourLines(const Context& c, const View& view, const svg::Plot& pl
   return out + "</g>" + labels + "</g>";
 }
 
-// Partitions (X lines, Z contours) with labels.
+// The legend's partitions (dashed) and barriers (solid), each when there are some.
+std::string PartitionLegend(const Context& c) {
+  bool planes = false, lines = false;
+  for (const core::Partition& p : c.scene.partitions)
+    (p.kind == core::Partition::Kind::kLine ? lines : planes) = true;
+  return (planes ? LegendItem(Swatch(kPartitionColour, "dash"), "partition") : std::string()) +
+         (lines ? LegendItem(Swatch(kPartitionColour, "line"), "barrier") : std::string());
+}
+
+// Partitions (X lines, Z contours, barriers' lines) with labels.
 std::string PartitionMarks(const Context& c, const View& view, const svg::Plot& plot) {
   std::string out = "<g fill=\"none\" stroke=\"" + std::string(kPartitionColour) +
                     "\" stroke-width=\"2\" stroke-dasharray=\"7 4\">";
   std::string labels =
       "<g class=\"halo\" fill=\"" + std::string(kPartitionColour) + "\" font-weight=\"bold\">";
   for (const core::Partition& p : c.scene.partitions) {
-    if (p.kind == core::Partition::Kind::kX) {
+    if (p.kind == core::Partition::Kind::kLine) {  // a barrier: its line, solid
+      std::string pts;
+      for (const Eigen::Vector2d& v : p.line)
+        pts += (pts.empty() ? "" : " ") + Px(plot.X(v.x())) + "," + Px(plot.Y(v.y()));
+      out += "<polyline stroke-dasharray=\"none\" stroke-width=\"3\" points=\"" + pts + "\"/>";
+      labels += "<text x=\"" + Px(plot.X(p.line[0].x()) + 4) + "\" y=\"" +
+                Px(plot.Y(p.line[0].y()) - 4) + "\">" + Escape(p.id) + "</text>";
+    } else if (p.kind == core::Partition::Kind::kX) {
       if (p.value < plot.xlo() || p.value > plot.xhi()) continue;
       const std::string x = Px(plot.X(p.value));
       out += "<line x1=\"" + x + "\" y1=\"" + Px(plot.top()) + "\" x2=\"" + x + "\" y2=\"" +
@@ -289,8 +305,7 @@ std::string PlanZones(const Context& c, double step, std::string* legend, double
   if (HasHoles(g)) *legend += LegendItem(Swatch("#ffffff"), "no terrain data");
   *legend += LegendItem(Swatch("#555", "line"), "contour every " + Length(step, c.in.units));
   *legend += LegendItem(Swatch(kReleaseColour, "zone"), "release zone");
-  if (!c.scene.partitions.empty())
-    *legend += LegendItem(Swatch(kPartitionColour, "dash"), "partition");
+  *legend += PartitionLegend(c);
   *legend += "</ul>";
   *width = plot.right() + (c.in.units == sites::Units::kUS ? 58 : 16);
   return plot.Svg();
@@ -428,8 +443,7 @@ std::string PlanPaths(const Context& c, double step, const View& view, std::stri
   if (c.left > 0) *legend += LegendItem(Swatch("#333", "cross"), "rock left the slope here");
   if (observed) *legend += LegendItem(Swatch("#000", "ring"), "observed stop point");
   *legend += LegendItem(Swatch(kReleaseColour, "zone"), "release zone");
-  if (!c.scene.partitions.empty())
-    *legend += LegendItem(Swatch(kPartitionColour, "dash"), "partition");
+  *legend += PartitionLegend(c);
   *legend += "</ul>";
   *width = plot.right() + (c.in.units == sites::Units::kUS ? 58 : 16);
   return plot.Svg();
