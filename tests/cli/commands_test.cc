@@ -288,6 +288,15 @@ TEST(Simulate, ABadBarrierExitsTwoNamingTheJsonPath) {
   EXPECT_EQ(run.status, 2);
   EXPECT_THAT(run.err, HasSubstr("$.barriers[0].height: expected a number > 0"));
   EXPECT_FALSE(fs::exists(out));
+  json = TutorialWithBarriers();  // a vertex beyond any double, in the file's text
+  json["barriers"][1]["line"][0][0] = 123456789;
+  std::string text = json.dump(2);
+  text.replace(text.find("123456789"), 9, "1e999");
+  std::ofstream(site) << text;
+  run = Rockcal("simulate " + site + " --rocks 2 --out " + out);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_THAT(run.err, HasSubstr("$.barriers[1].line[0][0]: number '1e999' out of range"));
+  EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(Validate, PrintsWhatItFound) {
