@@ -735,6 +735,49 @@ TEST(Simulate, ABarrierThatStopsEndsTheRunOfTheRocksItCatches) {
   }
 }
 
+// Spheres rolling from rest down the smooth 30-degree incline, at y = 1, 2
+// and 3 m, meet a barrier line drawn slanting across the slope, (20, 0) -
+// (30, 4), at x = 22.5, 25 and 27.5 m. Rolling without slip loses nothing:
+// the kinetic energy at the crossing is m g times the centre's drop,
+// (x - 5) tan 30, and the speed sqrt(10/7 g drop); the centre is r / cos 30
+// above the ground. The barrier stops them: each run ends on the line.
+TEST(Simulate, SpheresRollingDownAnInclineMeetABarrierLineWithTheirFallsEnergy) {
+  const double theta = 30.0 * M_PI / 180.0, r = 0.2;
+  Scene scene = Incline30(SmoothMaterial(0.3, 0.005, 1.0));
+  for (double y : {1.0, 2.0, 3.0})
+    scene.groups.push_back(PointGroup(Shape::kSphere, 2 * r, 5.0, y, 0.0));
+  Partition line;
+  line.id = "net";
+  line.kind = Partition::Kind::kLine;
+  line.line = {{20.0, 0.0}, {30.0, 4.0}};
+  line.height = 2.0;
+  line.capacity = 1e9;
+  line.stops = true;
+  scene.partitions = {line};
+  scene.options.max_time = 6.0;
+  const SimulationResult result = Simulate(scene);
+  for (int k = 0; k < 3; ++k) {
+    const RockRecord& rock = result.rocks[static_cast<std::size_t>(k)];
+    const double y = 1.0 + k, x = 20.0 + 2.5 * y;
+    const Crossing& c = rock.crossings[0];
+    ASSERT_TRUE(c.crossed) << "rock " << k << " ended at " << rock.stop.transpose();
+    const double drop = (x - 5.0) * std::tan(theta);
+    EXPECT_NEAR(c.point.x(), x, 1e-3) << "rock " << k;
+    EXPECT_NEAR(c.point.y(), y, 1e-3) << "rock " << k;
+    EXPECT_NEAR(c.energy / (rock.mass * kG * drop), 1.0, 1e-3)
+        << "rock " << k << ": " << c.energy << " J, exact " << rock.mass * kG * drop;
+    EXPECT_NEAR(c.speed / std::sqrt(10.0 / 7.0 * kG * drop), 1.0, 1e-3) << "rock " << k;
+    EXPECT_NEAR(c.height, r / std::cos(theta), 1e-3) << "rock " << k;
+    EXPECT_EQ(rock.stopped_by, 0) << "rock " << k;
+    EXPECT_EQ(rock.outcome, Outcome::kStopped) << "rock " << k;
+    EXPECT_EQ(rock.stop, c.point) << "rock " << k;
+  }
+  const BarrierStats net = ComputeBarriers(scene, result)[0];
+  EXPECT_EQ(net.check.passed, 3);
+  EXPECT_EQ(net.stopped, 3);
+  EXPECT_EQ(net.check.over, 0);
+}
+
 // The plan crossing of a path and a polyline: the first segment met, none
 // for a path that only starts on the line or runs along it.
 TEST(Scene, CrossesLineFindsTheFirstSegmentMet) {
