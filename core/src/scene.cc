@@ -84,6 +84,22 @@ double Scene::EstimatedSteps() const {
 bool Scene::IsValid(std::string* error) const {
   if (!options.IsValid(error)) return false;
   if (!forest.IsValid(error)) return false;
+  for (const Partition& p : partitions) {  // a barrier's line, height and capacity
+    if (p.kind != Partition::Kind::kLine) continue;
+    bool finite = true;
+    for (const Eigen::Vector2d& v : p.line) finite = finite && v.allFinite();
+    const char* rule = p.line.size() < 2 ? "a line of at least 2 vertices"
+                       : !finite         ? "finite vertices"
+                       : !(p.height > 0 && std::isfinite(p.height))     ? "a finite height > 0"
+                       : !(p.capacity > 0 && std::isfinite(p.capacity)) ? "a finite capacity > 0"
+                                                                        : nullptr;
+    if (rule) {
+      *error = "barrier " + p.id + " (" + std::to_string(p.line.size()) + " vertices, height " +
+               FormatNumber(p.height) + " m, capacity " + FormatNumber(p.capacity) +
+               " J): expected " + rule;
+      return false;
+    }
+  }
   const int rocks = total_rocks();
   if (rocks < 1 || rocks > kMaxRocks) {
     *error = "the run has " + std::to_string(rocks) + " rocks; expected 1 to " +

@@ -1,6 +1,7 @@
 // Physics of the production simulation path against exact answers.
 #include "rockcal/core/simulate.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -776,6 +777,32 @@ TEST(Simulate, SpheresRollingDownAnInclineMeetABarrierLineWithTheirFallsEnergy) 
   EXPECT_EQ(net.check.passed, 3);
   EXPECT_EQ(net.stopped, 3);
   EXPECT_EQ(net.check.over, 0);
+}
+
+// Scene::IsValid refuses a barrier without a line, height or capacity.
+TEST(Scene, IsValidNamesTheBarrierAndTheRule) {
+  Scene scene = BarrierScene(true);
+  std::string error;
+  ASSERT_TRUE(scene.IsValid(&error)) << error;
+  scene.partitions[1].line.pop_back();
+  EXPECT_FALSE(scene.IsValid(&error));
+  EXPECT_EQ(error,
+            "barrier behind (1 vertices, height 2.8 m, capacity 50000 J): expected a line of at "
+            "least 2 vertices");
+  scene = BarrierScene(true);
+  scene.partitions[0].line[1].x() = std::nan("");
+  EXPECT_FALSE(scene.IsValid(&error));
+  EXPECT_THAT(error, ::testing::HasSubstr("barrier net (3 vertices"));
+  EXPECT_THAT(error, ::testing::HasSubstr("expected finite vertices"));
+  scene = BarrierScene(true);
+  scene.partitions[0].height = -1.0;
+  EXPECT_FALSE(scene.IsValid(&error));
+  EXPECT_THAT(error, ::testing::HasSubstr("height -1 m"));
+  EXPECT_THAT(error, ::testing::HasSubstr("expected a finite height > 0"));
+  scene = BarrierScene(true);
+  scene.partitions[0].capacity = 0.0;
+  EXPECT_FALSE(scene.IsValid(&error));
+  EXPECT_THAT(error, ::testing::HasSubstr("expected a finite capacity > 0"));
 }
 
 // The plan crossing of a path and a polyline: the first segment met, none

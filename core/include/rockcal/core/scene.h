@@ -216,8 +216,9 @@ struct Scene {
   // An upper estimate of the steps of a run: every rock in contact for
   // max_time at the scene's smallest contact step (SmallestContactStep).
   double EstimatedSteps() const;
-  // options.IsValid, 1 to kMaxRocks rocks, and EstimatedSteps() at most
-  // kMaxEstimatedSteps; on failure sets *error (value and rule) and returns false.
+  // options.IsValid, forest.IsValid, each barrier's line (at least 2 finite
+  // vertices), height and capacity (finite, > 0), 1 to kMaxRocks rocks, and EstimatedSteps() at
+  // most kMaxEstimatedSteps; on failure sets *error (value and rule) and returns false.
   bool IsValid(std::string* error) const;
   // Spreads `total` rocks over the groups in proportion to their counts
   // (largest remainder, ties to the earlier group), keeping their order.
