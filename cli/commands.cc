@@ -225,6 +225,7 @@ int Simulate(const std::vector<std::string>& argv) {
   if (run)
     for (const core::RasterBand& b : run->raster_bands) rasters.bands.push_back(b);
   reports::WriteSimulationFiles(dir.folder(), scene, result, ParametersUsed(in, run));
+  reports::WriteBarriersFile(dir.folder(), scene, result, site.units);
   if (run) reports::WriteFileAtomically(dir.File("draws.csv"), calibrate::DrawsCsv(*run));
   if (!scene.forest.empty()) WriteForestFiles(dir, site, result);
   if (args.Flag("rasters") || site.gis)
@@ -270,9 +271,15 @@ int Validate(const std::vector<std::string>& argv) {
         law.contact_time, law.damping_ratio, law.eq13_damping_ratio);
   }
   std::printf("partitions:\n");
-  for (const auto& p : scene.partitions)
+  for (const auto& p : scene.partitions) {
+    if (p.kind == core::Partition::Kind::kLine) {  // a barrier
+      std::printf("  %-10s line of %zu vertices, %.3f m high, %.4g kJ%s\n", p.id.c_str(),
+                  p.line.size(), p.height, p.capacity * 1e-3, p.stops ? ", stops rocks" : "");
+      continue;
+    }
     std::printf("  %-10s %s = %.3f m\n", p.id.c_str(),
                 p.kind == core::Partition::Kind::kX ? "x" : "z", p.value);
+  }
   std::printf("rock groups:\n");
   for (const auto& g : scene.groups) {
     const core::GroupExtent extent = core::GroupBodies(g, scene.gravity);

@@ -43,6 +43,7 @@ int Score(const std::vector<std::string>& argv) {
   const core::SimulationResult& sim = score.simulation;
   const observations::FitVerdict fit = observations::AssessFit(score.misfit);
   reports::WriteSimulationFiles(dir.folder(), score.scene, sim);
+  reports::WriteBarriersFile(dir.folder(), score.scene, sim, site.units);
   reports::WriteScoreFile(dir.folder(),
                           calibrate::ScoreResultOf(score, obs.path, options.parameters_file));
   if (!score.misfit.impacts.empty())

@@ -18,7 +18,11 @@ Recorder::Recorder(const Scene& scene, const Terrain& terrain, const RockBody& b
       cluster_(cluster),
       gravity_(0, 0, -scene.gravity),
       inv_inertia_(body.inertia.cwiseInverse()),
-      rec_(rec) {}
+      rec_(rec) {
+  for (std::size_t p = 0; p < scene.partitions.size(); ++p)
+    if (scene.partitions[p].kind == Partition::Kind::kLine && scene.partitions[p].stops)
+      stopping_.push_back(static_cast<int>(p));
+}
 
 void Recorder::Start(const RockState& s) {
   const int np = static_cast<int>(scene_.partitions.size());
@@ -28,12 +32,56 @@ void Recorder::Start(const RockState& s) {
       opt_.trajectories > rec_->rock ||
       std::binary_search(opt_.trajectory_rocks.begin(), opt_.trajectory_rocks.end(), rec_->rock) ||
       std::binary_search(opt_.trajectory_groups.begin(), opt_.trajectory_groups.end(), rec_->group);
+  met_.assign(stopping_.size(), 0);
+  crossed_at_.assign(stopping_.size(), -1.0);
   next_sample_ = 0.0;
   Sample(s);
   if (opt_.passages) VisitAt(s, s, true);
 }
 
-void Recorder::Advance(const RockState& s0, const RockState& s, bool flew) {
+bool Recorder::Advance(const RockState& s0, const RockState& s, bool flew, RockState* stopped) {
+  double f = 0.0;
+  int at = -1;
+  Crossing crossing;
+  if (!stopping_.empty() && Caught(s0, s, flew, &f, &at, &crossing)) {
+    *stopped = Between(s0, s, f, flew, /*turn=*/true);
+    rec_->stopped_by = at;
+    if (opt_.partitions) rec_->crossings[static_cast<std::size_t>(at)] = crossing;
+    Track(s0, *stopped, flew);
+    return true;
+  }
+  Track(s0, s, flew);
+  return false;
+}
+
+bool Recorder::Caught(const RockState& s0, const RockState& s, bool flew, double* f, int* at,
+                      Crossing* crossing) {
+  bool caught = false;
+  for (std::size_t k = 0; k < stopping_.size(); ++k) {
+    double& fk = crossed_at_[k];
+    fk = -1.0;              // not crossed within this advance
+    if (met_[k]) continue;  // a barrier is met once: one the rock passed does not catch it later
+    const Partition& part = scene_.partitions[static_cast<std::size_t>(stopping_[k])];
+    if (!CrossesLine(part.line, s0.x.head<2>(), s.x.head<2>(), &fk)) {
+      fk = -1.0;
+      continue;
+    }
+    if (caught && fk >= *f) continue;
+    const Crossing c = Record(s0, Between(s0, s, fk, flew));
+    if (c.height - body_.bounding_radius > part.height || c.energy > part.capacity) continue;
+    *f = fk;
+    *at = stopping_[k];
+    *crossing = c;
+    caught = true;
+  }
+  // The barriers the rock crossed before it stopped (all it crossed, if it
+  // did not) are met.
+  for (std::size_t k = 0; k < stopping_.size(); ++k)
+    if (crossed_at_[k] >= 0.0 && (!caught || crossed_at_[k] <= *f)) met_[k] = 1;
+  return caught;
+}
+
+void Recorder::Track(const RockState& s0, const RockState& s, bool flew) {
   const auto& parts = scene_.partitions;
   if (opt_.partitions) {
     for (std::size_t p = 0; p < parts.size(); ++p) {
@@ -41,6 +89,12 @@ void Recorder::Advance(const RockState& s0, const RockState& s, bool flew) {
       if (cr.crossed) continue;
       const Partition& part = parts[p];
       double f0, f1;
+      if (part.kind == Partition::Kind::kLine) {
+        double f = 0.0;
+        if (CrossesLine(part.line, s0.x.head<2>(), s.x.head<2>(), &f))
+          cr = Record(s0, Between(s0, s, f, flew));
+        continue;
+      }
       if (part.kind == Partition::Kind::kX) {
         f0 = s0.x.x() - part.value;
         f1 = s.x.x() - part.value;
@@ -120,8 +174,8 @@ void Recorder::VisitAt(const RockState& s0, const RockState& s, bool every) {
   // The cell's visit if it is one of the last few (a rock at rest on a cell
   // border goes back and forth); -1: a new one.
   int at = -1;
-  for (int k = static_cast<int>(cells.size()) - 1; k >= 0 && k + 4 >= static_cast<int>(cells.size());
-       --k) {
+  for (int k = static_cast<int>(cells.size()) - 1;
+       k >= 0 && k + 4 >= static_cast<int>(cells.size()); --k) {
     if (cells[static_cast<std::size_t>(k)].cell == cell) {
       at = k;
       break;

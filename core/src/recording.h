@@ -5,6 +5,7 @@
 #define ROCKCAL_CORE_SRC_RECORDING_H_
 
 #include <limits>
+#include <vector>
 
 #include "rock_state.h"
 #include "rockcal/core/scene.h"
@@ -23,11 +24,24 @@ class Recorder final {
   void Start(const RockState& s);
   // Partition crossings, tree passages and trajectory samples within the
   // advance from s0 to s (flew: on the exact parabola; else a small step).
-  void Advance(const RockState& s0, const RockState& s, bool flew);
+  // When a barrier that stops rocks catches the rock within it: true, with
+  // *stopped the state at the crossing (what is recorded ends there, and
+  // RockRecord::stopped_by names the barrier). Without such barriers in the
+  // scene, no extra work.
+  bool Advance(const RockState& s0, const RockState& s, bool flew, RockState* stopped);
   // At the end, in state s: the cells in order, the last sample.
   void Finish(const RockState& s);
 
  private:
+  // Crossings, passages and samples within the advance (Advance's work
+  // once the advance's end is known).
+  void Track(const RockState& s0, const RockState& s, bool flew);
+  // The first crossing within the advance of a barrier that stops rocks and
+  // catches this one: true, with *f its fraction along the advance, *at the
+  // barrier's index and *crossing what the rock carried there.
+  // Marks the barriers crossed before it (or all crossed) as met.
+  bool Caught(const RockState& s0, const RockState& s, bool flew, double* f, int* at,
+              Crossing* crossing);
   // State at fraction f of the advance from s0 to s: after a flight the
   // exact parabola and, with `turn`, a cluster's torque-free turn from s0
   // (without it the spin and orientation stay s0's: the kinetic energy of
@@ -63,6 +77,10 @@ class Recorder final {
   const Eigen::Vector3d gravity_;
   const Eigen::Vector3d inv_inertia_;  // the body's principal moments inverted
   RockRecord* rec_;
+  // The scene's barriers that stop rocks (indices into Scene::partitions).
+  std::vector<int> stopping_;
+  std::vector<char> met_;           // per stopping_ entry: crossed already
+  std::vector<double> crossed_at_;  // per stopping_ entry: Caught's fraction, -1 none
   bool trajectory_ = false;
   double next_sample_ = 0.0;
   Eigen::Vector2d last_visit_ = Eigen::Vector2d::Zero();  // plan position of the last cell sample

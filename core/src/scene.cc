@@ -12,6 +12,28 @@
 
 namespace rockcal::core {
 
+bool CrossesLine(const std::vector<Eigen::Vector2d>& line, const Eigen::Vector2d& p0,
+                 const Eigen::Vector2d& p1, double* f) {
+  // p0 + t d = a + u e, solved by cross products; a path parallel to a
+  // segment does not cross it.
+  auto cross = [](const Eigen::Vector2d& v, const Eigen::Vector2d& w) {
+    return v.x() * w.y() - v.y() * w.x();
+  };
+  const Eigen::Vector2d d = p1 - p0;
+  bool found = false;
+  for (std::size_t k = 0; k + 1 < line.size(); ++k) {
+    const Eigen::Vector2d e = line[k + 1] - line[k], w = line[k] - p0;
+    const double denom = cross(d, e);
+    if (denom == 0.0) continue;
+    const double t = cross(w, e) / denom, u = cross(w, d) / denom;
+    if (t > 0.0 && t <= 1.0 && u >= 0.0 && u <= 1.0 && (!found || t < *f)) {
+      *f = t;
+      found = true;
+    }
+  }
+  return found;
+}
+
 bool SimulationOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& field, double value, const char* rule) {
     std::ostringstream s;
@@ -96,6 +118,22 @@ bool Scene::IsValid(std::string* error) const {
                std::to_string(static_cast<long>(group_count) - 1) + ")";
       return false;
     }
+  for (const Partition& p : partitions) {  // a barrier's line, height and capacity
+    if (p.kind != Partition::Kind::kLine) continue;
+    bool finite = true;
+    for (const Eigen::Vector2d& v : p.line) finite = finite && v.allFinite();
+    const char* rule = p.line.size() < 2 ? "a line of at least 2 vertices"
+                       : !finite         ? "finite vertices"
+                       : !(p.height > 0 && std::isfinite(p.height))     ? "a finite height > 0"
+                       : !(p.capacity > 0 && std::isfinite(p.capacity)) ? "a finite capacity > 0"
+                                                                        : nullptr;
+    if (rule) {
+      *error = "barrier " + p.id + " (" + std::to_string(p.line.size()) + " vertices, height " +
+               FormatNumber(p.height) + " m, capacity " + FormatNumber(p.capacity) +
+               " J): expected " + rule;
+      return false;
+    }
+  }
   const int rocks = total_rocks();
   if (rocks < 1 || rocks > kMaxRocks) {
     *error = "the run has " + std::to_string(rocks) + " rocks; expected 1 to " +

@@ -97,7 +97,11 @@ class RockRun {
         outcome = Outcome::kLeft;
         break;
       }
-      recorder_.Advance(before, s_, flew);
+      if (recorder_.Advance(before, s_, flew, &caught_)) {  // a barrier stopped it
+        s_ = caught_;
+        outcome = Outcome::kStopped;
+        break;
+      }
       const int cell = ctx_.terrain.CellOf(s_.x.x(), s_.x.y());
       if (opt_.record.energy_check && !flew) CheckEnergy();
       if (ends_.Ended(s_, cell, before.t, search_.FloorClear(s_.x), &outcome, rec_)) break;
@@ -525,6 +529,7 @@ class RockRun {
   const bool exact_flight_;  // off on the reference path
   RockRecord* rec_;
   Recorder recorder_;  // what the record keeps of the path (recording.h)
+  RockState caught_;   // where a barrier stopped the rock (Recorder::Advance)
   RockEnds ends_;      // rest, the run's ends and the energy check (rest.h)
   RockState s_;
   Eigen::Vector3d a_, alpha_;  // accelerations at the current state

@@ -136,6 +136,33 @@ FenceCheck CheckFence(const SimulationResult& result, std::size_t partition, dou
   return f;
 }
 
+std::vector<BarrierStats> ComputeBarriers(const Scene& scene, const SimulationResult& result) {
+  std::vector<BarrierStats> out;
+  for (std::size_t p = 0; p < scene.partitions.size(); ++p) {
+    const Partition& part = scene.partitions[p];
+    if (part.kind != Partition::Kind::kLine) continue;
+    BarrierStats b;
+    b.partition = p;
+    b.check = CheckFence(result, p, part.height, part.capacity);
+    std::vector<double> lowest, centre, energy;
+    for (const RockRecord& r : result.rocks) {
+      b.stopped += r.stopped_by == static_cast<int>(p);
+      if (p >= r.crossings.size() || !r.crossings[p].crossed) continue;
+      lowest.push_back(r.crossings[p].height - r.bounding_radius);
+      centre.push_back(r.crossings[p].height);
+      energy.push_back(r.crossings[p].energy);
+    }
+    b.lowest_p95 = QuantileOf(&lowest, 0.95);
+    b.lowest_p99 = QuantileOf(&lowest, 0.99);
+    b.centre_p95 = QuantileOf(&centre, 0.95);
+    b.centre_p99 = QuantileOf(&centre, 0.99);
+    b.energy_p95 = QuantileOf(&energy, 0.95);
+    b.energy_p99 = QuantileOf(&energy, 0.99);
+    out.push_back(b);
+  }
+  return out;
+}
+
 double RunoutDistance(const RockRecord& rock) {
   return std::hypot(rock.stop.x() - rock.start.x(), rock.stop.y() - rock.start.y());
 }

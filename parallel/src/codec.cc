@@ -60,6 +60,7 @@ void Record(Writer* w, const core::RockRecord& rec) {
   w->Double(rec.max_relative_energy_gain);
   w->Double(rec.max_penetration);
   w->Int(rec.tunneled ? 1 : 0);
+  w->Int(rec.stopped_by);
   Crossings(w, rec.crossings);
   Crossings(w, rec.trees);
   w->Int(static_cast<long long>(rec.cells.size()));
@@ -108,6 +109,7 @@ core::RockRecord Record(Reader* r) {
   rec.max_relative_energy_gain = r->Double();
   rec.max_penetration = r->Double();
   rec.tunneled = r->Int() != 0;
+  rec.stopped_by = static_cast<int>(r->Int());
   rec.crossings = Crossings(r);
   rec.trees = Crossings(r);
   rec.cells.resize(static_cast<std::size_t>(r->Int()));

@@ -41,6 +41,7 @@ void WriteCalibrationFolder(const std::string& out, const sites::Site& site,
   // One set of maps for rasters.tif and the report's plan view.
   const core::RasterSet maps = core::ComputeRasters(summary.calibrated, summary.simulation);
   WriteSimulationFiles(out, summary.calibrated, summary.simulation);
+  WriteBarriersFile(out, summary.calibrated, summary.simulation, site.units);
   if (rasters) WriteRasterFiles(out, maps, SiteRasterFrame(site));
   WriteParameterFiles(out, calibrate::CalibratedSiteOf(summary), summary.posterior);
   WriteFileAtomically(out + "/parameters.md", ParametersMarkdown(summary));

@@ -142,6 +142,17 @@ std::string Coordinate(double m, sites::Units units) {
   return CoordinateNumber(m) + " m (" + CoordinateNumber(m / core::kFoot) + " ft)";
 }
 
+std::string PartitionPlace(const core::Partition& part, sites::Units units) {
+  if (part.kind == core::Partition::Kind::kX) return "x = " + Coordinate(part.value, units);
+  if (part.kind == core::Partition::Kind::kZ) return "z = " + Coordinate(part.value, units);
+  auto point = [](const Eigen::Vector2d& v) {
+    return "(" + CoordinateNumber(v.x()) + ", " + CoordinateNumber(v.y()) + ")";
+  };
+  if (part.line.empty()) return "line of no vertices";
+  return "line of " + std::to_string(part.line.size()) + " vertices from " +
+         point(part.line.front()) + " to " + point(part.line.back()) + " m";
+}
+
 std::string PageHtml(const Page& page) {
   std::string h =
       "<!DOCTYPE html>\n<html xmlns=\"http://www.w3.org/1999/xhtml\" lang=\"en\">\n<head>\n"
@@ -327,10 +338,10 @@ std::string PartitionsTable(const core::Scene& sc, sites::Units units,
            (passage ? "<td><a href=\"#" + Escape(PartitionSectionId(part.id)) + "\">" +
                           Escape(part.id) + "</a></td>"
                     : Td(part.id)) +
-           Td(part.kind == core::Partition::Kind::kX ? "X (vertical plane)"
-                                                     : "Z (ground elevation contour)") +
-           Td((part.kind == core::Partition::Kind::kX ? "x = " : "z = ") +
-              Coordinate(part.value, units));
+           Td(part.kind == core::Partition::Kind::kX   ? "X (vertical plane)"
+              : part.kind == core::Partition::Kind::kZ ? "Z (ground elevation contour)"
+                                                       : "barrier (line in plan)") +
+           Td(PartitionPlace(part, units));
       if (passage) {
         const int passed = p < passage->passed.size() ? passage->passed[p] : 0;
         s += Td(Int(passed) + " (" +

@@ -59,8 +59,7 @@ std::string PartitionHeading(const Context& c, int p) {
   const core::Partition& part = c.scene.partitions[static_cast<std::size_t>(p)];
   return "Partition " + html::RefText("summary.json#/partitions/" + Int(p) + "/id", part.id) +
          " (" + sections::KindName(part.kind) + " partition, " +
-         (part.kind == core::Partition::Kind::kX ? "x = " : "z = ") +
-         Escape(html::Coordinate(part.value, c.in.units)) + ")";
+         Escape(html::PartitionPlace(part, c.in.units)) + ")";
 }
 
 // The report's sections in order, each only when the run has what it shows.
@@ -71,8 +70,7 @@ std::vector<ReportSection> Sections(const Context& c) {
     out.push_back({id, title, "", [&c, body] { return body(c); }});
   };
   add("site", "Project and site", sections::SiteSection);
-  if (!c.one_cell_wide && c.scene.grid.nx >= 2 && c.scene.grid.ny >= 2)
-    add("plan", "Plan view", sections::PlanSection);
+  if (sections::HasPlanView(c)) add("plan", "Plan view", sections::PlanSection);
   add("profile", "Profile view", sections::ProfileSection);
   for (std::size_t p = 0; p < c.scene.partitions.size(); ++p) {
     const core::Partition& part = c.scene.partitions[p];
@@ -81,7 +79,12 @@ std::vector<ReportSection> Sections(const Context& c) {
                    "Partition " + part.id + " (" + sections::KindName(part.kind) + ")",
                    PartitionHeading(c, k), [&c, k] { return sections::PartitionSection(c, k); }});
   }
-  if (!c.scene.partitions.empty()) add("barrier", "Barrier check", sections::BarrierSection);
+  // The report's one fence at the partitions; each barrier line by its own.
+  bool planes = false;
+  for (const core::Partition& p : c.scene.partitions)
+    planes = planes || p.kind != core::Partition::Kind::kLine;
+  if (planes) add("barrier", "Barrier check", sections::BarrierSection);
+  if (sections::HasBarriers(c.scene)) add("barriers", "Barriers", sections::BarriersSection);
   if (Rocks(c) > 0) add("runout", "Runout", sections::RunoutSection);
   if (sections::HasForestStrikes(c)) add("forest", "Forest", sections::ForestSection);
   if (c.several_shapes) add("shapes", "Rock shapes", sections::ShapesSection);

@@ -60,7 +60,74 @@ void CheckFinite(const nlohmann::json& j, const std::string& file, const std::st
       CheckFinite(j[k], file, path + "[" + std::to_string(k) + "]");
 }
 
+// summary.json's "barriers" (SI; a percentile null when no rock reached).
+nlohmann::json BarriersJson(const core::Scene& scene, const core::SimulationResult& result) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const core::BarrierStats& b : core::ComputeBarriers(scene, result)) {
+    const core::Partition& part = scene.partitions[b.partition];
+    auto value = [&](double v) {
+      return b.check.passed > 0 ? nlohmann::json(v) : nlohmann::json(nullptr);
+    };
+    out.push_back({{"id", part.id},
+                   {"height_m", part.height},
+                   {"capacity_kj", part.capacity * 1e-3},
+                   {"stops", part.stops},
+                   {"reaching", b.check.passed},
+                   {"passing_over", b.check.over},
+                   {"centre_above", b.check.over_by_centre},
+                   {"exceeding_capacity", b.check.over_capacity},
+                   {"stopped", b.stopped},
+                   {"lowest_point_m", {{"p95", value(b.lowest_p95)}, {"p99", value(b.lowest_p99)}}},
+                   {"centre_m", {{"p95", value(b.centre_p95)}, {"p99", value(b.centre_p99)}}},
+                   {"energy_kj",
+                    {{"p95", value(b.energy_p95 * 1e-3)}, {"p99", value(b.energy_p99 * 1e-3)}}}});
+  }
+  return out;
+}
+
+bool AnyBarrier(const core::Scene& scene) {
+  for (const core::Partition& p : scene.partitions)
+    if (p.kind == core::Partition::Kind::kLine) return true;
+  return false;
+}
+
 }  // namespace
+
+std::string BarriersCsv(const core::Scene& scene, const core::SimulationResult& result,
+                        sites::Units units) {
+  const std::string u = units == sites::Units::kUS ? "ft" : "m";
+  const double to_file = 1.0 / sites::LengthToSI(1.0, units);
+  std::ostringstream out;
+  out << "id,height_" << u << ",capacity_kj,stops,reaching,passing_over,centre_above,"
+      << "exceeding_capacity,stopped,lowest_point_p95_" << u << ",lowest_point_p99_" << u
+      << ",centre_p95_" << u << ",centre_p99_" << u << ",energy_p95_kj,energy_p99_kj\n";
+  for (const core::BarrierStats& b : core::ComputeBarriers(scene, result)) {
+    const core::Partition& part = scene.partitions[b.partition];
+    // A percentile; empty when no rock reached the barrier.
+    auto value = [&](double v, double scale) {
+      if (b.check.passed == 0) return std::string();
+      if (!std::isfinite(v)) {
+        throw std::runtime_error("internal failure: barriers.csv barrier " + part.id + " holds " +
+                                 FormatNumber(v) + ", not a finite number; nothing written");
+      }
+      return FormatNumber(v * scale);
+    };
+    out << core::CsvField(part.id) << ',' << FormatNumber(part.height * to_file) << ','
+        << FormatNumber(part.capacity * 1e-3) << ',' << (part.stops ? "true" : "false") << ','
+        << b.check.passed << ',' << b.check.over << ',' << b.check.over_by_centre << ','
+        << b.check.over_capacity << ',' << b.stopped << ',' << value(b.lowest_p95, to_file) << ','
+        << value(b.lowest_p99, to_file) << ',' << value(b.centre_p95, to_file) << ','
+        << value(b.centre_p99, to_file) << ',' << value(b.energy_p95, 1e-3) << ','
+        << value(b.energy_p99, 1e-3) << '\n';
+  }
+  return out.str();
+}
+
+void WriteBarriersFile(const std::string& folder, const core::Scene& scene,
+                       const core::SimulationResult& result, sites::Units units) {
+  if (!AnyBarrier(scene)) return;
+  WriteFileAtomically(folder + "/barriers.csv", BarriersCsv(scene, result, units));
+}
 
 nlohmann::json SummaryJson(const core::Scene& scene, const core::SimulationResult& result) {
   const core::ResultStats stats = core::ComputeStats(scene, result);
@@ -91,6 +158,7 @@ nlohmann::json SummaryJson(const core::Scene& scene, const core::SimulationResul
         {"travel_angle_deg", BeyondJson(stats.runout.travel_angle_deg)},
         {"x_m", StatsJson(stats.runout_x)}}},
       {"energy_check", {{"max_relative_gain", result.figures.max_relative_energy_gain}}}};
+  if (AnyBarrier(scene)) j["barriers"] = BarriersJson(scene, result);
   if (!scene.forest.empty()) j["forest"] = ForestSummaryJson(scene, result);
   return j;
 }

@@ -18,8 +18,8 @@ std::vector<const char*> MaterialFieldKeys() {
 const std::vector<FileObjectKeys>& SiteFileKeys() {
   static const std::vector<FileObjectKeys> objects = {
       {"$",
-       {"name", "description", "units", "surface", "zones", "materials", "partitions", "rocks",
-        "simulation", "report", "forest"}},
+       {"name", "description", "units", "surface", "zones", "materials", "partitions", "barriers",
+        "barriers_file", "rocks", "simulation", "report", "forest"}},
       {"$.surface",
        {"resolution", "sphere_spacing", "crs", "max_edge", "points", "points_file", "lidar",
         "grid_file", "raster", "stl"}},
@@ -33,6 +33,8 @@ const std::vector<FileObjectKeys>& SiteFileKeys() {
         "rolling_resistance", "vegetation", "class", "zone", "calibrate"}},
       {"$.materials[].calibrate", MaterialFieldKeys()},
       {"$.partitions[]", {"id", "x", "z"}},
+      {"$.barriers[]", {"id", "line", "height", "energy_kj", "stops"}},
+      {"$.barriers_file", {"file", "layer"}},
       {"$.rocks[]",
        {"id", "count", "shape", "shape_file", "spheres", "size", "box", "unit_weight", "release"}},
       {"$.rocks[] (inventory)",

@@ -163,6 +163,11 @@ ROCKCAL_GDAL_FORWARD(OGRErr, OGR_G_CreateFromWkt,
                      (char** a0, OGRSpatialReferenceH a1, OGRGeometryH* a2), (a0, a1, a2))
 ROCKCAL_GDAL_FORWARD(void, OGR_G_DestroyGeometry, (OGRGeometryH a0), (a0))
 ROCKCAL_GDAL_FORWARD(OGRwkbGeometryType, OGR_G_GetGeometryType, (OGRGeometryH a0), (a0))
+ROCKCAL_GDAL_FORWARD(int, OGR_G_GetGeometryCount, (OGRGeometryH a0), (a0))
+ROCKCAL_GDAL_FORWARD(OGRGeometryH, OGR_G_GetGeometryRef, (OGRGeometryH a0, int a1), (a0, a1))
+ROCKCAL_GDAL_FORWARD(int, OGR_G_GetPointCount, (OGRGeometryH a0), (a0))
+ROCKCAL_GDAL_FORWARD(double, OGR_G_GetX, (OGRGeometryH a0, int a1), (a0, a1))
+ROCKCAL_GDAL_FORWARD(double, OGR_G_GetY, (OGRGeometryH a0, int a1), (a0, a1))
 ROCKCAL_GDAL_FORWARD(int, OGR_G_IsEmpty, (OGRGeometryH a0), (a0))
 ROCKCAL_GDAL_FORWARD(OGRErr, OGR_L_CreateFeature, (OGRLayerH a0, OGRFeatureH a1), (a0, a1))
 ROCKCAL_GDAL_FORWARD(OGRErr, OGR_L_CreateField, (OGRLayerH a0, OGRFieldDefnH a1, int a2),

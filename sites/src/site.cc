@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <map>
 #include <memory>
@@ -339,6 +340,91 @@ void ReadPartitions(const JsonNode& parts, Units units, double zmin, double zmax
   }
 }
 
+// What is wrong with a barrier's line on `grid` ("" when nothing): fewer
+// than 2 vertices, a vertex not finite, no length, or off the terrain.
+std::string LineFault(const std::vector<Eigen::Vector2d>& line, const core::HeightGrid& grid,
+                      Units units) {
+  const double to_file = 1.0 / LengthToSI(1.0, units);
+  if (line.size() < 2)
+    return "a line of " + std::to_string(line.size()) + " vertices; expected at least 2 [x, y]";
+  Eigen::Vector2d lo = line[0], hi = line[0];
+  for (std::size_t k = 0; k < line.size(); ++k) {
+    if (!line[k].allFinite()) {
+      return "vertex " + std::to_string(k) + " is (" + FormatNumber(line[k].x() * to_file) + ", " +
+             FormatNumber(line[k].y() * to_file) + "); expected finite coordinates";
+    }
+    lo = lo.cwiseMin(line[k]);
+    hi = hi.cwiseMax(line[k]);
+  }
+  if (lo == hi) return "every vertex is the same point; expected a line of some length";
+  const double x0 = grid.x(0), x1 = grid.x(grid.nx - 1), y0 = grid.y(0), y1 = grid.y(grid.ny - 1);
+  if (hi.x() < x0 || lo.x() > x1 || hi.y() < y0 || lo.y() > y1) {
+    return "the line (x " + FormatNumber(lo.x() * to_file) + " to " +
+           FormatNumber(hi.x() * to_file) + ", y " + FormatNumber(lo.y() * to_file) + " to " +
+           FormatNumber(hi.y() * to_file) + ") lies off the terrain; expected it over x " +
+           FormatNumber(x0 * to_file) + " to " + FormatNumber(x1 * to_file) + ", y " +
+           FormatNumber(y0 * to_file) + " to " + FormatNumber(y1 * to_file) +
+           ", in the site's frame and unit";
+  }
+  return "";
+}
+
+// The "barriers" array and the "barriers_file": lines in plan, appended to
+// the scene's partitions (docs/reference/site-file.md#barriers), their ids
+// unique among the partitions'.
+void ReadBarriers(const JsonNode& root, const std::string& base_dir, Site* site) {
+  const Units units = site->units;
+  std::vector<core::Partition>& parts = site->scene.partitions;
+  // Fails with fail_id (a duplicate id) or fail_line (its line).
+  using Fail = std::function<void(const std::string&)>;
+  auto add = [&](core::Partition part, const Fail& fail_id, const Fail& fail_line) {
+    for (const core::Partition& p : parts)
+      if (p.id == part.id)
+        fail_id("the id '" + part.id +
+                "' is also a partition's or another barrier's; expected ids unique among the "
+                "partitions and barriers");
+    if (const std::string fault = LineFault(part.line, site->scene.grid, units); !fault.empty())
+      fail_line(fault);
+    const double to_file = 1.0 / LengthToSI(1.0, units);
+    site->notes.push_back("barrier " + part.id + ": a line of " + std::to_string(part.line.size()) +
+                          " vertices, " + FormatNumber(part.height * to_file) + " " +
+                          LengthUnit(units) + " high, " + FormatNumber(part.capacity * 1e-3) +
+                          " kJ" + (part.stops ? ", stops the rocks it catches" : ""));
+    parts.push_back(std::move(part));
+  };
+  if (auto list = root.Find("barriers")) {
+    for (const JsonNode& b : list->Array(1)) {
+      b.Keys(SiteKeysAt("$.barriers[]"));
+      core::Partition part;
+      part.kind = core::Partition::Kind::kLine;
+      const JsonNode id = b.Get("id");
+      part.id = ReadId(id);
+      const JsonNode line = b.Get("line");
+      if (!line.is_array() || line.raw().size() < 2)
+        line.Fail("expected a line: an array of at least 2 [x, y] vertices");
+      for (const JsonNode& v : line.Array()) {
+        const std::vector<double> xy = CoordinatesToSI(v, 2, units);
+        part.line.emplace_back(xy[0], xy[1]);
+      }
+      part.height = LengthToSI(b.Get("height").Positive(), units);
+      part.capacity = b.Get("energy_kj").Positive() * 1e3;
+      if (auto stops = b.Find("stops")) part.stops = stops->Bool();
+      add(
+          std::move(part), [&](const std::string& why) { id.Fail(why); },
+          [&](const std::string& why) { line.Fail(why); });
+    }
+  }
+  if (auto file = root.Find("barriers_file")) {
+    for (BarrierFeature& f : ReadBarrierFile(*file, base_dir, site)) {
+      auto fail = [&](const std::string& why) { throw InputError(f.file, f.where + ": " + why); };
+      if (!ValidId(f.barrier.id))
+        fail("field 'id' holds " + Excerpt(f.barrier.id) +
+             "; expected an id of letters, digits, '_' and '-' (not empty)");
+      add(std::move(f.barrier), fail, fail);
+    }
+  }
+}
+
 // Each material's roughness within what the grid's spacing allows, and its
 // calibration bounds.
 void CheckRoughness(const std::vector<PendingMaterial>& pending, Units units, Site* site) {
@@ -437,6 +523,7 @@ Site LoadSite(const std::string& path) {
   CheckCoverAndNote(pending, &site, &zmin, &zmax);
 
   if (auto parts = root.Find("partitions")) ReadPartitions(*parts, units, zmin, zmax, &site);
+  ReadBarriers(root, base_dir, &site);
 
   // Rock groups.
   const std::vector<JsonNode> rocks = root.Get("rocks").Array(1);

@@ -61,7 +61,7 @@ std::string LayerCrs(OGRLayerH layer) {
 // The zone file's CRS against the terrain's: the same, or adopted when the
 // terrain has none. Fails at `file_node`.
 void MatchCrs(const JsonNode& file_node, const std::string& file, const std::string& wkt,
-              GDALDatasetH ds, Site* site) {
+              GDALDatasetH ds, Site* site, const std::string& kind = "zone file") {
   if (wkt.empty()) return;
   // GeoJSON without a "crs" member is WGS 84 (RFC 7946): say so.
   const std::string driver = GDALGetDriverShortName(GDALGetDatasetDriver(ds));
@@ -72,20 +72,21 @@ void MatchCrs(const JsonNode& file_node, const std::string& file, const std::str
           : "";
   if (site->crs_wkt.empty()) {
     if (const std::string problem = CrsUnitMismatch(wkt, site->units); !problem.empty())
-      file_node.Fail("zone file '" + file + "': " + problem + hint);
+      file_node.Fail(kind + " '" + file + "': " + problem + hint);
     site->crs_wkt = wkt;
-    site->notes.push_back("crs: " + CrsLabel(wkt) + ", adopted from the zone file " + file);
+    site->notes.push_back("crs: " + CrsLabel(wkt) + ", adopted from the " + kind + " " + file);
   } else if (!SameCrs(site->crs_wkt, wkt)) {
-    file_node.Fail("the zone file '" + file + "' has the CRS " + CrsLabel(wkt) + ", the terrain " +
-                   CrsLabel(site->crs_wkt) +
-                   "; expected the same CRS (reproject the zones first, e.g. ogr2ogr -t_srs)" +
+    file_node.Fail("the " + kind + " '" + file + "' has the CRS " + CrsLabel(wkt) +
+                   ", the terrain " + CrsLabel(site->crs_wkt) +
+                   "; expected the same CRS (reproject the file first, e.g. ogr2ogr -t_srs)" +
                    hint);
   }
 }
 
-// The layer of a vector file that holds the zones: the one "layer" names,
-// or the file's only one.
-OGRLayerH ZoneLayer(const JsonNode& zones, const std::string& file, GDALDatasetH ds) {
+// The layer of a vector file that holds the zones (or the barriers): the
+// one "layer" names, or the file's only one.
+OGRLayerH ZoneLayer(const JsonNode& zones, const std::string& file, GDALDatasetH ds,
+                    const std::string& what = "the zones") {
   OGRLayerH layer = nullptr;
   std::vector<std::string> layer_names;
   for (int k = 0; k < GDALDatasetGetLayerCount(ds); ++k)
@@ -101,7 +102,7 @@ OGRLayerH ZoneLayer(const JsonNode& zones, const std::string& file, GDALDatasetH
   } else {
     zones.Fail("the zone file '" + file + "' has " + std::to_string(layer_names.size()) +
                " layers" + (layer_names.empty() ? "" : " (" + Join(layer_names) + ")") +
-               "; expected \"layer\" naming the one with the zones");
+               "; expected \"layer\" naming the one with " + what);
   }
   return layer;
 }
@@ -374,6 +375,112 @@ void ApplyZoneFile(const JsonNode& zones, const std::string& base_dir, Site* sit
   if (files.empty()) files.push_back(file);
   site->inputs.insert(site->inputs.end(), files.begin(), files.end());
   site->gis = true;
+}
+
+namespace {
+
+// A feature's attribute `field` (index k) as text; "" when not set.
+std::string FieldText(OGRFeatureH feature, int k) {
+  return k >= 0 && OGR_F_IsFieldSetAndNotNull(feature, k) ? OGR_F_GetFieldAsString(feature, k) : "";
+}
+
+}  // namespace
+
+std::vector<BarrierFeature> ReadBarrierFile(const JsonNode& node, const std::string& base_dir,
+                                            Site* site) {
+  // A file name, or {"file": ..., "layer": ...}.
+  const JsonNode file_node = node.is_string() ? node : node.Get("file");
+  if (!node.is_string()) node.Keys(SiteKeysAt("$.barriers_file"));
+  const std::string file = ResolveDataFile(file_node, base_dir);
+  if (file.rfind("/vsi", 0) != 0) CheckInputFile(file);  // GDAL's virtual paths excepted
+  gdal::Init();
+  gdal::Dataset ds;
+  {
+    gdal::ErrorCapture errors;
+    ds.reset(
+        GDALOpenEx(file.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr));
+    if (!ds) {
+      const std::string why = errors.message().empty() ? "" : " (GDAL: " + errors.message() + ")";
+      file_node.Fail("'" + file + "' is not a vector file GDAL can read" + why +
+                     "; expected a GeoPackage, Shapefile, GeoJSON or another vector format GDAL "
+                     "reads, of lines");
+    }
+  }
+  OGRLayerH layer = ZoneLayer(node, file, ds.get(), "the barriers");
+  const std::string layer_name = OGR_L_GetName(layer);
+  OGRFeatureDefnH defn = OGR_L_GetLayerDefn(layer);
+  std::vector<std::string> fields;
+  for (int k = 0; k < OGR_FD_GetFieldCount(defn); ++k)
+    fields.emplace_back(OGR_Fld_GetNameRef(OGR_FD_GetFieldDefn(defn, k)));
+  auto field_index = [&](const char* name, bool required) {
+    const int k = OGR_FD_GetFieldIndex(defn, name);
+    if (k < 0 && required) {
+      file_node.Fail("layer '" + layer_name + "' of the barrier file '" + file +
+                     "' has no field '" + name + "' (fields: " + Join(fields) +
+                     "); expected the fields id, height, energy_kj and, optionally, stops");
+    }
+    return k;
+  };
+  const int id_k = field_index("id", true), height_k = field_index("height", true),
+            energy_k = field_index("energy_kj", true), stops_k = field_index("stops", false);
+  MatchCrs(file_node, file, LayerCrs(layer), ds.get(), site, "barrier file");
+
+  const double to_si = LengthToSI(1.0, site->units);
+  std::vector<BarrierFeature> out;
+  OGR_L_ResetReading(layer);
+  while (gdal::Feature f{OGR_L_GetNextFeature(layer)}) {
+    const auto feature = static_cast<OGRFeatureH>(f.get());
+    BarrierFeature b;
+    b.file = file;
+    b.where = "layer '" + layer_name + "', feature " + std::to_string(OGR_F_GetFID(feature));
+    auto fail = [&](const std::string& what) { throw InputError(file, b.where + ": " + what); };
+    OGRGeometryH g = OGR_F_GetGeometryRef(feature);
+    OGRwkbGeometryType type = g ? OGR_GT_Flatten(OGR_G_GetGeometryType(g)) : wkbNone;
+    if (type == wkbMultiLineString && OGR_G_GetGeometryCount(g) == 1) {
+      g = OGR_G_GetGeometryRef(g, 0);
+      type = OGR_GT_Flatten(OGR_G_GetGeometryType(g));
+    }
+    if (type != wkbLineString) {
+      fail((g ? std::string("a ") + OGRGeometryTypeToName(type) : std::string("no geometry")) +
+           "; expected a LineString (or a MultiLineString of one line): the barrier in plan");
+    }
+    core::Partition& part = b.barrier;
+    part.kind = core::Partition::Kind::kLine;
+    part.id = FieldText(feature, id_k);
+    for (int k = 0; k < OGR_G_GetPointCount(g); ++k)
+      part.line.emplace_back(OGR_G_GetX(g, k) * to_si, OGR_G_GetY(g, k) * to_si);
+    auto number = [&](int k, const char* name, const char* unit) {
+      const std::string text = FieldText(feature, k);
+      double v = 0.0;
+      if (!ParseNumber(text, &v) || !(v > 0.0) || !std::isfinite(v)) {
+        fail(std::string("field '") + name + "' holds " + Excerpt(text) +
+             "; expected a number > 0" + unit);
+      }
+      return v;
+    };
+    part.height =
+        number(height_k, "height", (std::string(" (") + LengthUnit(site->units) + ")").c_str()) *
+        to_si;
+    part.capacity = number(energy_k, "energy_kj", " (kJ)") * 1e3;
+    std::string stops = FieldText(feature, stops_k);
+    std::transform(stops.begin(), stops.end(), stops.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (stops == "1" || stops == "true" || stops == "yes") {
+      part.stops = true;
+    } else if (!(stops.empty() || stops == "0" || stops == "false" || stops == "no")) {
+      fail("field 'stops' holds " + Excerpt(stops) +
+           "; expected true or false (1 or 0, yes or no; empty: false)");
+    }
+    out.push_back(std::move(b));
+  }
+  if (out.empty())
+    file_node.Fail("layer '" + layer_name + "' of the barrier file '" + file +
+                   "' holds no feature; expected at least one barrier line");
+  std::vector<std::string> files = gdal::FileList(ds.get());
+  if (files.empty()) files.push_back(file);
+  site->inputs.insert(site->inputs.end(), files.begin(), files.end());
+  site->gis = true;
+  return out;
 }
 
 }  // namespace rockcal::sites

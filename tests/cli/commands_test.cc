@@ -195,6 +195,110 @@ TEST(Simulate, BadInputExitsTwoAndLeavesNothing) {
     EXPECT_EQ(e.path().filename().string().find("rockcal_cli_bad.tmp"), std::string::npos);
 }
 
+// The tutorial with two barriers across the slope (site file in feet): a
+// fence at x = 200 ft that records, and a dam at x = 400 ft that stops the
+// rocks it catches. The tutorial's points file by its full path.
+nlohmann::json TutorialWithBarriers() {
+  std::ifstream in(Example("tutorial"));
+  nlohmann::json site = nlohmann::json::parse(in);
+  site["surface"]["points_file"] = fs::path(Example("tutorial")).parent_path() / "points.csv";
+  site["barriers"] = nlohmann::json::parse(R"([
+    {"id": "fence", "line": [[200, -10], [205, 100], [200, 210]], "height": 10, "energy_kj": 500},
+    {"id": "dam", "line": [[400, -10], [400, 210]], "height": 30, "energy_kj": 100000, "stops": true}
+  ])");
+  return site;
+}
+
+// barriers.csv end to end: one row per barrier in the site's units, its
+// counts those of summary.json and rocks.csv (the rocks the dam stopped end
+// "stopped" on its line, at x = 400 ft).
+TEST(Simulate, WritesBarriersCsvOfTheBarriersLines) {
+  const std::string site = ::testing::TempDir() + "/rockcal_barriers_site.json";
+  std::ofstream(site) << TutorialWithBarriers().dump(2);
+  const std::string out = FreshDir("barriers");
+  const RunResult run = Rockcal("simulate " + site + " --rocks 24 --seed 3 --quiet --out " + out);
+  ASSERT_EQ(run.status, 0) << run.err;
+  std::ifstream csv(out + "/barriers.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header,
+            "id,height_ft,capacity_kj,stops,reaching,passing_over,centre_above,exceeding_capacity,"
+            "stopped,lowest_point_p95_ft,lowest_point_p99_ft,centre_p95_ft,centre_p99_ft,"
+            "energy_p95_kj,energy_p99_kj");
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(csv, line)) {
+    std::stringstream s(line);
+    rows.emplace_back();
+    for (std::string cell; std::getline(s, cell, ',');) rows.back().push_back(cell);
+  }
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0][0], "fence");
+  EXPECT_EQ(rows[0][1], "10");
+  EXPECT_EQ(rows[0][3], "false");
+  EXPECT_EQ(rows[1][0], "dam");
+  EXPECT_EQ(rows[1][3], "true");
+  const nlohmann::json summary = ReadJson(out + "/summary.json");
+  ASSERT_EQ(summary["barriers"].size(), 2u);
+  for (std::size_t b = 0; b < 2; ++b) {
+    const nlohmann::json& j = summary["barriers"][b];
+    EXPECT_EQ(j["id"], rows[b][0]);
+    EXPECT_EQ(std::to_string(j["reaching"].get<int>()), rows[b][4]);
+    EXPECT_EQ(std::to_string(j["stopped"].get<int>()), rows[b][8]);
+    // The partitions' record of the same line: partitions BP-1, BP-2, then the barriers.
+    EXPECT_EQ(j["reaching"], summary["partitions"][2 + b]["passed"]);
+    if (j["reaching"].get<int>() > 0) {  // site units: feet in the CSV, metres in the JSON
+      EXPECT_NEAR(std::stod(rows[b][11]) * 0.3048, j["centre_m"]["p95"].get<double>(),
+                  1e-6 * (1.0 + j["centre_m"]["p95"].get<double>()));
+    }
+  }
+  EXPECT_DOUBLE_EQ(summary["barriers"][0]["height_m"].get<double>(), 10 * 0.3048);
+  const int stopped = summary["barriers"][1]["stopped"].get<int>();
+  ASSERT_GT(stopped, 0) << "no rock reached the dam: the test checks nothing";
+  std::ifstream rocks(out + "/rocks.csv");
+  std::getline(rocks, line);
+  int on_dam = 0;
+  while (std::getline(rocks, line)) {
+    std::stringstream s(line);
+    std::vector<std::string> f;
+    for (std::string cell; std::getline(s, cell, ',');) f.push_back(cell);
+    if (f[5] == "stopped" && std::fabs(std::stod(f[6]) - 400 * 0.3048) < 1e-6) ++on_dam;
+  }
+  EXPECT_EQ(on_dam, stopped);
+  const std::string report = ReadFile(out + "/report.html");
+  EXPECT_THAT(report, HasSubstr("<section id=\"barriers\">"));
+  EXPECT_THAT(report, HasSubstr("barrier</li>"));  // the plan view's legend
+}
+
+// A bad barrier exits 2 naming the site file and the JSON path, writing nothing.
+TEST(Simulate, ABadBarrierExitsTwoNamingTheJsonPath) {
+  nlohmann::json json = TutorialWithBarriers();
+  json["barriers"][1]["line"] = nlohmann::json::parse("[[400, 10]]");
+  const std::string site = ::testing::TempDir() + "/rockcal_bad_barrier_site.json";
+  std::ofstream(site) << json.dump(2);
+  const std::string out = FreshDir("bad_barrier");
+  RunResult run = Rockcal("simulate " + site + " --rocks 2 --out " + out);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_THAT(run.err, HasSubstr(site + ": $.barriers[1].line: expected a line: an array of at "
+                                        "least 2 [x, y] vertices"));
+  EXPECT_FALSE(fs::exists(out));
+  json = TutorialWithBarriers();
+  json["barriers"][0]["height"] = -2;
+  std::ofstream(site) << json.dump(2);
+  run = Rockcal("simulate " + site + " --rocks 2 --out " + out);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_THAT(run.err, HasSubstr("$.barriers[0].height: expected a number > 0"));
+  EXPECT_FALSE(fs::exists(out));
+  json = TutorialWithBarriers();  // a vertex beyond any double, in the file's text
+  json["barriers"][1]["line"][0][0] = 123456789;
+  std::string text = json.dump(2);
+  text.replace(text.find("123456789"), 9, "1e999");
+  std::ofstream(site) << text;
+  run = Rockcal("simulate " + site + " --rocks 2 --out " + out);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_THAT(run.err, HasSubstr("$.barriers[1].line[0][0]: number '1e999' out of range"));
+  EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(Validate, PrintsWhatItFound) {
   EXPECT_EQ(Rockcal("validate " + Example("tutorial")).status, 0);
   EXPECT_EQ(Rockcal("validate /nonexistent/site.json").status, 2);

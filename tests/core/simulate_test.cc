@@ -1,6 +1,7 @@
 // Physics of the production simulation path against exact answers.
 #include "rockcal/core/simulate.h"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -606,6 +607,219 @@ TEST(Simulate, TheFenceIsCheckedByTheRocksLowestPoint) {
   EXPECT_EQ(CheckFence(result, 0, centre - 0.1 - 1e-3, 1e9).over, 1);
   EXPECT_EQ(CheckFence(result, 0, centre - 0.1 + 1e-3, 1e9).over, 0);
   EXPECT_EQ(CheckFence(result, 0, centre - 0.1 + 1e-3, 1e9).defeated, 0);
+}
+
+// A barrier drawn in plan, by hand: four spheres thrown along x from x = 2 m
+// with their centres 3.1 m above flat ground, at y = 4, 8, 12 and 16 m,
+// meet the polyline (3, 0) - (4, 10) - (3, 20) at x = 3.4, 3.8, 3.8 and
+// 3.4 m (its second segment for the last two). On the exact flight a rock
+// thrown at u crosses it t = (x - 2) / u later, its centre g t^2 / 2 lower,
+// with kinetic energy m (u^2 + (g t)^2) / 2. The rock at y = 12 m is
+// thrown at 5 m/s, the others at 10 m/s; the ones at y = 8 and 16 m are
+// small (radius 0.1 m), the others large (0.5 m).
+struct BarrierThrow {
+  double y, size, speed, x_cross;
+};
+const BarrierThrow kBarrierThrows[] = {
+    {4.0, 1.0, 10.0, 3.4}, {8.0, 0.2, 10.0, 3.8}, {12.0, 1.0, 5.0, 3.8}, {16.0, 0.2, 10.0, 3.4}};
+
+Scene BarrierScene(bool stops) {
+  Scene scene = FlatScene(SmoothMaterial(0.5, 0.005, 0.5));
+  for (const BarrierThrow& b : kBarrierThrows) {
+    scene.groups.push_back(PointGroup(Shape::kSphere, b.size, 2.0, b.y, 3.1 - b.size / 2));
+    scene.groups.back().release.velocity = Eigen::Vector3d(b.speed, 0.0, 0.0);
+  }
+  Partition line;
+  line.id = "net";
+  line.kind = Partition::Kind::kLine;
+  line.line = {{3.0, 0.0}, {4.0, 10.0}, {3.0, 20.0}};
+  line.height = 2.8;     // m
+  line.capacity = 50e3;  // J
+  line.stops = stops;
+  Partition behind = line;  // behind the releases: no rock reaches it
+  behind.id = "behind";
+  behind.line = {{1.0, 0.0}, {1.0, 20.0}};
+  scene.partitions = {line, behind};
+  scene.options.max_time = 3.0;
+  return scene;
+}
+
+double ThrowTime(const BarrierThrow& b) { return (b.x_cross - 2.0) / b.speed; }
+
+TEST(Simulate, ABarrierLineRecordsTheRocksThatReachIt) {
+  const Scene scene = BarrierScene(false);
+  const SimulationResult result = Simulate(scene);
+  std::vector<double> lowest, centre, energy;
+  int over = 0, over_capacity = 0;
+  for (std::size_t k = 0; k < 4; ++k) {
+    const BarrierThrow& b = kBarrierThrows[k];
+    const RockRecord& r = result.rocks[k];
+    const double t = ThrowTime(b), z = 3.1 - 0.5 * kG * t * t;
+    const double e = 0.5 * r.mass * (b.speed * b.speed + kG * t * kG * t);
+    ASSERT_TRUE(r.crossings[0].crossed) << "rock " << k;
+    EXPECT_FALSE(r.crossings[1].crossed) << "rock " << k;
+    EXPECT_NEAR(r.crossings[0].point.x(), b.x_cross, 1e-9) << "rock " << k;
+    EXPECT_NEAR(r.crossings[0].point.y(), b.y, 1e-9) << "rock " << k;
+    EXPECT_NEAR(r.crossings[0].height, z, 1e-9) << "rock " << k;
+    EXPECT_NEAR(r.crossings[0].energy, e, 1e-9 * e) << "rock " << k;
+    EXPECT_EQ(r.stopped_by, -1) << "rock " << k;
+    lowest.push_back(z - b.size / 2);
+    centre.push_back(z);
+    energy.push_back(e);
+    over += z - b.size / 2 > 2.8;
+    over_capacity += e > 50e3;
+  }
+  // By hand: the small spheres' lowest points (3.00 and 2.94 m less 0.1 m)
+  // clear 2.8 m, the large ones' (2.50 and 2.46 m) do not; the fast large
+  // sphere carries 71 kJ, the slow one 26 kJ, the small ones under 1 kJ.
+  ASSERT_EQ(over, 2);
+  ASSERT_EQ(over_capacity, 1);
+  const std::vector<BarrierStats> barriers = ComputeBarriers(scene, result);
+  ASSERT_EQ(barriers.size(), 2u);
+  const BarrierStats& net = barriers[0];
+  EXPECT_EQ(net.partition, 0u);
+  EXPECT_EQ(net.check.passed, 4);
+  EXPECT_EQ(net.check.over, 2);
+  EXPECT_EQ(net.check.over_by_centre, 3) << "the slow sphere's centre is at " << centre[2] << " m";
+  EXPECT_EQ(net.check.over_capacity, 1);
+  EXPECT_EQ(net.stopped, 0);
+  std::sort(lowest.begin(), lowest.end());
+  std::sort(centre.begin(), centre.end());
+  std::sort(energy.begin(), energy.end());
+  // Type 7 over four values: p95 = v3 + 0.85 (v4 - v3), p99 = v3 + 0.97 (v4 - v3).
+  auto q = [](const std::vector<double>& v, double w) { return v[2] + w * (v[3] - v[2]); };
+  EXPECT_NEAR(net.lowest_p95, q(lowest, 0.85), 1e-9);
+  EXPECT_NEAR(net.lowest_p99, q(lowest, 0.97), 1e-9);
+  EXPECT_NEAR(net.centre_p95, q(centre, 0.85), 1e-9);
+  EXPECT_NEAR(net.centre_p99, q(centre, 0.97), 1e-9);
+  EXPECT_NEAR(net.energy_p95, q(energy, 0.85), 1e-9 * energy[3]);
+  EXPECT_NEAR(net.energy_p99, q(energy, 0.97), 1e-9 * energy[3]);
+  EXPECT_EQ(barriers[1].check.passed, 0);
+  EXPECT_TRUE(std::isnan(barriers[1].energy_p95)) << barriers[1].energy_p95;
+}
+
+// The same barrier stopping the rocks it catches: only the slow large
+// sphere reaches it below its height and capacity; its run ends at the
+// crossing, its runout the distance to the line. The others pass on as
+// before, whether crossings are recorded or not.
+TEST(Simulate, ABarrierThatStopsEndsTheRunOfTheRocksItCatches) {
+  const SimulationResult free_run = Simulate(BarrierScene(false));
+  for (bool record : {true, false}) {
+    Scene scene = BarrierScene(true);
+    scene.options.record.partitions = record;
+    const SimulationResult result = Simulate(scene);
+    for (std::size_t k = 0; k < 4; ++k) {
+      const RockRecord& r = result.rocks[k];
+      if (k != 2) {
+        EXPECT_EQ(r.stopped_by, -1) << "rock " << k;
+        EXPECT_EQ(r.stop, free_run.rocks[k].stop) << "rock " << k << " record " << record;
+        EXPECT_EQ(r.outcome, free_run.rocks[k].outcome) << "rock " << k;
+        continue;
+      }
+      const BarrierThrow& b = kBarrierThrows[k];
+      const double t = ThrowTime(b);
+      EXPECT_EQ(r.stopped_by, 0);
+      EXPECT_EQ(r.outcome, Outcome::kStopped);
+      EXPECT_NEAR(r.time, t, 1e-12);
+      EXPECT_NEAR((r.stop - Eigen::Vector3d(b.x_cross, b.y, 3.1 - 0.5 * kG * t * t)).norm(), 0.0,
+                  1e-9)
+          << "stopped at " << r.stop.transpose();
+      EXPECT_NEAR(RunoutDistance(r), b.x_cross - 2.0, 1e-9);
+    }
+    if (record) {
+      const BarrierStats net = ComputeBarriers(scene, result)[0];
+      EXPECT_EQ(net.check.passed, 4);
+      EXPECT_EQ(net.stopped, 1);
+      EXPECT_EQ(net.check.over, 2);
+      EXPECT_EQ(net.check.over_capacity, 1);
+    }
+  }
+}
+
+// Spheres rolling from rest down the smooth 30-degree incline, at y = 1, 2
+// and 3 m, meet a barrier line drawn slanting across the slope, (20, 0) -
+// (30, 4), at x = 22.5, 25 and 27.5 m. Rolling without slip loses nothing:
+// the kinetic energy at the crossing is m g times the centre's drop,
+// (x - 5) tan 30, and the speed sqrt(10/7 g drop); the centre is r / cos 30
+// above the ground. The barrier stops them: each run ends on the line.
+TEST(Simulate, SpheresRollingDownAnInclineMeetABarrierLineWithTheirFallsEnergy) {
+  const double theta = 30.0 * M_PI / 180.0, r = 0.2;
+  Scene scene = Incline30(SmoothMaterial(0.3, 0.005, 1.0));
+  for (double y : {1.0, 2.0, 3.0})
+    scene.groups.push_back(PointGroup(Shape::kSphere, 2 * r, 5.0, y, 0.0));
+  Partition line;
+  line.id = "net";
+  line.kind = Partition::Kind::kLine;
+  line.line = {{20.0, 0.0}, {30.0, 4.0}};
+  line.height = 2.0;
+  line.capacity = 1e9;
+  line.stops = true;
+  scene.partitions = {line};
+  scene.options.max_time = 6.0;
+  const SimulationResult result = Simulate(scene);
+  for (int k = 0; k < 3; ++k) {
+    const RockRecord& rock = result.rocks[static_cast<std::size_t>(k)];
+    const double y = 1.0 + k, x = 20.0 + 2.5 * y;
+    const Crossing& c = rock.crossings[0];
+    ASSERT_TRUE(c.crossed) << "rock " << k << " ended at " << rock.stop.transpose();
+    const double drop = (x - 5.0) * std::tan(theta);
+    EXPECT_NEAR(c.point.x(), x, 1e-3) << "rock " << k;
+    EXPECT_NEAR(c.point.y(), y, 1e-3) << "rock " << k;
+    EXPECT_NEAR(c.energy / (rock.mass * kG * drop), 1.0, 1e-3)
+        << "rock " << k << ": " << c.energy << " J, exact " << rock.mass * kG * drop;
+    EXPECT_NEAR(c.speed / std::sqrt(10.0 / 7.0 * kG * drop), 1.0, 1e-3) << "rock " << k;
+    EXPECT_NEAR(c.height, r / std::cos(theta), 1e-3) << "rock " << k;
+    EXPECT_EQ(rock.stopped_by, 0) << "rock " << k;
+    EXPECT_EQ(rock.outcome, Outcome::kStopped) << "rock " << k;
+    EXPECT_EQ(rock.stop, c.point) << "rock " << k;
+  }
+  const BarrierStats net = ComputeBarriers(scene, result)[0];
+  EXPECT_EQ(net.check.passed, 3);
+  EXPECT_EQ(net.stopped, 3);
+  EXPECT_EQ(net.check.over, 0);
+}
+
+// Scene::IsValid refuses a barrier without a line, height or capacity.
+TEST(Scene, IsValidNamesTheBarrierAndTheRule) {
+  Scene scene = BarrierScene(true);
+  std::string error;
+  ASSERT_TRUE(scene.IsValid(&error)) << error;
+  scene.partitions[1].line.pop_back();
+  EXPECT_FALSE(scene.IsValid(&error));
+  EXPECT_EQ(error,
+            "barrier behind (1 vertices, height 2.8 m, capacity 50000 J): expected a line of at "
+            "least 2 vertices");
+  scene = BarrierScene(true);
+  scene.partitions[0].line[1].x() = std::nan("");
+  EXPECT_FALSE(scene.IsValid(&error));
+  EXPECT_THAT(error, ::testing::HasSubstr("barrier net (3 vertices"));
+  EXPECT_THAT(error, ::testing::HasSubstr("expected finite vertices"));
+  scene = BarrierScene(true);
+  scene.partitions[0].height = -1.0;
+  EXPECT_FALSE(scene.IsValid(&error));
+  EXPECT_THAT(error, ::testing::HasSubstr("height -1 m"));
+  EXPECT_THAT(error, ::testing::HasSubstr("expected a finite height > 0"));
+  scene = BarrierScene(true);
+  scene.partitions[0].capacity = 0.0;
+  EXPECT_FALSE(scene.IsValid(&error));
+  EXPECT_THAT(error, ::testing::HasSubstr("expected a finite capacity > 0"));
+}
+
+// The plan crossing of a path and a polyline: the first segment met, none
+// for a path that only starts on the line or runs along it.
+TEST(Scene, CrossesLineFindsTheFirstSegmentMet) {
+  const std::vector<Eigen::Vector2d> line = {{0.0, 0.0}, {2.0, 0.0}, {2.0, 2.0}};
+  double f = -1.0;
+  ASSERT_TRUE(CrossesLine(line, {1.0, -1.0}, {1.0, 3.0}, &f));
+  EXPECT_DOUBLE_EQ(f, 0.25);
+  // Meets the second segment at (2, 0.5) before the first at (1, 0).
+  ASSERT_TRUE(CrossesLine(line, {3.0, 1.0}, {-1.0, -1.0}, &f));
+  EXPECT_DOUBLE_EQ(f, 0.25);
+  EXPECT_FALSE(CrossesLine(line, {1.0, 0.0}, {1.0, 1.0}, &f));  // starts on it
+  EXPECT_TRUE(CrossesLine(line, {1.0, 1.0}, {1.0, 0.0}, &f));   // ends on it
+  EXPECT_DOUBLE_EQ(f, 1.0);
+  EXPECT_FALSE(CrossesLine(line, {0.5, 0.0}, {1.5, 0.0}, &f));   // along it
+  EXPECT_FALSE(CrossesLine(line, {3.0, -1.0}, {3.0, 3.0}, &f));  // beside it
 }
 
 // Rocks thrown over the terrain's edge count as beyond it: three rocks rest

@@ -34,6 +34,7 @@ core::SimulationResult SampleResult() {
     rec.max_relative_energy_gain = -1e-12;
     rec.max_penetration = 0.01;
     rec.tunneled = k == 2;
+    rec.stopped_by = k == 1 ? -1 : k + 3;
     rec.crossings.push_back({true, 1.5, 2.5, 3.5, Eigen::Vector3d(4, 5, 6)});
     rec.crossings.push_back({false, 0, 0, 0, Eigen::Vector3d::Zero()});
     if (k == 0) rec.trees.push_back({true, 0.7, 1, 2, Eigen::Vector3d(1, 1, 1)});
@@ -76,6 +77,8 @@ TEST(Codec, SimulationResultRoundTripsBitForBit) {
   EXPECT_EQ(back.rocks[1].outcome, core::Outcome::kLeft);
   EXPECT_EQ(back.rocks[0].start.x(), 1.0 / 7.0);
   EXPECT_EQ(back.rocks[2].bounding_radius, 0.25 + 2 / 3.0);
+  EXPECT_EQ(back.rocks[1].stopped_by, -1);
+  EXPECT_EQ(back.rocks[2].stopped_by, 5);
   EXPECT_TRUE(std::signbit(back.rocks[0].stop.x()));
   EXPECT_EQ(back.rocks[0].steps, 123456789012L);
   EXPECT_EQ(back.rocks[0].trees.size(), 1u);

@@ -526,6 +526,79 @@ TEST(LoadSite, PartitionErrors) {
               HasSubstr("$.partitions[0].x: expected a number (found \"100\")"));
 }
 
+// Barriers drawn in plan: lines appended to the partitions, in SI (a US
+// site: feet, kJ).
+TEST(LoadSite, BarriersAreLinesInPlanAfterThePartitions) {
+  TempDir dir;
+  Json json = BaseSite();
+  json["barriers"] = Json::parse(R"([
+    {"id": "net-1", "line": [[120, 0], [130, 50], [120, 100]], "height": 10, "energy_kj": 500},
+    {"id": "dam", "line": [[170, 10], [170, 90]], "height": 20, "energy_kj": 5000, "stops": true}
+  ])");
+  const Site site = LoadSite(WriteSite(dir, json));
+  const std::vector<core::Partition>& parts = site.scene.partitions;
+  ASSERT_EQ(parts.size(), 4u);
+  EXPECT_EQ(parts[1].kind, core::Partition::Kind::kZ);
+  const core::Partition& net = parts[2];
+  EXPECT_EQ(net.id, "net-1");
+  EXPECT_EQ(net.kind, core::Partition::Kind::kLine);
+  ASSERT_EQ(net.line.size(), 3u);
+  EXPECT_NEAR(net.line[1].x(), 130 * 0.3048, 1e-12);
+  EXPECT_NEAR(net.line[1].y(), 50 * 0.3048, 1e-12);
+  EXPECT_NEAR(net.height, 10 * 0.3048, 1e-12);
+  EXPECT_DOUBLE_EQ(net.capacity, 500e3);
+  EXPECT_FALSE(net.stops);
+  EXPECT_EQ(parts[3].id, "dam");
+  EXPECT_TRUE(parts[3].stops);
+  EXPECT_DOUBLE_EQ(parts[3].capacity, 5e6);
+}
+
+// Bad barriers name their JSON path, value and what was expected.
+TEST(LoadSite, BarrierErrors) {
+  auto with = [](const char* barrier) {
+    return [barrier](Json& s) { s["barriers"] = Json::array({Json::parse(barrier)}); };
+  };
+  EXPECT_THAT(LoadError(with(R"({"id": "a", "line": [[120, 0]], "height": 10, "energy_kj": 500})")),
+              HasSubstr("$.barriers[0].line: expected a line: an array of at least 2 [x, y] "
+                        "vertices"));
+  EXPECT_THAT(
+      LoadError(with(R"({"id": "a", "line": [[120, 0], [120]], "height": 10, "energy_kj": 500})")),
+      HasSubstr("$.barriers[0].line[1]: expected an array of 2 numbers"));
+  {  // a coordinate beyond any double, written in the file's text
+    TempDir dir;
+    Json json = BaseSite();
+    with(R"({"id": "a", "line": [[120, 0], [123456, 5]], "height": 10, "energy_kj": 500})")(json);
+    std::string text = json.dump(2);
+    text.replace(text.find("123456"), 6, "1e999");
+    const std::string path = dir.Write("site.json", text);
+    EXPECT_THAT(ErrorOf([&] { LoadSite(path); }), HasSubstr("$.barriers[0].line[1][0]: "));
+  }
+  EXPECT_THAT(
+      LoadError(with(R"({"id": "a", "line": [[120, 0], [120, 90]], "height": -3, "energy_kj": 500})")),
+      HasSubstr("$.barriers[0].height: expected a number > 0 (found -3)"));
+  EXPECT_THAT(
+      LoadError(with(R"({"id": "a", "line": [[120, 0], [120, 90]], "height": 3, "energy_kj": 0})")),
+      HasSubstr("$.barriers[0].energy_kj: expected a number > 0 (found 0)"));
+  EXPECT_THAT(LoadError(with(R"({"id": "a", "line": [[120, 0], [120, 90]], "height": 3})")),
+              HasSubstr("$.barriers[0]: missing required key 'energy_kj'"));
+  EXPECT_THAT(LoadError(with(R"({"id": "a", "line": [[120, 0], [120, 90]], "height": 3,
+                                  "energy_kj": 1, "stops": 1})")),
+              HasSubstr("$.barriers[0].stops: expected true or false"));
+  EXPECT_THAT(LoadError(with(R"({"id": "BP-1", "line": [[120, 0], [120, 90]], "height": 3,
+                                  "energy_kj": 1})")),
+              HasSubstr("$.barriers[0].id: the id 'BP-1' is also a partition's"));
+  EXPECT_THAT(LoadError(with(R"({"id": "a", "line": [[120, 5], [120, 5]], "height": 3,
+                                  "energy_kj": 1})")),
+              HasSubstr("$.barriers[0].line: every vertex is the same point"));
+  EXPECT_THAT(LoadError(with(R"({"id": "a", "line": [[300, 0], [320, 90]], "height": 3,
+                                  "energy_kj": 1})")),
+              HasSubstr("$.barriers[0].line: the line (x 300 to 320, y 0 to 90) lies off the "
+                        "terrain; expected it over x 0 to 200, y 0 to 100"));
+  EXPECT_THAT(LoadError(with(R"({"id": "a", "line": [[120, 0], [120, 90]], "height": 3,
+                                  "energy_kj": 1, "capacity": 2})")),
+              HasSubstr("$.barriers[0]"));
+}
+
 TEST(LoadSite, RockGroupErrors) {
   EXPECT_THAT(LoadError([](Json& s) { s["rocks"][0]["count"] = 0; }),
               HasSubstr("$.rocks[0].count: expected a whole number in [1, 10000000] (found 0)"));

@@ -259,5 +259,94 @@ TEST(ApplyZoneFile, RasterOfClasses) {
       HasSubstr("$.zones.layer: 'layer' goes with a vector file ('field') only"));
 }
 
+// A GeoJSON file of barrier lines in Lambert-93 (metres), features as text.
+std::string BarrierGeoJson(const std::vector<std::string>& features) {
+  std::string s =
+      R"({"type": "FeatureCollection", "crs": {"type": "name", "properties": {"name": )"
+      R"("urn:ogc:def:crs:EPSG::2154"}}, "features": [)";
+  for (std::size_t k = 0; k < features.size(); ++k) s += (k ? ", " : "") + features[k];
+  return s + "]}";
+}
+
+std::string BarrierFeature(const std::string& properties, const std::string& geometry) {
+  return R"({"type": "Feature", "properties": {)" + properties + R"(}, "geometry": )" + geometry +
+         "}";
+}
+
+const char* kNetLine = R"({"type": "LineString", "coordinates": [[50, 0], [55, 25], [50, 50]]})";
+
+// BaseSite's plane of one material, without zones.
+Json BarrierSite() {
+  Json json = BaseSite(nullptr);
+  json.erase("zones");
+  json["materials"] = Json::array({json["materials"][0]});
+  return json;
+}
+
+TEST(ReadBarrierFile, LinesOfAGeoJsonFileWithTheirAttributes) {
+  TempDir dir;
+  dir.Write("barriers.geojson",
+            BarrierGeoJson(
+                {BarrierFeature(R"("id": "net-1", "height": 4, "energy_kj": 2000)", kNetLine),
+                 BarrierFeature(R"("id": "dam", "height": 6.5, "energy_kj": 20000, "stops": true)",
+                                R"({"type": "MultiLineString", "coordinates": )"
+                                R"([[[80, 5], [80, 45]]]})")}));
+  Json json = BarrierSite();
+  json["barriers"] = Json::parse(
+      R"([{"id": "inline", "line": [[30, 0], [30, 50]], "height": 2, "energy_kj": 100}])");
+  json["barriers_file"] = "barriers.geojson";
+  const Site site = Load(dir, json);
+  const std::vector<core::Partition>& parts = site.scene.partitions;
+  ASSERT_EQ(parts.size(), 3u);
+  EXPECT_EQ(parts[0].id, "inline");
+  EXPECT_EQ(parts[1].id, "net-1");
+  EXPECT_EQ(parts[1].kind, core::Partition::Kind::kLine);
+  ASSERT_EQ(parts[1].line.size(), 3u);
+  EXPECT_EQ(parts[1].line[1], Eigen::Vector2d(55, 25));
+  EXPECT_DOUBLE_EQ(parts[1].height, 4.0);
+  EXPECT_DOUBLE_EQ(parts[1].capacity, 2e6);
+  EXPECT_FALSE(parts[1].stops);
+  EXPECT_EQ(parts[2].id, "dam");
+  ASSERT_EQ(parts[2].line.size(), 2u);
+  EXPECT_EQ(parts[2].line[1], Eigen::Vector2d(80, 45));
+  EXPECT_DOUBLE_EQ(parts[2].height, 6.5);
+  EXPECT_TRUE(parts[2].stops);
+  EXPECT_THAT(site.inputs, Contains(EndsWith("barriers.geojson")));
+  EXPECT_TRUE(site.gis);
+  EXPECT_NE(site.crs_wkt.find("Lambert"), std::string::npos) << site.crs_wkt;
+}
+
+// A barrier file's faults name the file and the feature, or the site file's key.
+TEST(ReadBarrierFile, Errors) {
+  auto error = [](const std::vector<std::string>& features) {
+    TempDir dir;
+    dir.Write("barriers.geojson", BarrierGeoJson(features));
+    Json json = BarrierSite();
+    json["barriers_file"] = {{"file", "barriers.geojson"}};
+    return LoadError(dir, json);
+  };
+  EXPECT_THAT(error({BarrierFeature(R"("id": "a", "height": 4, "energy_kj": 1)",
+                                    R"({"type": "Point", "coordinates": [50, 5]})")}),
+              HasSubstr("barriers.geojson: layer 'barriers', feature 0: a Point; expected a "
+                        "LineString"));
+  EXPECT_THAT(error({BarrierFeature(R"("id": "a", "height": -4, "energy_kj": 1)", kNetLine)}),
+              HasSubstr("feature 0: field 'height' holds '-4'; expected a number > 0 (m)"));
+  EXPECT_THAT(error({BarrierFeature(R"("id": "a", "height": 4, "energy_kj": 1, "stops": "maybe")",
+                                    kNetLine)}),
+              HasSubstr("feature 0: field 'stops' holds 'maybe'; expected true or false"));
+  EXPECT_THAT(error({BarrierFeature(R"("id": "a", "height": 4)", kNetLine)}),
+              HasSubstr("$.barriers_file.file: layer 'barriers' of the barrier file"));
+  EXPECT_THAT(error({BarrierFeature(R"("id": "a", "height": 4)", kNetLine)}),
+              HasSubstr("has no field 'energy_kj'"));
+  EXPECT_THAT(error({BarrierFeature(R"("id": "a", "height": 4, "energy_kj": 1)",
+                                    R"({"type": "LineString", "coordinates": [[50, 5]]})")}),
+              HasSubstr("feature 0: a line of 1 vertices; expected at least 2"));
+  EXPECT_THAT(error({BarrierFeature(R"("id": "a", "height": 4, "energy_kj": 1)", kNetLine),
+                     BarrierFeature(R"("id": "a", "height": 4, "energy_kj": 1)", kNetLine)}),
+              HasSubstr("feature 1: the id 'a' is also a partition's or another barrier's"));
+  EXPECT_THAT(error({BarrierFeature(R"("id": "a b", "height": 4, "energy_kj": 1)", kNetLine)}),
+              HasSubstr("feature 0: field 'id' holds 'a b'; expected an id"));
+}
+
 }  // namespace
 }  // namespace rockcal::sites

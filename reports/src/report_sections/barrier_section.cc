@@ -28,6 +28,8 @@ std::string BarrierSection(const Context& c) {
        Th("either (fence defeated)") + Th("of all released rocks") +
        Th("p95 bounce height (centre)") + Th("p95 energy") + "</tr></thead><tbody>";
   for (std::size_t p = 0; p < c.scene.partitions.size(); ++p) {
+    // A barrier line is checked by its own height and capacity (the Barriers section).
+    if (c.scene.partitions[p].kind == core::Partition::Kind::kLine) continue;
     const core::PartitionStats& ps = c.stats.partitions[p];
     const core::FenceCheck f = core::CheckFence(c.result, p, fh, fe);
     auto share = [&](int n) {

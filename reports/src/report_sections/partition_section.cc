@@ -59,7 +59,10 @@ std::string PartitionSection(const Context& c, int p) {
       h.push_back(cr.height), v.push_back(cr.speed), e.push_back(cr.energy * 1e-3);
     }
   }
-  const double fh = c.in.options.barrier_height_m, fe = c.in.options.barrier_energy_j * 1e-3;
+  // The report's fence, or a barrier's own height and capacity.
+  const bool line = part.kind == core::Partition::Kind::kLine;
+  const double fh = line ? part.height : c.in.options.barrier_height_m;
+  const double fe = (line ? part.capacity : c.in.options.barrier_energy_j) * 1e-3;
   s += "<div class=\"figs\">";
   const std::string n = Int(ps.passed) + " rocks at " + Escape(part.id);
   s += Figure(Histogram(h, "bounce height [m]", FeetAxis(c), "bounce height [ft]", fh,

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <utility>
 
 #include "sections.h"
 
@@ -172,14 +173,65 @@ std::string ContourLines(const Context& c, const View& view, const svg::Plot& pl
   return out + "</g>" + labels + "</g>";
 }
 
-// Partitions (X lines, Z contours) with labels.
+// Clips the segment a-b to the box [lo, hi] (Liang-Barsky); false when
+// nothing of it is inside.
+bool ClipSegment(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, Eigen::Vector2d* a,
+                 Eigen::Vector2d* b) {
+  const Eigen::Vector2d d = *b - *a;
+  double t0 = 0.0, t1 = 1.0;
+  for (int axis = 0; axis < 2; ++axis) {
+    for (const auto& [p, q] :
+         {std::pair(-d[axis], (*a)[axis] - lo[axis]), std::pair(d[axis], hi[axis] - (*a)[axis])}) {
+      if (p == 0.0) {
+        if (q < 0.0) return false;  // parallel to this side, outside it
+        continue;
+      }
+      const double t = q / p;
+      if (p < 0.0) {
+        t0 = std::max(t0, t);
+      } else {
+        t1 = std::min(t1, t);
+      }
+    }
+  }
+  if (t0 > t1) return false;
+  const Eigen::Vector2d start = *a;
+  *a = start + t0 * d;
+  *b = start + t1 * d;
+  return true;
+}
+
+// The legend's partitions (dashed) and barriers (solid), each when there are some.
+std::string PartitionLegend(const Context& c) {
+  bool planes = false, lines = false;
+  for (const core::Partition& p : c.scene.partitions)
+    (p.kind == core::Partition::Kind::kLine ? lines : planes) = true;
+  return (planes ? LegendItem(Swatch(kPartitionColour, "dash"), "partition") : std::string()) +
+         (lines ? LegendItem(Swatch(kPartitionColour, "line"), "barrier") : std::string());
+}
+
+// Partitions (X lines, Z contours, barriers' lines) with labels.
 std::string PartitionMarks(const Context& c, const View& view, const svg::Plot& plot) {
   std::string out = "<g fill=\"none\" stroke=\"" + std::string(kPartitionColour) +
                     "\" stroke-width=\"2\" stroke-dasharray=\"7 4\">";
   std::string labels =
       "<g class=\"halo\" fill=\"" + std::string(kPartitionColour) + "\" font-weight=\"bold\">";
   for (const core::Partition& p : c.scene.partitions) {
-    if (p.kind == core::Partition::Kind::kX) {
+    if (p.kind == core::Partition::Kind::kLine) {  // a barrier: its line, solid, clipped
+      const Eigen::Vector2d lo(plot.xlo(), plot.ylo()), hi(plot.xhi(), plot.yhi());
+      bool labelled = false;
+      for (std::size_t k = 0; k + 1 < p.line.size(); ++k) {
+        Eigen::Vector2d a = p.line[k], b = p.line[k + 1];
+        if (!ClipSegment(lo, hi, &a, &b)) continue;
+        out += "<line stroke-dasharray=\"none\" stroke-width=\"3\" x1=\"" + Px(plot.X(a.x())) +
+               "\" y1=\"" + Px(plot.Y(a.y())) + "\" x2=\"" + Px(plot.X(b.x())) + "\" y2=\"" +
+               Px(plot.Y(b.y())) + "\"/>";
+        if (!labelled)
+          labels += "<text x=\"" + Px(plot.X(a.x()) + 4) + "\" y=\"" + Px(plot.Y(a.y()) - 4) +
+                    "\">" + Escape(p.id) + "</text>";
+        labelled = true;
+      }
+    } else if (p.kind == core::Partition::Kind::kX) {
       if (p.value < plot.xlo() || p.value > plot.xhi()) continue;
       const std::string x = Px(plot.X(p.value));
       out += "<line x1=\"" + x + "\" y1=\"" + Px(plot.top()) + "\" x2=\"" + x + "\" y2=\"" +
@@ -289,8 +341,7 @@ std::string PlanZones(const Context& c, double step, std::string* legend, double
   if (HasHoles(g)) *legend += LegendItem(Swatch("#ffffff"), "no terrain data");
   *legend += LegendItem(Swatch("#555", "line"), "contour every " + Length(step, c.in.units));
   *legend += LegendItem(Swatch(kReleaseColour, "zone"), "release zone");
-  if (!c.scene.partitions.empty())
-    *legend += LegendItem(Swatch(kPartitionColour, "dash"), "partition");
+  *legend += PartitionLegend(c);
   *legend += "</ul>";
   *width = plot.right() + (c.in.units == sites::Units::kUS ? 58 : 16);
   return plot.Svg();
@@ -428,8 +479,7 @@ std::string PlanPaths(const Context& c, double step, const View& view, std::stri
   if (c.left > 0) *legend += LegendItem(Swatch("#333", "cross"), "rock left the slope here");
   if (observed) *legend += LegendItem(Swatch("#000", "ring"), "observed stop point");
   *legend += LegendItem(Swatch(kReleaseColour, "zone"), "release zone");
-  if (!c.scene.partitions.empty())
-    *legend += LegendItem(Swatch(kPartitionColour, "dash"), "partition");
+  *legend += PartitionLegend(c);
   *legend += "</ul>";
   *width = plot.right() + (c.in.units == sites::Units::kUS ? 58 : 16);
   return plot.Svg();

@@ -111,6 +111,7 @@ void DrawGround(const GroundProfile& ground, bool is3d, svg::Plot* plot) {
 // Partitions: X as vertical lines, Z as horizontal lines at their elevation.
 void DrawPartitions(const Context& c, svg::Plot* plot) {
   for (const core::Partition& p : c.scene.partitions) {
+    if (p.kind == core::Partition::Kind::kLine) continue;  // drawn in plan only
     if (p.kind == core::Partition::Kind::kX)
       plot->VLine(p.value,
                   "stroke=\"" + std::string(kPartitionColour) +

@@ -10,14 +10,22 @@ namespace rockcal::reports::sections {
 
 std::string Int(long v) { return std::to_string(v); }
 
+bool HasPlanView(const Context& c) {
+  return !c.one_cell_wide && c.scene.grid.nx >= 2 && c.scene.grid.ny >= 2;
+}
+
 const char* KindName(core::Partition::Kind kind) {
-  return kind == core::Partition::Kind::kX ? "X" : "Z";
+  return kind == core::Partition::Kind::kX ? "X" : kind == core::Partition::Kind::kZ ? "Z" : "line";
 }
 
 std::string PartitionWhere(const core::Partition& p, sites::Units units) {
   if (p.kind == core::Partition::Kind::kX)
     return "X partition: the vertical plane x = " + Coordinate(p.value, units);
-  return "Z partition: where the ground is at elevation " + Coordinate(p.value, units);
+  if (p.kind == core::Partition::Kind::kZ)
+    return "Z partition: where the ground is at elevation " + Coordinate(p.value, units);
+  return "Barrier: a " + html::PartitionPlace(p, units) + ", " + Length(p.height, units) +
+         " high, capacity " + Energy(p.capacity, units) +
+         (p.stops ? ", stops the rocks it catches" : "");
 }
 
 std::string DrawBandsTable(const std::vector<calibrate::DrawBand>& bands) {

@@ -93,6 +93,9 @@ bool Us(const Context& c);
 double FeetAxis(const Context& c);
 // Number of rocks of the run.
 int Rocks(const Context& c);
+// True when the report draws a plan view (a grid at least two nodes wide
+// each way, not a one-cell-wide profile).
+bool HasPlanView(const Context& c);
 // At most `max` of `rocks` (in rock order) spread over every group
 // (core::SpreadOverGroups), not the first ones; all of them when they fit.
 std::vector<const core::RockRecord*> SpreadSample(const std::vector<const core::RockRecord*>& rocks,
@@ -124,6 +127,9 @@ std::string PlanSection(const Context& c);              // plan_section.cc
 std::string ProfileSection(const Context& c);           // profile_section.cc
 std::string PartitionSection(const Context& c, int p);  // partition_section.cc
 std::string BarrierSection(const Context& c);           // barrier_section.cc
+// True when the scene has barriers (partitions of Partition::Kind::kLine).
+bool HasBarriers(const core::Scene& scene);             // barriers_section.cc
+std::string BarriersSection(const Context& c);          // barriers_section.cc
 std::string RunoutSection(const Context& c);            // runout_section.cc
 std::string ShapesSection(const Context& c);            // shapes_section.cc
 // True when a rock group or an inventory block has a scanned shape.

@@ -22,13 +22,30 @@ constexpr double kStandardGravity = 9.80665;  // m/s^2
 constexpr double kFoot = 0.3048;              // m
 
 // An X partition is the vertical plane x = value; a Z partition is the line
-// where the ground elevation equals value.
+// where the ground elevation equals value; a Line partition is a barrier
+// drawn in plan (docs/reference/site-file.md#barriers): a polyline of
+// `line`, crossed where the rock centre's plan path meets one of its
+// segments, with the barrier's height and energy capacity. A barrier that
+// `stops` ends the run of a rock that reaches it below its height (by the
+// rock's lowest point: centre height less bounding radius) and at or below
+// its capacity, at the crossing (docs/physics.md#barriers).
 struct Partition {
-  enum class Kind { kX, kZ };
+  enum class Kind { kX, kZ, kLine };
   std::string id;
   Kind kind = Kind::kX;
-  double value = 0.0;  // m
+  double value = 0.0;  // m (kX: x; kZ: elevation)
+  // kLine only:
+  std::vector<Eigen::Vector2d> line = {};  // m, plan vertices (at least 2)
+  double height = 0.0;                     // m, above the ground
+  double capacity = 0.0;                   // J, kinetic energy it withstands
+  bool stops = false;                      // stops the rocks it catches
 };
+
+// Where the plan segment p0 -> p1 first meets the polyline `line` (at least
+// 2 vertices): true and *f, the fraction along p0 -> p1 in (0, 1], when it
+// does. A path that touches the line only at p0 (f = 0) does not cross it.
+bool CrossesLine(const std::vector<Eigen::Vector2d>& line, const Eigen::Vector2d& p0,
+                 const Eigen::Vector2d& p1, double* f);
 
 struct Release {
   std::vector<Eigen::Vector2d> zone;  // plan polygon; empty means `point`
@@ -199,8 +216,9 @@ struct Scene {
   // An upper estimate of the steps of a run: every rock in contact for
   // max_time at the scene's smallest contact step (SmallestContactStep).
   double EstimatedSteps() const;
-  // options.IsValid, 1 to kMaxRocks rocks, and EstimatedSteps() at most
-  // kMaxEstimatedSteps; on failure sets *error (value and rule) and returns false.
+  // options.IsValid, forest.IsValid, each barrier's line (at least 2 finite
+  // vertices), height and capacity (finite, > 0), 1 to kMaxRocks rocks, and EstimatedSteps() at
+  // most kMaxEstimatedSteps; on failure sets *error (value and rule) and returns false.
   bool IsValid(std::string* error) const;
   // Spreads `total` rocks over the groups in proportion to their counts
   // (largest remainder, ties to the earlier group), keeping their order.

@@ -69,6 +69,9 @@ struct RockRecord {
   double dt = 0.0;          // the rock's contact time step [s]
   double max_relative_energy_gain = 0.0;
   double max_penetration = 0.0;  // deepest overlap / element radius
+  // The barrier (index into Scene::partitions: a Partition::Kind::kLine
+  // that stops rocks) that stopped the rock, at its crossing; -1: none.
+  int stopped_by = -1;
   bool tunneled = false;    // centre stayed below Terrain::FloorHeight by more than its radius for 2 t_c
   std::vector<Crossing> crossings;  // per partition, scene order (empty if not recorded)
   std::vector<Crossing> trees;      // per RecordOptions::trees entry; height = rock centre above ground
@@ -232,6 +235,25 @@ struct FenceCheck {
 };
 FenceCheck CheckFence(const SimulationResult& result, std::size_t partition, double height,
                       double capacity);
+
+// What a barrier (a Partition::Kind::kLine, docs/reference/outputs.md#barrierscsv)
+// met: the rocks that reached its line and, by its height and capacity,
+// CheckFence's counts (passed: reaching; over: by the lowest point; over
+// capacity), the rocks it stopped (a barrier that `stops`), and the 95th
+// and 99th percentiles (type 7) of what the rocks carried at the crossing:
+// the lowest point's height above the ground (centre height less bounding
+// radius), the centre's and the kinetic energy. The percentiles are NaN
+// when no rock reached it.
+struct BarrierStats {
+  std::size_t partition = 0;  // index into Scene::partitions
+  FenceCheck check;
+  int stopped = 0;
+  double lowest_p95 = 0.0, lowest_p99 = 0.0;  // m
+  double centre_p95 = 0.0, centre_p99 = 0.0;  // m
+  double energy_p95 = 0.0, energy_p99 = 0.0;  // J
+};
+// One entry per barrier of the scene, in partition order (empty without).
+std::vector<BarrierStats> ComputeBarriers(const Scene& scene, const SimulationResult& result);
 
 struct ResultStats {
   std::vector<PartitionStats> partitions;

@@ -62,6 +62,9 @@ std::string Speed(double mps, sites::Units units);
 // converted).
 std::string CoordinateNumber(double m);
 std::string Coordinate(double m, sites::Units units);
+// Where a partition is: "x = ...", "z = ..." (Coordinate), or a barrier's
+// line, "line of N vertices from (x, y) to (x, y) m".
+std::string PartitionPlace(const core::Partition& part, sites::Units units);
 
 // ---- The page ----------------------------------------------------------------
 

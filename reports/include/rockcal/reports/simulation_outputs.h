@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "rockcal/core/simulate.h"
+#include "rockcal/sites/json_reader.h"
 
 namespace rockcal::reports {
 
@@ -44,6 +45,16 @@ nlohmann::json DiagnosticsJson(const core::Scene& scene, const core::SimulationR
 std::string RocksCsv(const core::Scene& scene, const core::SimulationResult& result);
 // rock,t,x,y,z,vx,vy,vz,wx,wy,wz for the rocks that recorded a trajectory.
 std::string TrajectoriesCsv(const core::SimulationResult& result);
+// barriers.csv (docs/reference/outputs.md#barrierscsv): one row per barrier
+// (a Partition::Kind::kLine) in partition order, its figures
+// (core::ComputeBarriers) in the site's length unit and kJ; the percentiles
+// empty when no rock reached it. Only the header without barriers.
+std::string BarriersCsv(const core::Scene& scene, const core::SimulationResult& result,
+                        sites::Units units);
+// Writes barriers.csv into `folder` (through a temporary file) when the
+// scene has barriers; nothing otherwise.
+void WriteBarriersFile(const std::string& folder, const core::Scene& scene,
+                       const core::SimulationResult& result, sites::Units units);
 // Writes summary.json, diagnostics.json, rocks.csv and (when recorded)
 // trajectories.csv into `folder`, each through a temporary file. A
 // non-finite value in any of them throws std::runtime_error (an internal

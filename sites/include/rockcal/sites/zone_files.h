@@ -6,6 +6,7 @@
 #define ROCKCAL_SITES_ZONE_FILES_H_
 
 #include <string>
+#include <vector>
 
 #include "rockcal/sites/json_reader.h"
 #include "rockcal/sites/site.h"
@@ -38,6 +39,27 @@ namespace rockcal::sites {
 // not a material id (the message lists the ids), a class value missing from
 // `classes`, differing CRSs, or a file that claims no grid node at all.
 void ApplyZoneFile(const JsonNode& zones, const std::string& base_dir, Site* site);
+
+// One barrier line of a barrier file, and where it is ("layer 'L', feature
+// N") for the checks its site makes after.
+struct BarrierFeature {
+  core::Partition barrier;  // Partition::Kind::kLine, SI
+  std::string file;         // the barrier file, as resolved
+  std::string where;
+};
+
+// Reads the site file's "barriers_file" (docs/reference/site-file.md#barriers):
+// a file name, or {"file": ..., "layer": ...} (`layer` required when the
+// file has several). Each feature is a LineString (or a MultiLineString of
+// one line) in the site's frame and length unit, with the attributes `id`,
+// `height` (site length unit, > 0), `energy_kj` (kJ, > 0) and, optionally,
+// `stops` (true/false, 1/0, yes/no; empty or absent: false). The CRS is
+// matched as a zone file's; the file goes into site->inputs and site->gis
+// becomes true. The lines' vertex counts, ids and extent are the caller's
+// to check. Throws InputError naming the site file and JSON path, or the
+// barrier file and feature, with what was expected.
+std::vector<BarrierFeature> ReadBarrierFile(const JsonNode& node, const std::string& base_dir,
+                                            Site* site);
 
 }  // namespace rockcal::sites
 
