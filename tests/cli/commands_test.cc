@@ -195,6 +195,63 @@ TEST(Simulate, BadInputExitsTwoAndLeavesNothing) {
     EXPECT_EQ(e.path().filename().string().find("rockcal_cli_bad.tmp"), std::string::npos);
 }
 
+// #52: --compare-bare runs the same rocks without the forest; the report's
+// Forest section sets the bare runout beside the forest's, the forest's own
+// run is unchanged, and the bare run is the one --no-forest makes.
+TEST(Simulate, CompareBareGivesTheRunoutWithAndWithoutTheForest) {
+  const std::string site = testing::ForestedTutorial();
+  ASSERT_FALSE(site.empty());
+  const std::string both = FreshDir("both"), bare = FreshDir("bare"), forest = FreshDir("forest");
+  const std::string run = "simulate " + site + " --rocks 40 --seed 3 ";
+  RunResult r = Rockcal(run + "--compare-bare --out " + both);
+  ASSERT_EQ(r.status, 0) << r.err;
+  ASSERT_EQ(Rockcal(run + "--no-forest --quiet --out " + bare).status, 0);
+  ASSERT_EQ(Rockcal(run + "--quiet --out " + forest).status, 0);
+  const nlohmann::json with = nlohmann::json::parse(ReadFile(both + "/summary.json"));
+  const nlohmann::json alone = nlohmann::json::parse(ReadFile(forest + "/summary.json"));
+  const nlohmann::json without = nlohmann::json::parse(ReadFile(bare + "/summary.json"));
+  EXPECT_EQ(with["runout"], alone["runout"]) << "the comparison leaves the forest's run alone";
+  EXPECT_EQ(with["forest"], alone["forest"]);
+  EXPECT_GT(with["forest"]["strikes"].get<int>(), 0) << with["forest"].dump();
+  EXPECT_NE(with["runout"], without["runout"]) << "600 stems/ha change nothing?";
+  // The console's figure is the --no-forest run's 90 % runout.
+  const auto p90 = [](const nlohmann::json& s) {
+    const nlohmann::json& v = s["runout"]["distance_m"]["p90"];
+    if (!v.is_number()) return std::string("beyond the edge");
+    char text[32];
+    std::snprintf(text, sizeof text, "%.4g m", v.get<double>());
+    return std::string(text);
+  };
+  EXPECT_THAT(
+      r.out,
+      HasSubstr("without the forest (--compare-bare, report.html's Forest section): " +
+                std::to_string(without["outcomes"]["stopped"].get<int>()) + " stopped, " +
+                std::to_string(without["outcomes"]["left"].get<int>()) + " left; runout 90 % " +
+                p90(without) + " (with the forest " + p90(with) + ")"));
+  // The report's table: rocks stopped with the forest, then bare.
+  const std::string report = ReadFile(both + "/report.html");
+  EXPECT_THAT(report, HasSubstr("Runout with and without the forest"));
+  EXPECT_THAT(report,
+              HasSubstr("<td>rocks stopped</td><td class=\"n\">" +
+                        std::to_string(with["outcomes"]["stopped"].get<int>()) +
+                        " of 40</td><td class=\"n\">" +
+                        std::to_string(without["outcomes"]["stopped"].get<int>()) + " of 40</td>"));
+  EXPECT_THAT(ReadFile(forest + "/report.html"),
+              ::testing::Not(HasSubstr("Runout with and without")));
+}
+
+TEST(Simulate, CompareBareNeedsAForest) {
+  const std::string out = FreshDir("out");
+  RunResult r = Rockcal("simulate " + Example("tutorial") + " --compare-bare --out " + out);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("argument --compare-bare: the site has no 'forest'"));
+  r = Rockcal("simulate " + testing::ForestedTutorial() + " --compare-bare --no-forest --out " +
+              out);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("--no-forest leaves the forest out"));
+  EXPECT_FALSE(fs::exists(out));
+}
+
 TEST(Validate, PrintsWhatItFound) {
   EXPECT_EQ(Rockcal("validate " + Example("tutorial")).status, 0);
   EXPECT_EQ(Rockcal("validate /nonexistent/site.json").status, 2);
