@@ -252,6 +252,74 @@ TEST(Simulate, CompareBareNeedsAForest) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// #52: the same stems give the same run whichever way the site gives them:
+// a stand's drawn stems (trees.csv, written at full precision) read back as
+// a trees_file, and the same stems given inline.
+TEST(Simulate, TheSameStemsGiveTheSameRunFromAStandATreeFileOrInline) {
+  const std::string dir = FreshDir("sites");
+  fs::create_directories(dir);
+  nlohmann::json site = nlohmann::json::parse(R"({
+    "name": "forest plane", "units": "si",
+    "surface": {"resolution": 2, "sphere_spacing": 2,
+                "points": [[0, 0, 50], [100, 0, 0], [0, 60, 50], [100, 60, 0]]},
+    "materials": [{"id": "soil", "hardness": 0.3, "roughness": 0.2}],
+    "rocks": [{"count": 30, "shape": "sphere", "size": [0.5, 1], "unit_weight": 26,
+               "release": {"zone": [[2, 20], [8, 20], [8, 40], [2, 40]]}}],
+    "simulation": {"seed": 3, "max_time": 20}
+  })");
+  const auto run = [&](const std::string& name, const nlohmann::json& forest) {
+    nlohmann::json s = site;
+    s["forest"] = forest;
+    std::ofstream(dir + "/" + name + ".json") << s.dump(2);
+    const std::string out = FreshDir(name);
+    const RunResult r =
+        Rockcal("simulate " + dir + "/" + name + ".json --threads 2 --quiet --out " + out);
+    EXPECT_EQ(r.status, 0) << name << ": " << r.err;
+    return out;
+  };
+  const std::string stand = run("stand", {{"stands",
+                                           {{{"zone", {{20, 2}, {98, 2}, {98, 58}, {20, 58}}},
+                                             {"stems_per_ha", 600},
+                                             {"dbh_mean_cm", 30},
+                                             {"dbh_sd_cm", 10},
+                                             {"conifer_percent", 40}}}}});
+  const std::string trees_csv = ReadFile(stand + "/trees.csv");
+  std::ofstream(dir + "/trees.csv") << trees_csv;
+  const std::string file = run("file", {{"trees_file", "trees.csv"}});
+  // The same rows as inline trees.
+  nlohmann::json inline_trees = nlohmann::json::array();
+  std::istringstream rows(trees_csv);
+  std::string row;
+  std::getline(rows, row);
+  ASSERT_EQ(row, "x,y,dbh_cm,species,height");
+  while (std::getline(rows, row)) {
+    std::vector<std::string> f;
+    std::stringstream fields(row);
+    for (std::string v; std::getline(fields, v, ',');) f.push_back(v);
+    ASSERT_EQ(f.size(), 5u) << row;
+    inline_trees.push_back({{"x", std::stod(f[0])},
+                            {"y", std::stod(f[1])},
+                            {"dbh_cm", std::stod(f[2])},
+                            {"species", f[3]},
+                            {"height", std::stod(f[4])}});
+  }
+  ASSERT_GT(inline_trees.size(), 100u) << "600 stems/ha on 0.44 ha";
+  const std::string inline_run = run("inline", {{"trees", inline_trees}});
+  const auto summary = [](const std::string& out) {
+    nlohmann::json j = nlohmann::json::parse(ReadFile(out + "/summary.json"));
+    j.erase("wall_seconds");
+    return j;
+  };
+  const nlohmann::json want = summary(stand);
+  EXPECT_GT(want["forest"]["strikes"].get<int>(), 0) << want["forest"].dump();
+  EXPECT_EQ(summary(file), want);
+  EXPECT_EQ(summary(inline_run), want);
+  const std::string impacts = ReadFile(stand + "/tree_impacts.csv");
+  EXPECT_EQ(ReadFile(file + "/tree_impacts.csv"), impacts);
+  EXPECT_EQ(ReadFile(inline_run + "/tree_impacts.csv"), impacts);
+  EXPECT_FALSE(fs::exists(file + "/trees.csv")) << "no stems drawn";
+}
+
 TEST(Validate, PrintsWhatItFound) {
   EXPECT_EQ(Rockcal("validate " + Example("tutorial")).status, 0);
   EXPECT_EQ(Rockcal("validate /nonexistent/site.json").status, 2);
