@@ -216,6 +216,17 @@ void ReadForest(const JsonNode& node, Units units, const std::string& base_dir, 
   const core::HeightGrid& grid = site->scene.grid;
   if (auto c = node.Find("contact")) ReadContact(*c, &forest.contact);
   if (auto f = node.Find("capacity_factor")) forest.capacity_factor = f->Number(0.01, 100.0);
+  // The forest's values calibrated like a material's (core::kForestEntry).
+  if (auto c = node.Find("calibrate")) {
+    c->Keys(SiteKeysAt("$.forest.calibrate"));
+    for (const core::MaterialFieldInfo& f : core::MaterialFields()) {
+      if (!f.forest) continue;
+      if (auto b = c->Find(f.name))
+        site->calibrate.push_back(ReadBound(*b, core::kForestEntry, core::kForestEntry, f.name,
+                                            f.min, f.max, false,
+                                            core::ForestFieldValue(forest, f.field), 1.0, ""));
+    }
+  }
   std::string note = "forest:";
   if (auto file = node.Find("trees_file")) {
     const std::string path = ResolveDataFile(*file, base_dir);
