@@ -289,7 +289,17 @@ int Calibrate(const std::vector<std::string>& argv) {
   if (args.Flag("resume") && args.Flag("force"))
     throw InputError("arguments", "give --resume or --force, not both");
 
-  const sites::Site site = sites::LoadSite(site_path);
+  sites::Site site = sites::LoadSite(site_path);
+  // --no-forest: the same site bare, its scar trees compared as trees off
+  // the forest (docs/reference/observations-file.md).
+  if (args.Flag("no-forest")) {
+    site.scene.forest = core::Forest{};
+    site.calibrate.erase(std::remove_if(site.calibrate.begin(), site.calibrate.end(),
+                                        [](const sites::ParameterBound& b) {
+                                          return core::FindMaterialField(b.name)->forest;
+                                        }),
+                         site.calibrate.end());
+  }
   calibrate::CalibrationOptions options = OptionsFromArgs(args, out);
   options.methods = methods;
   const observations::Observations obs = observations::LoadObservations(obs_path, site.scene);

@@ -7,12 +7,12 @@ namespace rockcal::cli {
 const std::vector<CommandFlags>& AllCommandFlags() {
   static const std::vector<CommandFlags> table = {
       {"simulate",
-       {"force", "quiet", "rasters", "point-values", "no-forest"},
+       {"force", "quiet", "rasters", "point-values", "no-forest", "compare-bare"},
        {"rocks", "seed", "set", "parameters", "draws", "trajectories", "sample-seconds", "threads",
         "out"},
        {"set"}},
       {"calibrate",
-       {"force", "quiet", "resume", "rasters", "posterior"},
+       {"force", "quiet", "resume", "rasters", "posterior", "no-forest"},
        {"observations", "method", "methods", "max-evals", "max-seconds", "rocks", "refine", "race",
         "seed", "threads", "loss", "estimate", "holdout", "reach", "noise-raise", "out",
         "posterior-points", "posterior-rounds", "posterior-stage", "predictive"},

@@ -101,9 +101,10 @@ SimulateInputs ReadSimulateInputs(const Args& args, const std::string& site_path
   return in;
 }
 
-// The scene at `values` (null: the site's own), as the options set it.
+// The scene at `values` (null: the site's own), as the options set it;
+// `bare`: without its forest whatever the options (--compare-bare's run).
 core::Scene SimulateScene(const Args& args, const SimulateInputs& in,
-                          const calibrate::CalibratedSite* values) {
+                          const calibrate::CalibratedSite* values, bool bare = false) {
   sites::Site site = in.loaded;
   if (values) calibrate::ApplyParameters(*values, &site.scene);
   for (const std::string& kv : args.All("set")) sites::ApplySetting(kv, &site);
@@ -112,19 +113,21 @@ core::Scene SimulateScene(const Args& args, const SimulateInputs& in,
     scene.SetTotalRocks(static_cast<int>(args.Integer("rocks", 0, 1, core::kMaxRocks)));
   if (args.Has("seed"))
     scene.options.seed = static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed));
-  scene.options.threads = static_cast<int>(args.Integer("threads", scene.options.threads, 0, 1024));
-  if (args.Flag("no-forest")) scene.forest = core::Forest{};
+  scene.options.threads =
+      static_cast<int>(args.Integer("threads", scene.options.threads, 0, 1024));
+  if (bare || args.Flag("no-forest")) scene.forest = core::Forest{};
   scene.options.record = calibrate::RecordingFor(scene, in.needs);
   return scene;
 }
 
 // The simulation of `scene` recorded as `recorded` (which adds what the
 // report needs), or of the posterior draws (rock i with the (i mod D)-th
-// draw, calibrate/posterior_draws.h) into *run.
+// draw, calibrate/posterior_draws.h) into *run; `bare`: each draw's scene
+// without its forest.
 core::SimulationResult RunSimulate(const Args& args, const SimulateInputs& in,
                                    const core::Scene& scene, const core::Scene& recorded,
-                                   Progress* progress,
-                                   std::optional<calibrate::PosteriorRun>* run) {
+                                   Progress* progress, std::optional<calibrate::PosteriorRun>* run,
+                                   bool bare = false) {
   const auto update = [progress](int done, int total) { progress->Update(done, total); };
   if (!in.drawn) return parallel::Simulate(recorded, core::BuildTerrain(scene), update);
   calibrate::PosteriorDrawOptions draw_options;
@@ -133,7 +136,7 @@ core::SimulationResult RunSimulate(const Args& args, const SimulateInputs& in,
   *run = calibrate::SimulatePosteriorDraws(
       *in.parameters, in.samples, draw_options,
       [&](const calibrate::CalibratedSite& values) {
-        core::Scene s = SimulateScene(args, in, &values);
+        core::Scene s = SimulateScene(args, in, &values, bare);
         s.options.record = recorded.options.record;
         std::string why;
         if (!s.IsValid(&why)) throw InputError(in.parameters->samples_file, why);
@@ -205,6 +208,13 @@ int Simulate(const std::vector<std::string>& argv) {
   const core::Scene& scene = site.scene;
   std::string error;
   if (!scene.IsValid(&error)) throw InputError(site_path, error);
+  if (args.Flag("compare-bare") && scene.forest.empty())
+    throw InputError("argument --compare-bare",
+                     args.Flag("no-forest")
+                         ? "compares the forest with the bare slope, and --no-forest leaves the "
+                           "forest out: expected one of them"
+                         : "the site has no 'forest' to compare the bare slope with (expected a "
+                           "site with a forest)");
 
   RunInputs inputs;
   inputs.Add(site).Add(args.Get("parameters", ""));
@@ -220,6 +230,17 @@ int Simulate(const std::vector<std::string>& argv) {
   recorded.options.record = calibrate::RecordingFor(scene, report_needs);
   std::optional<calibrate::PosteriorRun> run;
   const core::SimulationResult result = RunSimulate(args, in, scene, recorded, &progress, &run);
+  // --compare-bare: the same rocks (seed, count, parameters or draws) on the
+  // slope without its forest, for the report's runout with and without it.
+  std::optional<core::SimulationResult> bare;
+  if (args.Flag("compare-bare")) {
+    core::Scene bare_scene = scene;
+    bare_scene.forest = core::Forest{};
+    bare_scene.options.record = calibrate::RecordingFor(bare_scene, calibrate::RecordingNeeds{});
+    Progress bare_progress("simulate, bare", args.Flag("quiet"));
+    std::optional<calibrate::PosteriorRun> bare_run;
+    bare = RunSimulate(args, in, bare_scene, bare_scene, &bare_progress, &bare_run, true);
+  }
   // One set of maps for rasters.tif and the report's plan view.
   core::RasterSet rasters = core::ComputeRasters(recorded, result);
   if (run)
@@ -232,9 +253,26 @@ int Simulate(const std::vector<std::string>& argv) {
     reports::WriteRasterFiles(dir.folder(), rasters, reports::SiteRasterFrame(site));
   reports::ReportInput report = reports::SiteReport(site, scene, result, &rasters);
   report.posterior_run = run ? &*run : nullptr;
+  report.bare = bare ? &*bare : nullptr;
   reports::WriteFileAtomically(dir.File("report.html"), reports::HtmlReport(report));
   dir.Commit();
-  if (!args.Flag("quiet")) PrintSimulate(args, in, scene, result, run, site);
+  if (!args.Flag("quiet")) {
+    PrintSimulate(args, in, scene, result, run, site);
+    if (bare) {
+      const core::RunoutStats with = core::ComputeRunout(result.rocks);
+      const core::RunoutStats without = core::ComputeRunout(bare->rocks);
+      const auto length = [](double m) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.4g m", m);
+        return std::isfinite(m) ? std::string(text) : std::string("beyond the edge");
+      };
+      std::printf(
+          "without the forest (--compare-bare, report.html's Forest section): %d stopped, %d "
+          "left; runout 90 %% %s (with the forest %s)\n",
+          bare->count(core::Outcome::kStopped), bare->count(core::Outcome::kLeft),
+          length(without.distance_m.p90).c_str(), length(with.distance_m.p90).c_str());
+    }
+  }
   if (result.figures.non_finite > 0) {
     std::fprintf(stderr, "rockcal: failed: %d rocks reached a non-finite state\n",
                  result.figures.non_finite);

@@ -342,6 +342,9 @@ Fingerprint CalibrationFingerprint(const sites::Site& site, const observations::
     f.Add("observations subset", options.observations_subset);
   f.Add("seed", std::to_string(options.seed ? *options.seed : scene.options.seed));
   f.Add("rocks", std::to_string(scene.total_rocks()));
+  // The stems the rocks strike (none with --no-forest); left out for a bare
+  // scene, so that logs written before forests existed resume.
+  if (!scene.forest.empty()) f.Add("forest stems", std::to_string(scene.forest.stems.size()));
   std::string methods;
   for (const Method m : options.methods)
     methods += std::string(methods.empty() ? "" : ",") + MethodToString(m);

@@ -29,18 +29,22 @@ ParameterSpace ParameterSpace::FromSite(const sites::Site& site) {
     p.material_class = b.material_class;
     p.lower = b.lower;
     p.upper = b.upper;
-    auto it = std::find_if(materials.begin(), materials.end(),
-                           [&](const core::Material& m) { return m.id == b.material; });
-    assert(it != materials.end());  // the site reader checked the material
-    p.material_index = static_cast<int>(it - materials.begin());
     const core::MaterialFieldInfo* field = core::FindMaterialField(b.name);
     assert(field);  // the site reader checked the name
     p.kind = field->field;
+    if (field->forest) {
+      p.material_index = -1;  // the forest's (core::kForestEntry)
+    } else {
+      auto it = std::find_if(materials.begin(), materials.end(),
+                             [&](const core::Material& m) { return m.id == b.material; });
+      assert(it != materials.end());  // the site reader checked the material
+      p.material_index = static_cast<int>(it - materials.begin());
+    }
     if (p.kind == ParameterKind::kRoughness && p.lower <= 0.0)
       throw InputError(site.path, "material '" + b.material +
-                                        "': calibrate.roughness lower bound must be > 0 (roughness "
-                                        "0 switches from virtual spheres to smooth facets, which "
-                                        "no optimiser can search across)");
+                                      "': calibrate.roughness lower bound must be > 0 (roughness "
+                                      "0 switches from virtual spheres to smooth facets, which "
+                                      "no optimiser can search across)");
     out.push_back(p);
   }
   if (out.empty())
@@ -73,6 +77,10 @@ std::vector<double> ParameterSpace::ToUnit(const std::vector<double>& physical) 
 std::vector<double> ParameterSpace::Current(const core::Scene& scene) const {
   std::vector<double> x;
   for (const Parameter& p : parameters_) {
+    if (core::Info(p.kind).forest) {
+      x.push_back(std::clamp(core::ForestFieldValue(scene.forest, p.kind), p.lower, p.upper));
+      continue;
+    }
     const core::Material& m = scene.materials[static_cast<std::size_t>(p.material_index)];
     // Friction and rolling resistance: explicit, or the hardness model's.
     const double v = core::FieldValue(m, p.kind, scene.hardness_model);
@@ -85,8 +93,11 @@ void ParameterSpace::Apply(const std::vector<double>& physical, core::Scene* sce
   assert(physical.size() == parameters_.size());
   for (std::size_t k = 0; k < physical.size(); ++k) {
     const Parameter& p = parameters_[k];
-    core::SetFieldValue(&scene->materials[static_cast<std::size_t>(p.material_index)], p.kind,
-                        physical[k]);
+    if (core::Info(p.kind).forest)
+      core::SetForestFieldValue(&scene->forest, p.kind, physical[k]);
+    else
+      core::SetFieldValue(&scene->materials[static_cast<std::size_t>(p.material_index)], p.kind,
+                          physical[k]);
   }
 }
 

@@ -1,23 +1,34 @@
 #include "rockcal/core/material_field.h"
 
 #include <limits>
+#include <stdexcept>
 
 #include "rockcal/core/limits.h"
 
 namespace rockcal::core {
+namespace {
+
+// A forest's capacity factor (docs/reference/site-file.md, `$.forest`).
+constexpr double kMinCapacityFactor = 0.01;
+constexpr double kMaxCapacityFactor = 100.0;
+
+}  // namespace
 
 const std::vector<MaterialFieldInfo>& MaterialFields() {
   static const std::vector<MaterialFieldInfo> fields = {
-      {MaterialField::kHardness, "hardness", "hardness", FieldUnit::kNone, 0.0, 1.0},
+      {MaterialField::kHardness, "hardness", "hardness", FieldUnit::kNone, 0.0, 1.0, false},
       {MaterialField::kRoughness, "roughness", "roughness", FieldUnit::kLength, 0.0,
-       std::numeric_limits<double>::infinity()},
+       std::numeric_limits<double>::infinity(), false},
       {MaterialField::kContactTime, "contact_time", "contact time", FieldUnit::kTime,
-       kMinContactTime, kMaxContactTime},
+       kMinContactTime, kMaxContactTime, false},
       {MaterialField::kRollingResistance, "rolling_resistance", "rolling resistance",
-       FieldUnit::kNone, 0.0, 1.0},
-      {MaterialField::kFriction, "friction", "friction", FieldUnit::kNone, 0.0, 10.0},
+       FieldUnit::kNone, 0.0, 1.0, false},
+      {MaterialField::kFriction, "friction", "friction", FieldUnit::kNone, 0.0, 10.0, false},
       {MaterialField::kVegetation, "vegetation", "vegetation resistance", FieldUnit::kStress, 0.0,
-       kMaxVegetationStress},
+       kMaxVegetationStress, false},
+      // docs/physics.md, Trees: scales Dorren & Berger's capacity curves.
+      {MaterialField::kCapacityFactor, "capacity_factor", "capacity factor", FieldUnit::kNone,
+       kMinCapacityFactor, kMaxCapacityFactor, true},
   };
   return fields;
 }
@@ -48,7 +59,8 @@ const MaterialFieldInfo* FindMaterialField(std::string_view name) {
 
 std::string MaterialFieldNames() {
   std::string out;
-  for (const MaterialFieldInfo& f : MaterialFields()) out += (out.empty() ? "" : ", ") + std::string(f.name);
+  for (const MaterialFieldInfo& f : MaterialFields())
+    if (!f.forest) out += (out.empty() ? "" : ", ") + std::string(f.name);
   return out;
 }
 
@@ -66,8 +78,11 @@ double FieldValue(const Material& material, MaterialField field, const HardnessM
       return DeriveContactLaw(material, model).friction;
     case MaterialField::kVegetation:
       return material.vegetation_pa;
+    case MaterialField::kCapacityFactor:
+      break;
   }
-  return 0.0;
+  throw std::logic_error(std::string("FieldValue: ") + Info(field).name +
+                         " is the forest's, not a material's");
 }
 
 void SetFieldValue(Material* material, MaterialField field, double value) {
@@ -90,7 +105,24 @@ void SetFieldValue(Material* material, MaterialField field, double value) {
     case MaterialField::kVegetation:
       material->vegetation_pa = value;
       break;
+    case MaterialField::kCapacityFactor:
+      throw std::logic_error("SetFieldValue: capacity_factor is the forest's, not a material's");
   }
+}
+
+double ForestFieldValue(const Forest& forest, MaterialField field) {
+  if (field != MaterialField::kCapacityFactor)
+    throw std::logic_error(std::string("ForestFieldValue: ") + Info(field).name +
+                           " is a material's, not the forest's");
+  return forest.capacity_factor;
+}
+
+void SetForestFieldValue(Forest* forest, MaterialField field, double value) {
+  if (field != MaterialField::kCapacityFactor)
+    throw std::logic_error(std::string("SetForestFieldValue: ") + Info(field).name +
+                           " is a material's, not the forest's");
+  forest->capacity_factor = value;
+  for (Stem& s : forest->stems) s.capacity = StemCapacity(s.dbh, s.species, value);
 }
 
 }  // namespace rockcal::core

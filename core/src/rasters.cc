@@ -71,6 +71,23 @@ RasterSet ComputeRasters(const Scene& scene, const SimulationResult& result) {
     h_max.values[k] = heights[k].back();
     h_p95.values[k] = Quantile(heights[k], 0.95);
   }
+  // A forest's strikes, in the cell of the stem struck (docs/physics.md, Trees).
+  if (!scene.forest.empty() && result.strikes_recorded) {
+    std::vector<double> strikes(n, nan);
+    for (std::size_t k = 0; k < n; ++k)
+      if (!std::isnan(g.z[k])) strikes[k] = 0.0;
+    for (const RockRecord& r : result.rocks)
+      for (const TreeStrike& s : r.strikes) {
+        const Stem& stem = scene.forest.stems[static_cast<std::size_t>(s.tree)];
+        const double fi = std::round((stem.x - g.x0) / g.spacing);
+        const double fj = std::round((stem.y - g.y0) / g.spacing);
+        if (fi < 0.0 || fj < 0.0 || fi >= g.nx || fj >= g.ny) continue;
+        double& cell = strikes[static_cast<std::size_t>(fj * g.nx + fi)];
+        if (!std::isnan(cell)) cell += 1.0;
+      }
+    set.bands.push_back({"strikes", "strikes", "strikes of rocks on the stems standing in the cell",
+                         std::move(strikes)});
+  }
   return set;
 }
 

@@ -9,7 +9,15 @@ namespace {
 
 std::vector<const char*> MaterialFieldKeys() {
   std::vector<const char*> names;
-  for (const core::MaterialFieldInfo& f : core::MaterialFields()) names.push_back(f.name);
+  for (const core::MaterialFieldInfo& f : core::MaterialFields())
+    if (!f.forest) names.push_back(f.name);
+  return names;
+}
+
+std::vector<const char*> ForestFieldKeys() {
+  std::vector<const char*> names;
+  for (const core::MaterialFieldInfo& f : core::MaterialFields())
+    if (f.forest) names.push_back(f.name);
   return names;
 }
 
@@ -46,7 +54,8 @@ const std::vector<FileObjectKeys>& SiteFileKeys() {
         "gentle_steps_per_contact", "safety", "gentle_safety", "rest_window", "exact_flight",
         "reference_path", "threads"}},
       {"$.report", {"barrier_height", "barrier_energy_kj"}},
-      {"$.forest", {"trees_file", "trees", "stands", "contact", "capacity_factor"}},
+      {"$.forest", {"trees_file", "trees", "stands", "contact", "capacity_factor", "calibrate"}},
+      {"$.forest.calibrate", ForestFieldKeys()},
       {"$.forest.trees[]", {"x", "y", "dbh_cm", "species", "height"}},
       {"$.forest.stands[]",
        {"zone", "stems_per_ha", "dbh_mean_cm", "dbh_sd_cm", "conifer_percent", "height"}},

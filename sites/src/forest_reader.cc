@@ -139,7 +139,10 @@ void ReadTree(const JsonNode& t, Units units, const core::HeightGrid& grid, core
 // stem a position uniform in the polygon (rejection from its bounding box,
 // again while it falls over a hole), a DBH normal of the stand's mean and
 // spread redrawn until it lies in [kMinStandDbhCm, kMaxDbhCm], and a
-// conifer with probability conifer_percent / 100.
+// conifer with probability conifer_percent / 100. Each position is rounded
+// to 0.001 of the site's length unit and each DBH to 0.1 cm, as trees.csv
+// writes them, so that trees.csv read back as a trees_file gives the same
+// stems bit for bit (docs/reference/site-file.md, `$.forest.stands[]`).
 int DrawStand(const JsonNode& st, Units units, const core::HeightGrid& grid, std::uint64_t seed,
               std::uint64_t stream, core::Forest* forest) {
   st.Keys(SiteKeysAt("$.forest.stands[]"));
@@ -171,14 +174,20 @@ int DrawStand(const JsonNode& st, Units units, const core::HeightGrid& grid, std
   int count = 0;
   for (double t = -std::log(1.0 - rng.Uniform()); t < expected; t += -std::log(1.0 - rng.Uniform()))
     ++count;
+  // A length in SI as the site's unit writes it at 0.001 of it, read back.
+  const double to_si = LengthToSI(1.0, units);
+  const auto written = [units, to_si](double si) {
+    return LengthToSI(std::round(si / to_si * 1000.0) / 1000.0, units);
+  };
   for (int k = 0; k < count; ++k) {
     Eigen::Vector2d p;
     do {
-      p = Eigen::Vector2d(rng.Uniform(x0, x1), rng.Uniform(y0, y1));
+      const double x = written(rng.Uniform(x0, x1));  // x, then y: a fixed order
+      p = Eigen::Vector2d(x, written(rng.Uniform(y0, y1)));
     } while (!core::PointInPolygon(polygon, p) || !OnTerrain(grid, p.x(), p.y()));
     double dbh;
     do {
-      dbh = mean + sd * rng.Normal();
+      dbh = std::round((mean + sd * rng.Normal()) * 10.0) / 10.0;
     } while (!(dbh >= kMinStandDbhCm && dbh <= kMaxDbhCm));
     const bool is_conifer = rng.Uniform() < conifer;
     forest->Add(p.x(), p.y(), dbh / 100.0, height,
@@ -207,6 +216,17 @@ void ReadForest(const JsonNode& node, Units units, const std::string& base_dir, 
   const core::HeightGrid& grid = site->scene.grid;
   if (auto c = node.Find("contact")) ReadContact(*c, &forest.contact);
   if (auto f = node.Find("capacity_factor")) forest.capacity_factor = f->Number(0.01, 100.0);
+  // The forest's values calibrated like a material's (core::kForestEntry).
+  if (auto c = node.Find("calibrate")) {
+    c->Keys(SiteKeysAt("$.forest.calibrate"));
+    for (const core::MaterialFieldInfo& f : core::MaterialFields()) {
+      if (!f.forest) continue;
+      if (auto b = c->Find(f.name))
+        site->calibrate.push_back(ReadBound(*b, core::kForestEntry, core::kForestEntry, f.name,
+                                            f.min, f.max, false,
+                                            core::ForestFieldValue(forest, f.field), 1.0, ""));
+    }
+  }
   std::string note = "forest:";
   if (auto file = node.Find("trees_file")) {
     const std::string path = ResolveDataFile(*file, base_dir);

@@ -59,25 +59,6 @@ struct PendingMaterial {
   std::optional<Polygon> zone;
 };
 
-// [lo, hi] of a calibrate entry, checked against [min, max] and the value.
-ParameterBound ReadBound(const JsonNode& node, const std::string& material,
-                         const std::string& material_class, const char* name, double min,
-                         double max, bool open_min, double value, double to_si,
-                         const std::string& unit) {
-  const std::vector<double> b = node.Numbers(2);
-  if (!(b[0] < b[1])) node.Fail("expected [lower, upper] with lower < upper");
-  // (max may come from a unit conversion: allow for its rounding.)
-  if (b[0] < min || (open_min && b[0] <= min) || b[1] > max * (1 + 1e-12)) {
-    node.Fail(std::string("expected bounds within ") + (open_min ? "(" : "[") + FormatNumber(min) +
-              ", " + FormatNumber(max) + "]" + unit);
-  }
-  if (value < b[0] || value > b[1]) {
-    node.Fail(std::string("the material's ") + name + " " + FormatNumber(value) + unit +
-              " is outside its calibrate bounds; expected lower <= value <= upper");
-  }
-  return ParameterBound{material, name, b[0] * to_si, b[1] * to_si, material_class};
-}
-
 // A material's "calibrate" object: bounds for any field of
 // core::MaterialFields(), in the file's units, each around the material's own
 // value (for friction and rolling resistance: explicit, or the hardness
@@ -460,6 +441,27 @@ void CheckRoughness(const std::vector<PendingMaterial>& pending, Units units, Si
 
 }  // namespace
 
+ParameterBound ReadBound(const JsonNode& node, const std::string& material,
+                         const std::string& material_class, const char* name, double min,
+                         double max, bool open_min, double value, double to_si,
+                         const std::string& unit) {
+  const std::vector<double> b = node.Numbers(2);
+  if (!(b[0] < b[1])) node.Fail("expected [lower, upper] with lower < upper");
+  // (max may come from a unit conversion: allow for its rounding.)
+  if (b[0] < min || (open_min && b[0] <= min) || b[1] > max * (1 + 1e-12)) {
+    node.Fail(std::string("expected bounds within ") + (open_min ? "(" : "[") + FormatNumber(min) +
+              ", " + FormatNumber(max) + "]" + unit);
+  }
+  if (value < b[0] || value > b[1]) {
+    const core::MaterialFieldInfo* f = core::FindMaterialField(name);
+    node.Fail(std::string(f && f->forest ? "the forest's " : "the material's ") + name + " " +
+              FormatNumber(value) + unit +
+              " is outside its calibrate bounds; expected lower <= value <= upper");
+  }
+  return ParameterBound{material, name, b[0] * to_si, b[1] * to_si, material_class};
+}
+
+
 Polygon ReadPolygon(const JsonNode& node, Units units) {
   if (!node.is_array() || node.raw().size() < 3)
     node.Fail("expected a polygon: an array of at least 3 [x, y] vertices");
@@ -595,6 +597,26 @@ void ApplySetting(const std::string& key_value, Site* site) {
 MaterialValueFault SetMaterialValue(const std::string& id, const std::string& field,
                                     double value_si, Units units, core::Scene* scene,
                                     std::string* message) {
+  // The forest's values, for the entry core::kForestEntry.
+  if (const core::MaterialFieldInfo* f = core::FindMaterialField(field); f && f->forest) {
+    if (id != core::kForestEntry) {
+      *message = "'" + field + "' is a value of the forest (" + core::kForestEntry + "." + field +
+                 "), not of material '" + id + "'";
+      return MaterialValueFault::kField;
+    }
+    if (scene->forest.empty()) {
+      *message = std::string("the site has no forest (expected a site with a 'forest' for ") +
+                 core::kForestEntry + "." + field + ")";
+      return MaterialValueFault::kMaterial;
+    }
+    if (!(value_si >= f->min && value_si <= f->max)) {
+      *message = std::string("expected a ") + f->label + " in [" + FormatNumber(f->min) + ", " +
+                 FormatNumber(f->max) + "]";
+      return MaterialValueFault::kValue;
+    }
+    core::SetForestFieldValue(&scene->forest, f->field, value_si);
+    return MaterialValueFault::kNone;
+  }
   std::vector<core::Material>& materials = scene->materials;
   auto it = std::find_if(materials.begin(), materials.end(),
                          [&](const core::Material& m) { return m.id == id; });

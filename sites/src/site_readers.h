@@ -43,10 +43,20 @@ inline constexpr double kMaxStemsPerHa = 10000.0;
 // kStandStreams + k), apart from every rock's (group << 32 | index).
 inline constexpr std::uint64_t kStandStreams = std::uint64_t{1} << 62;
 
+// [lo, hi] of a "calibrate" entry for field `name` of `material` (a
+// material id, or core::kForestEntry), in the file's units (`to_si` to SI,
+// `unit` after numbers in messages), checked against [min, max] (open at min
+// with `open_min`) and the current value.
+ParameterBound ReadBound(const JsonNode& node, const std::string& material,
+                         const std::string& material_class, const char* name, double min,
+                         double max, bool open_min, double value, double to_si,
+                         const std::string& unit);
+
 // "forest": a tree file, inline trees and stands (drawn from the seed of
 // site->scene.options), checked on site->scene.grid, into
 // site->scene.forest; sets site->drawn_stems_first and adds the tree file
-// to site->inputs.
+// to site->inputs; its "calibrate" bounds go to site->calibrate, for the
+// entry core::kForestEntry.
 void ReadForest(const JsonNode& node, Units units, const std::string& base_dir, Site* site);
 
 }  // namespace rockcal::sites

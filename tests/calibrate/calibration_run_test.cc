@@ -28,6 +28,82 @@ using testing::TwinSite;
 
 using testing::kTruth;
 
+// #52: the forest's capacity factor is calibrated like a material value,
+// through the entry "forest": the site's bounds make a parameter
+// forest.capacity_factor, and applying it rescales every stem's capacity.
+TEST(CalibrationRun, TheForestsCapacityFactorIsAParameterLikeAMaterialValue) {
+  sites::testing::TempDir dir;
+  const std::string site_text = R"({
+    "name": "forest slope", "units": "si",
+    "surface": {"resolution": 2, "sphere_spacing": 2,
+                "points": [[0, 0, 50], [100, 0, 0], [0, 60, 50], [100, 60, 0]]},
+    "materials": [{"id": "soil", "hardness": 0.3, "roughness": 0.2,
+                   "calibrate": {"hardness": [0.1, 0.6]}}],
+    "rocks": [{"count": 4, "shape": "sphere", "size": [0.5, 1], "unit_weight": 26,
+               "release": {"zone": [[2, 20], [8, 20], [8, 40], [2, 40]]}}],
+    "simulation": {"seed": 3, "max_time": 20},
+    "forest": {"trees": [{"x": 50, "y": 30, "dbh_cm": 30},
+                         {"x": 60, "y": 20, "dbh_cm": 12, "species": "broadleaf"}],
+               "capacity_factor": CF, "calibrate": {"capacity_factor": [0.5, 2]}}
+  })";
+  const auto with_factor = [&](const std::string& cf) {
+    std::string text = site_text;
+    text.replace(text.find("CF"), 2, cf);
+    return text;
+  };
+  const sites::Site site = sites::LoadSite(dir.Write("site.json", with_factor("1")));
+  const ParameterSpace space = ParameterSpace::FromSite(site);
+  ASSERT_EQ(space.size(), 2);
+  const Parameter& p = space.parameters()[1];
+  EXPECT_EQ(p.label(), "forest.capacity_factor");
+  EXPECT_EQ(p.kind, ParameterKind::kCapacityFactor);
+  EXPECT_EQ(p.lower, 0.5);
+  EXPECT_EQ(p.upper, 2.0);
+  EXPECT_EQ(space.Current(site.scene), (std::vector<double>{0.3, 1.0}));
+
+  core::Scene scene = site.scene;
+  space.Apply({0.4, 1.6}, &scene);
+  EXPECT_EQ(scene.materials[0].hardness, 0.4);
+  EXPECT_EQ(scene.forest.capacity_factor, 1.6);
+  ASSERT_EQ(scene.forest.stems.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const core::Stem& s = scene.forest.stems[k];
+    EXPECT_EQ(s.capacity, core::StemCapacity(s.dbh, s.species, 1.6)) << "stem " << k;
+    EXPECT_NEAR(s.capacity, 1.6 * site.scene.forest.stems[k].capacity,
+                1e-12 * s.capacity)
+        << "stem " << k;
+  }
+  EXPECT_EQ(space.Current(scene), (std::vector<double>{0.4, 1.6}));
+
+  // parameters.json and --set reach it through the same entry.
+  std::string message;
+  EXPECT_EQ(sites::SetMaterialValue("forest", "capacity_factor", 0.8, sites::Units::kSI, &scene,
+                                    &message),
+            sites::MaterialValueFault::kNone)
+      << message;
+  EXPECT_EQ(scene.forest.stems[0].capacity, core::StemCapacity(0.30, core::SpeciesClass::kConifer, 0.8));
+  EXPECT_EQ(sites::SetMaterialValue("soil", "capacity_factor", 0.8, sites::Units::kSI, &scene,
+                                    &message),
+            sites::MaterialValueFault::kField);
+  EXPECT_THAT(message, HasSubstr("a value of the forest (forest.capacity_factor)"));
+  EXPECT_EQ(sites::SetMaterialValue("forest", "capacity_factor", 200, sites::Units::kSI, &scene,
+                                    &message),
+            sites::MaterialValueFault::kValue);
+  EXPECT_THAT(message, HasSubstr("expected a capacity factor in [0.01, 100]"));
+  core::Scene bare = site.scene;
+  bare.forest = core::Forest{};
+  EXPECT_EQ(sites::SetMaterialValue("forest", "capacity_factor", 0.8, sites::Units::kSI, &bare,
+                                    &message),
+            sites::MaterialValueFault::kMaterial);
+
+  // Bounds that leave out the site's value are refused, naming the key.
+  sites::testing::TempDir bad;
+  const std::string error = sites::testing::ErrorOf(
+      [&] { sites::LoadSite(bad.Write("site.json", with_factor("3"))); });
+  EXPECT_THAT(error, HasSubstr("$.forest.calibrate.capacity_factor"));
+  EXPECT_THAT(error, HasSubstr("the forest's capacity_factor 3 is outside its calibrate bounds"));
+}
+
 TEST(CalibrationRun, SummaryHoldsTheBestMethodAndItsSimulation) {
   const sites::Site site = TwinSite(6);
   const observations::Observations obs = TwinObservations(TwinSite(20), kTruth, 5);

@@ -169,6 +169,34 @@ TEST(CalibrateCommand, RunsTheLibrarysDefaults) {
   }
 }
 
+// #52: calibrate --no-forest on a forested site evaluates exactly what the
+// same site without its forest evaluates; a resume must make the same
+// choice (the log's fingerprint counts the stems).
+TEST(CalibrateCommand, NoForestCalibratesTheSiteBare) {
+  const std::string obs =
+      std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/tutorial/observations.json";
+  const std::string forested = testing::ForestedTutorial();
+  ASSERT_FALSE(forested.empty());
+  const std::string args = " --observations " + obs + " --rocks 6 --seed 2 --max-evals 3 --quiet";
+  const std::string bare = FreshDir("bare"), cleared = FreshDir("cleared");
+  RunResult r = Rockcal("calibrate " + Example("tutorial") + args + " --out " + bare);
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = Rockcal("calibrate " + forested + args + " --no-forest --out " + cleared);
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::vector<nlohmann::json> a = LogWithoutTimes(bare + "/evaluations.jsonl");
+  std::vector<nlohmann::json> b = LogWithoutTimes(cleared + "/evaluations.jsonl");
+  ASSERT_GT(a.size(), 1u);
+  EXPECT_EQ(a[0]["fingerprint"].count("forest stems"), 0u) << a[0].dump();
+  EXPECT_EQ(b[0]["fingerprint"].count("forest stems"), 0u) << b[0].dump();
+  a.erase(a.begin()), b.erase(b.begin());  // the headers hash different site files
+  EXPECT_EQ(a, b);
+  EXPECT_FALSE(fs::exists(cleared + "/tree_impacts.csv"));
+
+  r = Rockcal("calibrate " + forested + args + " --resume --out " + cleared);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("forest stems"));
+}
+
 // The PID of a process that has exited (and been reaped).
 pid_t DeadPid() {
   const pid_t pid = ::fork();

@@ -66,6 +66,27 @@ inline std::string FreshDir(const std::string& name) {
   return dir;
 }
 
+// The tutorial slope with a stand of 600 stems/ha (DBH 30 +- 8 cm, half
+// conifers) over its talus and soil, in a folder of its own named after the
+// running test; returns its site file.
+inline std::string ForestedTutorial() {
+  const std::string dir = FreshDir("forested_site");
+  std::filesystem::create_directories(dir);
+  const std::string tutorial = std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/tutorial";
+  std::filesystem::copy_file(tutorial + "/points.csv", dir + "/points.csv");
+  const std::string site = ReadFile(tutorial + "/site.json");
+  const std::string key = "\"simulation\":";
+  const std::size_t at = site.find(key);
+  if (at == std::string::npos) return "";
+  std::ofstream(dir + "/site.json")
+      << site.substr(0, at)
+      << "\"forest\": {\"stands\": [{\"zone\": [[100, 40], [560, 40], [560, 160], [100, "
+         "160]], \"stems_per_ha\": 600, \"dbh_mean_cm\": 30, \"dbh_sd_cm\": 8, "
+         "\"conifer_percent\": 50}]},\n  "
+      << site.substr(at);
+  return dir + "/site.json";
+}
+
 }  // namespace rockcal::cli::testing
 
 #endif  // ROCKCAL_TESTS_CLI_CLI_FIXTURE_H_

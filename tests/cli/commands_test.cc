@@ -299,6 +299,131 @@ TEST(Simulate, ABadBarrierExitsTwoNamingTheJsonPath) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// #52: --compare-bare runs the same rocks without the forest; the report's
+// Forest section sets the bare runout beside the forest's, the forest's own
+// run is unchanged, and the bare run is the one --no-forest makes.
+TEST(Simulate, CompareBareGivesTheRunoutWithAndWithoutTheForest) {
+  const std::string site = testing::ForestedTutorial();
+  ASSERT_FALSE(site.empty());
+  const std::string both = FreshDir("both"), bare = FreshDir("bare"), forest = FreshDir("forest");
+  const std::string run = "simulate " + site + " --rocks 40 --seed 3 ";
+  RunResult r = Rockcal(run + "--compare-bare --out " + both);
+  ASSERT_EQ(r.status, 0) << r.err;
+  ASSERT_EQ(Rockcal(run + "--no-forest --quiet --out " + bare).status, 0);
+  ASSERT_EQ(Rockcal(run + "--quiet --out " + forest).status, 0);
+  const nlohmann::json with = nlohmann::json::parse(ReadFile(both + "/summary.json"));
+  const nlohmann::json alone = nlohmann::json::parse(ReadFile(forest + "/summary.json"));
+  const nlohmann::json without = nlohmann::json::parse(ReadFile(bare + "/summary.json"));
+  EXPECT_EQ(with["runout"], alone["runout"]) << "the comparison leaves the forest's run alone";
+  EXPECT_EQ(with["forest"], alone["forest"]);
+  EXPECT_GT(with["forest"]["strikes"].get<int>(), 0) << with["forest"].dump();
+  EXPECT_NE(with["runout"], without["runout"]) << "600 stems/ha change nothing?";
+  // The console's figure is the --no-forest run's 90 % runout.
+  const auto p90 = [](const nlohmann::json& s) {
+    const nlohmann::json& v = s["runout"]["distance_m"]["p90"];
+    if (!v.is_number()) return std::string("beyond the edge");
+    char text[32];
+    std::snprintf(text, sizeof text, "%.4g m", v.get<double>());
+    return std::string(text);
+  };
+  EXPECT_THAT(
+      r.out,
+      HasSubstr("without the forest (--compare-bare, report.html's Forest section): " +
+                std::to_string(without["outcomes"]["stopped"].get<int>()) + " stopped, " +
+                std::to_string(without["outcomes"]["left"].get<int>()) + " left; runout 90 % " +
+                p90(without) + " (with the forest " + p90(with) + ")"));
+  // The report's table: rocks stopped with the forest, then bare.
+  const std::string report = ReadFile(both + "/report.html");
+  EXPECT_THAT(report, HasSubstr("Runout with and without the forest"));
+  EXPECT_THAT(report,
+              HasSubstr("<td>rocks stopped</td><td class=\"n\">" +
+                        std::to_string(with["outcomes"]["stopped"].get<int>()) +
+                        " of 40</td><td class=\"n\">" +
+                        std::to_string(without["outcomes"]["stopped"].get<int>()) + " of 40</td>"));
+  EXPECT_THAT(ReadFile(forest + "/report.html"),
+              ::testing::Not(HasSubstr("Runout with and without")));
+}
+
+TEST(Simulate, CompareBareNeedsAForest) {
+  const std::string out = FreshDir("out");
+  RunResult r = Rockcal("simulate " + Example("tutorial") + " --compare-bare --out " + out);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("argument --compare-bare: the site has no 'forest'"));
+  r = Rockcal("simulate " + testing::ForestedTutorial() + " --compare-bare --no-forest --out " +
+              out);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("--no-forest leaves the forest out"));
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// #52: the same stems give the same run whichever way the site gives them:
+// a stand's drawn stems (trees.csv, written at full precision) read back as
+// a trees_file, and the same stems given inline.
+TEST(Simulate, TheSameStemsGiveTheSameRunFromAStandATreeFileOrInline) {
+  const std::string dir = FreshDir("sites");
+  fs::create_directories(dir);
+  nlohmann::json site = nlohmann::json::parse(R"({
+    "name": "forest plane", "units": "si",
+    "surface": {"resolution": 2, "sphere_spacing": 2,
+                "points": [[0, 0, 50], [100, 0, 0], [0, 60, 50], [100, 60, 0]]},
+    "materials": [{"id": "soil", "hardness": 0.3, "roughness": 0.2}],
+    "rocks": [{"count": 30, "shape": "sphere", "size": [0.5, 1], "unit_weight": 26,
+               "release": {"zone": [[2, 20], [8, 20], [8, 40], [2, 40]]}}],
+    "simulation": {"seed": 3, "max_time": 20}
+  })");
+  const auto run = [&](const std::string& name, const nlohmann::json& forest) {
+    nlohmann::json s = site;
+    s["forest"] = forest;
+    std::ofstream(dir + "/" + name + ".json") << s.dump(2);
+    const std::string out = FreshDir(name);
+    const RunResult r =
+        Rockcal("simulate " + dir + "/" + name + ".json --threads 2 --quiet --out " + out);
+    EXPECT_EQ(r.status, 0) << name << ": " << r.err;
+    return out;
+  };
+  const std::string stand = run("stand", {{"stands",
+                                           {{{"zone", {{20, 2}, {98, 2}, {98, 58}, {20, 58}}},
+                                             {"stems_per_ha", 600},
+                                             {"dbh_mean_cm", 30},
+                                             {"dbh_sd_cm", 10},
+                                             {"conifer_percent", 40}}}}});
+  const std::string trees_csv = ReadFile(stand + "/trees.csv");
+  std::ofstream(dir + "/trees.csv") << trees_csv;
+  const std::string file = run("file", {{"trees_file", "trees.csv"}});
+  // The same rows as inline trees.
+  nlohmann::json inline_trees = nlohmann::json::array();
+  std::istringstream rows(trees_csv);
+  std::string row;
+  std::getline(rows, row);
+  ASSERT_EQ(row, "x,y,dbh_cm,species,height");
+  while (std::getline(rows, row)) {
+    std::vector<std::string> f;
+    std::stringstream fields(row);
+    for (std::string v; std::getline(fields, v, ',');) f.push_back(v);
+    ASSERT_EQ(f.size(), 5u) << row;
+    inline_trees.push_back({{"x", std::stod(f[0])},
+                            {"y", std::stod(f[1])},
+                            {"dbh_cm", std::stod(f[2])},
+                            {"species", f[3]},
+                            {"height", std::stod(f[4])}});
+  }
+  ASSERT_GT(inline_trees.size(), 100u) << "600 stems/ha on 0.44 ha";
+  const std::string inline_run = run("inline", {{"trees", inline_trees}});
+  const auto summary = [](const std::string& out) {
+    nlohmann::json j = nlohmann::json::parse(ReadFile(out + "/summary.json"));
+    j.erase("wall_seconds");
+    return j;
+  };
+  const nlohmann::json want = summary(stand);
+  EXPECT_GT(want["forest"]["strikes"].get<int>(), 0) << want["forest"].dump();
+  EXPECT_EQ(summary(file), want);
+  EXPECT_EQ(summary(inline_run), want);
+  const std::string impacts = ReadFile(stand + "/tree_impacts.csv");
+  EXPECT_EQ(ReadFile(file + "/tree_impacts.csv"), impacts);
+  EXPECT_EQ(ReadFile(inline_run + "/tree_impacts.csv"), impacts);
+  EXPECT_FALSE(fs::exists(file + "/trees.csv")) << "no stems drawn";
+}
+
 TEST(Validate, PrintsWhatItFound) {
   EXPECT_EQ(Rockcal("validate " + Example("tutorial")).status, 0);
   EXPECT_EQ(Rockcal("validate /nonexistent/site.json").status, 2);

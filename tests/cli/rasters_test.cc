@@ -80,7 +80,11 @@ void WriteDem(const std::string& path) {
 // column 20. Two rocks start at row 9 and three at row 6, upslope of it; two
 // at row 3 start downslope of it and never reach it.
 constexpr int kColumn = 20;
-std::string SiteJson() {
+// With `forest`, stems of 30 cm stand on the middle of rows 9 and 6 (in the
+// rocks' way, columns 12 and 16) and of row 3 at column 12 (upslope of the
+// rocks released there: never struck).
+constexpr int kStems[3][2] = {{12, 9}, {16, 6}, {12, 3}};
+std::string SiteJson(bool forest = false) {
   nlohmann::json rocks = nlohmann::json::array();
   for (const auto& [count, c, r] :
        std::vector<std::array<int, 3>>{{2, 4, 9}, {3, 4, 6}, {2, 30, 3}})
@@ -97,15 +101,19 @@ std::string SiteJson() {
       {"partitions", nlohmann::json::array({{{"id", "X20"}, {"x", ColumnX(kColumn)}}})},
       {"rocks", rocks},
       {"simulation", {{"seed", 1}, {"max_time", 20}}}};
-  return site.dump(2);
+  if (!forest) return site.dump(2);
+  nlohmann::json with = site;
+  for (const auto& [c, r] : kStems)
+    with["forest"]["trees"].push_back({{"x", ColumnX(c)}, {"y", RowY(r)}, {"dbh_cm", 30}});
+  return with.dump(2);
 }
 
 // A folder with dem.tif and site.json; returns the site file.
-std::string WriteGisSite(const std::string& name) {
+std::string WriteGisSite(const std::string& name, bool forest = false) {
   const std::string dir = FreshDir(name);
   fs::create_directories(dir);
   WriteDem(dir + "/dem.tif");
-  std::ofstream(dir + "/site.json") << SiteJson();
+  std::ofstream(dir + "/site.json") << SiteJson(forest);
   return dir + "/site.json";
 }
 
@@ -228,6 +236,44 @@ TEST(Rasters, AsciiGridsMatchTheGeoTiff) {
       ASSERT_NEAR(asc.bands[0].values[c], band.values[c], 1e-6 * std::fabs(band.values[c]))
           << path << " cell " << c;
   }
+}
+
+// #52: a site with a forest adds the band "strikes": each stem's strikes
+// (tree_impacts.csv's rows for it) in the cell of its axis, 0 in the other
+// cells. The bare site above has no such band.
+TEST(Rasters, AForestAddsItsStrikesPerCell) {
+  const std::string site = WriteGisSite("site", true);
+  const std::string out = FreshDir("out");
+  const RunResult run = Rockcal("simulate " + site + " --rasters --quiet --out " + out);
+  ASSERT_EQ(run.status, 0) << run.err;
+  const ReadRaster tif = OpenRaster(out + "/rasters.tif");
+  ASSERT_EQ(tif.bands.size(), 8u);
+  const rockcal::testing::ReadBand* band = Band(tif, "strikes");
+  ASSERT_NE(band, nullptr);
+  EXPECT_THAT(band->description, HasSubstr("[strikes]"));
+  const std::vector<std::string> trees = CsvColumn(ReadFile(out + "/tree_impacts.csv"), "tree");
+  std::vector<double> per_stem(3, 0.0);
+  for (const std::string& t : trees) per_stem.at(static_cast<std::size_t>(std::stoi(t))) += 1.0;
+  EXPECT_GT(per_stem[0], 0.0) << "the rocks of row 9 roll into the stem";
+  EXPECT_GT(per_stem[1], 0.0) << "the rocks of row 6 roll into the stem";
+  EXPECT_EQ(per_stem[2], 0.0) << "no rock reaches row 3's stem";
+  double total = 0.0;
+  for (int r = 0; r < kRows; ++r)
+    for (int c = 0; c < kCols; ++c) {
+      const double v = band->values[static_cast<std::size_t>(r * kCols + c)];
+      const bool border = r == 0 || c == 0 || r == kRows - 1 || c == kCols - 1;
+      if (border) {
+        EXPECT_EQ(v, kNodata) << "row " << r << " column " << c;
+        continue;
+      }
+      double want = 0.0;
+      for (int k = 0; k < 3; ++k)
+        if (kStems[k][0] == c && kStems[k][1] == r) want = per_stem[static_cast<std::size_t>(k)];
+      EXPECT_EQ(v, want) << "row " << r << " column " << c;
+      total += v;
+    }
+  EXPECT_EQ(total, static_cast<double>(trees.size()));
+  EXPECT_TRUE(fs::exists(out + "/rasters/strikes.asc"));
 }
 
 TEST(Rasters, OnByDefaultForAGisSiteOnlyAndSaidSo) {

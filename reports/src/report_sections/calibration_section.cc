@@ -21,6 +21,7 @@ std::string ParameterValue(const calibrate::Parameter& p, double v, sites::Units
       return Show(v) + " s (" + Show(v * 1e3) + " ms)";
     case calibrate::ParameterKind::kRollingResistance:
     case calibrate::ParameterKind::kFriction:
+    case calibrate::ParameterKind::kCapacityFactor:
       return FormatNumber(v, "%.3f");
     case calibrate::ParameterKind::kVegetation:
       return Show(v * 1e-3) + " kPa" +

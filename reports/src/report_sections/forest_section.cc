@@ -8,6 +8,7 @@
 #include <map>
 #include <vector>
 
+#include "rockcal/core/simulate.h"
 #include "rockcal/core/statistics.h"
 #include "rockcal/reports/forest_outputs.h"
 #include "sections.h"
@@ -173,6 +174,38 @@ std::string ScarsAtStems(const Context& c, const std::map<int, StemStrikes>& by)
          Th("strike height, median") + "</tr></thead><tbody>" + rows + "</tbody></table>";
 }
 
+// The runout with the forest against the same rocks on the bare slope
+// (rockcal simulate --compare-bare): the summary.json figures of each run.
+std::string BareComparison(const Context& c) {
+  if (!c.in.bare) return "";
+  const core::RunoutStats with = core::ComputeRunout(c.result.rocks);
+  const core::RunoutStats without = core::ComputeRunout(c.in.bare->rocks);
+  const sites::Units units = c.in.units;
+  const auto length = [units](double m) {
+    return std::isfinite(m) ? SiteLength(m, units) : std::string("beyond the edge");
+  };
+  const auto row = [&](const std::string& what, const std::string& a, const std::string& b) {
+    return "<tr>" + Td(what) + Td(a, true) + Td(b, true) + "</tr>";
+  };
+  const auto stopped = [](const core::SimulationResult& r) {
+    return Int(r.count(core::Outcome::kStopped)) + " of " + Int(static_cast<long>(r.rocks.size()));
+  };
+  std::string t = "<table><thead><tr>" + Th("") + Th("with the forest") + Th("bare slope") +
+                  "</tr></thead><tbody>";
+  t += row("rocks stopped", stopped(c.result), stopped(*c.in.bare));
+  t += row("rocks that left the terrain", Int(with.beyond_edge), Int(without.beyond_edge));
+  t += row("runout, median", length(with.distance_m.p50), length(without.distance_m.p50));
+  t += row("runout, 90 %", length(with.distance_m.p90), length(without.distance_m.p90));
+  t += row("runout, 95 %", length(with.distance_m.p95), length(without.distance_m.p95));
+  t += row("runout, longest", length(with.distance_m.max), length(without.distance_m.max));
+  return "<h3>Runout with and without the forest</h3><p>The same rocks (seed, count and "
+         "parameters) run again on the slope without its stems (<code>--compare-bare</code>); "
+         "the runout is the plan distance from release to stop "
+         "(docs/reference/outputs.md#runout), a rock that left the terrain ranking beyond "
+         "every other.</p>" +
+         t + "</tbody></table>";
+}
+
 }  // namespace
 
 bool HasForestStrikes(const Context& c) {
@@ -181,7 +214,7 @@ bool HasForestStrikes(const Context& c) {
 
 std::string ForestSection(const Context& c) {
   const std::map<int, StemStrikes> by = StrikesByStem(c.result);
-  std::string html = Figures(c);
+  std::string html = Figures(c) + BareComparison(c);
   if (by.empty()) return html + ScarsAtStems(c, by);
   return html + EnergyPlot(c) + StruckStems(c, by) + ScarsAtStems(c, by);
 }

@@ -16,11 +16,13 @@ namespace rockcal::calibrate {
 using ParameterKind = core::MaterialField;
 
 struct Parameter {
-  std::string material;  // material id
+  // Material id, or core::kForestEntry ("forest") for a forest field
+  // (core::MaterialFieldInfo::forest): the scene's forest holds its value.
+  std::string material;
   // The material's class for default tables (sites::Site::material_classes);
   // empty means the material id.
   std::string material_class;
-  int material_index = 0;
+  int material_index = 0;  // in Scene::materials; -1 for a forest field
   ParameterKind kind = ParameterKind::kHardness;
   double lower = 0.0, upper = 1.0;  // SI (roughness m, contact time s)
   // A joint parameter of a campaign (JointSpace), whose `material` is the

@@ -43,6 +43,10 @@ struct RasterSet {
 //   height_max         largest height of a rock's centre above the ground over
 //                      the cell [m] (as at partitions); NaN where none passed
 //   height_p95         95th percentile, as energy_p95 [m]
+//   strikes            only for a scene with a forest whose strikes were
+//                      recorded (RecordOptions::tree_strikes): strikes of
+//                      rocks on the stems standing in the cell (the cell of
+//                      the stem's axis, not of the rock) [strikes]
 // Needs a result simulated with RecordOptions::passages
 // (SimulationResult::cells_recorded; throws std::logic_error otherwise).
 RasterSet ComputeRasters(const Scene& scene, const SimulationResult& result);

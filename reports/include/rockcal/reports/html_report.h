@@ -62,6 +62,10 @@ struct ReportInput {
   // --holdout); with tracked runs the "runs" section gives its held-out
   // per-run error.
   const calibrate::HoldoutSummary* holdout = nullptr;
+  // Optional: the same rocks on the slope without its forest (rockcal
+  // simulate --compare-bare); the forest section sets their runout beside
+  // the forest's.
+  const core::SimulationResult* bare = nullptr;
   ReportOptions options;
 };
 

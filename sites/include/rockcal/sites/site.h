@@ -13,7 +13,7 @@ namespace rockcal::sites {
 // A calibrated parameter and its bounds, SI units (roughness in m, contact
 // time in s; hardness dimensionless).
 struct ParameterBound {
-  std::string material;  // material id
+  std::string material;  // material id, or core::kForestEntry for a forest field
   std::string name;      // a field of core::MaterialFields(): "hardness", "roughness", ...
   double lower = 0.0, upper = 0.0;
   std::string material_class;  // the material's class ("class"; empty: the id)
@@ -73,7 +73,9 @@ enum class MaterialValueFault { kNone, kMaterial, kField, kValue };
 // s), after the same range checks as the site reader: the one place --set
 // and a calibration's parameters.json change a material. On a fault nothing
 // changes and it returns which, with *message saying what was expected
-// (lengths in `units`, the file's).
+// (lengths in `units`, the file's). A forest field ("capacity_factor") is
+// the forest's, with `id` core::kForestEntry ("forest"): it rescales every
+// stem's capacity.
 MaterialValueFault SetMaterialValue(const std::string& id, const std::string& field,
                                     double value_si, Units units, core::Scene* scene,
                                     std::string* message);
