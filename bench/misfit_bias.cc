@@ -35,16 +35,12 @@
 #include "rockcal/calibrate/score.h"
 #include "rockcal/core/terrain.h"
 #include "rockcal/parallel/parallel.h"
+#include "timing.h"
 
 namespace {
 
 using namespace rockcal;
-
-long Arg(int argc, char** argv, const std::string& name, long fallback) {
-  for (int k = 1; k + 1 < argc; ++k)
-    if (argv[k] == "--" + name) return std::strtol(argv[k + 1], nullptr, 10);
-  return fallback;
-}
+using bench::Arg;
 
 // The group of a residual: its observation and which of its statistics.
 std::string Group(const observations::Residual& r) {

@@ -1,11 +1,12 @@
-// Helpers shared by the benchmarks: medians of repeated simulations, and
-// sample quantiles with a Monte Carlo standard error.
+// Helpers shared by the benchmarks: medians of repeated simulations,
+// sample quantiles with a Monte Carlo standard error, and --name arguments.
 #ifndef ROCKCAL_BENCH_TIMING_H_
 #define ROCKCAL_BENCH_TIMING_H_
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,13 @@
 #include "rockcal/core/statistics.h"
 
 namespace rockcal::bench {
+
+// The whole number after --NAME on the command line, or `fallback`.
+inline long Arg(int argc, char** argv, const std::string& name, long fallback) {
+  for (int k = 1; k + 1 < argc; ++k)
+    if (argv[k] == "--" + name) return std::strtol(argv[k + 1], nullptr, 10);
+  return fallback;
+}
 
 // Median of `v` (mean of the two middle values for an even count); 0 when empty.
 inline double Median(std::vector<double> v) {
