@@ -93,8 +93,8 @@ CalibratedParameter ReadParameter(const JsonNode& p) {
   return out;
 }
 
-// Parameter k of `space` at `value`, with its standard error and posterior
-// when given.
+// Parameter `p` of a parameter space at `value`, with its standard error
+// and posterior when given.
 CalibratedParameter Calibrated(const Parameter& p, double value, const double* std_error,
                                const ParameterPosterior* posterior) {
   CalibratedParameter out;
@@ -287,7 +287,7 @@ CalibratedSite ReadParametersFile(const std::string& path) {
     if (name.empty()) s->Fail("expected a file name (not empty)");
     out.samples_file = (fs::path(out.result_dir) / name).string();
   } else if (with != 0) {
-    out.samples_file = (fs::path(out.result_dir) / "posterior.csv").string();
+    out.samples_file = (fs::path(out.result_dir) / kSamplesFile).string();
   }
   return out;
 }
