@@ -32,10 +32,14 @@ double StudentT975(int df) {
 
 double Quantile(const std::vector<double>& sorted, double q) {
   assert(!sorted.empty());
-  const double pos = std::clamp(q, 0.0, 1.0) * static_cast<double>(sorted.size() - 1);
-  const std::size_t k = static_cast<std::size_t>(std::floor(pos));
+  return AtPosition(sorted, std::clamp(q, 0.0, 1.0) * static_cast<double>(sorted.size() - 1));
+}
+
+double AtPosition(const std::vector<double>& sorted, double position) {
+  assert(!sorted.empty());
+  const std::size_t k = static_cast<std::size_t>(std::floor(position));
   if (k + 1 >= sorted.size()) return sorted.back();
-  const double f = pos - static_cast<double>(k);
+  const double f = position - static_cast<double>(k);
   return sorted[k] + f * (sorted[k + 1] - sorted[k]);
 }
 

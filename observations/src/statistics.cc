@@ -11,14 +11,6 @@ namespace rockcal::observations {
 
 using core::FormatNumber;
 
-double AtPosition(const std::vector<double>& sorted, double k) {
-  const std::size_t n = sorted.size();
-  const double lo = std::floor(k);
-  const std::size_t i = static_cast<std::size_t>(lo);
-  if (i + 1 >= n) return sorted[n - 1];
-  return sorted[i] + (k - lo) * (sorted[i + 1] - sorted[i]);
-}
-
 namespace {
 
 // P(|Z| >= x) for a standard normal Z.

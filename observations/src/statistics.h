@@ -6,11 +6,12 @@
 
 #include <vector>
 
+#include "rockcal/core/statistics.h"
+
 namespace rockcal::observations {
 
-// Value at a fractional position k in [0, n - 1] of an ascending sample,
-// interpolated linearly between neighbouring order statistics.
-double AtPosition(const std::vector<double>& sorted, double k);
+// Value at a fractional position of an ascending sample: core's.
+using core::AtPosition;
 
 }  // namespace rockcal::observations
 

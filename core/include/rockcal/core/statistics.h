@@ -14,6 +14,11 @@ struct Stats {
 // order statistics (type 7). Requires a non-empty vector. The project's one
 // quantile: every other quantile of a sample is this one.
 double Quantile(const std::vector<double>& sorted, double q);
+// The value at 0-based `position` of `sorted` (ascending, non-empty),
+// linear between order statistics; the last one at or beyond n - 1. Quantile
+// is this at q (n - 1); a quantile of another definition is this at its own
+// position.
+double AtPosition(const std::vector<double>& sorted, double position);
 // Quantile of `values` in any order: sorts them in place, then Quantile; NaN
 // when there are none.
 double QuantileOf(std::vector<double>* values, double q);
