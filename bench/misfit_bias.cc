@@ -32,6 +32,7 @@
 #include "../tests/calibrate/twin_fixture.h"
 #include "rockcal/calibrate/objective.h"
 #include "rockcal/calibrate/posterior.h"
+#include "rockcal/calibrate/residual_correlation.h"
 #include "rockcal/calibrate/score.h"
 #include "rockcal/core/terrain.h"
 #include "rockcal/parallel/parallel.h"
@@ -281,10 +282,10 @@ int main(int argc, char** argv) {
   // with one degree of freedom): how the likelihood alone covers. Three
   // likelihoods of the same residuals: the misfit (independent), the
   // posterior's (each distribution's quantiles correlated,
-  // calibrate::QuantileWhitening), and the joint one of the residual
+  // calibrate::QuantileCorrelation), and the joint one of the residual
   // vector's second moments at the truth, measured over the pairs of the
   // truth-only seeds (or all when there are none): r^T S^-1 r / 2.
-  const Eigen::MatrixXd w = calibrate::QuantileWhitening(layout);
+  const Eigen::MatrixXd w = calibrate::Whitening(calibrate::QuantileCorrelation(layout));
   const Eigen::Index n_res = static_cast<Eigen::Index>(layout.size());
   Eigen::MatrixXd second = Eigen::MatrixXd::Zero(n_res, n_res);
   const int from = T > 0 ? C : 0;

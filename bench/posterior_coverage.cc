@@ -18,7 +18,15 @@
 //
 //   posterior_coverage [--twins 20] [--parameters 2] [--obs-rocks 60]
 //                      [--rocks 120] [--threads 1] [--seed 1] [--independent 0]
-//                      [--prior 0] [--ranks 0]
+//                      [--prior 0] [--ranks 0] [--bootstrap 200] [--kinds both]
+//                      [--error-scale 1]
+//
+// --bootstrap B: the residuals' correlation from B resamples of the rocks
+// (PosteriorOptions::bootstrap_replicates; 0: each distribution's quantiles
+// alone, the posterior before issue #54). --kinds scars|stops|both: which
+// observations the twin's field gives (the bounce heights at the two
+// partitions, the stop points, or both). --error-scale f: the measurement
+// errors (0.1 m on heights, 1 m on stop points) times f.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -49,6 +57,17 @@ int main(int argc, char** argv) {
   const std::uint64_t seed = static_cast<std::uint64_t>(Arg(argc, argv, "seed", 1));
   // --independent 1: every residual independent (PosteriorOptions::correlated_quantiles off).
   const bool independent = Arg(argc, argv, "independent", 0) != 0;
+  // --bootstrap B: the residuals' correlation from B bootstrap resamples
+  // (PosteriorOptions::bootstrap_replicates; 0: the quantiles' alone).
+  const int bootstrap = static_cast<int>(Arg(argc, argv, "bootstrap", 200));
+  std::string kinds = "both";
+  for (int i = 1; i + 1 < argc; ++i)
+    if (std::string(argv[i]) == "--kinds") kinds = argv[i + 1];
+  const double error_scale = Arg(argc, argv, "error-scale", 1.0);
+  if (kinds != "both" && kinds != "scars" && kinds != "stops") {
+    std::fprintf(stderr, "posterior_coverage: --kinds scars, stops or both\n");
+    return 2;
+  }
   const bool prior = Arg(argc, argv, "prior", 0) != 0;
   const int ranks = static_cast<int>(Arg(argc, argv, "ranks", 0));
   if (parameters < 1 || parameters > 4 || twins < 1 || obs_rocks < 10 || rocks < 10) {
@@ -71,7 +90,7 @@ int main(int argc, char** argv) {
       error(static_cast<std::size_t>(parameters), 0.0);
   double max_rhat = 0.0;
   int simulations = 0;
-  std::printf("twin | truth | median | 5 %% | 95 %% | covered | R-hat | s\n");
+  std::printf("twin | truth | median | 5 %% | 95 %% | covered | R-hat | correlation | s\n");
   for (int t = 1; t <= twins; ++t) {
     const auto t0 = std::chrono::steady_clock::now();
     core::RandomStream rng(seed, 0x5457494e00000000ull + static_cast<std::uint64_t>(t));  // "TWIN"
@@ -81,13 +100,18 @@ int main(int argc, char** argv) {
     sites::Site field = calibrate::testing::TwinSite(obs_rocks);
     field.calibrate = bounds;
     field.scene.options.threads = threads;
-    const observations::Observations obs = calibrate::testing::TwinObservations(
+    observations::Observations obs = calibrate::testing::TwinObservations(
         field, truth, 1000 + seed * 100 + static_cast<std::uint64_t>(t));
+    if (kinds == "scars") obs.runout.reset();
+    if (kinds == "stops") obs.tree_scars.clear();
+    obs.error.height *= error_scale;
+    obs.error.runout *= error_scale;
     const core::Scene scene = calibrate::RunScene(site, rocks, seed, threads);
     const calibrate::Objective objective(scene, space, obs, {});
     calibrate::PosteriorOptions options;
     options.mcmc.seed = seed;
     options.correlated_quantiles = !independent;
+    options.bootstrap_replicates = bootstrap;
     // The residuals' names (for the quantiles' correlation): one evaluation
     // at the box's centre.
     const observations::Misfit layout = objective.Evaluate(
@@ -127,8 +151,9 @@ int main(int argc, char** argv) {
       cols[3] += buf;
       cols[4] += std::string(sep) + (in ? "yes" : "NO");
     }
-    std::printf("%d | %s | %s | %s | %s | %s | %.3f | %.1f\n", t, cols[0].c_str(), cols[1].c_str(),
-                cols[2].c_str(), cols[3].c_str(), cols[4].c_str(), r.max_rhat,
+    std::printf("%d | %s | %s | %s | %s | %s | %.3f | %s, %.1f of %d | %.1f\n", t, cols[0].c_str(),
+                cols[1].c_str(), cols[2].c_str(), cols[3].c_str(), cols[4].c_str(), r.max_rhat,
+                r.correlation_source.c_str(), r.effective_residuals, objective.residual_count(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     std::fflush(stdout);
   }
@@ -136,9 +161,10 @@ int main(int argc, char** argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf(
       "\n%d twins, %d parameters, %d observed rocks, %d rocks per evaluation, %d thread(s), "
-      "%s quantiles, %d simulations, %.0f s; max R-hat %.3f\n\n",
+      "%s residuals (bootstrap %d), observed %s, errors x%g, %d simulations, %.0f s; max R-hat "
+      "%.3f\n\n",
       twins, parameters, obs_rocks, rocks, threads, independent ? "independent" : "correlated",
-      simulations, seconds, max_rhat);
+      bootstrap, kinds.c_str(), error_scale, simulations, seconds, max_rhat);
   std::printf(
       "| parameter | 90 %% intervals holding the truth | mean width / range | mean |median - "
       "truth| / range |\n|---|---|---|---|\n");
@@ -147,6 +173,9 @@ int main(int argc, char** argv) {
     std::printf("| %s | %d of %d | %.3f | %.3f |\n", space.parameters()[kk].label().c_str(),
                 covered[kk], twins, width[kk], error[kk]);
   }
+  int all = 0;
+  for (const int c : covered) all += c;
+  std::printf("| all | %d of %d | | |\n", all, twins * parameters);
   if (ranks > 0) {
     // Uniform ranks 0..L in 10 bins of equal probability; Pearson's
     // chi-square with 9 degrees of freedom, its p-value by the regularised

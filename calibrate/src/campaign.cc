@@ -101,6 +101,20 @@ observations::Misfit CampaignObjective::Evaluate(const std::vector<double>& phys
   return Join(physical, EvaluateSites(SiteTasks(physical)));
 }
 
+Eigen::MatrixXd CampaignObjective::ResidualCorrelation(const std::vector<double>& physical,
+                                                       int replicates, std::uint64_t seed) const {
+  Eigen::MatrixXd out = Eigen::MatrixXd::Identity(residual_count_, residual_count_);
+  Eigen::Index at = 0;
+  for (int s = 0; s < site_count(); ++s) {
+    const Eigen::Index n = site(s).residual_count();
+    const Eigen::MatrixXd block = site(s).ResidualCorrelation(
+        joint_.SiteValues(s, physical), replicates, seed + static_cast<std::uint64_t>(s));
+    if (block.rows() == n) out.block(at, at, n, n) = block;
+    at += n;
+  }
+  return out;
+}
+
 observations::Misfit CampaignObjective::EvaluateSitesAt(const std::vector<double>& joint) const {
   return JoinSites(EvaluateSites(SiteTasks(joint)));
 }

@@ -4,6 +4,7 @@
 #include <exception>
 
 #include "rockcal/calibrate/recording.h"
+#include "rockcal/calibrate/residual_correlation.h"
 #include "rockcal/parallel/parallel.h"
 
 namespace rockcal::calibrate {
@@ -120,22 +121,42 @@ Objective::Objective(core::Scene scene, ParameterSpace space,
       observations::ComputeMisfit(observations_, scene_, shape, misfit_).residuals.size());
 }
 
+core::SimulationResult Objective::Simulate(const std::vector<double>& physical,
+                                          core::Scene* scene) const {
+  *scene = scene_;
+  space_.Apply(physical, scene);
+  std::shared_ptr<const core::Terrain> terrain;
+  {
+    std::lock_guard<std::mutex> lock(terrain_mutex_);
+    const std::vector<double> key = RoughnessKey(space_, physical);
+    if (!terrain_ || key != terrain_key_) {
+      terrain_ = std::make_shared<const core::Terrain>(core::BuildTerrain(*scene));
+      terrain_key_ = key;
+    }
+    terrain = terrain_;
+  }
+  return parallel::Simulate(*scene, *terrain);
+}
+
+Eigen::MatrixXd Objective::ResidualCorrelation(const std::vector<double>& physical, int replicates,
+                                               std::uint64_t seed) const {
+  try {
+    core::Scene scene;
+    const core::SimulationResult sim = Simulate(physical, &scene);
+    Eigen::MatrixXd r =
+        BootstrapResidualCorrelation(observations_, scene, sim, misfit_, replicates, seed);
+    if (r.rows() != residual_count_) return {};
+    return r;
+  } catch (const std::exception&) {
+    return {};  // a failed simulation: no correlation to tell
+  }
+}
+
 observations::Misfit Objective::Evaluate(const std::vector<double>& physical) const {
-  core::Scene scene = scene_;
-  space_.Apply(physical, &scene);
+  core::Scene scene;
   observations::Misfit misfit;
   try {
-    std::shared_ptr<const core::Terrain> terrain;
-    {
-      std::lock_guard<std::mutex> lock(terrain_mutex_);
-      const std::vector<double> key = RoughnessKey(space_, physical);
-      if (!terrain_ || key != terrain_key_) {
-        terrain_ = std::make_shared<const core::Terrain>(core::BuildTerrain(scene));
-        terrain_key_ = key;
-      }
-      terrain = terrain_;
-    }
-    core::SimulationResult sim = parallel::Simulate(scene, *terrain);
+    const core::SimulationResult sim = Simulate(physical, &scene);
     misfit = observations::ComputeMisfit(observations_, scene, sim, misfit_);
   } catch (const std::exception& e) {
     misfit = observations::Misfit{};

@@ -11,6 +11,7 @@
 
 #include "rockcal/calibrate/reach.h"
 #include "rockcal/calibrate/recording.h"
+#include "rockcal/calibrate/residual_correlation.h"
 #include "rockcal/calibrate/score.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/random.h"
@@ -24,6 +25,15 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr double kMinusInf = -std::numeric_limits<double>::infinity();
 constexpr std::uint64_t kDesignSeedMix = 0x44455349474e0000ull;  // "DESIGN"
+constexpr std::uint64_t kCorrelationSeedMix = 0x434f5252454c0000ull;  // "CORREL"
+
+// The number of independent residuals whose information `correlation`'s
+// carry: (tr R)^2 / tr(R^2) (n when independent, 1 when all move as one).
+double EffectiveCount(const Eigen::MatrixXd& correlation) {
+  const double trace = correlation.trace();
+  const double square = correlation.cwiseProduct(correlation).sum();
+  return square > 0.0 ? trace * trace / square : 0.0;
+}
 
 }  // namespace
 
@@ -41,6 +51,8 @@ bool PosteriorOptions::IsValid(std::string* error) const {
     s << "warp = " << warp << ": must be > 0";
   else if (!(undetermined_share > 0.0 && undetermined_share <= 1.0))
     s << "undetermined_share = " << undetermined_share << ": must be in (0, 1]";
+  else if (bootstrap_replicates < 0)
+    s << "bootstrap_replicates = " << bootstrap_replicates << ": must be >= 0 (0: the quantiles' correlation alone)";
   else if (predictive_draws < 0)
     s << "predictive_draws = " << predictive_draws << ": must be >= 0 (0: no predictive bands)";
   else
@@ -58,10 +70,12 @@ int PosteriorOptions::RoundPoints(int parameters) const {
 
 namespace {
 
-// The emulated points: unit-box coordinates and warped residuals.
+// The emulated points: unit-box coordinates, physical values, residuals
+// and misfits; the residuals are whitened and warped when emulated (Warped).
 struct Design {
   std::vector<std::vector<double>> unit;
-  std::vector<std::vector<double>> warped;
+  std::vector<std::vector<double>> physical;
+  std::vector<std::vector<double>> residuals;
   std::vector<double> misfit;
 
   bool Has(const std::vector<double>& u) const {
@@ -72,19 +86,32 @@ struct Design {
     }
     return false;
   }
-  const Eigen::MatrixXd* whitening = nullptr;  // null: none
-
-  void Add(const std::vector<double>& u, const std::vector<double>& residuals, double m,
-           double warp) {
+  void Add(const std::vector<double>& u, const std::vector<double>& x,
+           const std::vector<double>& r, double m) {
     if (Has(u)) return;
-    Eigen::VectorXd r = Eigen::Map<const Eigen::VectorXd>(
-        residuals.data(), static_cast<Eigen::Index>(residuals.size()));
-    if (whitening) r = *whitening * r;
-    std::vector<double> w;
-    for (Eigen::Index k = 0; k < r.size(); ++k) w.push_back(warp * std::asinh(r(k) / warp));
     unit.push_back(u);
-    warped.push_back(std::move(w));
+    physical.push_back(x);
+    residuals.push_back(r);
     misfit.push_back(m);
+  }
+  // Each point's residuals whitened (W r; W empty: as they are) and warped,
+  // r' = c asinh(r / c).
+  std::vector<std::vector<double>> Warped(const Eigen::MatrixXd& whitening, double warp) const {
+    std::vector<std::vector<double>> out;
+    for (const std::vector<double>& residual : residuals) {
+      Eigen::VectorXd r = Eigen::Map<const Eigen::VectorXd>(
+          residual.data(), static_cast<Eigen::Index>(residual.size()));
+      if (whitening.size() > 0) r = whitening * r;
+      std::vector<double> w;
+      for (Eigen::Index k = 0; k < r.size(); ++k) w.push_back(warp * std::asinh(r(k) / warp));
+      out.push_back(std::move(w));
+    }
+    return out;
+  }
+  // The point of lowest misfit (physical values); the design is not empty.
+  const std::vector<double>& Best() const {
+    return physical[static_cast<std::size_t>(
+        std::min_element(misfit.begin(), misfit.end()) - misfit.begin())];
   }
 };
 
@@ -175,14 +202,14 @@ std::vector<Evaluation> EvaluatePoints(const ObjectiveFunction& objective,
 
 // Adds the unpenalised evaluations to the design.
 int AddEvaluations(const ObjectiveFunction& objective, const std::vector<Evaluation>& evaluations,
-                   double warp, Design* design) {
+                   Design* design) {
   int added = 0;
   for (const Evaluation& e : evaluations) {
     if (e.penalised || e.parameters.empty() ||
         e.residuals.size() != static_cast<std::size_t>(objective.residual_count()))
       continue;
     const std::size_t before = design->unit.size();
-    design->Add(objective.space().ToUnit(e.parameters), e.residuals, e.misfit, warp);
+    design->Add(objective.space().ToUnit(e.parameters), e.parameters, e.residuals, e.misfit);
     added += static_cast<int>(design->unit.size() - before);
   }
   return added;
@@ -327,13 +354,7 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
   PosteriorResult result;
   result.space = space;
   Design design;
-  Eigen::MatrixXd whitening;
-  if (options.correlated_quantiles &&
-      layout.size() == static_cast<std::size_t>(objective.residual_count())) {
-    whitening = QuantileWhitening(layout);
-    design.whitening = &whitening;
-  }
-  result.reused = AddEvaluations(objective, reused, options.warp, &design);
+  result.reused = AddEvaluations(objective, reused, &design);
 
   // The space-filling design, topping the reused evaluations up.
   const int wanted = options.DesignPoints(d) - static_cast<int>(design.unit.size());
@@ -343,7 +364,7 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
     const std::vector<Evaluation> e =
         EvaluatePoints(objective, points, log, "design", progress, &result.simulated, start);
     result.evaluated += static_cast<int>(points.size());
-    AddEvaluations(objective, e, options.warp, &design);
+    AddEvaluations(objective, e, &design);
   }
   if (static_cast<int>(design.unit.size()) < d + 3)
     throw std::runtime_error("posterior: " + std::to_string(design.unit.size()) +
@@ -351,12 +372,35 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
                              " parameters; need at least " + std::to_string(d + 3) +
                              " (give more design points)");
 
+  // The residuals' correlation, taken at the design's best point.
+  Eigen::MatrixXd correlation;
+  if (options.correlated_quantiles && options.bootstrap_replicates > 0) {
+    if (progress) progress("residual correlation", 0, 1);
+    correlation = objective.ResidualCorrelation(design.Best(), options.bootstrap_replicates,
+                                                options.mcmc.seed ^ kCorrelationSeedMix);
+    if (correlation.rows() == objective.residual_count()) result.correlation_source = "bootstrap";
+    else correlation.resize(0, 0);
+  }
+  if (correlation.size() == 0 && options.correlated_quantiles &&
+      layout.size() == static_cast<std::size_t>(objective.residual_count())) {
+    correlation = QuantileCorrelation(layout);
+    result.correlation_source = "quantiles";
+  }
+  Eigen::MatrixXd whitening;
+  if (correlation.size() > 0) {
+    whitening = Whitening(correlation);
+    result.effective_residuals = EffectiveCount(correlation);
+  } else {
+    result.correlation_source = "independent";
+    result.effective_residuals = objective.residual_count();
+  }
+
   McmcOptions round_mcmc = options.mcmc;
   round_mcmc.steps = std::max(100, options.mcmc.steps / 2);
   round_mcmc.thin = std::min(round_mcmc.thin, round_mcmc.steps);
   for (int round = 0; round < options.rounds; ++round) {
     if (progress) progress("emulator, round " + std::to_string(round + 1), 0, 1);
-    const Emulator emulator = Emulator::Fit(design.unit, design.warped, options.emulator);
+    const Emulator emulator = Emulator::Fit(design.unit, design.Warped(whitening, options.warp), options.emulator);
     const EmulatedTarget target{&emulator, options.warp};
     round_mcmc.seed = options.mcmc.seed + 7919ull * static_cast<std::uint64_t>(round + 1);
     const McmcResult chains =
@@ -370,11 +414,11 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
         EvaluatePoints(objective, points, log, "round " + std::to_string(round + 1), progress,
                        &result.simulated, start);
     result.evaluated += static_cast<int>(points.size());
-    AddEvaluations(objective, e, options.warp, &design);
+    AddEvaluations(objective, e, &design);
   }
 
   if (progress) progress("sampling", 0, 1);
-  const Emulator emulator = Emulator::Fit(design.unit, design.warped, options.emulator);
+  const Emulator emulator = Emulator::Fit(design.unit, design.Warped(whitening, options.warp), options.emulator);
   const EmulatedTarget target{&emulator, options.warp};
   const McmcResult chains =
       AdaptiveMetropolis([&](const Eigen::VectorXd& u) { return target.LogDensity(u); },
@@ -395,40 +439,6 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
   Summarise(chains, options, &result);
   result.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
-}
-
-Eigen::MatrixXd QuantileWhitening(const std::vector<observations::Residual>& layout) {
-  const Eigen::Index n = static_cast<Eigen::Index>(layout.size());
-  Eigen::MatrixXd w = Eigen::MatrixXd::Identity(n, n);
-  // The quantile residuals of each observation: (index, level).
-  std::map<observations::ResidualId, std::vector<std::pair<Eigen::Index, double>>> groups;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    const observations::ResidualId& id = layout[static_cast<std::size_t>(k)].id;
-    if (id.statistic != observations::Statistic::kQuantile || !(id.level > 0.0 && id.level < 1.0))
-      continue;
-    groups[id.observation_id()].push_back({k, id.level});
-  }
-  for (const auto& [name, members] : groups) {
-    const Eigen::Index m = static_cast<Eigen::Index>(members.size());
-    if (m < 2) continue;
-    Eigen::MatrixXd corr(m, m);
-    for (Eigen::Index i = 0; i < m; ++i)
-      for (Eigen::Index j = 0; j < m; ++j) {
-        double p = members[static_cast<std::size_t>(i)].second,
-               q = members[static_cast<std::size_t>(j)].second;
-        if (p > q) std::swap(p, q);
-        corr(i, j) = std::sqrt(p * (1.0 - q) / (q * (1.0 - p)));
-      }
-    Eigen::LLT<Eigen::MatrixXd> llt(corr);
-    if (llt.info() != Eigen::Success) continue;
-    const Eigen::MatrixXd block =
-        llt.matrixL().solve(Eigen::MatrixXd::Identity(m, m));  // L^-1: |L^-1 r|^2 = r^T C^-1 r
-    for (Eigen::Index i = 0; i < m; ++i)
-      for (Eigen::Index j = 0; j < m; ++j)
-        w(members[static_cast<std::size_t>(i)].first, members[static_cast<std::size_t>(j)].first) =
-            block(i, j);
-  }
-  return w;
 }
 
 nlohmann::json PosteriorJson(const PosteriorResult& result) {
@@ -483,6 +493,8 @@ nlohmann::json PosteriorJson(const PosteriorResult& result) {
           {"emulator_variance", JsonNum(result.emulator_variance)},
           {"length_scales", length},
           {"nugget", JsonNum(result.nugget)},
+          {"residual_correlation", result.correlation_source},
+          {"effective_residuals", JsonNum(result.effective_residuals)},
           {"wall_seconds", JsonNum(result.wall_seconds)},
           {"predictive", predictive},
           {"message", result.message}};

@@ -75,11 +75,17 @@ std::string ParametersMarkdown(const CalibrationSummary& record) {
     // flag it: stopped by the bound, not by the data.
     const calibrate::BoundPosition at =
         calibrate::AtBound(best.best[k], ps[k].lower, ps[k].upper, 0.01);
+    // And what the posterior says of it, where there is one.
+    std::string flags;
+    if (at != calibrate::BoundPosition::kInside)
+      flags += std::string(" **at the ") + calibrate::BoundName(at) + " bound**";
+    if (record.posterior) {
+      const calibrate::ParameterPosterior& q = record.posterior->parameters[k];
+      if (q.undetermined) flags += " **not determined**";
+      if (best.best[k] < q.p05 || best.best[k] > q.p95) flags += " **outside its posterior**";
+    }
     out << "| " << ps[k].material << " | " << ps[k].class_name() << " | " << ps[k].name() << " | "
-        << SiteValue(ps[k], best.best[k], record.units)
-        << (at == calibrate::BoundPosition::kInside
-                ? std::string()
-                : std::string(" **at the ") + calibrate::BoundName(at) + " bound**")
+        << SiteValue(ps[k], best.best[k], record.units) << flags
         << " | " << (se ? SiteValue(ps[k], *se, record.units) : std::string("-")) << " | "
         << SiteValue(ps[k], record.start[k], record.units) << " | ["
         << SiteValue(ps[k], ps[k].lower, record.units) << ", "
@@ -133,6 +139,7 @@ std::string PosteriorMarkdown(const CalibrationSummary& record) {
     for (std::size_t k = 0; k < loose.size(); ++k) out << (k ? ", " : "") << loose[k];
     out << ". Carry these values with their whole interval, or fix them from other sources.\n";
   }
+  if (const std::string advice = PosteriorAdvice(record); !advice.empty()) out << advice << "\n";
   if (!pairs.empty()) {
     out << "Strongly correlated (determined only together): ";
     for (std::size_t k = 0; k < pairs.size(); ++k) out << (k ? ", " : "") << pairs[k];
@@ -154,6 +161,29 @@ std::string PosteriorMarkdown(const CalibrationSummary& record) {
              "and report.html.\n";
   }
   return out.str();
+}
+
+std::string PosteriorAdvice(const CalibrationSummary& record) {
+  if (!record.posterior) return "";
+  const std::vector<double>& value = record.best_method().best;
+  const auto& ps = record.space.parameters();
+  std::vector<std::string> outside;
+  for (std::size_t k = 0; k < ps.size() && k < value.size(); ++k) {
+    const calibrate::ParameterPosterior& q = record.posterior->parameters[k];
+    if (value[k] >= q.p05 && value[k] <= q.p95) continue;
+    outside.push_back(ps[k].label() + " " + SiteValue(ps[k], value[k], record.units) +
+                      " against [" + SiteValue(ps[k], q.p05, record.units) + ", " +
+                      SiteValue(ps[k], q.p95, record.units) + "], median " +
+                      SiteValue(ps[k], q.median, record.units));
+  }
+  if (outside.empty()) return "";
+  std::string s = "The search's value lies outside its posterior 5-95 % interval for ";
+  for (std::size_t k = 0; k < outside.size(); ++k) s += (k ? "; " : "") + outside[k];
+  return s +
+         ". Use the posterior for a design: the search's point is the lowest misfit of one set "
+         "of simulated rocks, which their Monte Carlo noise moves, while the posterior averages "
+         "over that noise and carries the uncertainty (its median, or `rockcal simulate "
+         "--parameters` of this folder, which draws from it).";
 }
 
 std::string DeterminationSentence(const CalibrationSummary& record) {

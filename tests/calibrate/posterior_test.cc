@@ -1,6 +1,7 @@
 // The posterior sampler and stage (calibrate/src/mcmc.cc, posterior.cc) on
 // analytic targets whose posterior is known exactly.
 #include "rockcal/calibrate/posterior.h"
+#include "rockcal/calibrate/residual_correlation.h"
 #include "rockcal/core/statistics.h"
 #include "rockcal/calibrate/posterior_draws.h"
 #include "rockcal/core/random.h"
@@ -245,7 +246,7 @@ TEST(SamplePosterior, AResumedRunReplaysItsEvaluationsAndGivesTheSameSamples) {
   std::filesystem::remove_all(dir);
 }
 
-TEST(QuantileWhitening, WhitensTheQuantilesOfEachDistributionAndNothingElse) {
+TEST(QuantileCorrelation, WhitensTheQuantilesOfEachDistributionAndNothingElse) {
   std::vector<observations::Residual> layout;
   using observations::ObservationKind;
   using observations::ResidualId;
@@ -261,7 +262,7 @@ TEST(QuantileWhitening, WhitensTheQuantilesOfEachDistributionAndNothingElse) {
   observations::Residual f;
   f.id = ResidualId::Of(ObservationKind::kPassing, 0, "passing[0] P").With(Statistic::kFraction);
   layout.push_back(f);
-  const Eigen::MatrixXd w = QuantileWhitening(layout);
+  const Eigen::MatrixXd w = Whitening(QuantileCorrelation(layout));
   // The correlation of the levels 0.1, 0.5 and 0.9 (sample quantiles).
   const double p[3] = {0.1, 0.5, 0.9};
   Eigen::MatrixXd corr = Eigen::MatrixXd::Identity(5, 5);

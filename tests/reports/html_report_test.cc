@@ -456,6 +456,49 @@ TEST(HtmlReportTest, BoundsAndStagesAreSaidAlikeInParametersMdAndTheReport) {
   EXPECT_NE(text.find(" in the refining stage"), std::string::npos) << text;
 }
 
+// Issue 54: a value the posterior does not determine, and a search value
+// outside its own posterior interval, are flagged in the headline table
+// (parameters.md, the console's) and the report says which to use.
+TEST(HtmlReportTest, ASearchValueOutsideItsPosteriorSaysWhichToUse) {
+  const SimulatedSite run = Simulated("tutorial", 6);
+  CalibrationSummary record = MakeRecord(run.site, 1);
+  const auto& ps = record.space.parameters();
+  ASSERT_GE(ps.size(), 2u);
+  calibrate::PosteriorResult post;
+  post.space = record.space;
+  // Parameter 0 in the lowest tenth of its range, parameter 1 over all of it.
+  for (int i = 0; i < 200; ++i) {
+    std::vector<double> x(ps.size());
+    for (std::size_t k = 0; k < ps.size(); ++k) {
+      const double u = (i + 0.5) / 200.0;
+      x[k] = ps[k].lower + (k == 0 ? 0.1 * u : u) * (ps[k].upper - ps[k].lower);
+    }
+    post.samples.push_back(x);
+  }
+  calibrate::SummariseSamples(0.75, nullptr, &post);
+  ASSERT_TRUE(post.parameters[1].undetermined);
+  record.posterior = post;
+  record.methods[0].best[0] = ps[0].lower + 0.5 * (ps[0].upper - ps[0].lower);
+  record.methods[0].best[1] = ps[1].lower + 0.5 * (ps[1].upper - ps[1].lower);
+  const std::string md = ParametersMarkdown(record);
+  const std::string advice = PosteriorAdvice(record);
+  EXPECT_NE(advice.find("outside its posterior 5-95 % interval for " + ps[0].label()),
+            std::string::npos)
+      << advice;
+  EXPECT_EQ(advice.find(ps[1].label()), std::string::npos) << "inside its interval: " << advice;
+  EXPECT_NE(advice.find("Use the posterior for a design"), std::string::npos) << advice;
+  EXPECT_NE(md.find(advice), std::string::npos) << md;
+  EXPECT_NE(md.find("**outside its posterior**"), std::string::npos) << md;
+  EXPECT_NE(md.find("**not determined**"), std::string::npos) << md;
+  ReportInput in = Input(run);
+  in.calibration = &record;
+  const std::string text = Unescape(FindSection(Render(in), "posterior")->AllText());
+  EXPECT_NE(text.find("Use the posterior for a design"), std::string::npos) << text;
+  // Inside its interval: no advice.
+  record.methods[0].best[0] = post.parameters[0].median;
+  EXPECT_EQ(PosteriorAdvice(record), "");
+}
+
 TEST(HtmlReportTest, CalibrationSectionsShowTheRecord) {
   const SimulatedSite run = Simulated("tutorial", 6);
   for (int methods : {1, 2}) {

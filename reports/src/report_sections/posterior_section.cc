@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <map>
 
+#include "rockcal/reports/calibration_outputs.h"
 #include "sections.h"
 
 namespace rockcal::reports::sections {
@@ -161,6 +162,8 @@ std::string PosteriorSection(const Context& c) {
       "). posterior.csv holds the samples. A value whose interval is about as wide as its "
       "bounds is not determined by these observations.</p>";
   if (!post.message.empty()) s += "<p class=\"warn\"><b>Warning:</b> " + Escape(post.message) + "</p>";
+  if (const std::string advice = PosteriorAdvice(rec); !advice.empty())
+    s += "<p class=\"warn\">" + Escape(advice) + "</p>";
   s += "<table><thead><tr>" + Th("parameter") + Th("calibrated") + Th("posterior median") +
        Th("5 %") + Th("95 %") + Th("interval / prior") + Th("determined") + Th("R-hat") +
        "</tr></thead><tbody>";

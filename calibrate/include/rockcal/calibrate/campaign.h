@@ -163,6 +163,12 @@ class CampaignObjective final : public ObjectiveFunction {
   std::vector<observations::Misfit> EvaluateAll(
       const std::vector<std::vector<double>>& points,
       const std::function<void(int, const observations::Misfit&)>& done = nullptr) const override;
+  // Block diagonal: each site's (Objective::ResidualCorrelation at its
+  // values, seeded by `seed` + its index; the identity for a site that
+  // cannot tell), then the identity for the prior residuals. Different sites
+  // are different rocks.
+  Eigen::MatrixXd ResidualCorrelation(const std::vector<double>& physical, int replicates,
+                                      std::uint64_t seed) const override;
 
   const JointSpace& joint() const { return joint_; }
   const Objective& site(int k) const { return *sites_[static_cast<std::size_t>(k)]; }

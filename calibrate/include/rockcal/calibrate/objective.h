@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "rockcal/calibrate/parameter_space.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/observations/misfit.h"
@@ -46,6 +48,15 @@ class ObjectiveFunction {
   virtual std::vector<observations::Misfit> EvaluateAll(
       const std::vector<std::vector<double>>& points,
       const std::function<void(int, const observations::Misfit&)>& done = nullptr) const = 0;
+  // The correlation of the residuals' errors at `physical`, residual_count()
+  // square with a unit diagonal, from `replicates` bootstrap resamples of
+  // the rocks simulated there (BootstrapResidualCorrelation, seeded by
+  // `seed`); empty when the objective cannot tell (this default) or its
+  // evaluation there is penalised.
+  virtual Eigen::MatrixXd ResidualCorrelation(const std::vector<double>& /*physical*/,
+                                              int /*replicates*/, std::uint64_t /*seed*/) const {
+    return {};
+  }
 };
 
 class Objective final : public ObjectiveFunction {
@@ -71,7 +82,16 @@ class Objective final : public ObjectiveFunction {
       const std::vector<std::vector<double>>& points,
       const std::function<void(int, const observations::Misfit&)>& done = nullptr) const override;
 
+  // Simulates the scene at `physical` as Evaluate does and bootstraps its
+  // rocks (BootstrapResidualCorrelation).
+  Eigen::MatrixXd ResidualCorrelation(const std::vector<double>& physical, int replicates,
+                                      std::uint64_t seed) const override;
+
  private:
+  // The scene at `physical` (into *scene) simulated on the terrain of its
+  // roughness (built once per roughness), every rank's share under mpirun.
+  core::SimulationResult Simulate(const std::vector<double>& physical, core::Scene* scene) const;
+
   core::Scene scene_;
   ParameterSpace space_;
   observations::Observations observations_;

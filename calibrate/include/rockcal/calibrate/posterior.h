@@ -51,14 +51,19 @@ struct PosteriorOptions {
   double warp = 4.0;
   McmcOptions mcmc;  // the final sampling; the rounds use half its steps
   EmulatorOptions emulator;
-  // The quantile residuals of one distribution are correlated (sample
-  // quantiles share their values); with this set the likelihood takes their
-  // correlation, sqrt(p (1 - q) / (q (1 - p))) between the levels p <= q
-  // (the asymptotic covariance of sample quantiles: David & Nagaraja 2003,
-  // Order Statistics, sec. 10.3), by whitening the residual vector of each
-  // distribution before it is emulated; "max", shares and fractions stay
-  // independent. Off: every residual independent, as in the misfit [on].
+  // The residuals are correlated: the quantiles of one distribution share
+  // their values, and the statistics of different distributions are of the
+  // same rocks. With this set the likelihood takes their correlation R
+  // (residual_correlation.h) by whitening the residual vector before it is
+  // emulated (|W r|^2 = r^T R^-1 r). Off: every residual independent, as in
+  // the misfit [on].
   bool correlated_quantiles = true;
+  // R from this many bootstrap resamples of the rocks simulated at the
+  // design's best point (ObjectiveFunction::ResidualCorrelation: every pair
+  // of residuals, shrunk towards the quantiles' asymptotic correlation);
+  // 0, or an objective that cannot tell: the quantiles' asymptotic
+  // correlation alone (QuantileCorrelation of `layout`) [200], >= 0.
+  int bootstrap_replicates = 200;
   // A parameter is "not determined by the data" when its 5-95 % interval is
   // wider than this share of the prior's (90 % of the range) [0.75], (0, 1].
   double undetermined_share = 0.75;
@@ -107,6 +112,11 @@ struct PosteriorResult {
   // The emulator's variance at the posterior samples, averaged over the
   // residuals, in sigma^2: its median (how much it widened the posterior).
   double emulator_variance = 0.0;
+  // Where the residuals' correlation came from: "bootstrap", "quantiles"
+  // (their asymptotic correlation) or "independent"; and how many
+  // independent residuals' information it leaves, (tr R)^2 / tr(R^2).
+  std::string correlation_source;
+  double effective_residuals = 0.0;
   std::vector<double> length_scales;  // unit box
   double nugget = 0.0;
   double wall_seconds = 0.0;
@@ -153,19 +163,14 @@ using PosteriorProgress = std::function<void(const std::string& stage, int done,
 // std::runtime_error when too few unpenalised evaluations exist to emulate.
 // `layout`: the residuals of one evaluation (their observation and quantity
 // name each residual; the values are not used), for the quantiles'
-// correlation; empty or of another length: every residual independent.
+// correlation when the objective gives none (PosteriorOptions::
+// bootstrap_replicates); empty or of another length: then every residual
+// independent.
 PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
                                 const std::vector<Evaluation>& reused,
                                 const PosteriorOptions& options, EvaluationLog* log,
                                 const PosteriorProgress& progress = nullptr,
                                 const std::vector<observations::Residual>& layout = {});
-
-// The whitening W of PosteriorOptions::correlated_quantiles for residuals
-// named as `layout`: W r has independent unit-variance components where r
-// has the quantiles' correlation, so |W r|^2 / 2 is the correlated misfit
-// (block diagonal: one block per observation's quantile levels p...).
-// The identity for residuals that are not quantiles.
-Eigen::MatrixXd QuantileWhitening(const std::vector<observations::Residual>& layout);
 
 // One posterior predictive draw: the compared statistics' residuals at the
 // physical values `physical`, simulated anew at `seed` (the posterior's

@@ -30,6 +30,15 @@ std::string ParametersMarkdown(const CalibrationSummary& record);
 // the predictive check, in Markdown; empty without a posterior.
 // parameters.md ends with it.
 std::string PosteriorMarkdown(const CalibrationSummary& record);
+// Which values to carry into a design when the search's point and the
+// posterior disagree: each calibrated value outside its posterior 5-95 %
+// interval, named with both, and why the posterior is the one to use (the
+// search's point is the lowest misfit of one set of simulated rocks, which
+// their Monte Carlo noise moves; the posterior's emulator averages over it
+// and carries the uncertainty). Empty without a posterior or when every
+// value lies inside its interval. parameters.md, the console and the report
+// print it.
+std::string PosteriorAdvice(const CalibrationSummary& record);
 // What the standard errors say of how well the observations determine the
 // calibrated values, in plain words: the parameters whose standard error
 // exceeds a quarter of their calibration range ("not determined by the
