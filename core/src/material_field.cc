@@ -11,6 +11,10 @@ namespace {
 // A forest's capacity factor (docs/reference/site-file.md, `$.forest`).
 constexpr double kMinCapacityFactor = 0.01;
 constexpr double kMaxCapacityFactor = 100.0;
+// The trunk contact's restitution, (0, 1) in the site file, calibrated
+// within [0.01, 0.99]; its friction as the ground's.
+constexpr double kMinTrunkRestitution = 0.01;
+constexpr double kMaxTrunkRestitution = 0.99;
 
 }  // namespace
 
@@ -29,6 +33,11 @@ const std::vector<MaterialFieldInfo>& MaterialFields() {
       // docs/physics.md, Trees: scales Dorren & Berger's capacity curves.
       {MaterialField::kCapacityFactor, "capacity_factor", "capacity factor", FieldUnit::kNone,
        kMinCapacityFactor, kMaxCapacityFactor, true},
+      // docs/physics.md, Trees: the trunk's side of the contact law.
+      {MaterialField::kTrunkRestitution, "contact_restitution", "trunk restitution",
+       FieldUnit::kNone, kMinTrunkRestitution, kMaxTrunkRestitution, true},
+      {MaterialField::kTrunkFriction, "contact_friction", "trunk friction", FieldUnit::kNone, 0.0,
+       10.0, true},
   };
   return fields;
 }
@@ -79,6 +88,8 @@ double FieldValue(const Material& material, MaterialField field, const HardnessM
     case MaterialField::kVegetation:
       return material.vegetation_pa;
     case MaterialField::kCapacityFactor:
+    case MaterialField::kTrunkRestitution:
+    case MaterialField::kTrunkFriction:
       break;
   }
   throw std::logic_error(std::string("FieldValue: ") + Info(field).name +
@@ -106,23 +117,43 @@ void SetFieldValue(Material* material, MaterialField field, double value) {
       material->vegetation_pa = value;
       break;
     case MaterialField::kCapacityFactor:
-      throw std::logic_error("SetFieldValue: capacity_factor is the forest's, not a material's");
+    case MaterialField::kTrunkRestitution:
+    case MaterialField::kTrunkFriction:
+      throw std::logic_error(std::string("SetFieldValue: ") + Info(field).name +
+                             " is the forest's, not a material's");
   }
 }
 
 double ForestFieldValue(const Forest& forest, MaterialField field) {
-  if (field != MaterialField::kCapacityFactor)
-    throw std::logic_error(std::string("ForestFieldValue: ") + Info(field).name +
-                           " is a material's, not the forest's");
-  return forest.capacity_factor;
+  switch (field) {
+    case MaterialField::kCapacityFactor:
+      return forest.capacity_factor;
+    case MaterialField::kTrunkRestitution:
+      return forest.contact.restitution;
+    case MaterialField::kTrunkFriction:
+      return forest.contact.friction;
+    default:
+      throw std::logic_error(std::string("ForestFieldValue: ") + Info(field).name +
+                             " is a material's, not the forest's");
+  }
 }
 
 void SetForestFieldValue(Forest* forest, MaterialField field, double value) {
-  if (field != MaterialField::kCapacityFactor)
-    throw std::logic_error(std::string("SetForestFieldValue: ") + Info(field).name +
-                           " is a material's, not the forest's");
-  forest->capacity_factor = value;
-  for (Stem& s : forest->stems) s.capacity = StemCapacity(s.dbh, s.species, value);
+  switch (field) {
+    case MaterialField::kCapacityFactor:
+      forest->capacity_factor = value;
+      for (Stem& s : forest->stems) s.capacity = StemCapacity(s.dbh, s.species, value);
+      return;
+    case MaterialField::kTrunkRestitution:
+      forest->contact.restitution = value;
+      return;
+    case MaterialField::kTrunkFriction:
+      forest->contact.friction = value;
+      return;
+    default:
+      throw std::logic_error(std::string("SetForestFieldValue: ") + Info(field).name +
+                             " is a material's, not the forest's");
+  }
 }
 
 }  // namespace rockcal::core

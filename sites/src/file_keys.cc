@@ -54,11 +54,14 @@ const std::vector<FileObjectKeys>& SiteFileKeys() {
         "gentle_steps_per_contact", "safety", "gentle_safety", "rest_window", "exact_flight",
         "reference_path", "threads"}},
       {"$.report", {"barrier_height", "barrier_energy_kj"}},
-      {"$.forest", {"trees_file", "trees", "stands", "contact", "capacity_factor", "calibrate"}},
+      {"$.forest",
+       {"trees_file", "trees", "stands", "rasters", "contact", "capacity_factor", "calibrate"}},
       {"$.forest.calibrate", ForestFieldKeys()},
       {"$.forest.trees[]", {"x", "y", "dbh_cm", "species", "height"}},
       {"$.forest.stands[]",
        {"zone", "stems_per_ha", "dbh_mean_cm", "dbh_sd_cm", "conifer_percent", "height"}},
+      {"$.forest.rasters",
+       {"stems_per_ha", "dbh_mean_cm", "dbh_sd_cm", "conifer_percent", "height"}},
       {"$.forest.contact", {"restitution", "contact_time", "friction"}},
   };
   return objects;

@@ -104,6 +104,62 @@ TEST(CalibrationRun, TheForestsCapacityFactorIsAParameterLikeAMaterialValue) {
   EXPECT_THAT(error, HasSubstr("the forest's capacity_factor 3 is outside its calibrate bounds"));
 }
 
+// #52: the trunk contact's restitution and friction are calibrated as the
+// capacity factor is: parameters forest.contact_restitution and
+// forest.contact_friction, applied on the forest's contact law.
+TEST(CalibrationRun, TheTrunkContactsRestitutionAndFrictionAreParametersLikeTheCapacityFactor) {
+  sites::testing::TempDir dir;
+  const sites::Site site = sites::LoadSite(dir.Write("site.json", R"({
+    "name": "forest slope", "units": "si",
+    "surface": {"resolution": 2, "sphere_spacing": 2,
+                "points": [[0, 0, 50], [100, 0, 0], [0, 60, 50], [100, 60, 0]]},
+    "materials": [{"id": "soil", "hardness": 0.3, "roughness": 0.2}],
+    "rocks": [{"count": 4, "shape": "sphere", "size": [0.5, 1], "unit_weight": 26,
+               "release": {"zone": [[2, 20], [8, 20], [8, 40], [2, 40]]}}],
+    "simulation": {"seed": 3, "max_time": 20},
+    "forest": {"trees": [{"x": 50, "y": 30, "dbh_cm": 30}],
+               "contact": {"restitution": 0.3, "friction": 0.5},
+               "calibrate": {"contact_restitution": [0.1, 0.6],
+                             "contact_friction": [0.2, 0.9]}}
+  })"));
+  const ParameterSpace space = ParameterSpace::FromSite(site);
+  ASSERT_EQ(space.size(), 2);
+  EXPECT_EQ(space.parameters()[0].label(), "forest.contact_restitution");
+  EXPECT_EQ(space.parameters()[0].kind, ParameterKind::kTrunkRestitution);
+  EXPECT_EQ(space.parameters()[1].label(), "forest.contact_friction");
+  EXPECT_EQ(space.parameters()[1].upper, 0.9);
+  EXPECT_EQ(space.Current(site.scene), (std::vector<double>{0.3, 0.5}));
+  core::Scene scene = site.scene;
+  space.Apply({0.45, 0.7}, &scene);
+  EXPECT_EQ(scene.forest.contact.restitution, 0.45);
+  EXPECT_EQ(scene.forest.contact.friction, 0.7);
+  EXPECT_EQ(scene.forest.Law().restitution, 0.45);  // what the strikes use
+  EXPECT_EQ(scene.forest.Law().friction, 0.7);
+  EXPECT_EQ(space.Current(scene), (std::vector<double>{0.45, 0.7}));
+  std::string message;
+  EXPECT_EQ(sites::SetMaterialValue("forest", "contact_restitution", 1.5, sites::Units::kSI,
+                                    &scene, &message),
+            sites::MaterialValueFault::kValue);
+  EXPECT_THAT(message, HasSubstr("expected a trunk restitution in [0.01, 0.99]"));
+  EXPECT_EQ(sites::SetMaterialValue("soil", "contact_friction", 0.4, sites::Units::kSI, &scene,
+                                    &message),
+            sites::MaterialValueFault::kField);
+  sites::testing::TempDir bad;
+  const std::string error = sites::testing::ErrorOf([&] {
+    sites::LoadSite(bad.Write("site.json", R"({
+      "name": "s", "units": "si",
+      "surface": {"resolution": 2, "points": [[0, 0, 50], [100, 0, 0], [0, 60, 50], [100, 60, 0]]},
+      "materials": [{"id": "soil", "hardness": 0.3, "roughness": 0.2}],
+      "rocks": [{"count": 4, "shape": "sphere", "size": [0.5, 1], "unit_weight": 26,
+                 "release": {"zone": [[2, 20], [8, 20], [8, 40], [2, 40]]}}],
+      "forest": {"trees": [{"x": 50, "y": 30, "dbh_cm": 30}],
+                 "calibrate": {"contact_restitution": [0, 0.5]}}
+    })"));
+  });
+  EXPECT_THAT(error, HasSubstr("$.forest.calibrate.contact_restitution"));
+  EXPECT_THAT(error, HasSubstr("expected bounds within [0.01, 0.99]"));
+}
+
 TEST(CalibrationRun, SummaryHoldsTheBestMethodAndItsSimulation) {
   const sites::Site site = TwinSite(6);
   const observations::Observations obs = TwinObservations(TwinSite(20), kTruth, 5);

@@ -49,6 +49,17 @@ TEST(Examples, TutorialLoads) {
   EXPECT_NEAR(*top, 300 * 0.3048, 0.5);
 }
 
+// The forest twin (sites/examples/forest_twin/README.md): the tutorial's
+// terrain with a stand of 157 stems drawn from the seed, the soil's two
+// values calibrated.
+TEST(Examples, ForestTwinLoadsWithItsStand) {
+  const Site site = LoadSite(testing::ExampleSite("forest_twin"));
+  EXPECT_EQ(site.scene.forest.stems.size(), 157u);
+  EXPECT_EQ(site.drawn_stems_first, 0u);
+  ASSERT_EQ(site.calibrate.size(), 2u);
+  EXPECT_EQ(site.calibrate[0].material, "soil");
+}
+
 TEST(Examples, Profile2dIsOneCellWide) {
   const Site site = LoadSite(testing::ExampleSite("profile2d"));
   const core::Scene& s = site.scene;

@@ -153,5 +153,124 @@ TEST(ReadForest, StandAndContactRangesAreChecked) {
               HasSubstr("$.forest.contact.restitution"));
 }
 
+// An ESRI ASCII grid of 2 x 2 cells of 20 m from (20, 10): `v` gives the
+// rows from the north, west to east.
+std::string Grid2x2(const std::string& v, double xll = 20) {
+  return "ncols 2\nnrows 2\nxllcorner " + std::to_string(xll) +
+         "\nyllcorner 10\ncellsize 20\nNODATA_value -9999\n" + v;
+}
+
+// Loads BaseSite() with the four stand rasters (and `stands`, when given);
+// each raster's text by name, "" for the default.
+struct Rasters {
+  std::string stems = Grid2x2("400 400\n400 400\n"), mean = Grid2x2("30 30\n30 30\n"),
+              sd = Grid2x2("10 10\n10 10\n"), conifer = Grid2x2("70 70\n70 70\n");
+};
+Loaded LoadRasters(const Rasters& r, const Json& stands = nullptr, bool expect_error = false) {
+  TempDir dir;
+  Json site = BaseSite();
+  site["forest"]["rasters"] = {{"stems_per_ha", "stems.asc"},
+                               {"dbh_mean_cm", "dbh_mean.asc"},
+                               {"dbh_sd_cm", "dbh_sd.asc"},
+                               {"conifer_percent", "conifer.asc"}};
+  if (!stands.is_null()) site["forest"]["stands"] = stands;
+  dir.Write("stems.asc", r.stems);
+  dir.Write("dbh_mean.asc", r.mean);
+  dir.Write("dbh_sd.asc", r.sd);
+  dir.Write("conifer.asc", r.conifer);
+  Loaded out;
+  out.path = dir.Write("site.json", site.dump(2));
+  if (expect_error) {
+    out.error = ErrorOf([&] { LoadSite(out.path); });
+  } else {
+    out.site = LoadSite(out.path);
+  }
+  return out;
+}
+
+Json Square(double x0, double y0, double per_ha) {
+  Json st = Stand(per_ha);
+  st["zone"] = {{x0, y0}, {x0 + 20, y0}, {x0 + 20, y0 + 20}, {x0, y0 + 20}};
+  return st;
+}
+
+void ExpectSameStems(const core::Forest& a, const core::Forest& b) {
+  ASSERT_EQ(a.stems.size(), b.stems.size());
+  for (std::size_t k = 0; k < a.stems.size(); ++k) {
+    EXPECT_EQ(a.stems[k].x, b.stems[k].x) << k;
+    EXPECT_EQ(a.stems[k].y, b.stems[k].y) << k;
+    EXPECT_EQ(a.stems[k].dbh, b.stems[k].dbh) << k;
+    EXPECT_EQ(a.stems[k].height, b.stems[k].height) << k;
+    EXPECT_EQ(a.stems[k].species, b.stems[k].species) << k;
+  }
+}
+
+// A raster cell is a stand over its square: the rasters give the stems of
+// one stand per cell with stems, in the file's order after the site file's
+// stands (docs/reference/site-file.md, `$.forest.rasters`).
+TEST(ReadForest, RastersDrawEachCellAsAStandOverItsSquare) {
+  // Stems in the north-western cell only: the stand over its square.
+  Rasters one;
+  one.stems = Grid2x2("400 0\n0 -9999\n");
+  const Loaded r = LoadRasters(one);
+  const Loaded s = Load({{"stands", {Square(20, 30, 400)}}});
+  EXPECT_GT(s.site.scene.forest.stems.size(), 8u) << "400 per ha on 0.04 ha";
+  ExpectSameStems(r.site.scene.forest, s.site.scene.forest);
+  EXPECT_EQ(r.site.drawn_stems_first, 0u);
+  // Uniform rasters: four stands, one a cell (rows from the north).
+  const Loaded uniform = LoadRasters(Rasters());
+  const Loaded four = Load({{"stands",
+                             {Square(20, 30, 400), Square(40, 30, 400), Square(20, 10, 400),
+                              Square(40, 10, 400)}}});
+  ExpectSameStems(uniform.site.scene.forest, four.site.scene.forest);
+  // After a stand of the site file the cells take the streams after its.
+  const Loaded after = LoadRasters(one, Json::array({Square(60, 10, 400)}));
+  const Loaded two = Load({{"stands", {Square(60, 10, 400), Square(20, 30, 400)}}});
+  ExpectSameStems(after.site.scene.forest, two.site.scene.forest);
+}
+
+// A cell reaching past the terrain's edge keeps its density on the part on
+// the terrain: its stems drawn off the terrain are dropped.
+TEST(ReadForest, RasterCellsPastTheTerrainsEdgeDropTheirStemsOffIt) {
+  Rasters r;  // cells of 20 m from x = 90: the western half on the terrain
+  r.stems = Grid2x2("10000 10000\n10000 10000\n", 90);
+  r.mean = Grid2x2("30 30\n30 30\n", 90);
+  r.sd = Grid2x2("10 10\n10 10\n", 90);
+  r.conifer = Grid2x2("70 70\n70 70\n", 90);
+  const Loaded l = LoadRasters(r);
+  // 1 stem per m^2 on 10 m x 40 m of terrain: a Poisson count of mean 400.
+  const core::Forest& f = l.site.scene.forest;
+  EXPECT_NEAR(static_cast<double>(f.stems.size()), 400.0, 4 * std::sqrt(400.0));
+  for (const core::Stem& s : f.stems) EXPECT_LE(s.x, 100.0);
+}
+
+TEST(ReadForest, BadRastersNameTheFileAndTheCell) {
+  Rasters negative;
+  negative.stems = Grid2x2("400 -5\n400 400\n");
+  EXPECT_THAT(LoadRasters(negative, nullptr, true).error,
+              HasSubstr("stems.asc: the cell at column 2, row 1 (centre 50, 40 m): -5 stems per "
+                        "ha; expected a stem density in [0, 10000]"));
+  Rasters absurd;
+  absurd.mean = Grid2x2("30 30\n900 30\n");
+  EXPECT_THAT(LoadRasters(absurd, nullptr, true).error,
+              HasSubstr("dbh_mean.asc: the cell at column 1, row 2 (centre 30, 20 m): 900 where "
+                        "the stems raster has 400 stems per ha; expected a mean DBH in [5, 300]"));
+  Rasters missing;
+  missing.conifer = Grid2x2("70 -9999\n70 70\n");
+  EXPECT_THAT(LoadRasters(missing, nullptr, true).error,
+              HasSubstr("conifer.asc: the cell at column 2, row 1 (centre 50, 40 m): nodata"));
+  Rasters away;  // 1 km east of the terrain
+  away.stems = Grid2x2("400 400\n400 400\n", 1020);
+  away.mean = Grid2x2("30 30\n30 30\n", 1020);
+  away.sd = Grid2x2("10 10\n10 10\n", 1020);
+  away.conifer = Grid2x2("70 70\n70 70\n", 1020);
+  EXPECT_THAT(LoadRasters(away, nullptr, true).error,
+              HasSubstr("stems.asc: no cell with stems overlaps the terrain"));
+  Rasters shifted;
+  shifted.sd = Grid2x2("10 10\n10 10\n", 22);
+  EXPECT_THAT(LoadRasters(shifted, nullptr, true).error,
+              HasSubstr("dbh_sd.asc: 2 x 2 cells of 20 from (32, 20); expected the cells of"));
+}
+
 }  // namespace
 }  // namespace rockcal::sites

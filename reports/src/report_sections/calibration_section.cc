@@ -22,6 +22,8 @@ std::string ParameterValue(const calibrate::Parameter& p, double v, sites::Units
     case calibrate::ParameterKind::kRollingResistance:
     case calibrate::ParameterKind::kFriction:
     case calibrate::ParameterKind::kCapacityFactor:
+    case calibrate::ParameterKind::kTrunkRestitution:
+    case calibrate::ParameterKind::kTrunkFriction:
       return FormatNumber(v, "%.3f");
     case calibrate::ParameterKind::kVegetation:
       return Show(v * 1e-3) + " kPa" +

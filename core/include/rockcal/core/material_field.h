@@ -23,7 +23,9 @@ enum class MaterialField {
   kRollingResistance,
   kFriction,
   kVegetation,
-  kCapacityFactor  // the forest's (Forest::capacity_factor)
+  kCapacityFactor,      // the forest's (Forest::capacity_factor)
+  kTrunkRestitution,    // the forest's (TrunkContact::restitution)
+  kTrunkFriction        // the forest's (TrunkContact::friction)
 };
 
 // The entry that holds the forest's fields, in the place of a material id.
@@ -70,7 +72,8 @@ double FieldValue(const Material& material, MaterialField field, const HardnessM
 void SetFieldValue(Material* material, MaterialField field, double value);
 
 // A forest field's value, and setting it (SI): the capacity factor rescales
-// every stem's capacity (StemCapacity at the new factor). A material's field is
+// every stem's capacity (StemCapacity at the new factor); the trunk
+// contact's restitution and friction are Forest::contact's. A material's field is
 // not the forest's (std::logic_error).
 double ForestFieldValue(const Forest& forest, MaterialField field);
 void SetForestFieldValue(Forest* forest, MaterialField field, double value);
