@@ -40,7 +40,8 @@ Eigen::Vector2d ReadReleaseZone(const JsonNode& z, Units units, const core::Heig
   for (const Eigen::Vector2d& v : r->zone) centre += v;
   centre /= static_cast<double>(r->zone.size());
   *note = "zone of " + std::to_string(r->zone.size()) + " vertices, area " +
-          FormatNumber(std::abs(SignedArea(r->zone))) + " m^2";
+          FormatNumber(std::abs(SignedArea(r->zone)) * text.to_file * text.to_file) + " " +
+          LengthUnit(units) + "^2";
   return centre;
 }
 
@@ -55,7 +56,8 @@ Eigen::Vector2d ReadReleasePoint(const JsonNode& node, Units units, const core::
     p.Fail("release point is off the terrain (outside the grid or over a hole; " + text.grid +
            "); expected a point on the terrain");
   }
-  *note = "point (" + FormatNumber(r->point.x()) + ", " + FormatNumber(r->point.y()) + ") m";
+  *note = "point (" + FormatNumber(r->point.x() * text.to_file) + ", " +
+          FormatNumber(r->point.y() * text.to_file) + ") " + LengthUnit(units);
   if (const auto spread = node.Find("position_spread")) {
     // A tracked release is known within an error: each rock starts at a
     // point drawn uniformly from the disc of this radius about the point
@@ -71,7 +73,7 @@ Eigen::Vector2d ReadReleasePoint(const JsonNode& node, Units units, const core::
       if (auto off = FindOffTerrain(grid, r->zone, grid.spacing / 4))
         spread->Fail("the disc of this radius about the release point reaches " + text.At(*off) +
                      ", off the terrain (" + text.grid + "); expected a disc on the terrain");
-      *note += " within " + FormatNumber(radius) + " m (uniform in the disc)";
+      *note += " within " + LengthText(radius, units) + " (uniform in the disc)";
     }
   }
   return r->point;
@@ -99,7 +101,7 @@ void ReadReleaseHeight(const JsonNode& node, Units units, const core::HeightGrid
               " " + LengthUnit(units) +
               "; expected a drop elevation at or above it (and at most 1 km above it)");
     }
-    *note += ", dropped from elevation " + FormatNumber(*r->elevation) + " m";
+    *note += ", dropped from elevation " + LengthText(*r->elevation, units);
   }
 }
 
@@ -139,7 +141,7 @@ core::Release ReadRelease(const JsonNode& node, Units units, const core::HeightG
       has_zone ? ReadReleaseZone(node.Get("zone"), units, grid, text, &r, note)
                : ReadReleasePoint(node, units, grid, text, &r, note);
   if (const std::optional<double> z = ElevationAt(grid, centre.x(), centre.y()))
-    *note += ", ground " + FormatNumber(*z) + " m";
+    *note += ", ground " + LengthText(*z, units);
   ReadReleaseHeight(node, units, grid, centre, text, &r, note);
   if (auto v = node.Find("velocity")) r.velocity = ReadReleaseVelocity(*v, units, false);
   if (auto v = node.Find("velocity_spread"))
@@ -282,8 +284,9 @@ core::RockGroup ReadInventoryGroup(const JsonNode& node, Units units, const core
   g.release = ReadRelease(node.Get("release"), units, grid, &release_note);
   const core::GroupExtent extent = core::GroupBodies(g, core::kStandardGravity);
   *note = std::to_string(g.count) + " rocks from the inventory " + file + " (" +
-          std::to_string(g.inventory.size()) + " blocks, " + FormatNumber(extent.lightest.mass) +
-          "-" + FormatNumber(extent.heaviest.mass) + " kg), release " + release_note;
+          std::to_string(g.inventory.size()) + " blocks, " +
+          MassText(extent.lightest.mass, units) + " to " + MassText(extent.heaviest.mass, units) +
+          "), release " + release_note;
   for (const auto& [name, fit] : fits) *note += "; worst fit of " + fit.second;
   return g;
 }
@@ -337,9 +340,12 @@ core::RockGroup ReadShapeGroup(const JsonNode& node, Units units, const core::He
   g.release = ReadRelease(node.Get("release"), units, grid, &release_note);
   *note = std::to_string(g.count) + " " +
           (g.scanned ? "of the shape " + FitSummary(*g.scanned) : core::ShapeToString(g.shape)) +
-          ", size " + FormatNumber(g.size_min) +
-          (g.size_max > g.size_min ? "-" + FormatNumber(g.size_max) : "") + " m, unit weight " +
-          FormatNumber(g.unit_weight / 1000.0) + " kN/m^3, release " + release_note;
+          ", size " +
+          (g.size_max > g.size_min
+               ? FormatNumber(g.size_min / LengthToSI(1.0, units)) + "-" +
+                     LengthText(g.size_max, units)
+               : LengthText(g.size_min, units)) +
+          ", unit weight " + UnitWeightText(g.unit_weight, units) + ", release " + release_note;
   return g;
 }
 
