@@ -28,10 +28,12 @@ struct ReleaseText {
   }
 };
 
-// A release zone: on the terrain. Returns its centre.
-Eigen::Vector2d ReadReleaseZone(const JsonNode& z, Units units, const core::HeightGrid& grid,
-                                const ReleaseText& text, core::Release* r, std::string* note) {
-  r->zone = ReadPolygon(z, units);
+// A release zone (`zone`, SI; from the node `z`): on the terrain. Returns
+// its centre.
+Eigen::Vector2d ReadReleaseZone(const JsonNode& z, Polygon zone, Units units,
+                                const core::HeightGrid& grid, const ReleaseText& text,
+                                core::Release* r, std::string* note) {
+  r->zone = std::move(zone);
   if (auto off = FindOffTerrain(grid, r->zone, grid.spacing / 4)) {
     z.Fail("release zone point " + text.At(*off) + " is off the terrain (outside the grid or " +
            "over a hole; " + text.grid + "); expected a zone entirely on the terrain");
@@ -121,25 +123,40 @@ Eigen::Vector3d ReadReleaseVelocity(const JsonNode& v, Units units, bool spread)
 }  // namespace
 
 core::Release ReadRelease(const JsonNode& node, Units units, const core::HeightGrid& grid,
-                          std::string* note) {
+                          std::string* note, const ZoneFileReader& read_zone_file) {
   node.Keys(SiteKeysAt("$.rocks[].release"));
   core::Release r;
   if (node.Has("position_spread") && !node.Has("point"))
     node.Get("position_spread").Fail("goes with a release 'point' only (a zone is already spread)");
   if (node.Has("height") && node.Has("elevation"))
     node.Fail("expected 'height' (above the ground) or 'elevation' (absolute), not both");
-  const bool has_zone = node.Has("zone"), has_point = node.Has("point");
-  if (has_zone == has_point)
-    node.Fail("expected exactly one of 'zone' (plan polygon) or 'point' ([x, y])");
+  const bool has_zone = node.Has("zone"), has_file = node.Has("zone_file"),
+             has_point = node.Has("point");
+  if (int{has_zone} + int{has_file} + int{has_point} != 1)
+    node.Fail(
+        "expected exactly one of 'zone' (plan polygon), 'zone_file' (a polygon of a GIS file) "
+        "or 'point' ([x, y])");
+  if (has_file && !read_zone_file)
+    node.Get("zone_file").Fail("a release zone file is read with its site (expected 'zone')");
   ReleaseText text;
   text.to_file = 1.0 / LengthToSI(1.0, units);
   text.grid = "the terrain spans x " + FormatNumber(grid.x(0) * text.to_file) + " to " +
               FormatNumber(grid.x(grid.nx - 1) * text.to_file) + ", y " +
               FormatNumber(grid.y(0) * text.to_file) + " to " +
               FormatNumber(grid.y(grid.ny - 1) * text.to_file);
-  const Eigen::Vector2d centre =
-      has_zone ? ReadReleaseZone(node.Get("zone"), units, grid, text, &r, note)
-               : ReadReleasePoint(node, units, grid, text, &r, note);
+  Eigen::Vector2d centre;
+  if (has_zone) {
+    const JsonNode z = node.Get("zone");
+    centre = ReadReleaseZone(z, ReadPolygon(z, units), units, grid, text, &r, note);
+  } else if (has_file) {
+    const JsonNode z = node.Get("zone_file");
+    std::string where;
+    Polygon polygon = read_zone_file(z, &where);
+    centre = ReadReleaseZone(z, std::move(polygon), units, grid, text, &r, note);
+    *note += " (" + where + ")";
+  } else {
+    centre = ReadReleasePoint(node, units, grid, text, &r, note);
+  }
   if (const std::optional<double> z = ElevationAt(grid, centre.x(), centre.y()))
     *note += ", ground " + LengthText(*z, units);
   ReadReleaseHeight(node, units, grid, centre, text, &r, note);
@@ -262,7 +279,8 @@ std::map<std::string, std::pair<double, std::string>> ScanInventory(
 // repeats them in turn.
 core::RockGroup ReadInventoryGroup(const JsonNode& node, Units units, const core::HeightGrid& grid,
                                    const std::string& base_dir, core::RockGroup g,
-                                   std::vector<std::string>* inputs, std::string* note) {
+                                   std::vector<std::string>* inputs, std::string* note,
+                                   const ZoneFileReader& read_zone_file) {
   node.Keys(SiteKeysAt("$.rocks[] (inventory)"));
   const JsonNode inv = node.Get("inventory");
   const std::string file = ResolvePath(base_dir, inv.String());
@@ -281,7 +299,7 @@ core::RockGroup ReadInventoryGroup(const JsonNode& node, Units units, const core
   g.count = node.Has("count") ? static_cast<int>(node.Get("count").Integer(1, core::kMaxRocks))
                               : static_cast<int>(g.inventory.size());
   std::string release_note;
-  g.release = ReadRelease(node.Get("release"), units, grid, &release_note);
+  g.release = ReadRelease(node.Get("release"), units, grid, &release_note, read_zone_file);
   const core::GroupExtent extent = core::GroupBodies(g, core::kStandardGravity);
   *note = std::to_string(g.count) + " rocks from the inventory " + file + " (" +
           std::to_string(g.inventory.size()) + " blocks, " +
@@ -308,7 +326,8 @@ void ReadSize(const JsonNode& size, Units units, core::RockGroup* g) {
 // A shape (or a scanned shape's file) at a size and unit weight.
 core::RockGroup ReadShapeGroup(const JsonNode& node, Units units, const core::HeightGrid& grid,
                                const std::string& base_dir, core::RockGroup g,
-                               std::vector<std::string>* inputs, std::string* note) {
+                               std::vector<std::string>* inputs, std::string* note,
+                               const ZoneFileReader& read_zone_file) {
   node.Keys(SiteKeysAt("$.rocks[]"));
   g.count = static_cast<int>(node.Get("count").Integer(1, core::kMaxRocks));
   if (auto sf = node.Find("shape_file")) {
@@ -337,7 +356,7 @@ core::RockGroup ReadShapeGroup(const JsonNode& node, Units units, const core::He
       node.Get("unit_weight"), UnitWeightToSI(node.Get("unit_weight").Positive(), units),
       core::kMinUnitWeight, core::kMaxUnitWeight, "unit weight", Quantity::kUnitWeight, units);
   std::string release_note;
-  g.release = ReadRelease(node.Get("release"), units, grid, &release_note);
+  g.release = ReadRelease(node.Get("release"), units, grid, &release_note, read_zone_file);
   *note = std::to_string(g.count) + " " +
           (g.scanned ? "of the shape " + FitSummary(*g.scanned) : core::ShapeToString(g.shape)) +
           ", size " +
@@ -353,15 +372,16 @@ core::RockGroup ReadShapeGroup(const JsonNode& node, Units units, const core::He
 
 core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightGrid& grid,
                           const std::string& base_dir, std::vector<std::string>* inputs,
-                          std::string* note) {
+                          std::string* note, const ZoneFileReader& read_zone_file) {
   core::RockGroup g;
   if (const auto id = node.Find("id")) {
     g.id = id->String();
     if (g.id.empty()) id->Fail("expected a non-empty group id");
   }
   if (node.Has("inventory"))
-    return ReadInventoryGroup(node, units, grid, base_dir, std::move(g), inputs, note);
-  return ReadShapeGroup(node, units, grid, base_dir, std::move(g), inputs, note);
+    return ReadInventoryGroup(node, units, grid, base_dir, std::move(g), inputs, note,
+                              read_zone_file);
+  return ReadShapeGroup(node, units, grid, base_dir, std::move(g), inputs, note, read_zone_file);
 }
 
 }  // namespace rockcal::sites

@@ -536,7 +536,13 @@ Site LoadSite(const std::string& path) {
   const std::vector<JsonNode> rocks = root.Get("rocks").Array(1);
   for (std::size_t k = 0; k < rocks.size(); ++k) {
     std::string note;
-    scene.groups.push_back(ReadGroup(rocks[k], units, grid, base_dir, &site.inputs, &note));
+    // A release area from a GIS file: ReadReleaseFile on this site (its CRS,
+    // inputs).
+    const ZoneFileReader read_zone_file = [&](const JsonNode& z, std::string* where) {
+      return ReadReleaseFile(z, base_dir, &site, where);
+    };
+    scene.groups.push_back(
+        ReadGroup(rocks[k], units, grid, base_dir, &site.inputs, &note, read_zone_file));
     const std::string& id = scene.groups.back().id;
     for (std::size_t j = 0; j + 1 < scene.groups.size() && !id.empty(); ++j)
       if (scene.groups[j].id == id)

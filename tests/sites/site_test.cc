@@ -647,8 +647,8 @@ TEST(LoadSite, ReleaseErrors) {
   EXPECT_THAT(LoadError([](Json& s) {
                 s["rocks"][1]["release"]["zone"] = s["rocks"][0]["release"]["zone"];
               }),
-              HasSubstr("$.rocks[1].release: expected exactly one of 'zone' (plan polygon) or "
-                        "'point' ([x, y])"));
+              HasSubstr("$.rocks[1].release: expected exactly one of 'zone' (plan polygon), "
+                        "'zone_file' (a polygon of a GIS file) or 'point' ([x, y])"));
   EXPECT_THAT(LoadError([](Json& s) { s["rocks"][1]["release"].erase("point"); }),
               HasSubstr("$.rocks[1].release: expected exactly one of 'zone'"));
   EXPECT_THAT(LoadError([](Json& s) { s["rocks"][0]["release"]["height"] = -1; }),
