@@ -282,7 +282,6 @@ int Calibrate(const std::vector<std::string>& argv) {
   const auto start_time = std::chrono::steady_clock::now();
   const Args args(argv, FlagsOf("calibrate"));
   const std::string site_path = args.OnlyPositional("SITE.json");
-  const std::string out = args.Get("out");
   const std::string obs_path = args.Get("observations");
   std::vector<calibrate::Method> methods = calibrate::CalibrationOptions{}.methods;
   MethodsFromArgs(args, &methods);
@@ -300,11 +299,13 @@ int Calibrate(const std::vector<std::string>& argv) {
                                         }),
                          site.calibrate.end());
   }
+  const std::string out = OutFolder(args, site_path, "calibrate");
   calibrate::CalibrationOptions options = OptionsFromArgs(args, out);
   options.methods = methods;
   const observations::Observations obs = observations::LoadObservations(obs_path, site.scene);
   PrintWarnings(sites::IdenticalCopyWarnings(site.scene));
   PrintWarnings(observations::DuplicateRunWarnings(obs));
+  PrintNotes(site.resampled, args.Flag("quiet"));
   PosteriorFromArgs(args, &options);
   calibrate::CheckCalibration(site, options);  // before the folder is made
   const int folds = args.Has("holdout") ? static_cast<int>(args.Integer("holdout", 0, 2, 1000)) : 0;

@@ -61,12 +61,12 @@ int Campaign(const std::vector<std::string>& argv) {
   const auto start_time = std::chrono::steady_clock::now();
   const Args args(argv, FlagsOf("campaign"));
   const std::string path = args.OnlyPositional("CAMPAIGN.json");
-  const std::string out = args.Get("out");
   std::vector<calibrate::Method> methods = calibrate::CalibrationOptions::SingleStage().methods;
   MethodsFromArgs(args, &methods);
   if (args.Flag("resume") && args.Flag("force"))
     throw InputError("arguments", "give --resume or --force, not both");
   const calibrate::Campaign campaign = calibrate::LoadCampaign(path);
+  const std::string out = OutFolder(args, path, "campaign");
   // A campaign searches in one stage, at the rocks it is given.
   calibrate::CalibrationOptions options =
       OptionsFromArgs(args, out, calibrate::CalibrationOptions::SingleStage());

@@ -29,6 +29,29 @@
 
 namespace rockcal::cli {
 
+std::string OutFolder(const Args& args, const std::string& input, const std::string& command) {
+  if (args.Has("out")) return args.Get("out");
+  if (args.Flag("resume"))
+    throw InputError("argument --resume",
+                     "continues the calibration in the folder --out names; expected --out DIR");
+  std::string name = command;
+  if (!input.empty()) {
+    const std::filesystem::path path(input);
+    std::string stem = path.stem().string();
+    if (stem == "site" || stem == "campaign") {
+      const std::string folder =
+          std::filesystem::absolute(path).parent_path().filename().string();
+      if (!folder.empty()) stem = folder;
+    }
+    if (!stem.empty()) name = stem + "-" + command;
+  }
+  std::string out = name;
+  std::error_code ec;
+  for (int k = 2; std::filesystem::exists(out, ec) || ec; ++k) out = name + "-" + std::to_string(k);
+  parallel::OnRoot([&] { std::printf("output folder: %s (no --out given)\n", out.c_str()); });
+  return out;
+}
+
 std::string RastersWritten(bool asked, const sites::Site& site) {
   if (!asked && !site.gis) return "";
   return std::string(", rasters.tif, rasters/*.asc") +
@@ -172,8 +195,8 @@ void WriteForestFiles(const RankOutputDir& dir, const sites::Site& site,
 }
 
 // The console's lines on a simulate run.
-void PrintSimulate(const Args& args, const SimulateInputs& in, const core::Scene& scene,
-                   const core::SimulationResult& result,
+void PrintSimulate(const Args& args, const std::string& out, const SimulateInputs& in,
+                   const core::Scene& scene, const core::SimulationResult& result,
                    const std::optional<calibrate::PosteriorRun>& run, const sites::Site& site) {
   std::printf("%s: %zu rocks in %.2f s (%ld steps, %ld flights): %d stopped, %d left, %d timeout\n",
               scene.name.c_str(), result.rocks.size(), result.wall_seconds, result.figures.steps,
@@ -188,7 +211,7 @@ void PrintSimulate(const Args& args, const SimulateInputs& in, const core::Scene
     std::printf("parameters: the point values of %s%s\n", in.parameters->file.c_str(),
                 in.parameters->has_posterior() ? " (--point-values: its posterior not drawn)" : "");
   std::printf("wrote %s/summary.json, rocks.csv, diagnostics.json, report.html%s%s%s%s\n",
-              args.Get("out").c_str(),
+              out.c_str(),
               scene.options.record.trajectories > 0 ? ", trajectories.csv" : "",
               scene.forest.empty()                                 ? ""
               : site.drawn_stems_first < scene.forest.stems.size() ? ", tree_impacts.csv, trees.csv"
@@ -201,7 +224,6 @@ void PrintSimulate(const Args& args, const SimulateInputs& in, const core::Scene
 int Simulate(const std::vector<std::string>& argv) {
   const Args args(argv, FlagsOf("simulate"));
   const std::string site_path = args.OnlyPositional("SITE.json");
-  const std::string out = args.Get("out");
   const SimulateInputs in = ReadSimulateInputs(args, site_path);
   sites::Site site = in.loaded;
   site.scene = SimulateScene(args, in, in.parameters ? &*in.parameters : nullptr);
@@ -216,10 +238,12 @@ int Simulate(const std::vector<std::string>& argv) {
                          : "the site has no 'forest' to compare the bare slope with (expected a "
                            "site with a forest)");
 
+  const std::string out = OutFolder(args, site_path, "simulate");
   RunInputs inputs;
   inputs.Add(site).Add(args.Get("parameters", ""));
   if (in.drawn) inputs.Add(in.parameters->samples_file);
   RankOutputDir dir(out, args.Flag("force"), inputs.Origin("simulate"));
+  PrintNotes(site.resampled, args.Flag("quiet"));
   Progress progress("simulate", args.Flag("quiet"));
   // The report's views need the passages per cell and a few trajectories;
   // they are recorded on a copy so that trajectories.csv is still written
@@ -257,7 +281,7 @@ int Simulate(const std::vector<std::string>& argv) {
   reports::WriteFileAtomically(dir.File("report.html"), reports::HtmlReport(report));
   dir.Commit();
   if (!args.Flag("quiet")) {
-    PrintSimulate(args, in, scene, result, run, site);
+    PrintSimulate(args, out, in, scene, result, run, site);
     if (bare) {
       const core::RunoutStats with = core::ComputeRunout(result.rocks);
       const core::RunoutStats without = core::ComputeRunout(bare->rocks);
@@ -291,6 +315,9 @@ int Validate(const std::vector<std::string>& argv) {
                      "expected --observations with a 'tracks_file' too");
   const sites::Site site = sites::LoadSite(site_path);
   const core::Scene& scene = site.scene;
+  // Lengths and masses in the site's units (docs/reference/commands.md).
+  const auto length = [&](double m) { return sites::LengthText(m, site.units, "%.4g"); };
+  const auto mass = [&](double kg) { return sites::MassText(kg, site.units, "%.4g"); };
   std::printf("site '%s' (%s): OK\n", scene.name.c_str(), site_path.c_str());
   for (const std::string& note : site.notes) std::printf("  %s\n", note.c_str());
   const core::Terrain terrain = core::BuildTerrain(scene);
@@ -302,21 +329,23 @@ int Validate(const std::vector<std::string>& argv) {
     const core::Material& m = scene.materials[k];
     const core::ContactLaw law = core::DeriveContactLaw(m, scene.hardness_model);
     std::printf(
-        "  %-12s %7d nodes  hardness %.3f  roughness %.3f m (sphere r %.3g m)  e %.3f  f %.3f  "
+        "  %-12s %7d nodes  hardness %.3f  roughness %s (sphere r %s)  e %.3f  f %.3f  "
         "t_c %.4g s  zeta %.3f (eq. 13: %.3f)\n",
-        m.id.c_str(), nodes[k], m.hardness, m.roughness_m,
-        core::VirtualSphereRadius(m.roughness_m, scene.grid.spacing), law.restitution, law.friction,
-        law.contact_time, law.damping_ratio, law.eq13_damping_ratio);
+        m.id.c_str(), nodes[k], m.hardness, length(m.roughness_m).c_str(),
+        length(core::VirtualSphereRadius(m.roughness_m, scene.grid.spacing)).c_str(),
+        law.restitution, law.friction, law.contact_time, law.damping_ratio,
+        law.eq13_damping_ratio);
   }
   std::printf("partitions:\n");
   for (const auto& p : scene.partitions) {
     if (p.kind == core::Partition::Kind::kLine) {  // a barrier
-      std::printf("  %-10s line of %zu vertices, %.3f m high, %.4g kJ%s\n", p.id.c_str(),
-                  p.line.size(), p.height, p.capacity * 1e-3, p.stops ? ", stops rocks" : "");
+      std::printf("  %-10s line of %zu vertices, %s high, %.4g kJ%s\n", p.id.c_str(),
+                  p.line.size(), length(p.height).c_str(), p.capacity * 1e-3,
+                  p.stops ? ", stops rocks" : "");
       continue;
     }
-    std::printf("  %-10s %s = %.3f m\n", p.id.c_str(),
-                p.kind == core::Partition::Kind::kX ? "x" : "z", p.value);
+    std::printf("  %-10s %s = %s\n", p.id.c_str(), p.kind == core::Partition::Kind::kX ? "x" : "z",
+                length(p.value).c_str());
   }
   std::printf("rock groups:\n");
   for (const auto& g : scene.groups) {
@@ -325,10 +354,10 @@ int Validate(const std::vector<std::string>& argv) {
     const core::RockBody& hi = extent.heaviest;
     bool shrunk = false;
     const double dt = core::GroupContactStep(scene, g, &shrunk);
-    std::printf("  %5d %-11s size %.3f-%.3f m  mass %.4g-%.4g kg  contact step %.3g s%s\n", g.count,
-                core::ShapeToString(g.shape), std::min(lo.size, hi.size),
-                std::max(lo.size, hi.size), lo.mass, hi.mass, dt,
-                shrunk ? " (shrunk for stability)" : "");
+    std::printf("  %5d %-11s size %s to %s  mass %s to %s  contact step %.3g s%s\n", g.count,
+                core::ShapeToString(g.shape), length(std::min(lo.size, hi.size)).c_str(),
+                length(std::max(lo.size, hi.size)).c_str(), mass(lo.mass).c_str(),
+                mass(hi.mass).c_str(), dt, shrunk ? " (shrunk for stability)" : "");
   }
   PrintWarnings(sites::IdenticalCopyWarnings(scene));
   if (args.Has("observations")) {

@@ -13,6 +13,18 @@
 
 namespace rockcal::cli {
 
+class Args;
+
+// The output folder: --out, or when it is omitted a new folder in the
+// working directory named after `input` (the site or campaign file, or ""
+// for none) and `command`: "<name>-<command>", where <name> is the file's
+// stem, or its folder's name for a file called site.json or campaign.json
+// (sites/examples/tutorial/site.json -> tutorial-simulate); then -2, -3, ...
+// until the name is free, so that nothing is ever overwritten. A default
+// folder is announced on stdout ("output folder: ..."), even with --quiet.
+// --resume needs --out (exit 2 without it).
+std::string OutFolder(const Args& args, const std::string& input, const std::string& command);
+
 // What --rasters adds to the printed list of files: "" without rasters.
 std::string RastersWritten(bool asked, const sites::Site& site);
 

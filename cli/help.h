@@ -20,7 +20,10 @@ std::string OverviewHelp(const std::string& reference);
 // COMMAND", up to the next "## " heading; "" when the reference has none.
 std::string CommandHelp(const std::string& reference, const std::string& command);
 
-// The section's text as a terminal shows it: Markdown's code fences dropped.
+// The section's text as a terminal shows it: Markdown's code fences
+// dropped (code lines kept as written) and, in prose, links shown as their
+// text ([x](y.md) -> x), no backticks, bold marks, heading marks, table
+// pipes or table rules.
 std::string ForTerminal(const std::string& markdown);
 
 // Whether the arguments after the command ask for help (--help or -h).

@@ -34,4 +34,9 @@ void PrintWarnings(const std::vector<std::string>& warnings) {
   for (const std::string& w : warnings) std::printf("WARNING: %s\n", w.c_str());
 }
 
+void PrintNotes(const std::vector<std::string>& notes, bool quiet) {
+  if (quiet) return;
+  for (const std::string& n : notes) std::printf("note: %s\n", n.c_str());
+}
+
 }  // namespace rockcal::cli

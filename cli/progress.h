@@ -26,6 +26,10 @@ class Progress final {
 // Each warning on stdout as "WARNING: <text>", a line each.
 void PrintWarnings(const std::vector<std::string>& warnings);
 
+// Each note on stdout as "note: <text>", a line each (a site's resampling,
+// sites::Site::resampled); nothing when quiet.
+void PrintNotes(const std::vector<std::string>& notes, bool quiet);
+
 }  // namespace rockcal::cli
 
 #endif  // ROCKCAL_CLI_PROGRESS_H_

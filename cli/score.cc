@@ -24,7 +24,6 @@ namespace rockcal::cli {
 int Score(const std::vector<std::string>& argv) {
   const Args args(argv, FlagsOf("score"));
   const std::string site_path = args.OnlyPositional("SITE.json");
-  const std::string out = args.Get("out");
   const sites::Site site = sites::LoadSite(site_path);
   const observations::Observations obs =
       observations::LoadObservations(args.Get("observations"), site.scene);
@@ -35,7 +34,9 @@ int Score(const std::vector<std::string>& argv) {
   options.threads = static_cast<int>(args.Integer("threads", options.threads, 0, 1024));
   if (args.Has("parameters")) options.parameters_file = args.Get("parameters");
   const core::Scene scene = calibrate::ScoreScene(site, options);
+  PrintNotes(site.resampled, args.Flag("quiet"));
 
+  const std::string out = OutFolder(args, site_path, "score");
   RunInputs inputs;
   inputs.Add(site).Add(obs).Add(options.parameters_file);
   RankOutputDir dir(out, args.Flag("force"), inputs.Origin("score"));

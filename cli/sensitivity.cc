@@ -24,7 +24,6 @@ namespace rockcal::cli {
 int Sensitivity(const std::vector<std::string>& argv) {
   const Args args(argv, FlagsOf("sensitivity"));
   const std::string site_path = args.OnlyPositional("SITE.json");
-  const std::string out = args.Get("out");
   calibrate::SensitivityOptions opt;
   const std::string method = args.Get("method", calibrate::SensitivityMethodToString(opt.method));
   if (!calibrate::StringToSensitivityMethod(method, &opt.method))
@@ -54,6 +53,7 @@ int Sensitivity(const std::vector<std::string>& argv) {
   if (args.Has("observations"))
     obs = observations::LoadObservations(args.Get("observations"), site.scene);
 
+  const std::string out = OutFolder(args, site_path, "sensitivity");
   RunInputs inputs;
   inputs.Add(site);
   if (obs) inputs.Add(*obs);

@@ -221,11 +221,11 @@ int Study(const std::vector<std::string>& argv) {
   if (pos.size() != 2)
     throw InputError("arguments", "expected the study and exactly one SITE.json (found " +
                                       std::to_string(pos.size() - 1) + " files)");
-  const std::string out = args.Get("out");
   sites::Site site = sites::LoadSite(pos[1]);
   for (const std::string& kv : args.All("set")) sites::ApplySetting(kv, &site);
   std::string error;
   if (!site.scene.IsValid(&error)) throw InputError(pos[1], error);
+  const std::string out = OutFolder(args, pos[1], pos[0]);
   if (pos[0] == "stability") return Stability(args, &site, out);
   if (pos[0] == "convergence") return Convergence(args, &site, out);
   return Reach(args, &site, out);

@@ -41,7 +41,6 @@ int Table(const std::vector<std::string>& argv) {
     throw InputError("arguments",
                      "expected at least one RESULT_DIR (the --out folder of a "
                      "rockcal calibrate run)");
-  const std::string out = args.Get("out");
   calibrate::DefaultTableOptions options;
   options.bound_fraction = args.Number("bound-tolerance", options.bound_fraction, 0.0, 0.5);
   options.include_at_bound = args.Flag("include-at-bound");
@@ -51,6 +50,7 @@ int Table(const std::vector<std::string>& argv) {
                      "'" + args.Get("bound-tolerance") +
                          "' is not in [0, 0.5) (the share of a parameter's range within which "
                          "a value counts as at its bound)");
+  const std::string out = OutFolder(args, "", "table");
   // --force must never replace a calibration with its table.
   RunInputs inputs;
   for (const std::string& d : dirs) inputs.Add(d);

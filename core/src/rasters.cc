@@ -28,12 +28,13 @@ RasterSet ComputeRasters(const Scene& scene, const SimulationResult& result) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
 
   // Each rock's values per cell, gathered by cell.
-  std::vector<std::vector<double>> heights(n), energies(n);
+  std::vector<std::vector<double>> heights(n), energies(n), speeds(n);
   std::vector<double> stops(n, 0.0);
   for (const RockRecord& r : result.rocks) {
     for (const CellVisit& v : r.cells) {
       heights[static_cast<std::size_t>(v.cell)].push_back(v.height);
       energies[static_cast<std::size_t>(v.cell)].push_back(v.energy / 1000.0);
+      speeds[static_cast<std::size_t>(v.cell)].push_back(v.speed);
     }
     if (r.outcome != Outcome::kStopped) continue;
     const double fi = std::round((r.stop.x() - g.x0) / g.spacing);
@@ -42,12 +43,14 @@ RasterSet ComputeRasters(const Scene& scene, const SimulationResult& result) {
       stops[static_cast<std::size_t>(fj * g.nx + fi)] += 1.0;
   }
 
-  set.bands.reserve(7);  // the references below stay valid
+  set.bands.reserve(10);  // the references below stay valid
   auto band = [&](const char* name, const char* unit, const char* description) -> RasterBand& {
     set.bands.push_back({name, unit, description, std::vector<double>(n, nan)});
     return set.bands.back();
   };
-  RasterBand& passages = band("passages", "rocks", "rocks whose centre passed over the cell");
+  RasterBand& passages =
+      band("passages", "rocks",
+           "rocks whose centre passed over the cell: the count behind each cell's p95");
   RasterBand& reach = band("reach_probability", "1", "passages / rocks released");
   RasterBand& stop = band("stop_density", "1/m2", "rocks stopped in the cell / cell area");
   RasterBand& e_max = band("energy_max", "kJ", "largest kinetic energy over the cell");
@@ -56,6 +59,9 @@ RasterSet ComputeRasters(const Scene& scene, const SimulationResult& result) {
   RasterBand& h_max = band("height_max", "m", "largest height of a rock's centre above the ground");
   RasterBand& h_p95 = band("height_p95", "m",
                            "95th percentile over the rocks of each rock's largest centre height");
+  RasterBand& v_max = band("speed_max", "m/s", "largest speed of a rock's centre over the cell");
+  RasterBand& v_p95 = band("speed_p95", "m/s",
+                           "95th percentile over the rocks of each rock's largest centre speed");
   const double area = g.spacing * g.spacing;
   for (std::size_t k = 0; k < n; ++k) {
     if (std::isnan(g.z[k])) continue;  // a hole: no map
@@ -70,6 +76,9 @@ RasterSet ComputeRasters(const Scene& scene, const SimulationResult& result) {
     e_p95.values[k] = Quantile(energies[k], 0.95);
     h_max.values[k] = heights[k].back();
     h_p95.values[k] = Quantile(heights[k], 0.95);
+    std::sort(speeds[k].begin(), speeds[k].end());
+    v_max.values[k] = speeds[k].back();
+    v_p95.values[k] = Quantile(speeds[k], 0.95);
   }
   // A forest's strikes, in the cell of the stem struck (docs/physics.md, Trees).
   if (!scene.forest.empty() && result.strikes_recorded) {

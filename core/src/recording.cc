@@ -192,11 +192,12 @@ void Recorder::VisitAt(const RockState& s0, const RockState& s, bool every) {
   last_cell_high_ = centre.array() + half;
   const Crossing c = Record(s0, s);
   if (at < 0) {
-    cells.push_back({cell, c.height, c.energy});
+    cells.push_back({cell, c.height, c.energy, c.speed});
   } else {
     CellVisit& v = cells[static_cast<std::size_t>(at)];
     v.height = std::max(v.height, c.height);
     v.energy = std::max(v.energy, c.energy);
+    v.speed = std::max(v.speed, c.speed);
   }
 }
 
@@ -210,6 +211,7 @@ void Recorder::Finish(const RockState& s) {
       if (out > 0 && cells[out - 1].cell == cells[k].cell) {
         cells[out - 1].height = std::max(cells[out - 1].height, cells[k].height);
         cells[out - 1].energy = std::max(cells[out - 1].energy, cells[k].energy);
+        cells[out - 1].speed = std::max(cells[out - 1].speed, cells[k].speed);
       } else {
         cells[out++] = cells[k];
       }

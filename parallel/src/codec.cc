@@ -68,6 +68,7 @@ void Record(Writer* w, const core::RockRecord& rec) {
     w->Int(c.cell);
     w->Double(c.height);
     w->Double(c.energy);
+    w->Double(c.speed);
   }
   w->Int(static_cast<long long>(rec.trajectory.size()));
   for (const core::TrajectorySample& s : rec.trajectory) {
@@ -117,6 +118,7 @@ core::RockRecord Record(Reader* r) {
     c.cell = static_cast<int>(r->Int());
     c.height = r->Double();
     c.energy = r->Double();
+    c.speed = r->Double();
   }
   rec.trajectory.resize(static_cast<std::size_t>(r->Int()));
   for (core::TrajectorySample& s : rec.trajectory) {

@@ -343,6 +343,35 @@ double StressToSI(double value, Units units) {
 
 const char* StressUnit(Units units) { return units == Units::kUS ? "lbf/ft^2" : "kPa"; }
 
+std::string LengthText(double metres, Units units, const char* format) {
+  return FormatNumber(metres / LengthToSI(1.0, units), format) + " " + LengthUnit(units);
+}
+
+std::string MassText(double kg, Units units, const char* format) {
+  // 1 lb = 0.45359237 kg.
+  return units == Units::kUS ? FormatNumber(kg / 0.45359237, format) + " lb"
+                             : FormatNumber(kg, format) + " kg";
+}
+
+std::string UnitWeightText(double n_per_m3, Units units) {
+  return FormatNumber(n_per_m3 / UnitWeightToSI(1.0, units)) +
+         (units == Units::kUS ? " lbf/ft^3" : " kN/m^3");
+}
+
+const char* FieldUnitText(core::FieldUnit unit, Units units) {
+  switch (unit) {
+    case core::FieldUnit::kLength:
+      return LengthUnit(units);
+    case core::FieldUnit::kStress:
+      return StressUnit(units);
+    case core::FieldUnit::kTime:
+      return "s";
+    case core::FieldUnit::kNone:
+      break;
+  }
+  return "";
+}
+
 double FieldToSI(double value, core::FieldUnit unit, Units units) {
   switch (unit) {
     case core::FieldUnit::kLength:

@@ -28,10 +28,12 @@ struct ReleaseText {
   }
 };
 
-// A release zone: on the terrain. Returns its centre.
-Eigen::Vector2d ReadReleaseZone(const JsonNode& z, Units units, const core::HeightGrid& grid,
-                                const ReleaseText& text, core::Release* r, std::string* note) {
-  r->zone = ReadPolygon(z, units);
+// A release zone (`zone`, SI; from the node `z`): on the terrain. Returns
+// its centre.
+Eigen::Vector2d ReadReleaseZone(const JsonNode& z, Polygon zone, Units units,
+                                const core::HeightGrid& grid, const ReleaseText& text,
+                                core::Release* r, std::string* note) {
+  r->zone = std::move(zone);
   if (auto off = FindOffTerrain(grid, r->zone, grid.spacing / 4)) {
     z.Fail("release zone point " + text.At(*off) + " is off the terrain (outside the grid or " +
            "over a hole; " + text.grid + "); expected a zone entirely on the terrain");
@@ -40,7 +42,8 @@ Eigen::Vector2d ReadReleaseZone(const JsonNode& z, Units units, const core::Heig
   for (const Eigen::Vector2d& v : r->zone) centre += v;
   centre /= static_cast<double>(r->zone.size());
   *note = "zone of " + std::to_string(r->zone.size()) + " vertices, area " +
-          FormatNumber(std::abs(SignedArea(r->zone))) + " m^2";
+          FormatNumber(std::abs(SignedArea(r->zone)) * text.to_file * text.to_file) + " " +
+          LengthUnit(units) + "^2";
   return centre;
 }
 
@@ -55,7 +58,8 @@ Eigen::Vector2d ReadReleasePoint(const JsonNode& node, Units units, const core::
     p.Fail("release point is off the terrain (outside the grid or over a hole; " + text.grid +
            "); expected a point on the terrain");
   }
-  *note = "point (" + FormatNumber(r->point.x()) + ", " + FormatNumber(r->point.y()) + ") m";
+  *note = "point (" + FormatNumber(r->point.x() * text.to_file) + ", " +
+          FormatNumber(r->point.y() * text.to_file) + ") " + LengthUnit(units);
   if (const auto spread = node.Find("position_spread")) {
     // A tracked release is known within an error: each rock starts at a
     // point drawn uniformly from the disc of this radius about the point
@@ -71,7 +75,7 @@ Eigen::Vector2d ReadReleasePoint(const JsonNode& node, Units units, const core::
       if (auto off = FindOffTerrain(grid, r->zone, grid.spacing / 4))
         spread->Fail("the disc of this radius about the release point reaches " + text.At(*off) +
                      ", off the terrain (" + text.grid + "); expected a disc on the terrain");
-      *note += " within " + FormatNumber(radius) + " m (uniform in the disc)";
+      *note += " within " + LengthText(radius, units) + " (uniform in the disc)";
     }
   }
   return r->point;
@@ -99,7 +103,7 @@ void ReadReleaseHeight(const JsonNode& node, Units units, const core::HeightGrid
               " " + LengthUnit(units) +
               "; expected a drop elevation at or above it (and at most 1 km above it)");
     }
-    *note += ", dropped from elevation " + FormatNumber(*r->elevation) + " m";
+    *note += ", dropped from elevation " + LengthText(*r->elevation, units);
   }
 }
 
@@ -119,27 +123,42 @@ Eigen::Vector3d ReadReleaseVelocity(const JsonNode& v, Units units, bool spread)
 }  // namespace
 
 core::Release ReadRelease(const JsonNode& node, Units units, const core::HeightGrid& grid,
-                          std::string* note) {
+                          std::string* note, const ZoneFileReader& read_zone_file) {
   node.Keys(SiteKeysAt("$.rocks[].release"));
   core::Release r;
   if (node.Has("position_spread") && !node.Has("point"))
     node.Get("position_spread").Fail("goes with a release 'point' only (a zone is already spread)");
   if (node.Has("height") && node.Has("elevation"))
     node.Fail("expected 'height' (above the ground) or 'elevation' (absolute), not both");
-  const bool has_zone = node.Has("zone"), has_point = node.Has("point");
-  if (has_zone == has_point)
-    node.Fail("expected exactly one of 'zone' (plan polygon) or 'point' ([x, y])");
+  const bool has_zone = node.Has("zone"), has_file = node.Has("zone_file"),
+             has_point = node.Has("point");
+  if (int{has_zone} + int{has_file} + int{has_point} != 1)
+    node.Fail(
+        "expected exactly one of 'zone' (plan polygon), 'zone_file' (a polygon of a GIS file) "
+        "or 'point' ([x, y])");
+  if (has_file && !read_zone_file)
+    node.Get("zone_file").Fail("a release zone file is read with its site (expected 'zone')");
   ReleaseText text;
   text.to_file = 1.0 / LengthToSI(1.0, units);
   text.grid = "the terrain spans x " + FormatNumber(grid.x(0) * text.to_file) + " to " +
               FormatNumber(grid.x(grid.nx - 1) * text.to_file) + ", y " +
               FormatNumber(grid.y(0) * text.to_file) + " to " +
               FormatNumber(grid.y(grid.ny - 1) * text.to_file);
-  const Eigen::Vector2d centre =
-      has_zone ? ReadReleaseZone(node.Get("zone"), units, grid, text, &r, note)
-               : ReadReleasePoint(node, units, grid, text, &r, note);
+  Eigen::Vector2d centre;
+  if (has_zone) {
+    const JsonNode z = node.Get("zone");
+    centre = ReadReleaseZone(z, ReadPolygon(z, units), units, grid, text, &r, note);
+  } else if (has_file) {
+    const JsonNode z = node.Get("zone_file");
+    std::string where;
+    Polygon polygon = read_zone_file(z, &where);
+    centre = ReadReleaseZone(z, std::move(polygon), units, grid, text, &r, note);
+    *note += " (" + where + ")";
+  } else {
+    centre = ReadReleasePoint(node, units, grid, text, &r, note);
+  }
   if (const std::optional<double> z = ElevationAt(grid, centre.x(), centre.y()))
-    *note += ", ground " + FormatNumber(*z) + " m";
+    *note += ", ground " + LengthText(*z, units);
   ReadReleaseHeight(node, units, grid, centre, text, &r, note);
   if (auto v = node.Find("velocity")) r.velocity = ReadReleaseVelocity(*v, units, false);
   if (auto v = node.Find("velocity_spread"))
@@ -260,7 +279,8 @@ std::map<std::string, std::pair<double, std::string>> ScanInventory(
 // repeats them in turn.
 core::RockGroup ReadInventoryGroup(const JsonNode& node, Units units, const core::HeightGrid& grid,
                                    const std::string& base_dir, core::RockGroup g,
-                                   std::vector<std::string>* inputs, std::string* note) {
+                                   std::vector<std::string>* inputs, std::string* note,
+                                   const ZoneFileReader& read_zone_file) {
   node.Keys(SiteKeysAt("$.rocks[] (inventory)"));
   const JsonNode inv = node.Get("inventory");
   const std::string file = ResolvePath(base_dir, inv.String());
@@ -279,11 +299,12 @@ core::RockGroup ReadInventoryGroup(const JsonNode& node, Units units, const core
   g.count = node.Has("count") ? static_cast<int>(node.Get("count").Integer(1, core::kMaxRocks))
                               : static_cast<int>(g.inventory.size());
   std::string release_note;
-  g.release = ReadRelease(node.Get("release"), units, grid, &release_note);
+  g.release = ReadRelease(node.Get("release"), units, grid, &release_note, read_zone_file);
   const core::GroupExtent extent = core::GroupBodies(g, core::kStandardGravity);
   *note = std::to_string(g.count) + " rocks from the inventory " + file + " (" +
-          std::to_string(g.inventory.size()) + " blocks, " + FormatNumber(extent.lightest.mass) +
-          "-" + FormatNumber(extent.heaviest.mass) + " kg), release " + release_note;
+          std::to_string(g.inventory.size()) + " blocks, " +
+          MassText(extent.lightest.mass, units) + " to " + MassText(extent.heaviest.mass, units) +
+          "), release " + release_note;
   for (const auto& [name, fit] : fits) *note += "; worst fit of " + fit.second;
   return g;
 }
@@ -305,7 +326,8 @@ void ReadSize(const JsonNode& size, Units units, core::RockGroup* g) {
 // A shape (or a scanned shape's file) at a size and unit weight.
 core::RockGroup ReadShapeGroup(const JsonNode& node, Units units, const core::HeightGrid& grid,
                                const std::string& base_dir, core::RockGroup g,
-                               std::vector<std::string>* inputs, std::string* note) {
+                               std::vector<std::string>* inputs, std::string* note,
+                               const ZoneFileReader& read_zone_file) {
   node.Keys(SiteKeysAt("$.rocks[]"));
   g.count = static_cast<int>(node.Get("count").Integer(1, core::kMaxRocks));
   if (auto sf = node.Find("shape_file")) {
@@ -334,12 +356,15 @@ core::RockGroup ReadShapeGroup(const JsonNode& node, Units units, const core::He
       node.Get("unit_weight"), UnitWeightToSI(node.Get("unit_weight").Positive(), units),
       core::kMinUnitWeight, core::kMaxUnitWeight, "unit weight", Quantity::kUnitWeight, units);
   std::string release_note;
-  g.release = ReadRelease(node.Get("release"), units, grid, &release_note);
+  g.release = ReadRelease(node.Get("release"), units, grid, &release_note, read_zone_file);
   *note = std::to_string(g.count) + " " +
           (g.scanned ? "of the shape " + FitSummary(*g.scanned) : core::ShapeToString(g.shape)) +
-          ", size " + FormatNumber(g.size_min) +
-          (g.size_max > g.size_min ? "-" + FormatNumber(g.size_max) : "") + " m, unit weight " +
-          FormatNumber(g.unit_weight / 1000.0) + " kN/m^3, release " + release_note;
+          ", size " +
+          (g.size_max > g.size_min
+               ? FormatNumber(g.size_min / LengthToSI(1.0, units)) + "-" +
+                     LengthText(g.size_max, units)
+               : LengthText(g.size_min, units)) +
+          ", unit weight " + UnitWeightText(g.unit_weight, units) + ", release " + release_note;
   return g;
 }
 
@@ -347,15 +372,16 @@ core::RockGroup ReadShapeGroup(const JsonNode& node, Units units, const core::He
 
 core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightGrid& grid,
                           const std::string& base_dir, std::vector<std::string>* inputs,
-                          std::string* note) {
+                          std::string* note, const ZoneFileReader& read_zone_file) {
   core::RockGroup g;
   if (const auto id = node.Find("id")) {
     g.id = id->String();
     if (g.id.empty()) id->Fail("expected a non-empty group id");
   }
   if (node.Has("inventory"))
-    return ReadInventoryGroup(node, units, grid, base_dir, std::move(g), inputs, note);
-  return ReadShapeGroup(node, units, grid, base_dir, std::move(g), inputs, note);
+    return ReadInventoryGroup(node, units, grid, base_dir, std::move(g), inputs, note,
+                              read_zone_file);
+  return ReadShapeGroup(node, units, grid, base_dir, std::move(g), inputs, note, read_zone_file);
 }
 
 }  // namespace rockcal::sites

@@ -263,11 +263,15 @@ void CheckCoverAndNote(const std::vector<PendingMaterial>& pending, Site* site, 
                            "material to cover part of the terrain");
     }
   }
+  const Units units = site->units;
+  const double to_file = 1.0 / LengthToSI(1.0, units);
   site->notes.push_back("grid: " + std::to_string(grid.nx) + " x " + std::to_string(grid.ny) +
-                       " nodes at " + FormatNumber(s) + " m spacing, x " + FormatNumber(grid.x(0)) +
-                       " to " + FormatNumber(grid.x(grid.nx - 1)) + " m, y " +
-                       FormatNumber(grid.y(0)) + " to " + FormatNumber(grid.y(grid.ny - 1)) +
-                       " m, elevation " + FormatNumber(zmin) + " to " + FormatNumber(zmax) + " m");
+                        " nodes at " + LengthText(s, units) + " spacing, x " +
+                        FormatNumber(grid.x(0) * to_file) + " to " +
+                        LengthText(grid.x(grid.nx - 1), units) + ", y " +
+                        FormatNumber(grid.y(0) * to_file) + " to " +
+                        LengthText(grid.y(grid.ny - 1), units) + ", elevation " +
+                        FormatNumber(zmin * to_file) + " to " + LengthText(zmax, units));
   site->notes.push_back("holes: " + std::to_string(holes) + " of " + std::to_string(grid.z.size()) +
                        " nodes");
   for (std::size_t k = 0; k < count.size(); ++k) {
@@ -275,7 +279,7 @@ void CheckCoverAndNote(const std::vector<PendingMaterial>& pending, Site* site, 
     site->notes.push_back(
         "material " + mat.id + ": " + std::to_string(count[k]) + " nodes, class " +
         site->material_classes[k] + ", hardness " + FormatNumber(mat.hardness) + ", roughness " +
-        FormatNumber(mat.roughness_m) + " m, contact time " + FormatNumber(mat.contact_time_s) +
+        LengthText(mat.roughness_m, units) + ", contact time " + FormatNumber(mat.contact_time_s) +
         " s" + (mat.restitution ? ", restitution " + FormatNumber(*mat.restitution) : "") +
         (mat.friction ? ", friction " + FormatNumber(*mat.friction) : ""));
   }
@@ -316,7 +320,7 @@ void ReadPartitions(const JsonNode& parts, Units units, double zmin, double zmax
     }
     site->notes.push_back("partition " + part.id + ": " +
                          (part.kind == core::Partition::Kind::kX ? "x" : "z") + " = " +
-                         FormatNumber(part.value) + " m");
+                         LengthText(part.value, units));
     site->scene.partitions.push_back(part);
   }
 }
@@ -511,6 +515,7 @@ Site LoadSite(const std::string& path) {
   scene.grid = std::move(surface.grid);
   core::HeightGrid& grid = scene.grid;
   site.notes = surface.notes;
+  site.resampled = surface.resampled;
   site.inputs.push_back(path);
   site.inputs.insert(site.inputs.end(), surface.files.begin(), surface.files.end());
   site.crs_wkt = surface.crs_wkt;
@@ -531,7 +536,13 @@ Site LoadSite(const std::string& path) {
   const std::vector<JsonNode> rocks = root.Get("rocks").Array(1);
   for (std::size_t k = 0; k < rocks.size(); ++k) {
     std::string note;
-    scene.groups.push_back(ReadGroup(rocks[k], units, grid, base_dir, &site.inputs, &note));
+    // A release area from a GIS file: ReadReleaseFile on this site (its CRS,
+    // inputs).
+    const ZoneFileReader read_zone_file = [&](const JsonNode& z, std::string* where) {
+      return ReadReleaseFile(z, base_dir, &site, where);
+    };
+    scene.groups.push_back(
+        ReadGroup(rocks[k], units, grid, base_dir, &site.inputs, &note, read_zone_file));
     const std::string& id = scene.groups.back().id;
     for (std::size_t j = 0; j + 1 < scene.groups.size() && !id.empty(); ++j)
       if (scene.groups[j].id == id)
@@ -557,12 +568,17 @@ Site LoadSite(const std::string& path) {
                        std::to_string(scene.total_rocks()) + " rocks in " +
                        std::to_string(scene.groups.size()) + " group(s)");
   if (!site.calibrate.empty()) {
+    // Each bound in the file's units, with the unit (none for a number).
     std::string list;
     for (const ParameterBound& b : site.calibrate) {
+      const core::FieldUnit unit = core::FindMaterialField(b.name)->unit;
+      const double to_unit = 1.0 / FieldToSI(1.0, unit, units);
+      const std::string text = FieldUnitText(unit, units);
       list += (list.empty() ? "" : ", ") + b.material + "." + b.name + " [" +
-              FormatNumber(b.lower) + ", " + FormatNumber(b.upper) + "]";
+              FormatNumber(b.lower * to_unit) + ", " + FormatNumber(b.upper * to_unit) + "]" +
+              (text.empty() ? "" : " " + text);
     }
-    site.notes.push_back("calibrate (SI): " + list);
+    site.notes.push_back("calibrate: " + list);
   }
   return site;
 }

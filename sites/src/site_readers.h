@@ -4,6 +4,8 @@
 #ifndef ROCKCAL_SITES_SRC_SITE_READERS_H_
 #define ROCKCAL_SITES_SRC_SITE_READERS_H_
 
+#include <functional>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -19,18 +21,23 @@ namespace rockcal::sites {
 // no edge crossing another.
 Polygon ReadPolygon(const JsonNode& node, Units units);
 
-// A group's "release" (a zone, or a point with its spread; its height or
-// drop elevation; its velocity and spread), checked on `grid`; *note
-// describes it.
+// Reads a release's "zone_file" node: the polygon (SI) and its place in
+// the file (ReadReleaseFile of zone_files.h, bound to the site).
+using ZoneFileReader = std::function<Polygon(const JsonNode& node, std::string* where)>;
+
+// A group's "release" (a zone, inline or from a file read by
+// `read_zone_file`, or a point with its spread; its height or drop
+// elevation; its velocity and spread), checked on `grid`; *note describes
+// it. A "zone_file" without `read_zone_file` is refused.
 core::Release ReadRelease(const JsonNode& node, Units units, const core::HeightGrid& grid,
-                          std::string* note);
+                          std::string* note, const ZoneFileReader& read_zone_file = {});
 
 // One entry of "rocks": an inventory's blocks, or a shape (or shape file)
 // at a size; its files are added to *inputs (relative to base_dir), *note
 // describes it.
 core::RockGroup ReadGroup(const JsonNode& node, Units units, const core::HeightGrid& grid,
                           const std::string& base_dir, std::vector<std::string>* inputs,
-                          std::string* note);
+                          std::string* note, const ZoneFileReader& read_zone_file = {});
 
 // The forest's limits (docs/reference/site-file.md, `$.forest`).
 inline constexpr double kMinDbhCm = 1.0;              // a tree file's or inline stem's

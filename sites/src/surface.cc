@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <system_error>
 
 #include "rockcal/core/error.h"
@@ -184,11 +185,19 @@ void RasterInto(const RasterGrid& raster, const JsonNode& where, bool has_resolu
   box.Add((raster.ncols - 1) * cell, (raster.nrows - 1) * cell);
   CheckGridSize(where, box, spacing, 1.0 / LengthToSI(1.0, units));
   out->grid = RasterToHeightGrid(raster, LengthToSI(1.0, units), spacing);
-  out->notes.push_back("surface: " + what + ", " + std::to_string(raster.ncols) + " x " +
-                       std::to_string(raster.nrows) + " cells of " + FormatNumber(raster.cellsize) +
-                       (std::abs(out->grid.spacing - cell) <= 1e-9 * cell
-                            ? " (cell centres are the grid nodes)"
-                            : " resampled bilinearly to the resolution"));
+  const std::string unit = std::string(" ") + LengthUnit(units);
+  const std::string cells = std::to_string(raster.ncols) + " x " + std::to_string(raster.nrows) +
+                            " cells of " + FormatNumber(raster.cellsize) + unit;
+  if (std::abs(out->grid.spacing - cell) <= 1e-9 * cell) {
+    out->notes.push_back("surface: " + what + ", " + cells + " (cell centres are the grid nodes)");
+  } else {
+    out->notes.push_back("surface: " + what + ", " + cells);
+    out->resampled.push_back(
+        "surface: " + cells + " resampled bilinearly to the resolution " +
+        FormatNumber(out->grid.spacing * to_file) + unit + " (resolution): " +
+        std::to_string(out->grid.nx) + " x " + std::to_string(out->grid.ny) + " nodes");
+    out->notes.push_back(out->resampled.back());
+  }
 }
 
 }  // namespace
@@ -417,13 +426,14 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
   surface.Keys(SiteKeysAt("$.surface"));
   Surface out;
   out.source = SourceOf(surface);
-  // The virtual spheres' spacing, at which roughness is defined whatever the
-  // data's resolution; the resolution defaults to it.
+  // The virtual spheres' spacing, at which roughness is defined: the one
+  // given, else a DEM's own grid, else 12 ft (kDefaultSphereSpacingM, which
+  // a points or STL source's resolution defaults to).
   const std::optional<JsonNode> sphere_node = surface.Find("sphere_spacing");
-  const double sphere_spacing =
-      sphere_node ? LengthToSI(sphere_node->Positive(), units) : kDefaultSphereSpacingM;
-  const SurfaceSettings set =
-      ReadSurfaceSettings(surface, out.source, units, base_dir, sphere_spacing);
+  const bool given = sphere_node.has_value();
+  const double given_spacing = given ? LengthToSI(sphere_node->Positive(), units) : 0.0;
+  const SurfaceSettings set = ReadSurfaceSettings(surface, out.source, units, base_dir,
+                                                  given ? given_spacing : kDefaultSphereSpacingM);
   out.crs_wkt = set.named_crs;
   const JsonNode src = surface.Get(out.source.c_str());
   if (out.source == "points") {
@@ -443,16 +453,26 @@ Surface ReadSurface(const JsonNode& surface, Units units, const std::string& bas
     if (const std::string problem = CrsUnitMismatch(out.crs_wkt, units); !problem.empty())
       set.crs->Fail(problem);
   }
+  const bool dem = out.source == "grid_file" || out.source == "raster";
+  const double sphere_spacing =
+      given ? given_spacing : dem ? out.grid.spacing : kDefaultSphereSpacingM;
   if (std::abs(sphere_spacing - out.grid.spacing) > 1e-9 * sphere_spacing) {
     Box box;
     box.Add(out.grid.x(0), out.grid.y(0));
     box.Add(out.grid.x(out.grid.nx - 1), out.grid.y(out.grid.ny - 1));
     CheckGridSize(sphere_node ? *sphere_node : surface, box, sphere_spacing, set.to_file);
-    const double from = out.grid.spacing;
+    const core::HeightGrid from = out.grid;
     out.grid = ResampleGrid(out.grid, sphere_spacing);
-    out.notes.push_back("surface: the grid of " + FormatNumber(from * set.to_file) +
-                        " resampled bilinearly to the virtual spheres' spacing " +
-                        FormatNumber(sphere_spacing * set.to_file) + " (sphere_spacing)");
+    const std::string unit = std::string(" ") + LengthUnit(units);
+    out.resampled.push_back(
+        "surface: the grid of " + FormatNumber(from.spacing * set.to_file) + unit + " (" +
+        std::to_string(from.nx) + " x " + std::to_string(from.ny) +
+        " nodes) resampled bilinearly to the virtual spheres' spacing " +
+        FormatNumber(sphere_spacing * set.to_file) + unit + " (" + std::to_string(out.grid.nx) +
+        " x " + std::to_string(out.grid.ny) + " nodes; " +
+        (given ? "sphere_spacing" : "the default 12 ft of scattered points and STL") +
+        ")");
+    out.notes.push_back(out.resampled.back());
   }
   if (!out.crs_wkt.empty()) out.notes.push_back("crs: " + CrsLabel(out.crs_wkt));
   CheckSomeCell(out.grid, src);

@@ -17,6 +17,7 @@
 #include "rockcal/sites/input_file.h"
 #include "rockcal/sites/surface.h"
 #include "rockcal/sites/text_reader.h"
+#include "rockcal/sites/vector_file.h"
 
 namespace rockcal::sites {
 namespace {
@@ -44,69 +45,6 @@ struct Claims {
   int claimed = 0;
 };
 
-// The layer's CRS as WKT, "" for none. GeoPackage's reserved "Undefined
-// geographic SRS" and "Undefined Cartesian SRS" (srs_id 0 and -1, with no
-// authority) are a layer without a CRS too.
-std::string LayerCrs(OGRLayerH layer) {
-  OGRSpatialReferenceH srs = OGR_L_GetSpatialRef(layer);
-  if (!srs) return "";
-  const char* name = OSRGetName(srs);
-  const std::string n = name ? name : "";
-  if ((n == "Undefined geographic SRS" || n == "Undefined Cartesian SRS") &&
-      !OSRGetAuthorityName(srs, nullptr))
-    return "";
-  return gdal::WktOf(srs);
-}
-
-// The zone file's CRS against the terrain's: the same, or adopted when the
-// terrain has none. Fails at `file_node`.
-void MatchCrs(const JsonNode& file_node, const std::string& file, const std::string& wkt,
-              GDALDatasetH ds, Site* site, const std::string& kind = "zone file") {
-  if (wkt.empty()) return;
-  // GeoJSON without a "crs" member is WGS 84 (RFC 7946): say so.
-  const std::string driver = GDALGetDriverShortName(GDALGetDatasetDriver(ds));
-  const std::string hint =
-      driver == "GeoJSON"
-          ? " (a GeoJSON file without a \"crs\" member is WGS 84 longitude and latitude, by "
-            "RFC 7946)"
-          : "";
-  if (site->crs_wkt.empty()) {
-    if (const std::string problem = CrsUnitMismatch(wkt, site->units); !problem.empty())
-      file_node.Fail(kind + " '" + file + "': " + problem + hint);
-    site->crs_wkt = wkt;
-    site->notes.push_back("crs: " + CrsLabel(wkt) + ", adopted from the " + kind + " " + file);
-  } else if (!SameCrs(site->crs_wkt, wkt)) {
-    file_node.Fail("the " + kind + " '" + file + "' has the CRS " + CrsLabel(wkt) +
-                   ", the terrain " + CrsLabel(site->crs_wkt) +
-                   "; expected the same CRS (reproject the file first, e.g. ogr2ogr -t_srs)" +
-                   hint);
-  }
-}
-
-// The layer of a vector file that holds the zones (or the barriers): the
-// one "layer" names, or the file's only one.
-OGRLayerH ZoneLayer(const JsonNode& zones, const std::string& file, GDALDatasetH ds,
-                    const std::string& what = "the zones") {
-  OGRLayerH layer = nullptr;
-  std::vector<std::string> layer_names;
-  for (int k = 0; k < GDALDatasetGetLayerCount(ds); ++k)
-    layer_names.emplace_back(OGR_L_GetName(GDALDatasetGetLayer(ds, k)));
-  if (const std::optional<JsonNode> name = zones.Find("layer")) {
-    layer = GDALDatasetGetLayerByName(ds, name->String().c_str());
-    if (!layer) {
-      name->Fail("the zone file '" + file + "' has no such layer (layers: " + Join(layer_names) +
-                 ")");
-    }
-  } else if (layer_names.size() == 1) {
-    layer = GDALDatasetGetLayer(ds, 0);
-  } else {
-    zones.Fail("the zone file '" + file + "' has " + std::to_string(layer_names.size()) +
-               " layers" + (layer_names.empty() ? "" : " (" + Join(layer_names) + ")") +
-               "; expected \"layer\" naming the one with " + what);
-  }
-  return layer;
-}
-
 // A vector file's features: a (multi)polygon and a material each.
 struct ZoneFeatures {
   std::vector<Geometry> geometries;
@@ -114,45 +52,38 @@ struct ZoneFeatures {
   std::vector<GIntBig> fids;
 };
 
-// Each feature of `layer` with its material id in field `field_index`
-// (one of `ids`); empty geometries left out.
-ZoneFeatures ReadZoneFeatures(OGRLayerH layer, const std::string& layer_name, int field_index,
-                              const std::string& field, const std::string& file,
+// Each feature of the zone file with its material id in field
+// `field_index` (one of `ids`); empty geometries left out.
+ZoneFeatures ReadZoneFeatures(const VectorFile& vf, int field_index, const std::string& field,
                               const std::vector<std::string>& ids) {
   ZoneFeatures out;
-  std::vector<Geometry>& geometries = out.geometries;
-  std::vector<int>& material = out.material;
-  std::vector<GIntBig>& fids = out.fids;
-  OGR_L_ResetReading(layer);
-  while (gdal::Feature f{OGR_L_GetNextFeature(layer)}) {
-    const auto feature = static_cast<OGRFeatureH>(f.get());
-    const GIntBig fid = OGR_F_GetFID(feature);
-    const std::string where = "layer '" + layer_name + "', feature " + std::to_string(fid);
+  vf.ForEach([&](OGRFeatureH feature, const std::string& where) {
     OGRGeometryH geometry = OGR_F_GetGeometryRef(feature);
     const OGRwkbGeometryType type =
         geometry ? OGR_GT_Flatten(OGR_G_GetGeometryType(geometry)) : wkbNone;
     if (type != wkbPolygon && type != wkbMultiPolygon) {
-      throw InputError(file, where + ": " +
-                                 (geometry ? std::string("a ") + OGRGeometryTypeToName(type)
-                                           : std::string("no geometry")) +
-                                 "; expected a Polygon or a MultiPolygon");
+      throw InputError(vf.file(), where + ": " +
+                                      (geometry ? std::string("a ") + OGRGeometryTypeToName(type)
+                                                : std::string("no geometry")) +
+                                      "; expected a Polygon or a MultiPolygon");
     }
-    if (!OGR_F_IsFieldSetAndNotNull(feature, field_index)) {
-      throw InputError(file, where + ": field '" + field +
-                                 "' is empty; expected a material id (materials: " + Join(ids) +
-                                 ")");
+    const std::string id = FeatureText(feature, field_index);
+    if (id.empty()) {
+      throw InputError(vf.file(), where + ": field '" + field +
+                                      "' is empty; expected a material id (materials: " +
+                                      Join(ids) + ")");
     }
-    const std::string id = OGR_F_GetFieldAsString(feature, field_index);
     const auto it = std::find(ids.begin(), ids.end(), id);
     if (it == ids.end()) {
-      throw InputError(file, where + ": field '" + field + "' holds " + Excerpt(id) +
-                                 ", not a material of the site (materials: " + Join(ids) + ")");
+      throw InputError(vf.file(), where + ": field '" + field + "' holds " + Excerpt(id) +
+                                      ", not a material of the site (materials: " + Join(ids) +
+                                      ")");
     }
-    if (OGR_G_IsEmpty(geometry)) continue;
-    geometries.emplace_back(OGR_G_Clone(geometry));
-    material.push_back(static_cast<int>(it - ids.begin()));
-    fids.push_back(fid);
-  }
+    if (OGR_G_IsEmpty(geometry)) return;
+    out.geometries.emplace_back(OGR_G_Clone(geometry));
+    out.material.push_back(static_cast<int>(it - ids.begin()));
+    out.fids.push_back(OGR_F_GetFID(feature));
+  });
   return out;
 }
 
@@ -199,24 +130,17 @@ Claims BurnZones(const ZoneFeatures& features, const std::string& file, const Si
 }
 
 // The polygons of a vector file, burnt in order onto the nodes.
-Claims FromVector(const JsonNode& zones, const std::string& file, GDALDatasetH ds, Site* site) {
-  const JsonNode file_node = zones.Get("file");
-  OGRLayerH layer = ZoneLayer(zones, file, ds);
-  const std::string layer_name = OGR_L_GetName(layer);
+Claims FromVector(const JsonNode& zones, const VectorFile& vf, Site* site) {
+  const std::string& file = vf.file();
+  const std::string& layer_name = vf.layer_name();
   const JsonNode field_node = zones.Get("field");
   const std::string field = field_node.String();
-  OGRFeatureDefnH defn = OGR_L_GetLayerDefn(layer);
-  const int field_index = OGR_FD_GetFieldIndex(defn, field.c_str());
+  const int field_index = vf.Field(field, false, "");
   if (field_index < 0) {
-    std::vector<std::string> fields;
-    for (int k = 0; k < OGR_FD_GetFieldCount(defn); ++k)
-      fields.emplace_back(OGR_Fld_GetNameRef(OGR_FD_GetFieldDefn(defn, k)));
     field_node.Fail("layer '" + layer_name + "' of the zone file '" + file +
-                    "' has no such field (fields: " + Join(fields) + ")");
+                    "' has no such field (fields: " + Join(vf.fields()) + ")");
   }
-  MatchCrs(file_node, file, LayerCrs(layer), ds, site);
-  const ZoneFeatures features =
-      ReadZoneFeatures(layer, layer_name, field_index, field, file, MaterialIds(*site));
+  const ZoneFeatures features = ReadZoneFeatures(vf, field_index, field, MaterialIds(*site));
   const std::vector<GIntBig>& fids = features.fids;
   std::vector<int> nodes_of_feature;
   Claims claims = BurnZones(features, file, *site, &nodes_of_feature);
@@ -274,7 +198,8 @@ Claims FromClasses(const JsonNode& zones, const std::string& file, GDALDatasetH 
                      "raster of classes");
   }
   const std::string wkt = gdal::WktOf(GDALGetSpatialRef(ds));
-  MatchCrs(file_node, file, wkt, ds, site);
+  MatchTerrainCrs(file_node, file, wkt, GDALGetDriverShortName(GDALGetDatasetDriver(ds)),
+                  "zone file", site);
 
   const core::HeightGrid& grid = site->scene.grid;
   const double to_file = 1.0 / LengthToSI(1.0, site->units);
@@ -339,25 +264,39 @@ void ApplyZoneFile(const JsonNode& zones, const std::string& base_dir, Site* sit
   if (!vector && zones.Has("layer"))
     zones.Get("layer").Fail("'layer' goes with a vector file ('field') only");
   const JsonNode file_node = zones.Get("file");
-  const std::string file = ResolveDataFile(file_node, base_dir);
-  if (file.rfind("/vsi", 0) != 0) CheckInputFile(file);  // GDAL's virtual paths excepted
-  gdal::Init();
-  gdal::Dataset ds;
-  {
-    gdal::ErrorCapture errors;
-    ds.reset(GDALOpenEx(file.c_str(), (vector ? GDAL_OF_VECTOR : GDAL_OF_RASTER) | GDAL_OF_READONLY,
-                        nullptr, nullptr, nullptr));
-    if (!ds) {
-      const std::string why = errors.message().empty() ? "" : " (GDAL: " + errors.message() + ")";
-      file_node.Fail("'" + file + "' is not a " + (vector ? "vector" : "raster") +
-                     " file GDAL can read" + why + "; expected " +
-                     (vector ? "a GeoPackage, Shapefile, GeoJSON or another vector format GDAL "
-                               "reads (with \"field\")"
-                             : "a GeoTIFF or another raster GDAL reads (with \"classes\")"));
+  std::string file;
+  Claims claims;
+  if (vector) {
+    const VectorFile vf(file_node, zones.Find("layer"), zones, base_dir,
+                        {"zone file", "the zones",
+                         "a GeoPackage, Shapefile, GeoJSON or another vector format GDAL reads "
+                         "(with \"field\")"},
+                        site);
+    file = vf.file();
+    claims = FromVector(zones, vf, site);
+    vf.Record(site);
+  } else {
+    file = ResolveDataFile(file_node, base_dir);
+    if (file.rfind("/vsi", 0) != 0) CheckInputFile(file);  // GDAL's virtual paths excepted
+    gdal::Init();
+    gdal::Dataset ds;
+    {
+      gdal::ErrorCapture errors;
+      ds.reset(
+          GDALOpenEx(file.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr));
+      if (!ds) {
+        const std::string why =
+            errors.message().empty() ? "" : " (GDAL: " + errors.message() + ")";
+        file_node.Fail("'" + file + "' is not a raster file GDAL can read" + why +
+                       "; expected a GeoTIFF or another raster GDAL reads (with \"classes\")");
+      }
     }
+    claims = FromClasses(zones, file, ds.get(), site);
+    std::vector<std::string> files = gdal::FileList(ds.get());
+    if (files.empty()) files.push_back(file);
+    site->inputs.insert(site->inputs.end(), files.begin(), files.end());
+    site->gis = true;
   }
-  const Claims claims =
-      vector ? FromVector(zones, file, ds.get(), site) : FromClasses(zones, file, ds.get(), site);
   if (claims.claimed == 0) {
     const core::HeightGrid& grid = site->scene.grid;
     const double to_file = 1.0 / LengthToSI(1.0, site->units);
@@ -371,68 +310,30 @@ void ApplyZoneFile(const JsonNode& zones, const std::string& base_dir, Site* sit
   std::vector<int>& material = site->scene.grid.material;
   for (std::size_t n = 0; n < material.size(); ++n)
     if (claims.material[n] >= 0) material[n] = claims.material[n];
-  std::vector<std::string> files = gdal::FileList(ds.get());
-  if (files.empty()) files.push_back(file);
-  site->inputs.insert(site->inputs.end(), files.begin(), files.end());
-  site->gis = true;
 }
-
-namespace {
-
-// A feature's attribute `field` (index k) as text; "" when not set.
-std::string FieldText(OGRFeatureH feature, int k) {
-  return k >= 0 && OGR_F_IsFieldSetAndNotNull(feature, k) ? OGR_F_GetFieldAsString(feature, k) : "";
-}
-
-}  // namespace
 
 std::vector<BarrierFeature> ReadBarrierFile(const JsonNode& node, const std::string& base_dir,
                                             Site* site) {
   // A file name, or {"file": ..., "layer": ...}.
   const JsonNode file_node = node.is_string() ? node : node.Get("file");
   if (!node.is_string()) node.Keys(SiteKeysAt("$.barriers_file"));
-  const std::string file = ResolveDataFile(file_node, base_dir);
-  if (file.rfind("/vsi", 0) != 0) CheckInputFile(file);  // GDAL's virtual paths excepted
-  gdal::Init();
-  gdal::Dataset ds;
-  {
-    gdal::ErrorCapture errors;
-    ds.reset(
-        GDALOpenEx(file.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr));
-    if (!ds) {
-      const std::string why = errors.message().empty() ? "" : " (GDAL: " + errors.message() + ")";
-      file_node.Fail("'" + file + "' is not a vector file GDAL can read" + why +
-                     "; expected a GeoPackage, Shapefile, GeoJSON or another vector format GDAL "
-                     "reads, of lines");
-    }
-  }
-  OGRLayerH layer = ZoneLayer(node, file, ds.get(), "the barriers");
-  const std::string layer_name = OGR_L_GetName(layer);
-  OGRFeatureDefnH defn = OGR_L_GetLayerDefn(layer);
-  std::vector<std::string> fields;
-  for (int k = 0; k < OGR_FD_GetFieldCount(defn); ++k)
-    fields.emplace_back(OGR_Fld_GetNameRef(OGR_FD_GetFieldDefn(defn, k)));
-  auto field_index = [&](const char* name, bool required) {
-    const int k = OGR_FD_GetFieldIndex(defn, name);
-    if (k < 0 && required) {
-      file_node.Fail("layer '" + layer_name + "' of the barrier file '" + file +
-                     "' has no field '" + name + "' (fields: " + Join(fields) +
-                     "); expected the fields id, height, energy_kj and, optionally, stops");
-    }
-    return k;
-  };
-  const int id_k = field_index("id", true), height_k = field_index("height", true),
-            energy_k = field_index("energy_kj", true), stops_k = field_index("stops", false);
-  MatchCrs(file_node, file, LayerCrs(layer), ds.get(), site, "barrier file");
-
+  const VectorFile vf(file_node, node.is_string() ? std::nullopt : node.Find("layer"), node,
+                      base_dir,
+                      {"barrier file", "the barriers",
+                       "a GeoPackage, Shapefile, GeoJSON or another vector format GDAL reads, "
+                       "of lines"},
+                      site);
+  const std::string& file = vf.file();
+  const std::string fields = "the fields id, height, energy_kj and, optionally, stops";
+  const int id_k = vf.Field("id", true, fields), height_k = vf.Field("height", true, fields),
+            energy_k = vf.Field("energy_kj", true, fields),
+            stops_k = vf.Field("stops", false, fields);
   const double to_si = LengthToSI(1.0, site->units);
   std::vector<BarrierFeature> out;
-  OGR_L_ResetReading(layer);
-  while (gdal::Feature f{OGR_L_GetNextFeature(layer)}) {
-    const auto feature = static_cast<OGRFeatureH>(f.get());
+  vf.ForEach([&](OGRFeatureH feature, const std::string& where) {
     BarrierFeature b;
     b.file = file;
-    b.where = "layer '" + layer_name + "', feature " + std::to_string(OGR_F_GetFID(feature));
+    b.where = where;
     auto fail = [&](const std::string& what) { throw InputError(file, b.where + ": " + what); };
     OGRGeometryH g = OGR_F_GetGeometryRef(feature);
     OGRwkbGeometryType type = g ? OGR_GT_Flatten(OGR_G_GetGeometryType(g)) : wkbNone;
@@ -446,11 +347,11 @@ std::vector<BarrierFeature> ReadBarrierFile(const JsonNode& node, const std::str
     }
     core::Partition& part = b.barrier;
     part.kind = core::Partition::Kind::kLine;
-    part.id = FieldText(feature, id_k);
+    part.id = FeatureText(feature, id_k);
     for (int k = 0; k < OGR_G_GetPointCount(g); ++k)
       part.line.emplace_back(OGR_G_GetX(g, k) * to_si, OGR_G_GetY(g, k) * to_si);
     auto number = [&](int k, const char* name, const char* unit) {
-      const std::string text = FieldText(feature, k);
+      const std::string text = FeatureText(feature, k);
       double v = 0.0;
       if (!ParseNumber(text, &v) || !(v > 0.0) || !std::isfinite(v)) {
         fail(std::string("field '") + name + "' holds " + Excerpt(text) +
@@ -462,7 +363,7 @@ std::vector<BarrierFeature> ReadBarrierFile(const JsonNode& node, const std::str
         number(height_k, "height", (std::string(" (") + LengthUnit(site->units) + ")").c_str()) *
         to_si;
     part.capacity = number(energy_k, "energy_kj", " (kJ)") * 1e3;
-    std::string stops = FieldText(feature, stops_k);
+    std::string stops = FeatureText(feature, stops_k);
     std::transform(stops.begin(), stops.end(), stops.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (stops == "1" || stops == "true" || stops == "yes") {
@@ -472,15 +373,72 @@ std::vector<BarrierFeature> ReadBarrierFile(const JsonNode& node, const std::str
            "; expected true or false (1 or 0, yes or no; empty: false)");
     }
     out.push_back(std::move(b));
-  }
+  });
   if (out.empty())
-    file_node.Fail("layer '" + layer_name + "' of the barrier file '" + file +
+    file_node.Fail("layer '" + vf.layer_name() + "' of the barrier file '" + file +
                    "' holds no feature; expected at least one barrier line");
-  std::vector<std::string> files = gdal::FileList(ds.get());
-  if (files.empty()) files.push_back(file);
-  site->inputs.insert(site->inputs.end(), files.begin(), files.end());
-  site->gis = true;
+  vf.Record(site);
   return out;
+}
+
+Polygon ReadReleaseFile(const JsonNode& node, const std::string& base_dir, Site* site,
+                        std::string* where_out) {
+  // A file name, or {"file": ..., "layer": ..., "id": ...}.
+  const JsonNode file_node = node.is_string() ? node : node.Get("file");
+  if (!node.is_string()) node.Keys(SiteKeysAt("$.rocks[].release.zone_file"));
+  const std::optional<JsonNode> id_node = node.is_string() ? std::nullopt : node.Find("id");
+  const VectorFile vf(file_node, node.is_string() ? std::nullopt : node.Find("layer"), node,
+                      base_dir,
+                      {"release file", "the release areas",
+                       "a GeoPackage, Shapefile, GeoJSON or another vector format GDAL reads, "
+                       "of polygons"},
+                      site);
+  const std::string& file = vf.file();
+  const std::string wanted = id_node ? id_node->String() : "";
+  const int id_k =
+      vf.Field("id", id_node.has_value(), "the field id (the release area's name)");
+  const double to_si = LengthToSI(1.0, site->units);
+  Polygon polygon;
+  std::string found_where;
+  std::vector<std::string> ids;
+  int features = 0;
+  vf.ForEach([&](OGRFeatureH feature, const std::string& where) {
+    ++features;
+    const std::string id = FeatureText(feature, id_k);
+    ids.push_back(id.empty() ? "(none)" : id);
+    if (id_node ? id != wanted : features > 1) return;  // without "id": the only one
+    if (!found_where.empty()) {
+      throw InputError(file, where + ": its id " + Excerpt(wanted) + " is also " + found_where +
+                                 "'s; expected the release areas' ids unique");
+    }
+    polygon = FeaturePolygon(feature, to_si, file, where);
+    double scale = 0.0;
+    for (const Eigen::Vector2d& v : polygon) scale = std::max(scale, (v - polygon[0]).norm());
+    if (!(std::abs(SignedArea(polygon)) > 1e-9 * scale * scale))
+      throw InputError(file, where + ": a degenerate polygon (its vertices enclose no area)");
+    if (const auto edges = FindSelfIntersection(polygon)) {
+      throw InputError(file, where + ": a self-intersecting polygon (edge " +
+                                 std::to_string(edges->first) + " meets edge " +
+                                 std::to_string(edges->second) +
+                                 "); expected a simple polygon whose edges meet only at shared "
+                                 "vertices");
+    }
+    found_where = where;
+  });
+  if (found_where.empty()) {
+    if (id_node)
+      id_node->Fail("layer '" + vf.layer_name() + "' of the release file '" + file +
+                    "' has no feature whose id is " + Excerpt(wanted) + " (ids: " + Join(ids) + ")");
+    file_node.Fail("layer '" + vf.layer_name() + "' of the release file '" + file +
+                   "' holds no feature; expected one release area");
+  }
+  if (!id_node && features > 1) {
+    node.Fail("the release file '" + file + "' has " + std::to_string(features) +
+              " features; expected \"id\" naming the release area (ids: " + Join(ids) + ")");
+  }
+  vf.Record(site);
+  *where_out = "'" + file + "', " + found_where;
+  return polygon;
 }
 
 }  // namespace rockcal::sites

@@ -429,6 +429,58 @@ TEST(Validate, PrintsWhatItFound) {
   EXPECT_EQ(Rockcal("validate /nonexistent/site.json").status, 2);
 }
 
+// Issue 55: an imperial site is printed in its own units (feet, pounds),
+// and the calibration bounds carry units.
+TEST(Validate, PrintsAnImperialSiteInItsUnits) {
+  const RunResult r = Rockcal("validate " + Example("tutorial"));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("calibrate: talus.hardness [0.1, 0.7], talus.roughness [0.5, 6] ft, "
+                               "soil.hardness [0.05, 0.5], soil.roughness [0.15, 4] ft"));
+  EXPECT_THAT(r.out, HasSubstr("  BP-1       x = 300 ft\n"));
+  EXPECT_THAT(r.out, HasSubstr("roughness 2 ft (sphere r "));
+  EXPECT_THAT(r.out, HasSubstr("sphere      size 1 ft to 4 ft  mass "));
+  EXPECT_THAT(r.out, HasSubstr(" lb  contact step"));
+  EXPECT_THAT(r.out, HasSubstr("grid: 51 x 17 nodes at 12 ft spacing"));
+  EXPECT_THAT(r.out, ::testing::Not(HasSubstr(" m ")));
+  EXPECT_THAT(r.out, ::testing::Not(HasSubstr(" kg")));
+}
+
+// Issue 55: without --out, a new folder named after the site and the
+// command, in the working directory, never one that exists; the command
+// says which.
+TEST(Simulate, WithoutOutWritesANewFolderNamedAfterTheSite) {
+  const std::string dir = FreshDir("cwd");
+  fs::create_directories(dir);
+  const std::string run = "cd " + dir + " && " + std::string(ROCKCAL_EXE) + " simulate " +
+                          Example("tutorial") + " --rocks 2";
+  RunResult r = testing::Run(run);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("output folder: tutorial-simulate (no --out given)"));
+  EXPECT_THAT(r.out, HasSubstr("wrote tutorial-simulate/summary.json"));
+  EXPECT_TRUE(fs::exists(dir + "/tutorial-simulate/summary.json"));
+  const std::string first = ReadFile(dir + "/tutorial-simulate/rocks.csv");
+  r = testing::Run(run + " --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out, "output folder: tutorial-simulate-2 (no --out given)\n");
+  EXPECT_TRUE(fs::exists(dir + "/tutorial-simulate-2/summary.json"));
+  EXPECT_EQ(ReadFile(dir + "/tutorial-simulate/rocks.csv"), first) << "the first run untouched";
+  fs::create_directories(dir + "/tutorial-simulate-3");  // not rockcal's: skipped too
+  r = testing::Run(run + " --quiet");
+  EXPECT_EQ(r.out, "output folder: tutorial-simulate-4 (no --out given)\n");
+  // A file not called site.json is named by its stem; --resume needs --out.
+  fs::copy_file(Example("profile2d"), dir + "/my-slope.json");
+  r = testing::Run("cd " + dir + " && " + std::string(ROCKCAL_EXE) +
+                   " study stability my-slope.json --rocks 1 --cases site --quiet");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir + "/my-slope-stability/stability.json"));
+  r = testing::Run("cd " + dir + " && " + std::string(ROCKCAL_EXE) + " calibrate " +
+                   Example("tutorial") + " --observations " + std::string(ROCKCAL_SOURCE_DIR) +
+                   "/sites/examples/tutorial/observations.json --resume");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("argument --resume: continues the calibration in the folder --out "
+                               "names; expected --out DIR"));
+}
+
 // --write-impacts: the impacts found in the observations' tracks, as an
 // impacts file. Two hops of run v004 of the Tschamut example, off its grid
 // (no ground: the track alone decides), one impact at t = 1 s.

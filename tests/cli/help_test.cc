@@ -95,6 +95,28 @@ TEST(CommandHelp, IsTheCommandsSectionAlone) {
   EXPECT_EQ(ForTerminal("a\n```\nb\n```\n"), "a\nb\n");
 }
 
+// Issue 55: help as a terminal shows it: links as their text, no code or
+// bold marks, heading marks or table pipes in prose; code blocks as written.
+TEST(ForTerminal, ShowsProseAsPlainText) {
+  EXPECT_EQ(ForTerminal("## rockcal a\nexit 2 ([errors.md](errors.md)), `--out DIR`, **draws**\n"
+                        "| key | unit |\n|---|:---:|\n| `size` | m |\n```\nrockcal a `x` [y](z)\n```\n"),
+            "rockcal a\nexit 2 (errors.md), --out DIR, draws\nkey   unit\nsize   m\n"
+            "rockcal a `x` [y](z)\n");
+  EXPECT_EQ(ForTerminal("[--draws N | --point-values]] [x](y.md#z)\n"),
+            "[--draws N | --point-values]] x\n");
+}
+
+TEST(HelpOption, EveryCommandsHelpHasNoMarkdownLinkAndAnExample) {
+  const std::string reference = CommandsReference();
+  for (const CommandFlags& c : AllCommandFlags()) {
+    const std::string help = ForTerminal(CommandHelp(reference, c.command));
+    EXPECT_EQ(help.find("]("), std::string::npos) << "rockcal " << c.command << " --help:\n" << help;
+    EXPECT_NE(help.find("Example"), std::string::npos) << "rockcal " << c.command << " --help";
+  }
+  const std::string overview = ForTerminal(OverviewHelp(reference));
+  EXPECT_EQ(overview.find("]("), std::string::npos) << overview;
+}
+
 TEST(HelpOption, PrintsTheCommandsReferenceAndExitsZeroOnEveryCommand) {
   const std::string reference = CommandsReference();
   for (const CommandFlags& c : AllCommandFlags()) {

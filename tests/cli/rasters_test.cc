@@ -165,7 +165,7 @@ TEST(Rasters, SimulateWritesTheMapsOnTheDemGridWithItsCrs) {
   EXPECT_EQ(tif.compression, "DEFLATE");
   const std::vector<std::string> names = {"passages",   "reach_probability", "stop_density",
                                           "energy_max", "energy_p95",        "height_max",
-                                          "height_p95"};
+                                          "height_p95", "speed_max",         "speed_p95"};
   ASSERT_EQ(tif.bands.size(), names.size());
   for (std::size_t k = 0; k < names.size(); ++k) {
     EXPECT_EQ(tif.bands[k].description.rfind(names[k] + ": ", 0), 0u) << tif.bands[k].description;
@@ -175,6 +175,7 @@ TEST(Rasters, SimulateWritesTheMapsOnTheDemGridWithItsCrs) {
   }
   EXPECT_THAT(Band(tif, "energy_max")->description, HasSubstr("[kJ]"));
   EXPECT_THAT(Band(tif, "height_max")->description, HasSubstr("[m]"));
+  EXPECT_THAT(Band(tif, "speed_p95")->description, HasSubstr("[m/s]"));
   EXPECT_THAT(Band(tif, "reach_probability")->description, HasSubstr("[1]"));
 
   // Where the DEM has no data, neither have the maps.
@@ -210,7 +211,7 @@ TEST(Rasters, AsciiGridsMatchTheGeoTiff) {
   const RunResult run = Rockcal("simulate " + site + " --rasters --quiet --out " + out);
   ASSERT_EQ(run.status, 0) << run.err;
   const ReadRaster tif = OpenRaster(out + "/rasters.tif");
-  ASSERT_EQ(tif.bands.size(), 7u);
+  ASSERT_EQ(tif.bands.size(), 9u);
   for (const auto& band : tif.bands) {
     const std::string name = band.description.substr(0, band.description.find(':'));
     const std::string path = out + "/rasters/" + name + ".asc";
@@ -247,7 +248,7 @@ TEST(Rasters, AForestAddsItsStrikesPerCell) {
   const RunResult run = Rockcal("simulate " + site + " --rasters --quiet --out " + out);
   ASSERT_EQ(run.status, 0) << run.err;
   const ReadRaster tif = OpenRaster(out + "/rasters.tif");
-  ASSERT_EQ(tif.bands.size(), 8u);
+  ASSERT_EQ(tif.bands.size(), 10u);
   const rockcal::testing::ReadBand* band = Band(tif, "strikes");
   ASSERT_NE(band, nullptr);
   EXPECT_THAT(band->description, HasSubstr("[strikes]"));
@@ -309,7 +310,7 @@ TEST(Rasters, TheGisExampleMapsOnItsDemCells) {
   EXPECT_EQ(maps.ny, dem.ny);
   for (int k = 0; k < 6; ++k) EXPECT_DOUBLE_EQ(maps.transform[k], dem.transform[k]) << k;
   EXPECT_TRUE(SameCrs(maps.wkt, EpsgWkt(2154)));
-  ASSERT_EQ(maps.bands.size(), 7u);
+  ASSERT_EQ(maps.bands.size(), 9u);
   // Passages, reach and stops: nodata exactly where the DEM has none; the
   // energies and heights also where no rock passed.
   const auto& passages = maps.bands[0].values;
@@ -377,7 +378,7 @@ TEST(Rasters, CalibrateWritesTheMapsOfTheReportSimulation) {
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_THAT(run.out, HasSubstr("rasters.tif, rasters/*.asc"));
   const ReadRaster tif = OpenRaster(out + "/rasters.tif");
-  ASSERT_EQ(tif.bands.size(), 7u);
+  ASSERT_EQ(tif.bands.size(), 9u);
   const nlohmann::json summary = nlohmann::json::parse(ReadFile(out + "/summary.json"));
   EXPECT_EQ(tif.metadata.at("ROCKS_RELEASED"), std::to_string(summary["rocks"].get<int>()));
   // Every rock passed over the cell it started in.

@@ -28,6 +28,7 @@ struct Throw {
   double z0() const { return drop + radius; }
   double Time(double x) const { return (x - 2.0) / u; }
   double Height(double x) const { return z0() - 0.5 * kG * Time(x) * Time(x); }
+  double Speed(double x) const { return std::sqrt(u * u + kG * kG * Time(x) * Time(x)); }
   double Energy(double mass, double x) const {
     return 0.5 * mass * (u * u + kG * kG * Time(x) * Time(x));
   }
@@ -49,7 +50,10 @@ TEST(Rasters, AFlightRecordsEveryCellBelowItWithItsHeightAndEnergy) {
   const RasterBand* h_max = maps.Find("height_max");
   const RasterBand* e_max = maps.Find("energy_max");
   const RasterBand* e_p95 = maps.Find("energy_p95");
-  ASSERT_TRUE(passages && h_max && e_max && e_p95);
+  const RasterBand* v_max = maps.Find("speed_max");
+  const RasterBand* v_p95 = maps.Find("speed_p95");
+  ASSERT_TRUE(passages && h_max && e_max && e_p95 && v_max && v_p95);
+  EXPECT_EQ(v_max->unit, "m/s");
   // The first landing: where the centre comes down to its radius.
   const double land_x = 2.0 + th.u * std::sqrt(2.0 * th.drop / kG);
   ASSERT_GT(land_x, 6.5);
@@ -71,10 +75,15 @@ TEST(Rasters, AFlightRecordsEveryCellBelowItWithItsHeightAndEnergy) {
     EXPECT_GE(e_max->values[k] * 1000.0, th.Energy(r.mass, x_out_quarter) * (1 - 1e-9))
         << "cell " << i;
     EXPECT_EQ(e_p95->values[k], e_max->values[k]) << "one rock: its value is every quantile";
+    // Issue 55: the speed, largest at the downslope side like the energy.
+    EXPECT_LE(v_max->values[k], th.Speed(x_out) * (1 + 1e-9)) << "cell " << i;
+    EXPECT_GE(v_max->values[k], th.Speed(x_out_quarter) * (1 - 1e-9)) << "cell " << i;
+    EXPECT_EQ(v_p95->values[k], v_max->values[k]) << "cell " << i;
   }
   // Nothing beside the path.
   EXPECT_EQ(passages->values[static_cast<std::size_t>(11 * maps.nx + 4)], 0.0);
   EXPECT_TRUE(std::isnan(h_max->values[static_cast<std::size_t>(11 * maps.nx + 4)]));
+  EXPECT_TRUE(std::isnan(v_max->values[static_cast<std::size_t>(11 * maps.nx + 4)]));
 }
 
 // A slope with a hole, several rocks: the counts agree with the records.

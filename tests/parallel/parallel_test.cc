@@ -38,7 +38,7 @@ core::SimulationResult SampleResult() {
     rec.crossings.push_back({true, 1.5, 2.5, 3.5, Eigen::Vector3d(4, 5, 6)});
     rec.crossings.push_back({false, 0, 0, 0, Eigen::Vector3d::Zero()});
     if (k == 0) rec.trees.push_back({true, 0.7, 1, 2, Eigen::Vector3d(1, 1, 1)});
-    rec.cells = {{3, 0.25, 100.0}, {4, 0.5, 200.0 / 3.0}};
+    rec.cells = {{3, 0.25, 100.0, 7.5}, {4, 0.5, 200.0 / 3.0, 1.0 / 3.0}};
     if (k == 1)
       rec.trajectory.push_back({0.05, Eigen::Vector3d(1, 2, 3), Eigen::Vector3d(4, 5, 6),
                                 Eigen::Vector3d(7, 8, 9), Eigen::Vector4d(1, 0, 0, 0)});
@@ -84,6 +84,7 @@ TEST(Codec, SimulationResultRoundTripsBitForBit) {
   EXPECT_EQ(back.rocks[0].trees.size(), 1u);
   EXPECT_EQ(back.rocks[1].trajectory.size(), 1u);
   EXPECT_EQ(back.rocks[2].cells[1].energy, 200.0 / 3.0);
+  EXPECT_EQ(back.rocks[2].cells[1].speed, 1.0 / 3.0);
   EXPECT_TRUE(back.cells_recorded);
   EXPECT_EQ(back.figures.tunneled, 1);
   EXPECT_EQ(back.figures.rocks, 3);

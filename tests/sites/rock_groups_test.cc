@@ -52,7 +52,7 @@ TEST(ReadRelease, AZoneIsReadInTheSitesUnitsAndAVelocityToo) {
   EXPECT_NEAR(r.zone[2].x(), 30.48, 1e-12);
   EXPECT_NEAR(r.velocity.x(), 3.048, 1e-12);
   EXPECT_NEAR(r.velocity.z(), -1.524, 1e-12);
-  EXPECT_THAT(note, HasSubstr("zone of 4 vertices, area 929.0304 m^2"));
+  EXPECT_THAT(note, HasSubstr("zone of 4 vertices, area 10000 ft^2"));
 }
 
 TEST(ReadRelease, ADropBelowTheGroundNamesTheKeyAndTheGround) {

@@ -75,8 +75,8 @@ void ExpectSameMedian(std::vector<double> a, std::vector<double> b, const char* 
 }
 
 TEST(LoadSite, RoughnessMeansOneGroundAtAnyResolution) {
-  // The virtual spheres keep their own spacing (12 ft by default) whatever
-  // the resolution the data are gridded at: the same slope at 1 m and 2 m
+  // The virtual spheres keep their own spacing (12 ft by default for
+  // scattered points) whatever the resolution the data are gridded at: the same slope at 1 m and 2 m
   // makes the same sphere surface ...
   TempDir dir;
   const Site fine = LoadSite(dir.Write("site.json", SlopeAtResolution(1.0).dump(2)));

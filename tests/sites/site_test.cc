@@ -194,11 +194,15 @@ TEST(LoadSite, BuildsTheSceneInSIUnits) {
 
   std::string notes;
   for (const std::string& n : site.notes) notes += n + "\n";
-  EXPECT_THAT(notes, HasSubstr("grid: 21 x 11 nodes at 3.048 m spacing"));
+  // In the site's units (a "us" file: feet).
+  EXPECT_THAT(notes, HasSubstr("grid: 21 x 11 nodes at 10 ft spacing, x 0 to 200 ft, y 0 to 100 "
+                               "ft, elevation 0 to 100 ft"));
   EXPECT_THAT(notes, HasSubstr("material talus: 121 nodes"));
   EXPECT_THAT(notes, HasSubstr("holes: 0 of 231 nodes"));
-  EXPECT_THAT(notes, HasSubstr("partition BP-2: z = 12.192 m"));
-  EXPECT_THAT(notes, HasSubstr("rock group 2: 5 cube"));
+  EXPECT_THAT(notes, HasSubstr("partition BP-2: z = 40 ft"));
+  EXPECT_THAT(notes, HasSubstr("rock group 1: 10 sphere, size 1-3 ft, unit weight 165 lbf/ft^3, "
+                               "release zone of 4 vertices, area 400 ft^2"));
+  EXPECT_THAT(notes, HasSubstr("rock group 2: 5 cube, size 2 ft"));
 }
 
 TEST(LoadSite, TheExampleOfDesignMdLoads) {
@@ -494,6 +498,10 @@ TEST(LoadSite, VegetationInTheFilesStressUnit) {
                                   [](const ParameterBound& b) { return b.name == "vegetation"; });
   ASSERT_NE(bound, site.calibrate.end());
   EXPECT_NEAR(bound->upper, 60 * 47.88025898, 1e-6);
+  // Issue 55: the bounds are listed in the file's units, each with its unit.
+  EXPECT_THAT(site.notes.back(),
+              HasSubstr("calibrate: talus.hardness [0.1, 0.6], talus.roughness [0.5, 5] ft, "
+                        "talus.contact_time [0.002, 0.01] s, talus.vegetation [0, 60] lbf/ft^2"));
   EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["vegetation"] = -1; }),
               HasSubstr("$.materials[1].vegetation: expected a number >= 0"));
   EXPECT_THAT(LoadError([](Json& s) { s["materials"][1]["vegetation"] = 5000; }),
@@ -639,8 +647,8 @@ TEST(LoadSite, ReleaseErrors) {
   EXPECT_THAT(LoadError([](Json& s) {
                 s["rocks"][1]["release"]["zone"] = s["rocks"][0]["release"]["zone"];
               }),
-              HasSubstr("$.rocks[1].release: expected exactly one of 'zone' (plan polygon) or "
-                        "'point' ([x, y])"));
+              HasSubstr("$.rocks[1].release: expected exactly one of 'zone' (plan polygon), "
+                        "'zone_file' (a polygon of a GIS file) or 'point' ([x, y])"));
   EXPECT_THAT(LoadError([](Json& s) { s["rocks"][1]["release"].erase("point"); }),
               HasSubstr("$.rocks[1].release: expected exactly one of 'zone'"));
   EXPECT_THAT(LoadError([](Json& s) { s["rocks"][0]["release"]["height"] = -1; }),

@@ -187,8 +187,9 @@ TEST(ReadSurface, RasterTakesTheEsriGridsWayOntoTheGrid) {
   EXPECT_TRUE(tif.crs_wkt.empty());
   EXPECT_THAT(tif.files, ElementsAre(EndsWith("/plane.tif")));
   ExpectPlane(tif.grid, "raster");  // its own cell size: the cell centres are the nodes
-  EXPECT_THAT(tif.notes[0], HasSubstr("(GTiff, band 1), 21 x 11 cells of 2 (cell centres are "
+  EXPECT_THAT(tif.notes[0], HasSubstr("(GTiff, band 1), 21 x 11 cells of 2 m (cell centres are "
                                       "the grid nodes)"));
+  EXPECT_TRUE(tif.resampled.empty());
   // Resampled: the same bilinear rule as the ESRI grid, to the last bit.
   const Surface a = Read(
       R"({"resolution": 3, "sphere_spacing": 3, "raster": {"file": "plane.tif", "band": 1}})", dir);
@@ -201,7 +202,50 @@ TEST(ReadSurface, RasterTakesTheEsriGridsWayOntoTheGrid) {
   EXPECT_EQ(a.grid.x0, b.grid.x0);
   EXPECT_EQ(a.grid.z, b.grid.z);
   EXPECT_NEAR(a.grid.z[a.grid.index(5, 3)], Plane(15, 9), 1e-9);
-  EXPECT_THAT(a.notes[0], HasSubstr("resampled bilinearly to the resolution"));
+  EXPECT_THAT(a.resampled, ElementsAre("surface: 21 x 11 cells of 2 m resampled bilinearly to "
+                                       "the resolution 3 m (resolution): 14 x 7 nodes"));
+  EXPECT_EQ(a.notes[1], a.resampled[0]);
+}
+
+// Issue 55: a DEM with no sphere_spacing keeps its own grid (its cells, or
+// its resolution when given) rather than the 12 ft of scattered points; any
+// resampling is said with units and node counts.
+TEST(ReadSurface, ADemKeepsItsOwnGridUnlessSphereSpacingIsGiven) {
+  TempDir dir;
+  WritePlaneRasters(dir);
+  for (const char* json : {R"({"raster": "plane.tif"})", R"({"grid_file": "plane.asc"})"}) {
+    const Surface s = Read(json, dir);
+    ExpectPlane(s.grid, json);
+    EXPECT_TRUE(s.resampled.empty()) << json;
+  }
+  // A resolution of its own: the spheres sit on that grid, resampled once.
+  const Surface coarse = Read(R"({"raster": "plane.tif", "resolution": 4})", dir);
+  EXPECT_DOUBLE_EQ(coarse.grid.spacing, 4.0);
+  EXPECT_EQ(coarse.grid.nx, 11);
+  EXPECT_EQ(coarse.grid.ny, 6);
+  EXPECT_THAT(coarse.resampled, ElementsAre("surface: 21 x 11 cells of 2 m resampled bilinearly "
+                                            "to the resolution 4 m (resolution): 11 x 6 nodes"));
+  // A sphere spacing given: the DEM's grid resampled onto it.
+  const Surface spheres = Read(R"({"grid_file": "plane.asc", "sphere_spacing": 4})", dir);
+  EXPECT_DOUBLE_EQ(spheres.grid.spacing, 4.0);
+  EXPECT_THAT(spheres.resampled,
+              ElementsAre("surface: the grid of 2 m (21 x 11 nodes) resampled bilinearly to the "
+                          "virtual spheres' spacing 4 m (11 x 6 nodes; sphere_spacing)"));
+  // Scattered points keep CRSP's 12 ft, and say so.
+  const Surface points = Read(
+      R"({"resolution": 2, "points": [[0, 0, 50], [40, 0, 62], [40, 20, 60], [0, 20, 48]]})", dir);
+  EXPECT_DOUBLE_EQ(points.grid.spacing, kDefaultSphereSpacingM);
+  EXPECT_THAT(points.resampled,
+              ElementsAre("surface: the grid of 2 m (21 x 11 nodes) resampled bilinearly to the "
+                          "virtual spheres' spacing 3.6576 m (11 x 6 nodes; the default 12 ft of "
+                          "scattered points and STL)"));
+  // In a "us" site the notes are in feet.
+  const nlohmann::json j = nlohmann::json::parse(R"({"grid_file": "plane.asc", "sphere_spacing": 4})");
+  const Surface us = ReadSurface(JsonNode(&j, dir.path() + "/site.json", "$.surface"), Units::kUS,
+                                 dir.path(), {"a"});
+  EXPECT_DOUBLE_EQ(us.grid.spacing, 4 * 0.3048);
+  EXPECT_THAT(us.resampled, ElementsAre(HasSubstr("the grid of 2 ft (21 x 11 nodes) resampled "
+                                                  "bilinearly to the virtual spheres' spacing 4 ft")));
 }
 
 TEST(ReadSurface, RasterNodataIsAHole) {

@@ -348,5 +348,82 @@ TEST(ReadBarrierFile, Errors) {
               HasSubstr("feature 0: field 'id' holds 'a b'; expected an id"));
 }
 
+// Issue 55: a rock group's release area from a polygon of a GIS file, named
+// by its attribute "id" (or the file's only one): the same zone as given
+// inline, the file among the inputs.
+TEST(ReadReleaseFile, APolygonOfAGisFileIsTheReleaseZone) {
+  TempDir dir;
+  const char* a = R"({"type": "Polygon", "coordinates": [[[5, 20], [15, 20], [15, 30], [5, 30], [5, 20]]]})";
+  const char* b = R"({"type": "MultiPolygon", "coordinates": [[[[20, 10], [30, 10], [25, 40], [20, 10]]]]})";
+  dir.Write("releases.geojson",
+            BarrierGeoJson({BarrierFeature(R"("id": "A")", a), BarrierFeature(R"("id": "B")", b)}));
+  dir.Write("one.geojson", BarrierGeoJson({BarrierFeature(R"("name": "scarp")", a)}));
+  Json json = BarrierSite();
+  json["rocks"][0]["release"] = Json::parse(R"({"zone_file": {"file": "releases.geojson", "id": "B"}})");
+  const Site site = Load(dir, json);
+  const std::vector<Eigen::Vector2d> want = {{20, 10}, {30, 10}, {25, 40}};
+  EXPECT_EQ(site.scene.groups[0].release.zone, want);
+  EXPECT_THAT(site.inputs, Contains(EndsWith("releases.geojson")));
+  EXPECT_TRUE(site.gis);
+  EXPECT_THAT(site.notes, Contains(HasSubstr("release zone of 3 vertices, area 150 m^2")));
+  EXPECT_THAT(site.notes,
+              Contains(HasSubstr("releases.geojson', layer 'releases', feature 1)")));
+  // The same zone inline gives the same release.
+  json["rocks"][0]["release"] = Json::parse(R"({"zone": [[20, 10], [30, 10], [25, 40]]})");
+  EXPECT_EQ(Load(dir, json).scene.groups[0].release.zone, want);
+  // A file of one polygon needs no id (nor an id field).
+  json["rocks"][0]["release"] = Json::parse(R"({"zone_file": "one.geojson", "height": 1})");
+  EXPECT_EQ(Load(dir, json).scene.groups[0].release.zone.size(), 4u);
+}
+
+// A release file's faults name the file and the feature, or the site
+// file's key, with what was expected.
+TEST(ReadReleaseFile, Errors) {
+  auto error = [](const std::vector<std::string>& features, const Json& release) {
+    TempDir dir;
+    dir.Write("releases.geojson", BarrierGeoJson(features));
+    Json json = BarrierSite();
+    json["rocks"][0]["release"] = release;
+    return LoadError(dir, json);
+  };
+  const char* square = R"({"type": "Polygon", "coordinates": [[[5, 20], [15, 20], [15, 30], [5, 30], [5, 20]]]})";
+  const std::vector<std::string> two = {BarrierFeature(R"("id": "A")", square),
+                                        BarrierFeature(R"("id": "B")", square)};
+  const Json by_name = Json::parse(R"({"zone_file": "releases.geojson"})");
+  EXPECT_THAT(error(two, by_name),
+              HasSubstr("$.rocks[0].release.zone_file: the release file '"));
+  EXPECT_THAT(error(two, by_name),
+              HasSubstr("has 2 features; expected \"id\" naming the release area (ids: A, B)"));
+  const Json by_id = Json::parse(R"({"zone_file": {"file": "releases.geojson", "id": "C"}})");
+  EXPECT_THAT(error(two, by_id),
+              HasSubstr("$.rocks[0].release.zone_file.id: layer 'releases' of the release file"));
+  EXPECT_THAT(error(two, by_id), HasSubstr("has no feature whose id is 'C' (ids: A, B)"));
+  const Json a = Json::parse(R"({"zone_file": {"file": "releases.geojson", "id": "A"}})");
+  EXPECT_THAT(error({BarrierFeature(R"("id": "A")", kNetLine)}, a),
+              HasSubstr("releases.geojson: layer 'releases', feature 0: a Line String; expected "
+                        "a Polygon (or a MultiPolygon of one polygon)"));
+  EXPECT_THAT(
+      error({BarrierFeature(R"("id": "A")",
+                            R"({"type": "Polygon", "coordinates": [[[0, 0], [40, 0], [40, 40], )"
+                            R"([0, 0]], [[10, 5], [20, 5], [20, 10], [10, 5]]]})")},
+            a),
+      HasSubstr("feature 0: a polygon with 1 hole(s); expected a polygon without holes"));
+  EXPECT_THAT(error({BarrierFeature(R"("id": "A")",
+                                    R"({"type": "Polygon", "coordinates": [[[5, 20], [25, 20], )"
+                                    R"([25, 30], [15, 15], [5, 30], [5, 20]]]})")},
+                    a),
+              HasSubstr("feature 0: a self-intersecting polygon"));
+  EXPECT_THAT(error({BarrierFeature(R"("id": "A")", square), BarrierFeature(R"("id": "A")", square)},
+                    a),
+              HasSubstr("feature 1: its id 'A' is also layer 'releases', feature 0's"));
+  EXPECT_THAT(error({BarrierFeature(R"("id": "A")",
+                                    R"({"type": "Polygon", "coordinates": [[[200, 20], [215, 20], )"
+                                    R"([215, 30], [200, 20]]]})")},
+                    a),
+              HasSubstr("$.rocks[0].release.zone_file: release zone point"));
+  EXPECT_THAT(error(two, Json::parse(R"({"zone_file": "releases.geojson", "point": [5, 5]})")),
+              HasSubstr("expected exactly one of 'zone' (plan polygon), 'zone_file'"));
+}
+
 }  // namespace
 }  // namespace rockcal::sites

@@ -142,8 +142,11 @@ Runout ReadRunoutPositions(const Reader& reader, const JsonNode& node,
     runout.distances.push_back(runout.Distance(p));
     runout.lateral.push_back(runout.Lateral(p));
   }
+  // In the observations file's units (docs/reference/commands.md, validate).
+  const double to_file = 1.0 / sites::LengthToSI(1.0, reader.units());
   notes->push_back("runout: " + std::to_string(runout.stop_points.size()) +
-                   " stop points; distances from " + FormatPoint(runout.from) + " m (" + from_note +
+                   " stop points; distances from " + FormatPoint(runout.from * to_file) + " " +
+                   sites::LengthUnit(reader.units()) + " (" + from_note +
                    ") along " + FormatPoint(runout.direction) + " (" + direction_note +
                    "), lateral offsets positive to the left");
   return runout;
@@ -184,9 +187,9 @@ Runout ReadRunout(const Reader& reader, const JsonNode& node, std::vector<std::s
   if (runout.mass_classes >= 2) {
     std::string bounds;
     for (double b : runout.MassClassBounds())
-      bounds += (bounds.empty() ? "" : ", ") + FormatNumber(b);
+      bounds += (bounds.empty() ? "" : ", ") + sites::MassText(b, reader.units());
     notes->push_back("runout: also compared in " + std::to_string(runout.mass_classes) +
-                     " mass classes split at " + bounds + " kg");
+                     " mass classes split at " + bounds);
   }
   return runout;
 }

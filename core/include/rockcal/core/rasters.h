@@ -33,7 +33,8 @@ struct RasterSet {
 
 // The bands, in this order (cells whose node is a hole of the terrain are
 // NaN in every band):
-//   passages           rocks whose centre passed over the cell (each rock once)
+//   passages           rocks whose centre passed over the cell (each rock
+//                      once): the count a viewer masks the p95 bands by
 //   reach_probability  passages / rocks released
 //   stop_density       rocks that stopped in the cell / cell area [1/m2]
 //   energy_max         largest kinetic energy (translational + rotational) of
@@ -43,6 +44,9 @@ struct RasterSet {
 //   height_max         largest height of a rock's centre above the ground over
 //                      the cell [m] (as at partitions); NaN where none passed
 //   height_p95         95th percentile, as energy_p95 [m]
+//   speed_max          largest speed of a rock's centre over the cell [m/s];
+//                      NaN where none passed
+//   speed_p95          95th percentile, as energy_p95 [m/s]
 //   strikes            only for a scene with a forest whose strikes were
 //                      recorded (RecordOptions::tree_strikes): strikes of
 //                      rocks on the stems standing in the cell (the cell of

@@ -31,13 +31,14 @@ struct TrajectorySample {
 };
 
 // What a rock did over one cell of the site grid (cell (i, j) centred on
-// grid node (i, j), index j * nx + i): its largest kinetic energy and
-// centre height above the ground there, sampled at every small step and at
-// least every quarter cell along a flight.
+// grid node (i, j), index j * nx + i): its largest kinetic energy, centre
+// height above the ground and speed there, sampled at every small step and
+// at least every quarter cell along a flight.
 struct CellVisit {
   int cell = 0;
   double height = 0.0;  // m, as Crossing::height
   double energy = 0.0;  // J, as Crossing::energy
+  double speed = 0.0;   // m/s, as Crossing::speed (the centre's)
 };
 
 // One strike of a rock on a stem of Scene::forest: from the step its first

@@ -83,6 +83,13 @@ Units ReadUnits(const JsonNode& node);
 double LengthToSI(double value, Units units);
 // The files' length unit: "ft" or "m".
 const char* LengthUnit(Units units);
+// A length [m] as the files give it, with its unit: "12 ft", "3.6576 m"
+// (`format` as FormatNumber's).
+std::string LengthText(double metres, Units units, const char* format = "%.10g");
+// A mass [kg] in the files' system, with its unit: "12 kg", "26.5 lb".
+std::string MassText(double kg, Units units, const char* format = "%.10g");
+// A unit weight [N/m^3] as the files give it: "26 kN/m^3", "165 lbf/ft^3".
+std::string UnitWeightText(double n_per_m3, Units units);
 // Unit weight in the file's units (lbf/ft^3 or kN/m^3) -> N/m^3.
 double UnitWeightToSI(double value, Units units);
 // Stress in the file's units (lbf/ft^2 or kPa) -> Pa.
@@ -92,6 +99,9 @@ const char* StressUnit(Units units);
 // A material field's value in the file's units -> SI, by the field's unit
 // (core/material_field.h): lengths and stresses converted, the rest as given.
 double FieldToSI(double value, core::FieldUnit unit, Units units);
+// The file's unit of a material field (core/material_field.h): "" for a
+// number, "ft" or "m", "s", "lbf/ft^2" or "kPa".
+const char* FieldUnitText(core::FieldUnit unit, Units units);
 
 // Physical plausibility (core/limits.h): fails at `node` unless lo <= value
 // <= hi, all three in SI; `what` names the quantity and `kind` says how to

@@ -33,6 +33,9 @@ struct Site {
   std::vector<std::string> inputs;
   // What the reader found and did, for `rockcal validate` (one line each).
   std::vector<std::string> notes;
+  // Each resampling of the terrain data, with units and node counts (also
+  // among `notes`): `simulate`, `calibrate` and `score` print them.
+  std::vector<std::string> resampled;
   // The barrier of the report's barrier check ("report" in the site file):
   // fence height [m] and energy capacity [J]; default a 10 ft, 500 kJ fence.
   double barrier_height_m = 3.048;

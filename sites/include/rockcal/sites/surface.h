@@ -12,13 +12,16 @@
 
 namespace rockcal::sites {
 
-// Default spacing of the virtual spheres ("sphere_spacing"): CRSP's surface
-// resolution of 12 ft (3.6576 m), in both unit systems. Roughness is the sag
-// between spheres this far apart, whatever the data's resolution, so one R
-// means one ground at any resolution. "resolution" (how the data are gridded
-// first) defaults to the sphere spacing; an ESRI grid or a raster keeps its
-// own cell size instead. A grid at another spacing than the spheres' is
-// resampled bilinearly onto it (ResampleGrid).
+// Default spacing of the virtual spheres ("sphere_spacing") of scattered
+// points (points, points_file, lidar) and STL: CRSP's surface resolution of
+// 12 ft (3.6576 m), in both unit systems. A DEM (grid_file, raster) with no
+// sphere_spacing keeps its own grid instead: its cells, or its "resolution"
+// when given. Roughness is the sag between spheres this far apart, so one R
+// means one ground at one sphere spacing (docs/physics.md, "Roughness is one
+// ground at any resolution"). "resolution" (how the data are gridded first)
+// defaults to the sphere spacing; an ESRI grid or a raster keeps its own
+// cell size instead. A grid at another spacing than the spheres' is
+// resampled bilinearly onto it (ResampleGrid), and Surface::resampled says so.
 constexpr double kDefaultSphereSpacingM = 12 * 0.3048;
 // Largest grid accepted (nodes), so a typo in "resolution" fails clearly.
 constexpr long kMaxGridNodes = 20'000'000;
@@ -28,6 +31,9 @@ struct Surface {
   std::string source;     // "points", "points_file", "lidar", "grid_file", "raster" or "stl"
   bool materials_from_source = false;  // true for STL (each file names a material)
   std::vector<std::string> notes;      // what was read and how it was gridded
+  // Each resampling of the data (a DEM to its "resolution", a grid to the
+  // spheres' spacing), with units and node counts; also among `notes`.
+  std::vector<std::string> resampled;
   std::vector<std::string> files;      // the data files read, as resolved (with side files)
   // The terrain's CRS as WKT: the raster's own, else the "crs" key's; empty
   // when neither gives one.

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "rockcal/sites/geometry.h"
 #include "rockcal/sites/json_reader.h"
 #include "rockcal/sites/site.h"
 
@@ -60,6 +61,19 @@ struct BarrierFeature {
 // barrier file and feature, with what was expected.
 std::vector<BarrierFeature> ReadBarrierFile(const JsonNode& node, const std::string& base_dir,
                                             Site* site);
+
+// Reads a rock group's release "zone_file" (docs/reference/site-file.md,
+// `$.rocks[].release`): a file name, or {"file": ..., "layer": ..., "id":
+// ...}. The release area is the polygon feature whose attribute `id` holds
+// "id", or, without "id", the layer's only feature: a Polygon (or a
+// MultiPolygon of one polygon) without holes, in the site's frame and length
+// unit, enclosing an area, its edges not crossing. The CRS is matched as a
+// zone file's; the file goes into site->inputs and site->gis becomes true.
+// Throws InputError naming the site file and JSON path, or the release file
+// and feature, with what was expected. Returns the polygon in SI; *where is
+// set to its place in the file ("'areas.gpkg', layer 'L', feature 3").
+Polygon ReadReleaseFile(const JsonNode& node, const std::string& base_dir, Site* site,
+                        std::string* where);
 
 }  // namespace rockcal::sites
 
