@@ -156,5 +156,28 @@ TEST(ClassValues, TheShippedTableIsTheTableOfTheShippedCalibrations) {
   EXPECT_EQ(ReadFile(out + "/table.md"), ReadFile(tables + "/default.md"));
 }
 
+// --about must describe every class and name every site's data.
+TEST(ClassValues, AnAboutFileMissingAClassOrASiteExitsTwo) {
+  const std::string tables = std::string(ROCKCAL_SOURCE_DIR) + "/sites/tables";
+  Json about = Json::parse(ReadFile(tables + "/about.json"));
+  about["classes"].erase("meadow");
+  const std::string dir = FreshDir("about");
+  fs::create_directories(dir);
+  std::ofstream(dir + "/about.json") << about.dump(2);
+  RunResult r = Rockcal("table " + tables + "/calibrations/tschamut --about " + dir +
+                        "/about.json --quiet --out " + dir + "/out");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr(dir + "/about.json: $.classes: no class 'meadow'; expected a "
+                               "description of every class of the table"));
+  about = Json::parse(ReadFile(tables + "/about.json"));
+  about["sites"].erase("Tschamut 2014");
+  std::ofstream(dir + "/about.json") << about.dump(2);
+  r = Rockcal("table " + tables + "/calibrations/tschamut --about " + dir + "/about.json --quiet --out " +
+              dir + "/out");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_THAT(r.err, HasSubstr("$.sites: no site 'Tschamut 2014'"));
+  EXPECT_FALSE(fs::exists(dir + "/out"));
+}
+
 }  // namespace
 }  // namespace rockcal::cli
