@@ -8,8 +8,8 @@ const std::vector<CommandFlags>& AllCommandFlags() {
   static const std::vector<CommandFlags> table = {
       {"simulate",
        {"force", "quiet", "rasters", "point-values", "no-forest", "compare-bare"},
-       {"rocks", "seed", "set", "parameters", "draws", "trajectories", "sample-seconds", "threads",
-        "out"},
+       {"rocks", "seed", "set", "parameters", "draws", "class-values", "trajectories",
+        "sample-seconds", "threads", "out"},
        {"set"}},
       {"calibrate",
        {"force", "quiet", "resume", "rasters", "posterior", "no-forest"},
@@ -37,7 +37,7 @@ const std::vector<CommandFlags>& AllCommandFlags() {
        {"rocks", "seed", "set", "cases", "steps-per-contact", "rock-counts", "target", "bootstrap",
         "threads", "observations", "points", "design", "out"},
        {"set"}},
-      {"table", {"force", "include-at-bound", "quiet"}, {"bound-tolerance", "out"}, {}},
+      {"table", {"force", "include-at-bound", "quiet"}, {"about", "bound-tolerance", "out"}, {}},
       {"validate", {}, {"observations", "write-impacts"}, {}},
   };
   return table;

@@ -10,6 +10,7 @@
 
 #include "args.h"
 #include "progress.h"
+#include "rockcal/calibrate/class_draws.h"
 #include "rockcal/calibrate/posterior_draws.h"
 #include "rockcal/calibrate/recording.h"
 #include "rockcal/calibrate/score.h"
@@ -87,11 +88,45 @@ namespace {
 struct SimulateInputs {
   sites::Site loaded;
   std::optional<calibrate::CalibratedSite> parameters;
-  bool drawn = false;  // parameter sets drawn from the posterior samples
+  bool drawn = false;  // parameter sets drawn from the posterior samples (or the class table)
+  bool class_draws = false;  // drawn within the class table's intervals (parameters: theirs)
   std::vector<std::vector<double>> samples;
   int draws = 0;                    // --draws, when drawn
   calibrate::RecordingNeeds needs;  // summary.json, rocks.csv, diagnostics.json, trajectories.csv
 };
+
+// --class-values (draws, the default, or median) of a site whose materials
+// take values from a class table: with draws and a value with an interval,
+// parameter sets drawn within the intervals (calibrate/class_draws.h) take
+// the place of a posterior's; with median the site's medians stand.
+void ReadClassValues(const Args& args, SimulateInputs* in_out) {
+  SimulateInputs& in = *in_out;
+  const std::string use = args.Get("class-values", "draws");
+  if (use != "draws" && use != "median")
+    throw InputError("argument --class-values",
+                     "'" + use + "' is not a choice; expected draws or median");
+  if (args.Has("class-values") && in.loaded.class_materials.empty())
+    throw InputError("argument --class-values",
+                     "the site has no material that takes its values from a class table "
+                     "(a material with a \"class\" and no hardness or roughness)");
+  if (use != "draws") return;
+  calibrate::CalibratedSite classes = calibrate::ClassParameters(in.loaded);
+  if (classes.parameters.empty()) return;
+  if (in.parameters)
+    throw InputError("argument --parameters",
+                     "the site's class values are drawn within the class table's intervals, and "
+                     "a calibration's values would set them too; expected --class-values median "
+                     "with --parameters");
+  const std::uint64_t seed =
+      args.Has("seed") ? static_cast<std::uint64_t>(args.Integer("seed", 1, 0, core::kMaxSeed))
+                       : in.loaded.scene.options.seed;
+  in.draws =
+      static_cast<int>(args.Integer("draws", calibrate::PosteriorDrawOptions{}.draws, 1, 10000));
+  in.samples = calibrate::ClassDrawSamples(classes, in.draws, seed);
+  in.parameters = std::move(classes);
+  in.drawn = true;
+  in.class_draws = true;
+}
 
 SimulateInputs ReadSimulateInputs(const Args& args, const std::string& site_path) {
   SimulateInputs in;
@@ -102,14 +137,15 @@ SimulateInputs ReadSimulateInputs(const Args& args, const std::string& site_path
     throw InputError("argument --point-values",
                      "goes with --parameters (a calibration's parameters.json or its folder)");
   in.drawn = parameters && parameters->has_posterior() && !args.Flag("point-values");
+  ReadClassValues(args, &in);
   if (args.Has("draws") && !in.drawn)
     throw InputError(
         "argument --draws",
         parameters && parameters->has_posterior()
             ? "draws posterior parameter sets; --point-values takes the point values only"
             : "needs --parameters of a calibration with a posterior (rockcal calibrate "
-              "--posterior)");
-  if (in.drawn) {
+              "--posterior), or a site whose materials take values from a class table");
+  if (in.drawn && !in.class_draws) {
     in.samples = calibrate::ReadPosteriorSamples(*parameters);
     in.draws =
         static_cast<int>(args.Integer("draws", calibrate::PosteriorDrawOptions{}.draws, 1, 10000));
@@ -166,6 +202,7 @@ core::SimulationResult RunSimulate(const Args& args, const SimulateInputs& in,
         return s;
       },
       "argument --draws", update);
+  (*run)->class_draws = in.class_draws;
   core::SimulationResult result = std::move((*run)->pooled);
   (*run)->pooled = core::SimulationResult();
   return result;
@@ -202,7 +239,12 @@ void PrintSimulate(const Args& args, const std::string& out, const SimulateInput
               scene.name.c_str(), result.rocks.size(), result.wall_seconds, result.figures.steps,
               result.figures.flights, result.count(core::Outcome::kStopped),
               result.count(core::Outcome::kLeft), result.count(core::Outcome::kTimeout));
-  if (run)
+  if (run && run->class_draws)
+    std::printf(
+        "class values: %zu parameter sets drawn within the intervals of %s (rock i with set i "
+        "mod %zu; --class-values median for the medians)\n",
+        run->draws.size(), in.parameters->file.c_str(), run->draws.size());
+  else if (run)
     std::printf(
         "parameters: %zu posterior draws from %d samples of %s (rock i with draw i mod "
         "%zu; --point-values for the point values)\n",
@@ -210,6 +252,12 @@ void PrintSimulate(const Args& args, const std::string& out, const SimulateInput
   else if (in.parameters)
     std::printf("parameters: the point values of %s%s\n", in.parameters->file.c_str(),
                 in.parameters->has_posterior() ? " (--point-values: its posterior not drawn)" : "");
+  if (!in.class_draws && !site.class_materials.empty())
+    std::printf("class values: the medians of %s (--class-values median, or no interval)\n",
+                site.class_materials.front().table.c_str());
+  if (!site.class_materials.empty())
+    std::printf("class values are other sites' calibrations: a calibration of this site against "
+                "field data would narrow them\n");
   std::printf("wrote %s/summary.json, rocks.csv, diagnostics.json, report.html%s%s%s%s\n",
               out.c_str(),
               scene.options.record.trajectories > 0 ? ", trajectories.csv" : "",
@@ -241,7 +289,7 @@ int Simulate(const std::vector<std::string>& argv) {
   const std::string out = OutFolder(args, site_path, "simulate");
   RunInputs inputs;
   inputs.Add(site).Add(args.Get("parameters", ""));
-  if (in.drawn) inputs.Add(in.parameters->samples_file);
+  if (in.drawn && !in.class_draws) inputs.Add(in.parameters->samples_file);
   RankOutputDir dir(out, args.Flag("force"), inputs.Origin("simulate"));
   PrintNotes(site.resampled, args.Flag("quiet"));
   Progress progress("simulate", args.Flag("quiet"));
@@ -269,7 +317,10 @@ int Simulate(const std::vector<std::string>& argv) {
   core::RasterSet rasters = core::ComputeRasters(recorded, result);
   if (run)
     for (const core::RasterBand& b : run->raster_bands) rasters.bands.push_back(b);
-  reports::WriteSimulationFiles(dir.folder(), scene, result, ParametersUsed(in, run));
+  reports::WriteSimulationFiles(
+      dir.folder(), scene, result, ParametersUsed(in, run),
+      site.class_materials.empty() ? nlohmann::json(nullptr)
+                                   : reports::ClassValuesJson(site.class_materials, in.class_draws));
   reports::WriteBarriersFile(dir.folder(), scene, result, site.units);
   if (run) reports::WriteFileAtomically(dir.File("draws.csv"), calibrate::DrawsCsv(*run));
   if (!scene.forest.empty()) WriteForestFiles(dir, site, result);
@@ -277,6 +328,7 @@ int Simulate(const std::vector<std::string>& argv) {
     reports::WriteRasterFiles(dir.folder(), rasters, reports::SiteRasterFrame(site));
   reports::ReportInput report = reports::SiteReport(site, scene, result, &rasters);
   report.posterior_run = run ? &*run : nullptr;
+  if (report.classes) report.classes->drawn = in.class_draws;
   report.bare = bare ? &*bare : nullptr;
   reports::WriteFileAtomically(dir.File("report.html"), reports::HtmlReport(report));
   dir.Commit();

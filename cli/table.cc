@@ -54,13 +54,17 @@ int Table(const std::vector<std::string>& argv) {
   // --force must never replace a calibration with its table.
   RunInputs inputs;
   for (const std::string& d : dirs) inputs.Add(d);
+  if (args.Has("about")) inputs.Add(args.Get("about"));
   reports::CheckOutputAgainstInputs(out, inputs.paths());
   for (const std::string& d : dirs) CheckComplete(d);
 
   // Read and check everything before anything is written.
   std::vector<calibrate::CalibratedSite> sites;
   for (const std::string& d : dirs) sites.push_back(calibrate::ReadCalibratedSite(d));
-  const calibrate::DefaultTable table = calibrate::BuildDefaultTable(sites, options);
+  const calibrate::DefaultTable table =
+      args.Has("about")
+          ? calibrate::BuildDefaultTable(sites, options, calibrate::ReadTableAbout(args.Get("about")))
+          : calibrate::BuildDefaultTable(sites, options);
 
   RankOutputDir dir(out, args.Flag("force"),
                     inputs.Origin("table"));  // under mpirun: rank 0 writes

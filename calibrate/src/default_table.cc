@@ -261,4 +261,66 @@ DefaultTable BuildDefaultTable(const std::vector<CalibratedSite>& sites,
   return table;
 }
 
+namespace {
+
+std::vector<std::string> Strings(const sites::JsonNode& node) {
+  std::vector<std::string> out;
+  for (const sites::JsonNode& v : node.Array()) out.push_back(v.Text());
+  return out;
+}
+
+}  // namespace
+
+TableAbout ReadTableAbout(const std::string& file) {
+  const nlohmann::json json = sites::ReadJsonFile(file);
+  const sites::JsonNode root(&json, file, "$");
+  root.Keys({"title", "classes", "sites"});
+  TableAbout about;
+  about.file = file;
+  about.title = root.Get("title").Text();
+  const sites::JsonNode classes = root.Get("classes");
+  if (!classes.is_object()) classes.Fail("expected an object of classes by name");
+  for (const auto& [name, value] : classes.raw().items()) {
+    const sites::JsonNode c = classes.Get(name.c_str());
+    c.Keys({"description", "surface_cover", "grain_size", "vegetation", "references"});
+    ClassAbout a;
+    a.description = c.Get("description").Text();
+    a.surface_cover = c.Get("surface_cover").Text();
+    a.grain_size = c.Get("grain_size").Text();
+    a.vegetation = c.Get("vegetation").Text();
+    a.references = Strings(c.Get("references"));
+    about.classes[name] = a;
+  }
+  const sites::JsonNode site_list = root.Get("sites");
+  if (!site_list.is_object()) site_list.Fail("expected an object of sites by name");
+  for (const auto& [name, value] : site_list.raw().items()) {
+    const sites::JsonNode c = site_list.Get(name.c_str());
+    c.Keys({"data", "licence", "command", "observed", "observations", "rockcal_version"});
+    SiteAbout a;
+    a.data = c.Get("data").Text();
+    a.licence = c.Get("licence").Text();
+    a.command = c.Get("command").Text();
+    a.observed = c.Get("observed").Text();
+    a.observations = static_cast<int>(c.Get("observations").Integer(0, 100000000));
+    a.rockcal_version = c.Get("rockcal_version").String();
+    about.sites[name] = a;
+  }
+  return about;
+}
+
+DefaultTable BuildDefaultTable(const std::vector<CalibratedSite>& sites,
+                               const DefaultTableOptions& options, const TableAbout& about) {
+  DefaultTable table = BuildDefaultTable(sites, options);
+  for (const TableRow& row : table.rows)
+    if (!about.classes.count(row.material_class))
+      throw InputError(about.file, "$.classes: no class '" + row.material_class +
+                                       "'; expected a description of every class of the table");
+  for (const CalibratedSite& s : sites)
+    if (!about.sites.count(s.site))
+      throw InputError(about.file, "$.sites: no site '" + s.site + "' (of " + s.file +
+                                       "); expected the data of every site of the table");
+  table.about = about;
+  return table;
+}
+
 }  // namespace rockcal::calibrate

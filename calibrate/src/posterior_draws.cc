@@ -249,6 +249,12 @@ nlohmann::json PosteriorRunJson(const PosteriorRun& run) {
     lo = std::min(lo, d.rocks);
     hi = std::max(hi, d.rocks);
   }
+  if (run.class_draws)
+    return {{"file", run.parameters.file},
+            {"use", "class draws"},
+            {"draws", static_cast<int>(run.draws.size())},
+            {"rocks_per_draw", {{"min", lo}, {"max", hi}}},
+            {"bands", DrawBandsJson(run.bands)}};
   return {{"file", run.parameters.file},
           {"use", "posterior draws"},
           {"samples_file", run.parameters.samples_file},

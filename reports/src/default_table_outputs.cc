@@ -1,5 +1,6 @@
 #include "rockcal/reports/default_table_outputs.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -121,6 +122,75 @@ void SummaryTable(const DefaultTable& table, bool headline, std::ostringstream& 
   }
 }
 
+// The distinct sites of a class's counted values, in the order first met.
+std::vector<std::string> SitesOfClass(const DefaultTable& table, const std::string& name) {
+  std::vector<std::string> out;
+  for (const TableRow& row : table.rows)
+    if (row.material_class == name)
+      for (const TableValue& v : row.values)
+        if (v.counted && std::find(out.begin(), out.end(), v.site) == out.end())
+          out.push_back(v.site);
+  return out;
+}
+
+// The observations behind a class: the sum over its sites.
+int ObservationsOfClass(const DefaultTable& table, const std::string& name) {
+  int n = 0;
+  for (const std::string& site : SitesOfClass(table, name)) n += table.about->sites.at(site).observations;
+  return n;
+}
+
+// table.json's "about": the about file's classes (with the sites and
+// observations behind each) and sites.
+nlohmann::json AboutJson(const DefaultTable& table) {
+  const calibrate::TableAbout& about = *table.about;
+  nlohmann::json classes = nlohmann::json::object();
+  for (const auto& [name, c] : about.classes) {
+    classes[name] = {{"description", c.description},
+                     {"surface_cover", c.surface_cover},
+                     {"grain_size", c.grain_size},
+                     {"vegetation", c.vegetation},
+                     {"references", c.references},
+                     {"sites", SitesOfClass(table, name)},
+                     {"observations", ObservationsOfClass(table, name)}};
+  }
+  nlohmann::json sites = nlohmann::json::object();
+  for (const auto& [name, s] : about.sites) {
+    sites[name] = {{"data", s.data},
+                   {"licence", s.licence},
+                   {"command", s.command},
+                   {"observed", s.observed},
+                   {"observations", s.observations},
+                   {"rockcal_version", s.rockcal_version}};
+  }
+  return {{"title", about.title}, {"classes", classes}, {"sites", sites}};
+}
+
+// table.md's classes and provenance.
+void AboutMarkdown(const DefaultTable& table, std::ostringstream& out) {
+  const calibrate::TableAbout& about = *table.about;
+  out << "\n### Classes\n\n"
+      << "| class | what ground | surface cover | grain size | vegetation | sites | observations "
+         "| descriptive tables |\n"
+      << "|---|---|---|---|---|---|---|---|\n";
+  for (const auto& [name, c] : about.classes) {
+    std::string sites, refs;
+    for (const std::string& s : SitesOfClass(table, name)) sites += (sites.empty() ? "" : ", ") + s;
+    for (const std::string& r : c.references) refs += (refs.empty() ? "" : "; ") + r;
+    out << "| " << Cell(name) << " | " << Cell(c.description) << " | " << Cell(c.surface_cover)
+        << " | " << Cell(c.grain_size) << " | " << Cell(c.vegetation) << " | "
+        << Cell(sites.empty() ? "-" : sites) << " | " << ObservationsOfClass(table, name) << " | "
+        << Cell(refs) << " |\n";
+  }
+  out << "\n### Provenance\n\n"
+      << "| site | data | licence | observed | calibration | rockcal |\n"
+      << "|---|---|---|---|---|---|\n";
+  for (const auto& [name, s] : about.sites)
+    out << "| " << Cell(name) << " | " << Cell(s.data) << " | " << Cell(s.licence) << " | "
+        << Cell(s.observed) << " | `" << Cell(s.command) << "` | " << Cell(s.rockcal_version)
+        << " |\n";
+}
+
 }  // namespace
 
 nlohmann::json DefaultTableJson(const DefaultTable& table) {
@@ -172,11 +242,13 @@ nlohmann::json DefaultTableJson(const DefaultTable& table) {
     j["entries"] = values;
     rows.push_back(j);
   }
-  return {{"bound_fraction", table.options.bound_fraction},
-          {"include_at_bound", table.options.include_at_bound},
-          {"result_folders", folders},
-          {"rows", rows},
-          {"notes", table.notes}};
+  nlohmann::json j = {{"bound_fraction", table.options.bound_fraction},
+                      {"include_at_bound", table.options.include_at_bound},
+                      {"result_folders", folders},
+                      {"rows", rows},
+                      {"notes", table.notes}};
+  if (table.about) j["about"] = AboutJson(table);
+  return j;
 }
 
 std::string DefaultTableCsv(const DefaultTable& table) {
@@ -280,6 +352,7 @@ std::string DefaultTableMarkdown(const DefaultTable& table) {
         << (s.grid_spacing_m ? FormatNumber(*s.grid_spacing_m, "%.4g") + " m" : std::string("-"))
         << " |\n";
   }
+  if (table.about) AboutMarkdown(table, out);
   if (!table.notes.empty()) {
     out << "\n### Notes\n\n";
     for (const std::string& n : table.notes) out << "- " << n << "\n";

@@ -107,7 +107,11 @@ std::vector<ReportSection> Sections(const Context& c) {
     if (rec.posterior && !rec.posterior->samples.empty())
       add("posterior", "Posterior and predictive bands", sections::PosteriorSection);
   }
-  if (c.in.posterior_run)
+  if (c.in.classes && !c.in.classes->materials->empty())
+    add("classes", "Values from the class table", sections::ClassesSection);
+  if (c.in.posterior_run && c.in.posterior_run->class_draws)
+    add("class-draws", "Draws from the class table and bands", sections::PosteriorDrawsSection);
+  else if (c.in.posterior_run)
     add("posterior-draws", "Posterior draws and predictive bands", sections::PosteriorDrawsSection);
   add("diagnostics", "Numerical diagnostics", sections::DiagnosticsSection);
   return out;
@@ -227,6 +231,7 @@ ReportInput SiteReport(const sites::Site& site, const core::Scene& scene,
   report.site_file = site.path;
   report.units = site.units;
   report.notes = site.notes;
+  if (!site.class_materials.empty()) report.classes = ClassRun{&site.class_materials, false};
   report.options.barrier_height_m = site.barrier_height_m;
   report.options.barrier_energy_j = site.barrier_energy_j;
   return report;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "rockcal/core/format.h"
+#include "rockcal/core/material_field.h"
 #include "rockcal/reports/forest_outputs.h"
 #include "rockcal/reports/output_dir.h"
 
@@ -262,11 +263,45 @@ std::string TrajectoriesCsv(const core::SimulationResult& result) {
   return out.str();
 }
 
+nlohmann::json ClassValuesJson(const std::vector<sites::ClassMaterial>& materials, bool drawn) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const sites::ClassMaterial& m : materials) {
+    nlohmann::json values = nlohmann::json::array();
+    for (const sites::ClassRow& r : m.from_table) {
+      const core::MaterialFieldInfo* f = core::FindMaterialField(r.parameter);
+      values.push_back({{"parameter", r.parameter},
+                        {"unit", f ? core::SiUnitName(f->unit) : ""},
+                        {"median", r.median},
+                        {"interval", r.low ? nlohmann::json{{"low", *r.low},
+                                                            {"high", *r.high},
+                                                            {"kind", r.interval}}
+                                           : nlohmann::json(nullptr)},
+                        {"drawn", drawn && r.low.has_value()},
+                        {"sites", r.sites},
+                        {"values", r.values}});
+    }
+    list.push_back({{"material", m.material},
+                    {"class", m.material_class},
+                    {"table", m.table},
+                    {"description", m.description},
+                    {"values", values},
+                    {"site_overrides", m.explicit_fields},
+                    {"notes", m.notes}});
+  }
+  return {{"use", drawn ? "draws" : "medians"},
+          {"materials", list},
+          {"note",
+           "values of a class from a table of other sites' calibrations, not of this site: a "
+           "calibration against field data from this site would narrow them"}};
+}
+
 void WriteSimulationFiles(const std::string& folder, const core::Scene& scene,
-                          const core::SimulationResult& result, const nlohmann::json& parameters) {
+                          const core::SimulationResult& result, const nlohmann::json& parameters,
+                          const nlohmann::json& classes) {
   // Everything is built and checked before anything is written.
   nlohmann::json summary = SummaryJson(scene, result);
   if (!parameters.is_null()) summary["parameters"] = parameters;
+  if (!classes.is_null()) summary["classes"] = classes;
   const nlohmann::json diagnostics = DiagnosticsJson(scene, result);
   CheckFinite(summary, "summary.json", "$");
   CheckFinite(diagnostics, "diagnostics.json", "$");

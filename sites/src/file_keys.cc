@@ -38,7 +38,7 @@ const std::vector<FileObjectKeys>& SiteFileKeys() {
       {"$.zones", {"file", "field", "layer", "classes"}},
       {"$.materials[]",
        {"id", "hardness", "roughness", "contact_time", "restitution", "friction",
-        "rolling_resistance", "vegetation", "class", "zone", "calibrate"}},
+        "rolling_resistance", "vegetation", "class", "table", "zone", "calibrate"}},
       {"$.materials[].calibrate", MaterialFieldKeys()},
       {"$.partitions[]", {"id", "x", "z"}},
       {"$.barriers[]", {"id", "line", "height", "energy_kj", "stops"}},

@@ -14,6 +14,7 @@
 #include "rockcal/core/error.h"
 #include "rockcal/core/limits.h"
 #include "rockcal/core/material_field.h"
+#include "rockcal/sites/class_table.h"
 #include "rockcal/sites/file_keys.h"
 #include "rockcal/sites/geometry.h"
 #include "rockcal/sites/inventory.h"
@@ -148,12 +149,70 @@ void CheckRun(const JsonNode& root, const core::Scene& scene) {
     throw InputError(root.where() + (root.Has("simulation") ? ".simulation" : ""), error);
 }
 
+// The class table a material names: its "table" (a file or a folder,
+// relative to the site file), else the built-in one; read once per file.
+const ClassTable& TableOf(const JsonNode& m, std::map<std::string, ClassTable>* tables,
+                          const Site& site) {
+  auto t = m.Find("table");
+  if (!t) return BuiltInClassTable();
+  const std::string given = t->String();
+  std::filesystem::path p(given);
+  if (p.is_relative()) p = std::filesystem::path(site.path).parent_path() / p;
+  const std::string path = p.string();
+  auto it = tables->find(path);
+  if (it != tables->end()) return it->second;
+  std::error_code ec;
+  if (!std::filesystem::exists(p, ec))
+    t->Fail("no such file or folder (" + path +
+            "); expected a table.json written by rockcal table, or its folder");
+  return tables->emplace(path, ReadClassTable(path)).first->second;
+}
+
+// The values of material `m` (already holding the site's own) that its
+// class gives: each field of the class's rows that the material does not
+// set takes the row's median. An unknown class, or a class that lacks
+// hardness or roughness the material does not give, fails at "class",
+// naming the table and the classes it holds.
+ClassMaterial ValuesFromClass(const JsonNode& m, core::Material* mat,
+                              std::map<std::string, ClassTable>* tables, Site* site) {
+  const JsonNode cls = m.Get("class");
+  const ClassTable& table = TableOf(m, tables, *site);
+  const MaterialClass* c = table.Find(site->material_classes.back());
+  if (!c)
+    cls.Fail("unknown class in the table " + table.file + "; expected one of its classes: " +
+             table.ClassNames());
+  ClassMaterial out;
+  out.material = mat->id;
+  out.material_class = c->name;
+  out.table = table.file;
+  out.description = c->description;
+  for (const char* needed : {"hardness", "roughness"})
+    if (!m.Has(needed) && !c->Find(needed))
+      cls.Fail(std::string("class '") + c->name + "' of the table " + table.file + " gives no " +
+               needed + "; expected '" + needed + "' in the material, or a class that has one");
+  for (const ClassRow& row : c->rows) {
+    const core::MaterialFieldInfo* f = core::FindMaterialField(row.parameter);
+    if (m.Has(f->name)) {
+      out.explicit_fields.push_back(f->name);
+      continue;
+    }
+    if (!(row.median >= f->min && row.median <= f->max))
+      throw InputError(table.file, "class " + c->name + ": " + f->name + " median " +
+                                       FormatNumber(row.median) + " outside [" +
+                                       FormatNumber(f->min) + ", " + FormatNumber(f->max) + "]");
+    core::SetFieldValue(mat, f->field, row.median);
+    out.from_table.push_back(row);
+  }
+  return out;
+}
+
 // The "materials" array: each material into site->scene.materials and its
 // class into site->material_classes; the nodes and zones are kept for the
 // checks that need the grid.
 std::vector<PendingMaterial> ReadMaterials(const JsonNode& node, Units units, Site* site) {
   std::vector<PendingMaterial> pending;
   std::vector<std::string> ids;
+  std::map<std::string, ClassTable> tables;  // the class tables read, by file
   const std::vector<JsonNode> materials = node.Array(1);
   for (std::size_t k = 0; k < materials.size(); ++k) {
     const JsonNode& m = materials[k];
@@ -172,8 +231,15 @@ std::vector<PendingMaterial> ReadMaterials(const JsonNode& node, Units units, Si
     } else {
       site->material_classes.push_back(mat.id);
     }
-    mat.hardness = m.Get("hardness").Number(0.0, 1.0);
-    mat.roughness_m = LengthToSI(m.Get("roughness").NonNegative(), units);
+    // A class without hardness or roughness (or with its own table) takes
+    // them from the class table; otherwise the class is a label only.
+    const bool from_class =
+        m.Has("class") && (!m.Has("hardness") || !m.Has("roughness") || m.Has("table"));
+    if (auto t = m.Find("table"); t && !m.Has("class"))
+      t->Fail("a table goes with a 'class' (the class whose values the table gives)");
+    if (!from_class || m.Has("hardness")) mat.hardness = m.Get("hardness").Number(0.0, 1.0);
+    if (!from_class || m.Has("roughness"))
+      mat.roughness_m = LengthToSI(m.Get("roughness").NonNegative(), units);
     if (auto t = m.Find("contact_time")) {
       mat.contact_time_s = t->Positive();
       NumberInRange(*t, mat.contact_time_s, kMinContactTime, kMaxContactTime, "contact time",
@@ -191,6 +257,7 @@ std::vector<PendingMaterial> ReadMaterials(const JsonNode& node, Units units, Si
                                         core::kMaxVegetationStress, "vegetation resistance",
                                         Quantity::kStress, units);
     }
+    if (from_class) site->class_materials.push_back(ValuesFromClass(m, &mat, &tables, site));
     PendingMaterial p{m, std::nullopt};
     if (auto z = m.Find("zone")) {
       if (k == 0) {
@@ -410,6 +477,38 @@ void ReadBarriers(const JsonNode& root, const std::string& base_dir, Site* site)
   }
 }
 
+// Where a material's roughness is given: its "roughness", or its class.
+JsonNode RoughnessNode(const JsonNode& m) {
+  return m.Has("roughness") ? m.Get("roughness") : m.Get("class");
+}
+
+// A roughness from a class table: a note when the table's values come from
+// virtual spheres spaced otherwise than this site's (a roughness means the
+// same ground only at the same spacing), and the interval the draws take
+// cut to what this grid allows.
+void ClassRoughness(const core::Material& mat, double min_rough, double s,
+                    Site* site) {
+  for (ClassMaterial& c : site->class_materials) {
+    if (c.material != mat.id) continue;
+    for (ClassRow& row : c.from_table) {
+      if (row.parameter != "roughness") continue;
+      for (double spacing : row.spacings_m)
+        if (std::abs(spacing - s) > 1e-9 * s)
+          c.notes.push_back("the class's roughness was calibrated on virtual spheres " +
+                            FormatNumber(spacing) + " m apart, this site's are " +
+                            FormatNumber(s) + " m apart: the same roughness is not the same "
+                            "ground (set surface.sphere_spacing to " + FormatNumber(spacing) +
+                            " m to use it as calibrated)");
+      if (row.low && (*row.low < min_rough || *row.high > s / 2)) {
+        row.low = std::clamp(*row.low, min_rough, s / 2);
+        row.high = std::clamp(*row.high, min_rough, s / 2);
+        c.notes.push_back("the roughness interval is cut to [" + FormatNumber(*row.low) + ", " +
+                          FormatNumber(*row.high) + "] m, what this grid allows");
+      }
+    }
+  }
+}
+
 // Each material's roughness within what the grid's spacing allows, and its
 // calibration bounds.
 void CheckRoughness(const std::vector<PendingMaterial>& pending, Units units, Site* site) {
@@ -422,22 +521,21 @@ void CheckRoughness(const std::vector<PendingMaterial>& pending, Units units, Si
     const std::string& mat_class = site->material_classes[k];
     const double max_rough = s / 2 * to_file;
     if (mat.roughness_m > s / 2 * (1 + 1e-12)) {
-      m.Get("roughness")
-          .Fail("roughness exceeds half the grid spacing (" + FormatNumber(max_rough) + " " + unit +
+      RoughnessNode(m).Fail("roughness exceeds half the grid spacing (" + FormatNumber(max_rough) + " " + unit +
                 "): a virtual sphere cannot sag more than s/2; expected a "
                 "roughness in [0, " +
                 FormatNumber(max_rough) + "]");
     }
     const double min_rough = core::MinRoughness(s);
     if (mat.roughness_m > 0.0 && mat.roughness_m < min_rough * (1 - 1e-12)) {
-      m.Get("roughness")
-          .Fail("roughness " + FormatNumber(mat.roughness_m * to_file) + " " + unit +
+      RoughnessNode(m).Fail("roughness " + FormatNumber(mat.roughness_m * to_file) + " " + unit +
                 " gives virtual spheres of radius " +
                 FormatNumber(core::VirtualSphereRadius(mat.roughness_m, s) * to_file, "%.4g") +
                 " " + unit + ", more than 10 grid spacings (" + FormatNumber(10 * s * to_file) +
                 " " + unit + "); expected 0 (smooth) or a roughness in [" +
                 FormatNumber(min_rough * to_file) + ", " + FormatNumber(max_rough) + "] " + unit);
     }
+    ClassRoughness(mat, min_rough, s, site);
     if (auto c = m.Find("calibrate"))
       ReadCalibrateBounds(*c, mat, mat_class, units, min_rough, s / 2, site);
   }
@@ -522,6 +620,23 @@ Site LoadSite(const std::string& path) {
   site.gis = surface.gis;
 
   CheckRoughness(pending, units, &site);
+  for (const ClassMaterial& c : site.class_materials) {
+    if (c.table != kBuiltInTable) site.inputs.push_back(c.table);
+    std::string taken;
+    for (const ClassRow& r : c.from_table)
+      taken += (taken.empty() ? "" : ", ") + r.parameter + " " + FormatNumber(r.median, "%.4g") +
+               (r.low ? " (" + r.interval + " " + FormatNumber(*r.low, "%.4g") + "-" +
+                            FormatNumber(*r.high, "%.4g") + ")"
+                      : std::string(""));
+    site.notes.push_back("material " + c.material + ": class " + c.material_class + " of " +
+                         c.table + ": " + taken + " (SI; medians, drawn in the intervals by "
+                         "simulate)" +
+                         (c.explicit_fields.empty()
+                              ? std::string("")
+                              : "; the site's own " + Join(c.explicit_fields) +
+                                    " override the class's"));
+    for (const std::string& n : c.notes) site.notes.push_back("material " + c.material + ": " + n);
+  }
 
   // Zones: the zone file's first, then the materials' own on top.
   if (auto zones = root.Find("zones")) ApplyZoneFile(*zones, base_dir, &site);

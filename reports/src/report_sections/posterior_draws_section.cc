@@ -14,7 +14,17 @@ std::string PosteriorDrawsSection(const Context& c) {
     hi = std::max(hi, d.rocks);
   }
   std::string s =
-      "<p>The parameters are not one set of values: " + Int(draws) +
+      run.class_draws
+          ? "<p>The class values are not one set of values: " + Int(draws) +
+                " parameter sets were drawn, each value uniformly within its class's interval "
+                "(section <i>Values from the class table</i>), and rock <i>i</i> was simulated "
+                "with set <i>i</i> mod " + Int(draws) +
+                ", so every figure of this report carries the table's spread and the Monte Carlo "
+                "variation together. draws.csv lists the sets. The bands below are the 5 % and "
+                "95 % quantiles over the draws of each draw's statistic, each draw of " +
+                (lo == hi ? Int(lo) : Int(lo) + " to " + Int(hi)) +
+                " rocks (0 for a partition a draw's rocks did not reach)."
+          : "<p>The parameters are not one set of values: " + Int(draws) +
       " parameter sets were drawn from the " + Int(run.samples) + " posterior samples of " +
       Escape(run.parameters.samples_file) + " (" + Escape(run.parameters.file) +
       "), and rock <i>i</i> was simulated with set <i>i</i> mod " + Int(draws) +
@@ -27,7 +37,8 @@ std::string PosteriorDrawsSection(const Context& c) {
     s += " <b>With fewer than 30 rocks per draw the bands are mostly the Monte Carlo variation "
          "of so few rocks</b>: give more rocks (--rocks) for bands of the parameters' "
          "uncertainty.";
-  s += " The point values alone: --point-values.</p>";
+  s += run.class_draws ? " The medians alone: --class-values median.</p>"
+                       : " The point values alone: --point-values.</p>";
   s += DrawBandsTable(run.bands);
   if (!run.raster_bands.empty())
     s += "<p>The maps (rasters.tif, rasters/*.asc with --rasters) add the bands " +

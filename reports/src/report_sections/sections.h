@@ -143,6 +143,7 @@ std::string TracksSection(const Context& c);            // tracks_section.cc
 std::string ImpactsSection(const Context& c);           // impacts_section.cc
 std::string PosteriorSection(const Context& c);         // posterior_section.cc
 std::string PosteriorDrawsSection(const Context& c);    // posterior_draws_section.cc
+std::string ClassesSection(const Context& c);           // classes_section.cc
 std::string DiagnosticsSection(const Context& c);       // diagnostics_section.cc
 // True when the scene has a forest and the run recorded its strikes.
 bool HasForestStrikes(const Context& c);                // forest_section.cc

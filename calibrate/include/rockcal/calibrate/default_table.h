@@ -4,6 +4,7 @@
 #ifndef ROCKCAL_CALIBRATE_DEFAULT_TABLE_H_
 #define ROCKCAL_CALIBRATE_DEFAULT_TABLE_H_
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -74,8 +75,36 @@ struct TableRow {
   int posterior_values = 0;
 };
 
+// What a table says about itself (rockcal table --about FILE): per class a
+// description an engineer recognises, per site where its data came from.
+// docs/default-table.md gives the file.
+struct ClassAbout {
+  std::string description;  // one line: what ground this is
+  std::string surface_cover, grain_size, vegetation;
+  std::vector<std::string> references;  // the descriptive tables the class maps to
+};
+struct SiteAbout {
+  std::string data;     // the data source (dataset, paper)
+  std::string licence;  // the data's licence
+  std::string command;  // the calibration command
+  std::string observed;  // what was observed ("41 stop points")
+  int observations = 0;  // how many observations
+  std::string rockcal_version;  // of the calibration
+};
+struct TableAbout {
+  std::string file;  // the file read
+  std::string title;
+  std::map<std::string, ClassAbout> classes;  // by class name
+  std::map<std::string, SiteAbout> sites;     // by site name
+};
+
+// Reads an about file strictly (unknown, missing or mistyped keys are an
+// InputError naming the file and JSON path).
+TableAbout ReadTableAbout(const std::string& file);
+
 struct DefaultTable {
   DefaultTableOptions options;
+  std::optional<TableAbout> about;  // rockcal table --about
   std::vector<CalibratedSite> sites;  // as given, in order
   // Sorted by class, then hardness, roughness, contact_time.
   std::vector<TableRow> rows;
@@ -89,6 +118,11 @@ struct DefaultTable {
 // result folder twice is an InputError (it would count one calibration twice).
 DefaultTable BuildDefaultTable(const std::vector<CalibratedSite>& sites,
                                const DefaultTableOptions& options);
+// The same with what the table says about itself: every class of the rows
+// must be described and every site's data named (an InputError naming the
+// about file and the class or site otherwise).
+DefaultTable BuildDefaultTable(const std::vector<CalibratedSite>& sites,
+                               const DefaultTableOptions& options, const TableAbout& about);
 
 }  // namespace rockcal::calibrate
 

@@ -79,6 +79,9 @@ nlohmann::json DrawBandsJson(const std::vector<DrawBand>& bands);
 
 struct PosteriorRun {
   CalibratedSite parameters;  // the parameters file read (point values and posterior)
+  // The sets were drawn from a class table's intervals (class_draws.h), not
+  // from a posterior's samples: parameters.file names the table.
+  bool class_draws = false;
   int samples = 0;            // in its samples' file
   std::vector<PosteriorDraw> draws;
   // Every rock of the run in rock order, rock i simulated with draw i mod D's values.

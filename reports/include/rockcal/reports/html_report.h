@@ -6,6 +6,7 @@
 #ifndef ROCKCAL_REPORTS_HTML_REPORT_H_
 #define ROCKCAL_REPORTS_HTML_REPORT_H_
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,13 @@ struct ReportOptions {
   bool IsValid(std::string* error) const;
 };
 
+// The materials whose values came from a class table, and whether the run
+// drew them (else it took the medians).
+struct ClassRun {
+  const std::vector<sites::ClassMaterial>* materials = nullptr;
+  bool drawn = false;
+};
+
 // What the report shows. `scene` and `result` are required; the result should
 // be simulated with RecordOptions::passages (the density map) and a few
 // trajectories (the profile view); without them those views say so.
@@ -54,6 +62,9 @@ struct ReportInput {
   // of a posterior); adds the section "posterior-draws" (the draws and the
   // predictive bands of the runout and the partitions' statistics).
   const calibrate::PosteriorRun* posterior_run = nullptr;
+  // Optional: the site's materials that took values from a class table
+  // (SiteReport sets it); adds the section "classes".
+  std::optional<ClassRun> classes;
   // Optional: field observations; observed stop points are drawn on the plan,
   // and tracked runs that repeat one another give their scatter (section
   // "runs").

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "rockcal/core/simulate.h"
+#include "rockcal/sites/class_table.h"
 #include "rockcal/sites/json_reader.h"
 
 namespace rockcal::reports {
@@ -61,10 +62,18 @@ void WriteBarriersFile(const std::string& folder, const core::Scene& scene,
 // failure, exit 1) naming the file and where, before anything is written.
 // `parameters`, when not null, is summary.json's "parameters": which values
 // the run took (rockcal simulate --parameters: point values or posterior
-// draws, calibrate::PosteriorRunJson).
+// draws, calibrate::PosteriorRunJson); `classes`, when not null, is its
+// "classes" (ClassValuesJson).
+// summary.json's "classes": the values a site's materials took from class
+// tables (sites/class_table.h), per material its class, table, each value's
+// median, interval and support, the site's own values overriding them and
+// the notes; "use" "draws" or "medians"; and a "note" that a calibration
+// against field data would narrow them (docs/reference/outputs.md).
+nlohmann::json ClassValuesJson(const std::vector<sites::ClassMaterial>& materials, bool drawn);
 void WriteSimulationFiles(const std::string& folder, const core::Scene& scene,
                           const core::SimulationResult& result,
-                          const nlohmann::json& parameters = nullptr);
+                          const nlohmann::json& parameters = nullptr,
+                          const nlohmann::json& classes = nullptr);
 
 }  // namespace rockcal::reports
 

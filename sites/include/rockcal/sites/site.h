@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "rockcal/core/scene.h"
+#include "rockcal/sites/class_table.h"
 #include "rockcal/sites/json_reader.h"
 
 namespace rockcal::sites {
@@ -25,8 +26,12 @@ struct Site {
   core::Scene scene;
   // The class of each material of scene.materials (same order): the
   // material's "class" in the site file, default its id. A label for the
-  // default tables built across sites; the simulation never uses it.
+  // default tables built across sites, and the class whose values a
+  // material without its own takes from a class table (class_materials).
   std::vector<std::string> material_classes;
+  // The materials that took values from a class table ("class" without
+  // hardness or roughness, or with a "table"), in site order.
+  std::vector<ClassMaterial> class_materials;
   std::vector<ParameterBound> calibrate;  // from each material's "calibrate"
   // Every file the site was read from: the site file, then its data files
   // (points, LIDAR, grid, STL) as resolved. A calibration's log fingerprints them.
