@@ -27,6 +27,7 @@
 // observations the twin's field gives (the bounce heights at the two
 // partitions, the stop points, or both). --error-scale f: the measurement
 // errors (0.1 m on heights, 1 m on stop points) times f.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -104,6 +105,10 @@ int main(int argc, char** argv) {
         field, truth, 1000 + seed * 100 + static_cast<std::uint64_t>(t));
     if (kinds == "scars") obs.runout.reset();
     if (kinds == "stops") obs.tree_scars.clear();
+    // A partition no observed rock reached (few rocks) has nothing to compare.
+    obs.tree_scars.erase(std::remove_if(obs.tree_scars.begin(), obs.tree_scars.end(),
+                                        [](const observations::ScarSet& s) { return s.heights.empty(); }),
+                         obs.tree_scars.end());
     obs.error.height *= error_scale;
     obs.error.runout *= error_scale;
     const core::Scene scene = calibrate::RunScene(site, rocks, seed, threads);
