@@ -129,19 +129,28 @@ std::string FeatureText(OGRFeatureH feature, int k) {
   return k >= 0 && OGR_F_IsFieldSetAndNotNull(feature, k) ? OGR_F_GetFieldAsString(feature, k) : "";
 }
 
-std::vector<Eigen::Vector2d> FeaturePolygon(OGRFeatureH feature, double to_si,
-                                            const std::string& file, const std::string& where) {
-  auto fail = [&](const std::string& what) { throw InputError(file, where + ": " + what); };
+OGRGeometryH SingleGeometry(OGRFeatureH feature, OGRwkbGeometryType single,
+                            OGRwkbGeometryType multi, const std::string& expected,
+                            const std::string& file, const std::string& where) {
   OGRGeometryH g = OGR_F_GetGeometryRef(feature);
   OGRwkbGeometryType type = g ? OGR_GT_Flatten(OGR_G_GetGeometryType(g)) : wkbNone;
-  if (type == wkbMultiPolygon && OGR_G_GetGeometryCount(g) == 1) {
+  if (type == multi && OGR_G_GetGeometryCount(g) == 1) {
     g = OGR_G_GetGeometryRef(g, 0);
     type = OGR_GT_Flatten(OGR_G_GetGeometryType(g));
   }
-  if (type != wkbPolygon) {
-    fail((g ? std::string("a ") + OGRGeometryTypeToName(type) : std::string("no geometry")) +
-         "; expected a Polygon (or a MultiPolygon of one polygon)");
-  }
+  if (type != single)
+    throw InputError(file, where + ": " +
+                               (g ? std::string("a ") + OGRGeometryTypeToName(type)
+                                  : std::string("no geometry")) +
+                               "; expected " + expected);
+  return g;
+}
+
+std::vector<Eigen::Vector2d> FeaturePolygon(OGRFeatureH feature, double to_si,
+                                            const std::string& file, const std::string& where) {
+  auto fail = [&](const std::string& what) { throw InputError(file, where + ": " + what); };
+  OGRGeometryH g = SingleGeometry(feature, wkbPolygon, wkbMultiPolygon,
+                                  "a Polygon (or a MultiPolygon of one polygon)", file, where);
   if (OGR_G_GetGeometryCount(g) != 1) {
     fail(OGR_G_GetGeometryCount(g) == 0
              ? std::string("an empty polygon; expected a polygon of at least 3 vertices")

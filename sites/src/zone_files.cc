@@ -335,16 +335,9 @@ std::vector<BarrierFeature> ReadBarrierFile(const JsonNode& node, const std::str
     b.file = file;
     b.where = where;
     auto fail = [&](const std::string& what) { throw InputError(file, b.where + ": " + what); };
-    OGRGeometryH g = OGR_F_GetGeometryRef(feature);
-    OGRwkbGeometryType type = g ? OGR_GT_Flatten(OGR_G_GetGeometryType(g)) : wkbNone;
-    if (type == wkbMultiLineString && OGR_G_GetGeometryCount(g) == 1) {
-      g = OGR_G_GetGeometryRef(g, 0);
-      type = OGR_GT_Flatten(OGR_G_GetGeometryType(g));
-    }
-    if (type != wkbLineString) {
-      fail((g ? std::string("a ") + OGRGeometryTypeToName(type) : std::string("no geometry")) +
-           "; expected a LineString (or a MultiLineString of one line): the barrier in plan");
-    }
+    OGRGeometryH g = SingleGeometry(
+        feature, wkbLineString, wkbMultiLineString,
+        "a LineString (or a MultiLineString of one line): the barrier in plan", file, b.where);
     core::Partition& part = b.barrier;
     part.kind = core::Partition::Kind::kLine;
     part.id = FeatureText(feature, id_k);

@@ -70,6 +70,13 @@ void MatchTerrainCrs(const JsonNode& file_node, const std::string& file, const s
 // A feature's attribute `k` as text; "" when it has none or it is not set.
 std::string FeatureText(OGRFeatureH feature, int k);
 
+// A feature's geometry of type `single`, or the one member of a `multi` of
+// one; throws InputError(file, where + ": a <type>; expected " + expected)
+// for another geometry or none.
+OGRGeometryH SingleGeometry(OGRFeatureH feature, OGRwkbGeometryType single,
+                            OGRwkbGeometryType multi, const std::string& expected,
+                            const std::string& file, const std::string& where);
+
 // The outer ring of a feature's Polygon (or a MultiPolygon of one polygon)
 // in plan, in SI (`to_si` per file unit), without its closing vertex. Throws
 // InputError(file, where + ": ...") for another geometry, a polygon with
