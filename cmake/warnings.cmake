@@ -40,4 +40,7 @@ function(rockcal_add_library name)
   target_include_directories(rockcal_${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
   target_link_libraries(rockcal_${name} PUBLIC ${ARG_PUBLIC_DEPS} rockcal_sanitizers
                                         PRIVATE rockcal_warnings)
+  if(ROCKCAL_UNITY_BUILD)
+    set_target_properties(rockcal_${name} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
+  endif()
 endfunction()

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "rockcal/calibrate/study.h"
+#include "rockcal/core/numbers.h"
 #include "rockcal/core/random.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/core/statistics.h"
@@ -24,8 +25,8 @@ namespace {
 using text::Num;
 using text::Percent;
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using core::kInf;
+using core::kNaN;
 
 }  // namespace
 

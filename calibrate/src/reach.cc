@@ -11,13 +11,14 @@
 #include <utility>
 
 #include "rockcal/core/name_table.h"
+#include "rockcal/core/numbers.h"
 #include "rockcal/core/random.h"
 #include "rockcal/core/statistics.h"
 
 namespace rockcal::calibrate {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using core::kNaN;
 // Random streams of the designs (RandomStream(seed, stream)): one per Latin
 // hypercube candidate from kLhsStream on, and one for the Halton shift.
 constexpr std::uint64_t kLhsStream = 0x5245414348000000ull;     // "REACH"

@@ -17,6 +17,7 @@
 #include "rockcal/calibrate/sensitivity.h"
 #include "rockcal/calibrate/study.h"
 #include "rockcal/core/material_field.h"
+#include "rockcal/core/numbers.h"
 #include "table_text.h"
 
 namespace rockcal::calibrate {
@@ -25,8 +26,8 @@ namespace json_fields {
 using nlohmann::json;
 using text::JsonNum;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using core::kInf;
+using core::kNaN;
 
 // The number at `key` of `j`; `unknown` where the file holds null.
 double Number(const json& j, const char* key, double unknown) {

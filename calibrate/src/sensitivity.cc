@@ -14,6 +14,7 @@
 
 #include "rockcal/calibrate/recording.h"
 #include "rockcal/core/error.h"
+#include "rockcal/core/numbers.h"
 #include "rockcal/core/random.h"
 #include "rockcal/core/statistics.h"
 #include "rockcal/parallel/parallel.h"
@@ -24,7 +25,7 @@ namespace {
 
 using text::Num;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using core::kNaN;
 // The random stream of the output noise's resampling, apart from the rocks'
 // streams (rock index) and the methods' (sensitivity_methods.cc).
 constexpr std::uint64_t kNoiseStream = (std::uint64_t{1} << 52) + 4;

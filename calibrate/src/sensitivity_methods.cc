@@ -9,6 +9,7 @@
 
 #include "rockcal/calibrate/sensitivity.h"
 #include "rockcal/core/name_table.h"
+#include "rockcal/core/numbers.h"
 #include "rockcal/core/random.h"
 #include "rockcal/core/statistics.h"
 #include "table_text.h"
@@ -18,7 +19,7 @@ namespace {
 
 using text::Num;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using core::kNaN;
 // Random streams of the sampling, apart from the rocks' streams (rock index).
 constexpr std::uint64_t kMorrisStream = (std::uint64_t{1} << 52) + 1;
 constexpr std::uint64_t kSobolStream = (std::uint64_t{1} << 52) + 2;

@@ -12,6 +12,7 @@
 
 #include "rockcal/calibrate/study.h"
 #include "rockcal/core/name_table.h"
+#include "rockcal/core/numbers.h"
 #include "rockcal/core/random.h"
 #include "rockcal/core/rock_shape.h"
 #include "rockcal/core/simulate.h"
@@ -25,7 +26,7 @@ namespace {
 using text::Num;
 using text::Percent;
 
-constexpr double kPi = 3.14159265358979323846;
+using core::kPi;
 
 // ---- Small helpers -------------------------------------------------------------
 

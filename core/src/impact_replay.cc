@@ -6,13 +6,12 @@
 #include <limits>
 
 #include "rebound.h"
+#include "rockcal/core/numbers.h"
 #include "rockcal/core/random.h"
 
 namespace rockcal::core {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // A replayed rock starts with every element this share of its radius clear
 // of the ground.
 constexpr double kClearance = 0.01;

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <limits>
 
+#include "rockcal/core/numbers.h"
+
 namespace rockcal::core {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Rebound speed ratio of x'' + 2 zeta x' + x = 0 (unit natural frequency),
 // x(0) = 0, x'(0) = 1, ending when the contact force x + 2 zeta x' reaches 0.

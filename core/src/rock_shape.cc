@@ -4,11 +4,10 @@
 #include <cmath>
 
 #include "rockcal/core/name_table.h"
+#include "rockcal/core/numbers.h"
 
 namespace rockcal::core {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The shapes by name; a scanned shape is read from its file, never named.
 constexpr Named<Shape> kShapes[] = {

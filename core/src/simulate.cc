@@ -22,6 +22,7 @@
 #include "rock_state.h"
 #include "rockcal/core/contact.h"
 #include "rockcal/core/impact_replay.h"
+#include "rockcal/core/numbers.h"
 #include "rockcal/core/polygon.h"
 #include "rockcal/core/random.h"
 #include "stems.h"
@@ -29,8 +30,6 @@
 namespace rockcal::core {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kPi = 3.14159265358979323846;
 // Free flight near the terrain advances up to kFlightReach (look_ahead.h) of
 // the gap at a time, and is worth it while it covers more than kMinFlight of
 // a step, so a landing starts within 1 % of a step of the touch (at 5 %, a

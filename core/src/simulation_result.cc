@@ -9,13 +9,12 @@
 #include <utility>
 #include <vector>
 
+#include "rockcal/core/numbers.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/core/statistics.h"
 
 namespace rockcal::core {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 }  // namespace
 

@@ -7,11 +7,11 @@
 #include <limits>
 
 #include "rockcal/core/material.h"
+#include "rockcal/core/numbers.h"
 
 namespace rockcal::core {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // Contact keys of catch planes (below every node and facet key).
 constexpr std::int64_t kCatchKey = -(std::int64_t{1} << 40);
 // Cosine of the steepest slope whose fall-line spacing sizes a virtual

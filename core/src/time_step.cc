@@ -7,12 +7,12 @@
 #include <vector>
 
 #include "contact_forces.h"
+#include "rockcal/core/numbers.h"
 #include "rockcal/core/simulate.h"
 
 namespace rockcal::core {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 // Stiff contacts that may act on one body at once (rough terrain: a rock
 // between nodes touches two virtual spheres); part of the stable-step bound.
 constexpr double kParallelContacts = 2.0;

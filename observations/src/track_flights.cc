@@ -6,10 +6,12 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rockcal/core/numbers.h"
+
 namespace rockcal::observations {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using core::kNaN;
 // Points along a flight at which its height above the ground is taken, and
 // between two flights at which the impact is sought.
 constexpr int kProbePoints = 200;

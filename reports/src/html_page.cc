@@ -7,6 +7,7 @@
 
 #include "rockcal/core/format.h"
 #include "rockcal/core/material.h"
+#include "rockcal/core/numbers.h"
 #include "rockcal/core/rock_shape.h"
 #include "rockcal/observations/observations.h"
 #include "rockcal/reports/html_report.h"
@@ -20,7 +21,7 @@ using core::FormatNumber;
 using svg::Escape;
 using svg::Label;
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using core::kInf;
 
 std::string Int(long v) { return std::to_string(v); }
 

@@ -11,11 +11,6 @@ namespace {
 
 constexpr long kMaxCells = 100'000'000;
 
-std::string Lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 bool StartsWithLetter(const std::string& line) {
   for (char c : line) {
     if (c == ' ' || c == '\t') continue;

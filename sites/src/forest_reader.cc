@@ -24,11 +24,6 @@
 namespace rockcal::sites {
 namespace {
 
-std::string Lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 // A species name -> its class; false for another name.
 bool ParseSpecies(const std::string& text, core::SpeciesClass* species) {
   const std::string name = Lower(text);

@@ -7,11 +7,12 @@
 
 #include "delaunay.h"
 #include "rockcal/core/format.h"
+#include "rockcal/core/numbers.h"
 
 namespace rockcal::sites {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using core::kNaN;
 
 // The points with every run of equal plan positions replaced by one point at
 // their mean elevation, sorted by x then y.

@@ -15,11 +15,6 @@ constexpr double kPoundMass = 0.45359237;  // kg
 constexpr double kMaxMass = 1e8;           // kg: a 40 000 m^3 block
 constexpr double kMaxSide = core::kMaxRockSize;  // m
 
-std::string Lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 bool Comment(const std::string& line) {
   const auto first = line.find_first_not_of(" \t");
   return first != std::string::npos && line[first] == '#';

@@ -5,17 +5,13 @@
 #include <cmath>
 #include <limits>
 
+#include "rockcal/core/numbers.h"
 #include "rockcal/sites/text_reader.h"
 
 namespace rockcal::sites {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-std::string Lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
+using core::kPi;
 
 // Number of columns named by a LIDAR column line (3 or 6), or 0 if the line
 // is not one.

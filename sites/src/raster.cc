@@ -6,6 +6,7 @@
 
 #include "rockcal/core/error.h"
 #include "rockcal/core/format.h"
+#include "rockcal/core/numbers.h"
 #include "rockcal/sites/gdal_util.h"
 #include "rockcal/sites/gridding.h"
 #include "rockcal/sites/input_file.h"
@@ -13,7 +14,7 @@
 namespace rockcal::sites {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using core::kNaN;
 constexpr long kMaxCells = 100'000'000;
 
 using core::FormatNumber;

@@ -246,31 +246,45 @@ InventoryShapes ReadInventoryShapes(const JsonNode& node, Units units,
 
 // Each inventory block with a shape file takes its scanned shape, fitted
 // and scaled to the block; returns each shape's worst fit over the blocks
-// (error, summary), for the note.
+// (error, summary), for the note. The shape files are read in order, then
+// the blocks' clumps fitted side by side (each fit is serial and depends on
+// its block only: the same rocks at any thread count).
 std::map<std::string, std::pair<double, std::string>> ScanInventory(
     const JsonNode& node, Units units, const InventoryShapes& shapes,
     const std::vector<std::string>& shape_files, core::RockGroup* g, ShapeCache* cache,
     std::vector<std::string>* inputs) {
-  std::map<std::string, std::pair<double, std::string>> fits;
-  for (std::size_t k = 0; k < g->inventory.size(); ++k) {
-    core::Block& b = g->inventory[k];
+  const std::size_t n = g->inventory.size();
+  std::vector<std::shared_ptr<const core::ScannedShape>> base(n);
+  for (std::size_t k = 0; k < n; ++k) {
     if (shape_files[k].empty()) continue;
-    const auto shape = LoadShapeOnce(ResolvePath(shapes.library, shape_files[k]), units,
-                                     shapes.clump, cache, inputs);
+    base[k] = LoadShapeOnce(ResolvePath(shapes.library, shape_files[k]), units, shapes.clump, cache,
+                            inputs);
+    if (shapes.scale != ShapeScale::kSides && !(shapes.unit_weight > 0))
+      node.Fail("\"shape_scale\": \"mass\" needs the rocks' \"unit_weight\"");
+  }
+  const long blocks = static_cast<long>(n);
+#pragma omp parallel for schedule(dynamic)
+  for (long i = 0; i < blocks; ++i) {
+    const std::size_t k = static_cast<std::size_t>(i);
+    if (!base[k]) continue;
+    core::Block& b = g->inventory[k];
     if (shapes.scale == ShapeScale::kSides) {
-      b.scanned = ShapeAtSides(*shape, b.sides, shapes.clump);
+      b.scanned = ShapeAtSides(*base[k], b.sides, shapes.clump);
     } else {
-      if (!(shapes.unit_weight > 0))
-        node.Fail("\"shape_scale\": \"mass\" needs the rocks' \"unit_weight\"");
       const double volume = b.mass * core::kStandardGravity / shapes.unit_weight;
       b.scanned = std::make_shared<const core::ScannedShape>(
-          core::ScaleShape(*shape, std::cbrt(volume / shape->mass.volume)));
+          core::ScaleShape(*base[k], std::cbrt(volume / base[k]->mass.volume)));
     }
+  }
+  std::map<std::string, std::pair<double, std::string>> fits;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!base[k]) continue;
+    const core::Block& b = g->inventory[k];
     const double worst =
         std::max({std::abs(b.scanned->clump.volume_error), b.scanned->clump.moment_error});
-    auto it = fits.find(shape->name);
+    auto it = fits.find(base[k]->name);
     if (it == fits.end() || worst > it->second.first)
-      fits[shape->name] = {worst, FitSummary(*b.scanned)};
+      fits[base[k]->name] = {worst, FitSummary(*b.scanned)};
   }
   return fits;
 }

@@ -46,14 +46,6 @@ std::string ReadId(const JsonNode& node) {
   return id;
 }
 
-std::string Join(const std::vector<std::string>& items) {
-  std::string s;
-  for (const std::string& i : items) s += (s.empty() ? "" : ", ") + i;
-  return s;
-}
-
-
-
 // Material fields whose checks need the grid spacing (roughness <= s/2).
 struct PendingMaterial {
   JsonNode node;

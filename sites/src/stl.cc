@@ -12,23 +12,19 @@
 
 #include "rockcal/core/error.h"
 #include "rockcal/core/name_table.h"
+#include "rockcal/core/numbers.h"
 #include "rockcal/sites/input_file.h"
 #include "rockcal/sites/text_reader.h"
 
 namespace rockcal::sites {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using core::kNaN;
 
 struct Token {
   std::string text;
   int line;
 };
-
-std::string Lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 // The largest STL file read (bytes): a binary STL of 20 million triangles.
 constexpr std::size_t kMaxStlBytes = 84 + 50 * std::size_t{20'000'000};

@@ -86,6 +86,17 @@ std::vector<std::string> SplitFields(const std::string& line) {
   return out;
 }
 
+std::string Lower(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
+
+std::string Join(const std::vector<std::string>& items) {
+  std::string s;
+  for (const std::string& i : items) s += (s.empty() ? "" : ", ") + i;
+  return s;
+}
+
 std::string Excerpt(const std::string& text) {
   std::string out = "'";
   std::size_t shown = 0;

@@ -10,12 +10,6 @@
 namespace rockcal::sites {
 namespace {
 
-std::string Join(const std::vector<std::string>& items) {
-  std::string s;
-  for (const std::string& i : items) s += (s.empty() ? "" : ", ") + i;
-  return s;
-}
-
 // The layer's CRS as WKT, "" for none. GeoPackage's reserved "Undefined
 // geographic SRS" and "Undefined Cartesian SRS" (srs_id 0 and -1, with no
 // authority) are a layer without a CRS too.

@@ -22,12 +22,6 @@
 namespace rockcal::sites {
 namespace {
 
-std::string Join(const std::vector<std::string>& items) {
-  std::string s;
-  for (const std::string& i : items) s += (s.empty() ? "" : ", ") + i;
-  return s;
-}
-
 std::vector<std::string> MaterialIds(const Site& site) {
   std::vector<std::string> ids;
   for (const core::Material& m : site.scene.materials) ids.push_back(m.id);

@@ -102,11 +102,12 @@ TEST(Defaults, ScoreRunsTheScoreOptionsDefaults) {
 
 TEST(Defaults, SensitivityRunsTheSensitivityOptionsDefaults) {
   const calibrate::SensitivityOptions o;
-  ExpectSameWithTheDefaultsGiven("sensitivity", "sensitivity " + Example("tutorial") + " --rocks 6",
-                                 std::string("--method ") +
-                                     calibrate::SensitivityMethodToString(o.method) + " " +
-                                     Flag("threads", o.threads),
-                                 "sensitivity.json");
+  // Two trajectories (the sample count is not the default under test here).
+  ExpectSameWithTheDefaultsGiven(
+      "sensitivity", "sensitivity " + Example("tutorial") + " --rocks 6 --samples 2",
+      std::string("--method ") + calibrate::SensitivityMethodToString(o.method) + " " +
+          Flag("threads", o.threads),
+      "sensitivity.json");
 }
 
 TEST(Defaults, TheStudiesRunTheirOptionsDefaults) {
@@ -125,7 +126,8 @@ TEST(Defaults, TheStudiesRunTheirOptionsDefaults) {
       "convergence.json");
   ExpectSameWithTheDefaultsGiven(
       "reach",
-      "study reach " + Example("tutorial") + " --observations " + kObservations + " --rocks 6",
+      "study reach " + Example("tutorial") + " --observations " + kObservations +
+          " --rocks 6 --points 6",
       std::string("--design ") + calibrate::DesignKindToString(calibrate::ReachOptions{}.design),
       "reach.json");
 }

@@ -15,11 +15,13 @@
 #include <unistd.h>
 
 #include <array>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -374,12 +376,27 @@ TEST_F(Reliability, ARefusedResumeChangesNothing) {
   const std::string ash = ws_ + "/ash";
   fs::copy(Examples() + "/authume", ash, fs::copy_options::recursive);
   Mark(ash);
+  // Four of the 41 blocks (each fits its shape's clump when the site is
+  // read, three reads here): the same files, a tenth of the work. `shape`:
+  // the first block's shape file, an input of the run.
+  std::string shape;
+  {
+    std::istringstream rows(ReadFile(ash + "/data/blocks_P1_shapes.csv"));
+    std::string kept;
+    int blocks = 0;
+    for (std::string row; std::getline(rows, row) && blocks < 4;) {
+      kept += row + "\n";
+      if (row.empty() || !std::isdigit(static_cast<unsigned char>(row[0]))) continue;
+      if (blocks++ == 0) shape = ash + "/data/shapes/" + row.substr(row.rfind(',') + 1);
+    }
+    Write(ash + "/data/blocks_P1_shapes.csv", kept);
+  }
+  ASSERT_TRUE(fs::exists(shape)) << shape;
   const std::string shapes = "calibrate " + ash + "/site_shapes.json --observations " + ash +
                              "/observations.json --rocks 4 --max-evals 2 --reach 0 --quiet --out " +
                              ws_ + "/ash_out";
   run = Rockcal(shapes);
   ASSERT_EQ(run.status, 0) << run.err;
-  const std::string shape = fs::directory_iterator(ash + "/data/shapes")->path().string();
   for (const std::string& file : {shape, ash + "/data/blocks_P1_shapes.csv"}) {
     SCOPED_TRACE(file);
     const std::map<std::string, std::string> before = FolderBytes(ws_ + "/ash_out");

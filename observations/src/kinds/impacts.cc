@@ -10,6 +10,7 @@
 #include "../reader.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/impact_replay.h"
+#include "rockcal/core/numbers.h"
 #include "rockcal/core/statistics.h"
 #include "rockcal/observations/file_keys.h"
 #include "rockcal/sites/geometry.h"
@@ -20,7 +21,7 @@ namespace {
 using sites::FormatNumber;
 using sites::JsonNode;
 
-constexpr double kPi = 3.14159265358979323846;
+using core::kPi;
 constexpr double kMad = 1.4826;  // a normal sample's sigma per median absolute deviation
 // Below this many impacts the pooled ratios are not compared (their
 // quantiles would rest on too few values).

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rockcal/core/format.h"
+#include "rockcal/core/numbers.h"
 #include "rockcal/core/rasters.h"
 #include "rockcal/core/scene.h"
 #include "rockcal/core/simulate.h"
@@ -45,7 +46,7 @@ using html::Speed;
 using html::Td;
 using html::Th;
 
-inline constexpr double kInf = std::numeric_limits<double>::infinity();
+using core::kInf;
 
 // Colours shared by the sections' figures and legends.
 inline constexpr const char* kPartitionColour = "#6a3d9a";

@@ -28,6 +28,13 @@ std::vector<std::string> SplitFields(const std::string& line);
 // True when the line holds only blanks.
 bool IsBlank(const std::string& line);
 
+// `text` in lower case (ASCII): keywords, column names and extensions are
+// read case-insensitively.
+std::string Lower(std::string text);
+
+// "a, b, c": the names a message lists.
+std::string Join(const std::vector<std::string>& items);
+
 // At most kMaxExcerpt characters of `text` for a message, quoted, with
 // non-printable bytes, the backslash and the quote escaped (\xNN: 'foo\x27'
 // for foo', not 'foo'') and "..." when cut: a message never carries a whole
