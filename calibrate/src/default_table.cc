@@ -12,12 +12,14 @@
 #include "rockcal/core/material_field.h"
 #include "rockcal/core/statistics.h"
 #include "rockcal/sites/json_reader.h"
+#include "rockcal/sites/text_reader.h"
 
 namespace rockcal::calibrate {
 namespace {
 
 namespace fs = std::filesystem;
 using sites::FormatNumber;
+using sites::Join;
 
 std::string Quote(const std::string& s) { return "'" + s + "'"; }
 
@@ -47,12 +49,6 @@ bool SameCalibration(const CalibratedSite& a, const CalibratedSite& b) {
     if (p.material != q.material || p.name != q.name || p.value != q.value) return false;
   }
   return true;
-}
-
-std::string Join(const std::vector<std::string>& items) {
-  std::string s;
-  for (const std::string& i : items) s += (s.empty() ? "" : ", ") + i;
-  return s;
 }
 
 }  // namespace

@@ -4,10 +4,11 @@
 #include <cmath>
 #include <limits>
 
+#include "rockcal/core/numbers.h"
+
 namespace rockcal::core {
 
 double CeilingFlightTime(const Terrain& terrain, const RockState& s, double rb, double g) {
-  constexpr double kInf = std::numeric_limits<double>::infinity();
   const double spacing = terrain.grid().spacing;
   const double vh = std::hypot(s.v.x(), s.v.y());
   const double t_cap = std::min(vh > 0 ? spacing / vh : kInf, 1.0);

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "rockcal/core/limits.h"
+#include "rockcal/core/numbers.h"
 #include "rockcal/sites/file_keys.h"
 #include "rockcal/sites/inventory.h"
 #include "rockcal/sites/shape_file.h"
@@ -69,7 +70,7 @@ Eigen::Vector2d ReadReleasePoint(const JsonNode& node, Units units, const core::
     if (radius > 0) {
       constexpr int kSpreadVertices = 24;
       for (int k = 0; k < kSpreadVertices; ++k) {
-        const double a = 2.0 * 3.14159265358979323846 * k / kSpreadVertices;
+        const double a = 2.0 * core::kPi * k / kSpreadVertices;
         r->zone.push_back(r->point + radius * Eigen::Vector2d(std::cos(a), std::sin(a)));
       }
       if (auto off = FindOffTerrain(grid, r->zone, grid.spacing / 4))

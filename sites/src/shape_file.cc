@@ -3,7 +3,6 @@
 #include <libqhull_r/qhull_ra.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -12,6 +11,7 @@
 #include "rockcal/core/error.h"
 #include "rockcal/sites/point_files.h"
 #include "rockcal/sites/stl.h"
+#include "rockcal/sites/text_reader.h"
 #include "qhull_messages.h"
 
 namespace rockcal::sites {
@@ -19,9 +19,7 @@ namespace {
 
 bool EndsWithStl(const std::string& path) {
   if (path.size() < 4) return false;
-  std::string ext = path.substr(path.size() - 4);
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".stl";
+  return Lower(path.substr(path.size() - 4)) == ".stl";
 }
 
 // The file's stem: "blocks/SP1A.xyz" -> "SP1A".

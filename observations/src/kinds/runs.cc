@@ -9,6 +9,7 @@
 #include "../reader.h"
 #include "rockcal/core/error.h"
 #include "rockcal/core/format.h"
+#include "rockcal/core/numbers.h"
 #include "rockcal/core/statistics.h"
 #include "rockcal/observations/file_keys.h"
 #include "rockcal/sites/geometry.h"
@@ -237,7 +238,7 @@ void CompareRuns(const Runout& runout, double error, const core::SimulationResul
     std::sort(deviations.begin(), deviations.end());
     pool = 1.4826 * core::Quantile(deviations, 0.5);
   }
-  constexpr double kPi = 3.14159265358979323846;
+  using core::kPi;
   for (std::size_t i = 0; i < samples.size(); ++i) {
     RunFit& fit = misfit->runs[i];
     const std::vector<double>& run = samples[i];
