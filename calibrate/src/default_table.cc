@@ -161,6 +161,9 @@ std::map<std::pair<std::string, int>, TableRow> CollectRows(
       v.std_error = p.std_error;
       v.grid_spacing_m = s.grid_spacing_m;
       v.posterior = p.posterior;
+      v.pooled = p.posterior ? p.posterior->median : p.value;
+      // A search stopped by a bound is no calibrated value, whatever its
+      // posterior: the bound test is on the search's value.
       v.bound = AtBound(p.value, p.lower, p.upper, options.bound_fraction);
       v.counted = options.include_at_bound || v.bound == BoundPosition::kInside;
       row.values.push_back(v);
@@ -180,10 +183,10 @@ void SummariseRow(TableRow* row_out, DefaultTable* table_out) {
   std::set<double> spacings;
   bool spacing_unknown = false;
   for (const TableValue& v : row.values) {
-    all.push_back(v.value);
+    all.push_back(v.pooled);
     all_sites.push_back(v.site);
     if (v.counted) {
-      counted.push_back(v.value);
+      counted.push_back(v.pooled);
       counted_sites.push_back(v.site);
     }
     if (v.bound != BoundPosition::kInside) {

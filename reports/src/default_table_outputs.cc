@@ -212,6 +212,7 @@ nlohmann::json DefaultTableJson(const DefaultTable& table) {
                         {"folder", v.result_dir},
                         {"material", v.material},
                         {"value", v.value},
+                        {"pooled", v.pooled},
                         {"lower", v.lower},
                         {"upper", v.upper},
                         {"std_error", Optional(v.std_error)},
@@ -269,16 +270,17 @@ std::string DefaultTableCsv(const DefaultTable& table) {
 
 std::string DefaultTableValuesCsv(const DefaultTable& table) {
   std::ostringstream out;
-  out << "class,parameter,unit,site,folder,material,value,lower,upper,std_error,at_bound,counted"
+  out << "class,parameter,unit,site,folder,material,value,pooled,lower,upper,std_error,at_bound,"
+         "counted"
       << (table.any_posterior ? ",posterior_median,posterior_p05,posterior_p95,determined" : "")
       << "\n";
   for (const TableRow& row : table.rows) {
     for (const TableValue& v : row.values) {
       out << CsvField(row.material_class) << ',' << row.name << ',' << SiUnit(row.name) << ','
           << CsvField(v.site) << ',' << CsvField(v.result_dir) << ',' << CsvField(v.material) << ','
-          << FormatNumber(v.value) << ',' << FormatNumber(v.lower) << ',' << FormatNumber(v.upper)
-          << ',' << (v.std_error ? FormatNumber(*v.std_error) : "") << ','
-          << calibrate::BoundName(v.bound) << ',' << (v.counted ? 1 : 0);
+          << FormatNumber(v.value) << ',' << FormatNumber(v.pooled) << ',' << FormatNumber(v.lower)
+          << ',' << FormatNumber(v.upper) << ',' << (v.std_error ? FormatNumber(*v.std_error) : "")
+          << ',' << calibrate::BoundName(v.bound) << ',' << (v.counted ? 1 : 0);
       if (table.any_posterior) {
         if (v.posterior)
           out << ',' << FormatNumber(v.posterior->median) << ',' << FormatNumber(v.posterior->p05)
@@ -300,7 +302,10 @@ std::string DefaultTableMarkdown(const DefaultTable& table) {
   const std::string tolerance = Percent(table.options.bound_fraction);
   out << "\nMedian, min and max over the calibrated values of " << table.sites.size()
       << " result folder" << (table.sites.size() == 1 ? "" : "s")
-      << "; \"sites\" counts distinct sites, \"values\" the values counted. ";
+      << "; \"sites\" counts distinct sites, \"values\" the values counted. "
+      << (table.any_posterior ? "A calibration with a posterior enters with its posterior median "
+                                "(\"pooled\" below), one without with its search value. "
+                              : "");
   if (table.options.include_at_bound) {
     out << "Values within " << tolerance
         << " of the range of a calibration bound are counted (--include-at-bound).\n";
@@ -321,9 +326,10 @@ std::string DefaultTableMarkdown(const DefaultTable& table) {
            "lowest 5 % and the highest 95 % quantile; rockcal calibrate --posterior), given when "
            "every counted value has one.\n";
   out << "\n### Values\n\n"
-      << "| class | parameter | site | folder | material | value | std. error |"
-      << (table.any_posterior ? " posterior 5 % – 95 % |" : "") << " bounds | at a bound |\n"
-      << "|---|---|---|---|---|---|---|" << (table.any_posterior ? "---|" : "") << "---|---|\n";
+      << "| class | parameter | site | folder | material | search value | std. error |"
+      << (table.any_posterior ? " posterior 5 % – 95 % | pooled |" : "")
+      << " bounds | at a bound |\n"
+      << "|---|---|---|---|---|---|---|" << (table.any_posterior ? "---|---|" : "") << "---|---|\n";
   for (const TableRow& row : table.rows) {
     for (const TableValue& v : row.values) {
       out << "| " << Cell(row.material_class) << " | " << Label(row.name) << " | " << Cell(v.site)
@@ -331,9 +337,11 @@ std::string DefaultTableMarkdown(const DefaultTable& table) {
           << ShowOne(row.name, v.value) << " | "
           << (v.std_error ? ShowOne(row.name, *v.std_error) : std::string("-"))
           << (table.any_posterior
-                  ? " | " + (v.posterior ? ShowRange(row.name, v.posterior->p05, v.posterior->p95) +
-                                               (v.posterior->determined ? "" : " (not determined)")
-                                         : std::string("-"))
+                  ? " | " +
+                        (v.posterior ? ShowRange(row.name, v.posterior->p05, v.posterior->p95) +
+                                           (v.posterior->determined ? "" : " (not determined)")
+                                     : std::string("-")) +
+                        " | " + ShowOne(row.name, v.pooled)
                   : std::string(""))
           << " | [" << Show(row.name, v.lower) << ", " << Show(row.name, v.upper) << "]"
           << Unit(row.name) << " | "

@@ -43,8 +43,9 @@ ClassRow ReadRow(const JsonNode& row) {
     }
   }
   if (r.low && !(*r.low <= r.median && r.median <= *r.high)) {
-    // The envelope of the posteriors may leave out the median of the point
-    // values; the draws then span both.
+    // A table whose medians are of search values (one made by hand, or by
+    // rockcal before its rows pooled posterior medians) may have its median
+    // outside the posteriors' envelope; the draws then span both.
     r.low = std::min(*r.low, r.median);
     r.high = std::max(*r.high, r.median);
   }

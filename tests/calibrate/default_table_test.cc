@@ -66,6 +66,13 @@ TEST(BuildDefaultTable, ARowOfValuesWithPosteriorsHasTheirIntervalsEnvelope) {
   EXPECT_DOUBLE_EQ(*hardness->posterior_p05, 0.2);  // site a's 5 %
   EXPECT_DOUBLE_EQ(*hardness->posterior_p95, 0.6);  // site b's 95 %
   EXPECT_EQ(hardness->posterior_values, 2);
+  // The row pools the posterior medians (0.3 and 0.45), not the search
+  // values (0.35 and 0.45).
+  EXPECT_DOUBLE_EQ(hardness->values[0].value, 0.35);
+  EXPECT_DOUBLE_EQ(hardness->values[0].pooled, 0.3);
+  EXPECT_DOUBLE_EQ(hardness->headline.median, 0.375);
+  EXPECT_DOUBLE_EQ(hardness->headline.min, 0.3);
+  EXPECT_DOUBLE_EQ(hardness->headline.max, 0.45);
 
   // One counted value without a posterior: no interval for the row, and a note.
   Json c = ParametersFile();
@@ -76,8 +83,34 @@ TEST(BuildDefaultTable, ARowOfValuesWithPosteriorsHasTheirIntervalsEnvelope) {
   std::string notes;
   for (const std::string& n : mixed.notes) notes += n + "\n";
   EXPECT_THAT(notes, HasSubstr("scree hardness: 1 of 2 counted values have a posterior"));
+  // Without a posterior a calibration enters with its search value.
+  for (const TableRow& r : mixed.rows) {
+    if (r.material_class != "scree" || r.name != "hardness") continue;
+    ASSERT_EQ(r.values.size(), 2u);
+    EXPECT_DOUBLE_EQ(r.values[1].pooled, 0.35);
+    EXPECT_DOUBLE_EQ(r.headline.median, 0.325);  // 0.3 (a's posterior) and 0.35 (c's search)
+  }
 }
 
+TEST(BuildDefaultTable, ASearchAtABoundIsLeftOutWhateverItsPosterior) {
+  // The search stopped at its lower bound (0.1 in [0.1, 0.7]) while the
+  // posterior's median lies inside: the bound stopped the search, so the
+  // value is no calibrated value and the row counts none of it.
+  TempDir dir;
+  Json a = WithPosterior();
+  a["parameters"][0]["value"] = 0.1;
+  a["parameters"][0]["posterior"]["median"] = 0.25;
+  const DefaultTable t = BuildDefaultTable({ReadCalibratedSite(WriteResult(dir, "a", a))}, {});
+  for (const TableRow& r : t.rows) {
+    if (r.material_class != "scree" || r.name != "hardness") continue;
+    EXPECT_EQ(r.at_bound, 1);
+    EXPECT_EQ(r.headline.values, 0);
+    EXPECT_DOUBLE_EQ(r.all.median, 0.25);  // the pooled value, counted among all
+  }
+  std::string notes;
+  for (const std::string& n : t.notes) notes += n + "\n";
+  EXPECT_THAT(notes, HasSubstr("is at its lower bound (0.1 in [0.1, 0.7])"));
+}
 
 // A hand-made calibration of `site` in folder `dir`.
 CalibratedSite Site(const std::string& site, const std::string& dir,

@@ -99,11 +99,12 @@ TEST(DefaultTableCsv, OneRowPerClassAndParameter) {
 
 TEST(DefaultTableValuesCsv, OneRowPerValueWithItsFolderQuoted) {
   const std::string csv = DefaultTableValuesCsv(Table());
-  EXPECT_THAT(csv, HasSubstr("class,parameter,unit,site,folder,material,value,lower,upper,"
+  EXPECT_THAT(csv, HasSubstr("class,parameter,unit,site,folder,material,value,pooled,lower,upper,"
                              "std_error,at_bound,counted\n"));
-  EXPECT_THAT(csv, HasSubstr("soil,contact_time,s,Site B,\"out/b,c\",blue,0.006,0.002,0.01,"
+  EXPECT_THAT(csv, HasSubstr("soil,contact_time,s,Site B,\"out/b,c\",blue,0.006,0.006,0.002,0.01,"
                              "0.0005,,1\n"));
-  EXPECT_THAT(csv, HasSubstr("talus,roughness,m,Site B,\"out/b,c\",red,0.5,0.05,0.5,,upper,0\n"));
+  EXPECT_THAT(csv,
+              HasSubstr("talus,roughness,m,Site B,\"out/b,c\",red,0.5,0.5,0.05,0.5,,upper,0\n"));
 }
 
 TEST(DefaultTableMarkdown, ATableToPasteWithFeet) {
@@ -129,6 +130,31 @@ TEST(DefaultTableMarkdown, ATableToPasteWithFeet) {
                             "| out/a | Site A | nlopt:bobyqa | 0 | 0 | 1 m |\n"));
   EXPECT_THAT(md, HasSubstr("### Notes\n\n- talus roughness: Site B (out/b,c, material red) is "
                             "at its upper bound"));
+}
+
+TEST(DefaultTableMarkdown, APosteriorMedianIsPooledAndShownBesideTheSearchValue) {
+  CalibratedSite a;
+  a.site = "Site A";
+  a.result_dir = "out/a";
+  a.file = "out/a/parameters.json";
+  a.stage = calibrate::Stage{calibrate::Method::kBobyqa};
+  a.parameters = {P("talus", "talus", "hardness", 0.3, 0.1, 0.7)};
+  a.parameters[0].posterior = CalibratedParameter::Interval{0.42, 0.35, 0.5, true};
+  const DefaultTable t = calibrate::BuildDefaultTable({a}, {});
+  const std::string md = DefaultTableMarkdown(t);
+  EXPECT_THAT(md,
+              HasSubstr("| talus | hardness | 1 | 1 | 0.42 | 0.42 – 0.42 | 0.35 – 0.5 | 0 of 1 |"));
+  EXPECT_THAT(md, HasSubstr("enters with its posterior median"));
+  EXPECT_THAT(md, HasSubstr("| search value | std. error | posterior 5 % – 95 % | pooled |"));
+  EXPECT_THAT(md, HasSubstr("| talus | hardness | Site A | out/a | talus | 0.3 | - | 0.35 – 0.5 | "
+                            "0.42 | [0.1, 0.7] |  |"));
+  const nlohmann::json j = DefaultTableJson(t);
+  EXPECT_DOUBLE_EQ(j["rows"][0]["median"].get<double>(), 0.42);
+  EXPECT_DOUBLE_EQ(j["rows"][0]["entries"][0]["value"].get<double>(), 0.3);
+  EXPECT_DOUBLE_EQ(j["rows"][0]["entries"][0]["pooled"].get<double>(), 0.42);
+  EXPECT_THAT(
+      DefaultTableValuesCsv(t),
+      HasSubstr("talus,hardness,,Site A,out/a,talus,0.3,0.42,0.1,0.7,,,1,0.42,0.35,0.5,yes\n"));
 }
 
 TEST(DefaultTableMarkdown, IncludeAtBoundHasOneSummary) {
