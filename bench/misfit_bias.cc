@@ -18,7 +18,7 @@
 // truth (a parabola through the lowest grid point and its neighbours).
 //
 //   misfit_bias [--obs-seeds 16] [--cal-seeds 4] [--truth-seeds 0] [--points 11] [--span 25]
-//               [--obs-rocks 120] [--rocks 120] [--threads 1] [--scars 2]
+//               [--obs-rocks 120] [--rocks 120] [--threads 1] [--scars 2] [--error-scale 1]
 #include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
@@ -108,6 +108,9 @@ int main(int argc, char** argv) {
   const int rocks = static_cast<int>(Arg(argc, argv, "rocks", 120));
   const int threads = static_cast<int>(Arg(argc, argv, "threads", 1));
   const int scars = static_cast<int>(Arg(argc, argv, "scars", 2));
+  // The measurement errors (0.1 m on heights, 1 m on stop points) times this:
+  // at 0 the residuals' sigma is the Monte Carlo and sampling errors alone.
+  const double error_scale = bench::RealArg(argc, argv, "error-scale", 1.0);
   if (K < 2 || C < 1 || T < 0 || points < 3 || points % 2 == 0 || obs_rocks < 10 || rocks < 10 ||
       scars < 0 || scars > 2) {
     std::fprintf(stderr,
@@ -129,6 +132,8 @@ int main(int argc, char** argv) {
     observations::Observations o =
         calibrate::testing::TwinObservations(field, truth, 5000 + static_cast<std::uint64_t>(k));
     o.tree_scars.resize(static_cast<std::size_t>(scars));
+    o.error.height *= error_scale;
+    o.error.runout *= error_scale;
     for (const auto& s : o.tree_scars) observed_heights += s.heights.size() / double(K);
     observed_stops += o.runout->distances.size() / double(K);
     obs.push_back(std::move(o));

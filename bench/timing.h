@@ -22,6 +22,14 @@ inline long Arg(int argc, char** argv, const std::string& name, long fallback) {
   return fallback;
 }
 
+// The number after --NAME on the command line, or `fallback` (Arg reads
+// whole numbers only: "0.3" would be 0).
+inline double RealArg(int argc, char** argv, const std::string& name, double fallback) {
+  for (int k = 1; k + 1 < argc; ++k)
+    if (argv[k] == "--" + name) return std::strtod(argv[k + 1], nullptr);
+  return fallback;
+}
+
 // Median of `v` (mean of the two middle values for an even count); 0 when empty.
 inline double Median(std::vector<double> v) {
   if (v.empty()) return 0.0;
