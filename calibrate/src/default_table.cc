@@ -162,9 +162,11 @@ std::map<std::pair<std::string, int>, TableRow> CollectRows(
       v.grid_spacing_m = s.grid_spacing_m;
       v.posterior = p.posterior;
       v.pooled = p.posterior ? p.posterior->median : p.value;
-      // A search stopped by a bound is no calibrated value, whatever its
-      // posterior: the bound test is on the search's value.
-      v.bound = AtBound(p.value, p.lower, p.upper, options.bound_fraction);
+      // The bound test is on the value pooled: a search's point stopped by
+      // a bound is no calibrated value, but a posterior that holds such a
+      // point still says where the data put the value (its median inside,
+      // its interval reaching the bound).
+      v.bound = AtBound(v.pooled, p.lower, p.upper, options.bound_fraction);
       v.counted = options.include_at_bound || v.bound == BoundPosition::kInside;
       row.values.push_back(v);
     }
@@ -194,7 +196,7 @@ void SummariseRow(TableRow* row_out, DefaultTable* table_out) {
       table.notes.push_back(
           row.material_class + " " + row.name + ": " + v.site + " (" + v.result_dir +
           ", material " + v.material + ") is at its " + BoundName(v.bound) + " bound (" +
-          FormatNumber(v.value) + " in [" + FormatNumber(v.lower) + ", " + FormatNumber(v.upper) +
+          FormatNumber(v.pooled) + " in [" + FormatNumber(v.lower) + ", " + FormatNumber(v.upper) +
           "]); " + (v.counted ? "counted (--include-at-bound)" : "left out of the statistics"));
     }
     if (!v.grid_spacing_m) {

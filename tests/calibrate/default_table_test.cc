@@ -92,24 +92,39 @@ TEST(BuildDefaultTable, ARowOfValuesWithPosteriorsHasTheirIntervalsEnvelope) {
   }
 }
 
-TEST(BuildDefaultTable, ASearchAtABoundIsLeftOutWhateverItsPosterior) {
+TEST(BuildDefaultTable, TheBoundTestIsOnThePooledValue) {
   // The search stopped at its lower bound (0.1 in [0.1, 0.7]) while the
-  // posterior's median lies inside: the bound stopped the search, so the
-  // value is no calibrated value and the row counts none of it.
+  // posterior's median lies inside: the posterior says where the data put
+  // the value, so it counts. A posterior whose median sits at the bound
+  // is left out.
   TempDir dir;
   Json a = WithPosterior();
   a["parameters"][0]["value"] = 0.1;
   a["parameters"][0]["posterior"]["median"] = 0.25;
-  const DefaultTable t = BuildDefaultTable({ReadCalibratedSite(WriteResult(dir, "a", a))}, {});
+  Json b = a;
+  b["site"] = "Other slope";
+  b["parameters"][0]["posterior"] = {
+      {"median", 0.102}, {"p05", 0.1}, {"p95", 0.2}, {"determined", false}};
+  const DefaultTable t = BuildDefaultTable(
+      {ReadCalibratedSite(WriteResult(dir, "a", a)), ReadCalibratedSite(WriteResult(dir, "b", b))},
+      {});
+  bool seen = false;
   for (const TableRow& r : t.rows) {
     if (r.material_class != "scree" || r.name != "hardness") continue;
+    seen = true;
     EXPECT_EQ(r.at_bound, 1);
-    EXPECT_EQ(r.headline.values, 0);
-    EXPECT_DOUBLE_EQ(r.all.median, 0.25);  // the pooled value, counted among all
+    EXPECT_EQ(r.values[0].bound, BoundPosition::kInside);
+    EXPECT_EQ(r.values[1].bound, BoundPosition::kAtLower);
+    EXPECT_EQ(r.headline.values, 1);
+    EXPECT_DOUBLE_EQ(r.headline.median, 0.25);
+    EXPECT_DOUBLE_EQ(r.all.median, 0.5 * (0.25 + 0.102));
   }
+  EXPECT_TRUE(seen);
   std::string notes;
   for (const std::string& n : t.notes) notes += n + "\n";
-  EXPECT_THAT(notes, HasSubstr("is at its lower bound (0.1 in [0.1, 0.7])"));
+  EXPECT_THAT(notes, HasSubstr("Other slope"));
+  EXPECT_THAT(notes, HasSubstr("is at its lower bound (0.102 in [0.1, 0.7])"));
+  EXPECT_THAT(notes, Not(HasSubstr("(0.1 in [0.1, 0.7])")));
 }
 
 // A hand-made calibration of `site` in folder `dir`.

@@ -130,16 +130,14 @@ TEST(MisfitTest, SigmaCombinesMeasurementMonteCarloAndSamplingErrors) {
   const double e = 0.25;
   const Misfit m = ComputeMisfit(ScarsAt(0, observed, e), scene, CrossingAt(0, simulated));
   ASSERT_EQ(m.residuals.size(), 10u);
-  // p50: simulated sample 0, 0.05, ..., 4.95: centre 49.5, half width 5, so its
-  // error is 0.05 * 10 / 2 = 0.25; observed: n = 10, centre 4.5, half width
-  // h = sqrt(2.5) = 1.5811, between x(4.5 - h) and x(4.5 + h).
-  const double h = std::sqrt(2.5);
-  const double x_lo = 0.3 / 9.0 * (4.0 + (2.5 - h) * (9.0 - 4.0));     // x(4.5 - h)
-  const double x_hi = 0.3 / 9.0 * (36.0 + (h - 1.5) * (49.0 - 36.0));  // x(4.5 + h)
-  const double obs_error = 0.5 * (x_hi - x_lo);
+  // p50: the quantiles' standard errors (Maritz-Jarrett, by mpmath 1.3.0's
+  // betainc at 30 digits): 0.2479573413659190 for the simulated 0, 0.05,
+  // ..., 4.95 (about half the spread five positions either side, 0.25), and
+  // 0.4509412062999286 for the observed 0.3 i^2 / 9, i = 0..9.
+  const double sim_error = 0.2479573413659190, obs_error = 0.4509412062999286;
   const Residual& p50 = m.residuals[4];
   EXPECT_EQ(p50.id.quantity(), "p50");
-  EXPECT_NEAR(p50.sigma, std::sqrt(e * e + 0.25 * 0.25 + obs_error * obs_error), 1e-12);
+  EXPECT_NEAR(p50.sigma, std::sqrt(e * e + sim_error * sim_error + obs_error * obs_error), 1e-12);
   EXPECT_NEAR(p50.simulated, 2.475, 1e-12);
   EXPECT_NEAR(p50.observed, 0.3 * (16 + 0.5 * 9) / 9.0, 1e-12);
   EXPECT_NEAR(p50.value, (p50.simulated - p50.observed) / p50.sigma, 1e-12);
@@ -150,8 +148,8 @@ TEST(MisfitTest, SigmaCombinesMeasurementMonteCarloAndSamplingErrors) {
   // the observed side's the gap between its two largest, 0.3 * 17 / 9.
   const Residual& max = m.residuals[9];
   const double k = 92.93780262374514, p = k / 99.0;
-  const double sim_error = 0.05 * std::sqrt(100.0 * p * (1.0 - p));
-  EXPECT_NEAR(max.sigma, std::sqrt(e * e + sim_error * sim_error + std::pow(0.3 * 17 / 9.0, 2)),
+  const double max_error = 0.05 * std::sqrt(100.0 * p * (1.0 - p));
+  EXPECT_NEAR(max.sigma, std::sqrt(e * e + max_error * max_error + std::pow(0.3 * 17 / 9.0, 2)),
               1e-12);
   EXPECT_NEAR(max.simulated, 0.05 * k, 1e-12);
   EXPECT_NEAR(max.observed, 0.3 * 9, 1e-12);

@@ -57,10 +57,12 @@ struct TableValue {
   // posterior: a minimum of the misfit is not the centre of what the data
   // allow), else the search's value.
   double pooled = 0.0;
+  // Where `pooled` sits against the bounds: a value at a bound is left out
+  // of the headline statistics (unless include_at_bound).
   std::optional<double> std_error;
   std::optional<double> grid_spacing_m;
   std::optional<CalibratedParameter::Interval> posterior;  // the calibration's, when it has one
-  BoundPosition bound = BoundPosition::kInside;
+  BoundPosition bound = BoundPosition::kInside;            // of `pooled`
   bool counted = true;  // in the headline statistics
 };
 

@@ -288,10 +288,21 @@ double ComparedQuantilePosition(std::size_t n, double level);
 // The value at ComparedQuantilePosition, interpolated linearly. n >= 1.
 double ComparedQuantile(const std::vector<double>& sorted, double level);
 // Standard error of the level-p quantile of an ascending sample of n values,
-// from order statistics: positions c -/+ h with c = ComparedQuantilePosition
-// and h = sqrt(n p (1 - p)), clamped to [0, n - 1], interpolated linearly;
-// the error is half the spread between them. 0 for n < 2.
+// weighing every order statistic (Maritz & Jarrett 1978, A note on
+// estimating the variance of the sample median, JASA 73:194-196): the
+// quantile is the order statistic at c = ComparedQuantilePosition, the
+// (c + 1)-th of n, whose rank's share is Beta(c + 1, n - c); the i-th value
+// (1-based) weighs W_i = I_{i/n}(c + 1, n - c) - I_{(i-1)/n}(c + 1, n - c)
+// and the error is the square root of sum W_i (x_i - sum W_j x_j)^2. Where
+// the values are spread smoothly it is about half the spread of the order
+// statistics one standard deviation of rank either side; where they are
+// clustered (rocks stopped in the hollows between virtual spheres) it keeps
+// the chance that the quantile falls in the next cluster, which that
+// spread misses. 0 for n < 2.
 double QuantileStandardError(const std::vector<double>& sorted, double level);
+// I_x(a, b), the regularised incomplete beta function: P(U <= x) for U ~
+// Beta(a, b). a, b > 0; 0 for x <= 0, 1 for x >= 1.
+double RegularisedIncompleteBeta(double x, double a, double b);
 // Standard error of the maximum: the larger of the gap between the two
 // largest values and the mean excess of the j = clamp(n / 10, 1, n - 1)
 // largest over the next one. For an exponential tail of scale b each
@@ -315,7 +326,9 @@ double MaxOrderPosition(std::size_t simulated, std::size_t observed);
 // `position` of an ascending sample of n values: the local slope of the
 // order statistics over h = max(1, sqrt(n p (1 - p))) positions either side
 // (p = position / (n - 1), the span clamped to [0, n - 1]) times h. In the
-// interior it is QuantileStandardError's; at the top it is the gap between
+// interior it is half the spread of the order statistics h positions either
+// side (about QuantileStandardError's on smoothly spread values); at the
+// top it is the gap between
 // the two largest values (MaxStandardError's below 20 values). 0 for n < 2.
 double OrderStatisticError(const std::vector<double>& sorted, double position);
 // "p10" for 0.1, "p2.5" for 0.025, "p100" for 1.
