@@ -161,12 +161,11 @@ std::map<std::pair<std::string, int>, TableRow> CollectRows(
       v.std_error = p.std_error;
       v.grid_spacing_m = s.grid_spacing_m;
       v.posterior = p.posterior;
-      v.pooled = p.posterior ? p.posterior->median : p.value;
       // The bound test is on the value pooled: a search's point stopped by
       // a bound is no calibrated value, but a posterior that holds such a
       // point still says where the data put the value (its median inside,
       // its interval reaching the bound).
-      v.bound = AtBound(v.pooled, p.lower, p.upper, options.bound_fraction);
+      v.bound = AtBound(v.pooled(), p.lower, p.upper, options.bound_fraction);
       v.counted = options.include_at_bound || v.bound == BoundPosition::kInside;
       row.values.push_back(v);
     }
@@ -185,10 +184,10 @@ void SummariseRow(TableRow* row_out, DefaultTable* table_out) {
   std::set<double> spacings;
   bool spacing_unknown = false;
   for (const TableValue& v : row.values) {
-    all.push_back(v.pooled);
+    all.push_back(v.pooled());
     all_sites.push_back(v.site);
     if (v.counted) {
-      counted.push_back(v.pooled);
+      counted.push_back(v.pooled());
       counted_sites.push_back(v.site);
     }
     if (v.bound != BoundPosition::kInside) {
@@ -196,8 +195,9 @@ void SummariseRow(TableRow* row_out, DefaultTable* table_out) {
       table.notes.push_back(
           row.material_class + " " + row.name + ": " + v.site + " (" + v.result_dir +
           ", material " + v.material + ") is at its " + BoundName(v.bound) + " bound (" +
-          FormatNumber(v.pooled) + " in [" + FormatNumber(v.lower) + ", " + FormatNumber(v.upper) +
-          "]); " + (v.counted ? "counted (--include-at-bound)" : "left out of the statistics"));
+          FormatNumber(v.pooled()) + " in [" + FormatNumber(v.lower) + ", " +
+          FormatNumber(v.upper) + "]); " +
+          (v.counted ? "counted (--include-at-bound)" : "left out of the statistics"));
     }
     if (!v.grid_spacing_m) {
       spacing_unknown = true;

@@ -212,7 +212,7 @@ nlohmann::json DefaultTableJson(const DefaultTable& table) {
                         {"folder", v.result_dir},
                         {"material", v.material},
                         {"value", v.value},
-                        {"pooled", v.pooled},
+                        {"pooled", v.pooled()},
                         {"lower", v.lower},
                         {"upper", v.upper},
                         {"std_error", Optional(v.std_error)},
@@ -278,9 +278,10 @@ std::string DefaultTableValuesCsv(const DefaultTable& table) {
     for (const TableValue& v : row.values) {
       out << CsvField(row.material_class) << ',' << row.name << ',' << SiUnit(row.name) << ','
           << CsvField(v.site) << ',' << CsvField(v.result_dir) << ',' << CsvField(v.material) << ','
-          << FormatNumber(v.value) << ',' << FormatNumber(v.pooled) << ',' << FormatNumber(v.lower)
-          << ',' << FormatNumber(v.upper) << ',' << (v.std_error ? FormatNumber(*v.std_error) : "")
-          << ',' << calibrate::BoundName(v.bound) << ',' << (v.counted ? 1 : 0);
+          << FormatNumber(v.value) << ',' << FormatNumber(v.pooled()) << ','
+          << FormatNumber(v.lower) << ',' << FormatNumber(v.upper) << ','
+          << (v.std_error ? FormatNumber(*v.std_error) : "") << ',' << calibrate::BoundName(v.bound)
+          << ',' << (v.counted ? 1 : 0);
       if (table.any_posterior) {
         if (v.posterior)
           out << ',' << FormatNumber(v.posterior->median) << ',' << FormatNumber(v.posterior->p05)
@@ -341,7 +342,7 @@ std::string DefaultTableMarkdown(const DefaultTable& table) {
                         (v.posterior ? ShowRange(row.name, v.posterior->p05, v.posterior->p95) +
                                            (v.posterior->determined ? "" : " (not determined)")
                                      : std::string("-")) +
-                        " | " + ShowOne(row.name, v.pooled)
+                        " | " + ShowOne(row.name, v.pooled())
                   : std::string(""))
           << " | [" << Show(row.name, v.lower) << ", " << Show(row.name, v.upper) << "]"
           << Unit(row.name) << " | "

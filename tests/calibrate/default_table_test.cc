@@ -69,7 +69,7 @@ TEST(BuildDefaultTable, ARowOfValuesWithPosteriorsHasTheirIntervalsEnvelope) {
   // The row pools the posterior medians (0.3 and 0.45), not the search
   // values (0.35 and 0.45).
   EXPECT_DOUBLE_EQ(hardness->values[0].value, 0.35);
-  EXPECT_DOUBLE_EQ(hardness->values[0].pooled, 0.3);
+  EXPECT_DOUBLE_EQ(hardness->values[0].pooled(), 0.3);
   EXPECT_DOUBLE_EQ(hardness->headline.median, 0.375);
   EXPECT_DOUBLE_EQ(hardness->headline.min, 0.3);
   EXPECT_DOUBLE_EQ(hardness->headline.max, 0.45);
@@ -87,7 +87,7 @@ TEST(BuildDefaultTable, ARowOfValuesWithPosteriorsHasTheirIntervalsEnvelope) {
   for (const TableRow& r : mixed.rows) {
     if (r.material_class != "scree" || r.name != "hardness") continue;
     ASSERT_EQ(r.values.size(), 2u);
-    EXPECT_DOUBLE_EQ(r.values[1].pooled, 0.35);
+    EXPECT_DOUBLE_EQ(r.values[1].pooled(), 0.35);
     EXPECT_DOUBLE_EQ(r.headline.median, 0.325);  // 0.3 (a's posterior) and 0.35 (c's search)
   }
 }

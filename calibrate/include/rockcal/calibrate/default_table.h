@@ -52,17 +52,17 @@ struct TableValue {
   std::string result_dir;  // the folder it was read from
   std::string material;    // material id at that site
   double value = 0.0, lower = 0.0, upper = 0.0;  // the search's value and bounds
+  std::optional<CalibratedParameter::Interval> posterior;  // the calibration's, when it has one
   // The value the row's statistics pool: the calibration's posterior median
   // when it has a posterior (the search's point may lie outside the
   // posterior: a minimum of the misfit is not the centre of what the data
   // allow), else the search's value.
-  double pooled = 0.0;
-  // Where `pooled` sits against the bounds: a value at a bound is left out
-  // of the headline statistics (unless include_at_bound).
+  double pooled() const { return posterior ? posterior->median : value; }
   std::optional<double> std_error;
   std::optional<double> grid_spacing_m;
-  std::optional<CalibratedParameter::Interval> posterior;  // the calibration's, when it has one
-  BoundPosition bound = BoundPosition::kInside;            // of `pooled`
+  // Where pooled() sits against the bounds: a value at a bound is left out
+  // of the headline statistics (unless include_at_bound).
+  BoundPosition bound = BoundPosition::kInside;
   bool counted = true;  // in the headline statistics
 };
 
@@ -71,7 +71,7 @@ struct TableRow {
   std::string material_class;
   std::string name;                // "hardness", "roughness", "contact_time"
   std::vector<TableValue> values;  // in the order of the result folders
-  // Statistics of the values' `pooled`.
+  // Statistics of the values' pooled().
   ValueStatistics headline;        // the values counted (see options)
   ValueStatistics all;             // every value, at a bound or not
   int at_bound = 0;                // values at a bound
