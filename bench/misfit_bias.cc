@@ -19,6 +19,7 @@
 //
 //   misfit_bias [--obs-seeds 16] [--cal-seeds 4] [--truth-seeds 0] [--points 11] [--span 25]
 //               [--obs-rocks 120] [--rocks 120] [--threads 1] [--scars 2] [--error-scale 1]
+//               [--truth a,b,c,d]
 #include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
@@ -121,8 +122,26 @@ int main(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
   const sites::Site site = calibrate::testing::TwinSite(rocks);
   const calibrate::ParameterSpace space = calibrate::ParameterSpace::FromSite(site);
-  const std::vector<double>& truth = calibrate::testing::kTruth;
+  // --truth a,b,c,d: another truth (the twin's values in its order).
+  std::vector<double> truth = calibrate::testing::kTruth;
+  for (int i = 1; i + 1 < argc; ++i) {
+    if (std::string(argv[i]) != "--truth") continue;
+    truth.clear();
+    for (const char* at = argv[i + 1]; *at;) {
+      char* end = nullptr;
+      truth.push_back(std::strtod(at, &end));
+      if (end == at) break;
+      at = *end == ',' ? end + 1 : end;
+    }
+  }
   const std::size_t d = truth.size();
+  bool inside = static_cast<int>(d) == space.size();
+  for (std::size_t j = 0; inside && j < d; ++j)
+    inside = truth[j] >= space.parameters()[j].lower && truth[j] <= space.parameters()[j].upper;
+  if (!inside) {
+    std::fprintf(stderr, "misfit_bias: --truth: %d values inside the twin's box\n", space.size());
+    return 2;
+  }
 
   std::vector<observations::Observations> obs;
   sites::Site field = calibrate::testing::TwinSite(obs_rocks);

@@ -20,7 +20,7 @@
 //                      [--obs-rocks 60] [--rocks 120] [--threads 1] [--seed 1]
 //                      [--independent 0] [--prior 0] [--truths middle]
 //                      [--ranks 0] [--bootstrap 200] [--kinds both]
-//                      [--error-scale 1]
+//                      [--error-scale 1] [--noise 0]
 //
 // --bootstrap B: the residuals' correlation from B resamples of the rocks
 // (PosteriorOptions::bootstrap_replicates; 0: each distribution's quantiles
@@ -29,7 +29,9 @@
 // partitions), stops (the stop points) and passing (the share past the
 // second partition), comma-separated; both = scars,stops. --error-scale f:
 // the measurement errors (0.1 m on heights, 1 m on stop points, 0.05 on a
-// passing fraction) times f. --materials 3: the first 20 m of the runout is
+// passing fraction) times f. --noise 1: the field's values carry those
+// errors (each value plus a normal draw of its error); 0: exact values, the
+// errors declared only. --materials 3: the first 20 m of the runout is
 // a third material, "toe" (the values: slope, runout and toe hardness, then
 // runout, slope and toe roughness). --truths
 // edges: each truth in the outer 10 % of its range at either end (--prior 1
@@ -69,6 +71,7 @@ int main(int argc, char** argv) {
   o.bootstrap = static_cast<int>(Arg(argc, argv, "bootstrap", 200));
   o.kinds = Text(argc, argv, "kinds", "both");
   o.error_scale = bench::RealArg(argc, argv, "error-scale", 1.0);
+  o.noise = Arg(argc, argv, "noise", 0) != 0;
   o.truths = Text(argc, argv, "truths", Arg(argc, argv, "prior", 0) != 0 ? "prior" : "middle");
   o.ranks = static_cast<int>(Arg(argc, argv, "ranks", 0));
   if (const std::string bad = calibrate::testing::Check(o); !bad.empty() || twins < 1) {
@@ -121,10 +124,11 @@ int main(int argc, char** argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf(
       "\n%d twins, %d parameters, %d materials, %d observed rocks, %d rocks per evaluation, %d "
-      "thread(s), %s residuals (bootstrap %d), observed %s, errors x%g, truths %s, %d "
+      "thread(s), %s residuals (bootstrap %d), observed %s, errors x%g%s, truths %s, %d "
       "simulations, %.0f s; max R-hat %.3f\n\n",
       twins, o.parameters, o.materials, o.obs_rocks, o.rocks, o.threads,
       o.independent ? "independent" : "correlated", o.bootstrap, o.kinds.c_str(), o.error_scale,
+      o.noise ? " (in the values)" : " (declared)",
       o.truths.c_str(), simulations, seconds, max_rhat);
   std::printf(
       "| parameter | 90 %% intervals holding the truth | mean width / range | mean |median - "

@@ -48,6 +48,11 @@ struct PosteriorTwinOptions {
   // Q), comma-separated; "both" is "scars,stops".
   std::string kinds = "both";
   double error_scale = 1.0;  // the measurement errors times this
+  // The field's values carry the measurement errors they declare: each
+  // height, each stop point's x and y and the passing share plus a normal
+  // draw of its error (seeded by the twin). Off: exact values, errors
+  // declared only.
+  bool noise = false;
   // Where the truths are drawn, per value on the unit box: "middle" (the
   // middle 80 %), "prior" (the whole box) or "edges" (the outer 10 % at
   // either end).
@@ -151,6 +156,23 @@ inline PosteriorTwin RunPosteriorTwin(const PosteriorTwinOptions& o, int t) {
   obs.error.height *= o.error_scale;
   obs.error.runout *= o.error_scale;
   obs.error.passing *= o.error_scale;
+  if (o.noise) {
+    core::RandomStream draw(o.seed, 0x4e4f495345000000ull + static_cast<std::uint64_t>(t));  // "NOISE"
+    for (observations::ScarSet& s : obs.tree_scars)
+      for (double& h : s.heights) h += obs.error.height * draw.Normal();
+    if (obs.runout) {
+      observations::Runout& r = *obs.runout;
+      r.distances.clear();
+      r.lateral.clear();
+      for (Eigen::Vector2d& p : r.stop_points) {
+        p += obs.error.runout * Eigen::Vector2d(draw.Normal(), draw.Normal());
+        r.distances.push_back(r.Distance(p));
+        r.lateral.push_back(r.Lateral(p));
+      }
+    }
+    for (observations::Passing& p : obs.passing)
+      p.fraction = std::clamp(p.fraction + obs.error.passing * draw.Normal(), 0.0, 1.0);
+  }
   const core::Scene scene = RunScene(site, o.rocks, o.seed, o.threads);
   const Objective objective(scene, space, obs, {});
   PosteriorOptions options;
