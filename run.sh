@@ -52,7 +52,7 @@ case "${1:-}" in
     ;;
   demo)
     install_missing
-    build build Release -DROCKCAL_BUILD_TESTS=OFF
+    build build Release -DROCKCAL_BUILD_TESTS=OFF -DROCKCAL_UNITY_BUILD=ON
     out=${2:-out/authume}
     mkdir -p "$(dirname "$out")"
     ./build/cli/rockcal calibrate sites/examples/authume/site.json \
@@ -67,10 +67,9 @@ case "${1:-}" in
     # tests that run a little slower) with line tables only (-g1: findings
     # keep their file and line) ...
     # Each library compiled in batches of sources (ROCKCAL_UNITY_BUILD,
-    # CMakeLists.txt): about half the compile time. Not yet in the optimised
-    # builds: at -O2, GCC 12 warns of an uninitialised string once
-    # parallel/'s sources are compiled as one (a false positive, an error
-    # under -Werror).
+    # CMakeLists.txt): about half the compile time, here and in the heavy
+    # tests' optimised build below (parallel/ is compiled file by file:
+    # cmake/warnings.cmake).
     build build-asan RelWithDebInfo -DROCKCAL_SANITIZE=ON -DROCKCAL_BUILD_BENCH=OFF -DROCKCAL_UNITY_BUILD=ON \
       -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
     ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
@@ -81,7 +80,8 @@ case "${1:-}" in
     # against the single process, bit for bit (Open MPI's own allocations
     # defeat the sanitized build's leak check). Without link-time
     # optimisation: its links cost more than it saves here.
-    cmake -S . -B build-heavy -DCMAKE_BUILD_TYPE=Release -DROCKCAL_LTO=OFF "${launcher[@]}" >/dev/null
+    cmake -S . -B build-heavy -DCMAKE_BUILD_TYPE=Release -DROCKCAL_LTO=OFF -DROCKCAL_UNITY_BUILD=ON \
+      "${launcher[@]}" >/dev/null
     heavy=$(cd tests && ls */*_heavy_test.cc | cut -d/ -f1 | sort -u | sed 's/$/_heavy_tests/')
     for target in $heavy; do cmake --build build-heavy -j "$JOBS" --target "$target"; done
     ctest --test-dir build-heavy --output-on-failure -j "$JOBS" -L heavy
