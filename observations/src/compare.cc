@@ -40,12 +40,50 @@ void Comparer::Penalise(const std::string& why) const {
 void Comparer::Quantiles(const ResidualId& of, std::vector<double> simulated,
                          std::vector<double> observed, double error,
                          const std::vector<double>& levels, bool include_max) const {
+  Quantiles(of, Sample{std::move(simulated), {}}, Sample{std::move(observed), {}}, error, levels,
+            include_max);
+}
+
+namespace {
+
+// Sorts a sample's values ascending, its clusters alongside.
+void SortSample(Comparer::Sample* s) {
+  if (s->clusters.size() != s->values.size()) {
+    s->clusters.clear();
+    std::sort(s->values.begin(), s->values.end());
+    return;
+  }
+  std::vector<std::size_t> order(s->values.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return s->values[a] < s->values[b]; });
+  Comparer::Sample sorted;
+  for (const std::size_t i : order) {
+    sorted.values.push_back(s->values[i]);
+    sorted.clusters.push_back(s->clusters[i]);
+  }
+  *s = std::move(sorted);
+}
+
+// The level-p quantile's error of a sorted sample, its design effect taken.
+double ClusteredError(const Comparer::Sample& s, double quantile, double level) {
+  const double e = QuantileStandardError(s.values, level);
+  if (s.clusters.empty()) return e;
+  return e * std::sqrt(QuantileDesignEffect(s.values, s.clusters, quantile, level));
+}
+
+}  // namespace
+
+void Comparer::Quantiles(const ResidualId& of, Sample simulated_sample, Sample observed_sample,
+                         double error, const std::vector<double>& levels, bool include_max) const {
+  SortSample(&simulated_sample);
+  SortSample(&observed_sample);
+  const std::vector<double>& simulated = simulated_sample.values;
+  const std::vector<double>& observed = observed_sample.values;
   if (observed.empty()) {
     throw std::invalid_argument("ComputeMisfit: observation '" + of.observation() +
                                 "' has no observed values");
   }
-  std::sort(simulated.begin(), simulated.end());
-  std::sort(observed.begin(), observed.end());
   const std::size_t quantities = levels.size() + (include_max ? 1 : 0);
   const bool sparse = simulated.size() < 2;
   // A distribution that cannot be compared adds exactly `penalty` to the misfit.
@@ -66,8 +104,9 @@ void Comparer::Quantiles(const ResidualId& of, std::vector<double> simulated,
   for (const double level : levels) {
     // Type-8 quantiles: unbiased between samples of different sizes.
     const double sim = simulated.empty() ? 0.0 : ComparedQuantile(simulated, level);
-    compare(Statistic::kQuantile, level, sim, ComparedQuantile(observed, level),
-            QuantileStandardError(simulated, level), QuantileStandardError(observed, level));
+    const double obs = ComparedQuantile(observed, level);
+    compare(Statistic::kQuantile, level, sim, obs, ClusteredError(simulated_sample, sim, level),
+            ClusteredError(observed_sample, obs, level));
   }
   if (include_max) {
     // The observed maximum of m values against the simulated order statistic

@@ -30,6 +30,17 @@ class Comparer final {
   // The same at `levels` (and the max when `include_max`).
   void Quantiles(const ResidualId& of, std::vector<double> simulated, std::vector<double> observed,
                  double error, const std::vector<double>& levels, bool include_max) const;
+  // Values drawn in clusters: `clusters[i]` names the draw value i came
+  // from (a tracked run, a simulated rock); empty, each value its own.
+  struct Sample {
+    std::vector<double> values;
+    std::vector<int> clusters;
+  };
+  // Quantiles of clustered samples: each side's quantile error times the
+  // square root of its design effect (QuantileDesignEffect), since values
+  // of one cluster are not independent draws.
+  void Quantiles(const ResidualId& of, Sample simulated, Sample observed, double error,
+                 const std::vector<double>& levels, bool include_max) const;
   // A share: `k_sim` of `n_sim` simulated rocks against an observed share of
   // `n_obs` rocks; each side's binomial error with Jeffreys' estimate
   // (k + 1/2) / (n + 1), which stays > 0 when every rock stopped.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "rockcal/core/format.h"
 #include "rockcal/observations/misfit.h"
@@ -148,6 +149,19 @@ double RegularisedIncompleteBeta(double x, double a, double b) {
     if (std::abs(step - 1.0) < 1e-14) break;
   }
   return std::clamp(front * f, 0.0, 1.0);
+}
+
+double QuantileDesignEffect(const std::vector<double>& values, const std::vector<int>& clusters,
+                            double q, double level) {
+  const std::size_t n = values.size();
+  if (n == 0 || clusters.size() != n || !(level > 0.0 && level < 1.0)) return 1.0;
+  std::map<int, double> sums;
+  for (std::size_t i = 0; i < n; ++i)
+    sums[clusters[i]] += (values[i] < q ? 1.0 : values[i] == q ? 0.5 : 0.0) - level;
+  if (sums.size() == n) return 1.0;
+  double squares = 0.0;
+  for (const auto& [cluster, sum] : sums) squares += sum * sum;
+  return std::max(1.0, squares / (static_cast<double>(n) * level * (1.0 - level)));
 }
 
 double QuantileStandardError(const std::vector<double>& sorted, double level) {

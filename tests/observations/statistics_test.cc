@@ -86,6 +86,59 @@ TEST(QuantileErrorTest, ClusteredValuesKeepTheChanceOfTheNextCluster) {
   }
 }
 
+// The design effect of a clustered sample's quantile: exact where every
+// cluster repeats one value (m copies: m), 1 for independent values, and
+// with it the quantile's error matches the spread of the quantile over
+// samples of correlated clusters (the flights of one rock).
+TEST(QuantileErrorTest, DesignEffectOfClusteredValues) {
+  std::vector<double> values;
+  std::vector<int> clusters, singles;
+  for (int c = 0; c < 100; ++c)
+    for (int k = 0; k < 5; ++k) {
+      values.push_back(c);
+      clusters.push_back(c);
+      singles.push_back(5 * c + k);
+    }
+  // 30 of the 100 clusters below 29.5.
+  EXPECT_NEAR(QuantileDesignEffect(values, clusters, 29.5, 0.3), 5.0, 1e-12);
+  EXPECT_EQ(QuantileDesignEffect(values, singles, 29.5, 0.3), 1.0);
+  EXPECT_EQ(QuantileDesignEffect(values, clusters, 29.5, 0.0), 1.0);
+  EXPECT_EQ(QuantileDesignEffect(values, {}, 29.5, 0.3), 1.0);
+
+  core::RandomStream rng(11, 0);
+  for (const double level : {0.2, 0.5}) {
+    std::vector<double> quantiles;
+    double square = 0.0, plain = 0.0;
+    const int samples = 2000;
+    for (int k = 0; k < samples; ++k) {
+      std::vector<double> x;
+      std::vector<int> by;
+      for (int c = 0; c < 30; ++c) {
+        const double centre = rng.Normal();
+        for (int i = 0; i < 6; ++i) {
+          x.push_back(centre + 0.5 * rng.Normal());
+          by.push_back(c);
+        }
+      }
+      std::vector<double> sorted = x;
+      std::sort(sorted.begin(), sorted.end());
+      const double q = ComparedQuantile(sorted, level);
+      quantiles.push_back(q);
+      const double e = QuantileStandardError(sorted, level);
+      square += e * e * QuantileDesignEffect(x, by, q, level) / samples;
+      plain += e * e / samples;
+    }
+    double mean = 0.0, spread = 0.0;
+    for (const double q : quantiles) mean += q / samples;
+    for (const double q : quantiles) spread += (q - mean) * (q - mean) / samples;
+    // Intra-cluster correlation 0.8, six values a cluster: the independent
+    // values' error is some 2.3 times too small.
+    EXPECT_LT(std::sqrt(plain), 0.6 * std::sqrt(spread)) << level;
+    EXPECT_GT(std::sqrt(square), 0.8 * std::sqrt(spread)) << level;
+    EXPECT_LT(std::sqrt(square), 1.25 * std::sqrt(spread)) << level;
+  }
+}
+
 // The maximum's error is the larger of the top gap and the top tenth's mean
 // excess over the next value: a tie at the top does not zero it, and a lone
 // far maximum keeps its gap.

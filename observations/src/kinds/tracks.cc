@@ -247,8 +247,20 @@ void AddResiduals(const Observations& obs, const MisfitTerms& terms) {
   }
   std::set<int> measured;  // rock indices: a group tracked twice counts its rocks once
   TrackFit& fit = terms.misfit->tracks;
+  // Which track (observed) or rock (simulated) each value came from: the
+  // flights of one path are not independent draws (Comparer::Sample).
+  std::vector<int> observed_by[3], simulated_by[3];
+  std::vector<double>* const observed_values[3] = {&fit.observed_heights, &fit.observed_lengths,
+                                                   &fit.observed_speeds};
+  std::vector<double>* const simulated_values[3] = {&fit.simulated_heights, &fit.simulated_lengths,
+                                                    &fit.simulated_speeds};
+  auto label = [](std::vector<double>* const values[3], std::vector<int> by[3], int cluster) {
+    for (int k = 0; k < 3; ++k) by[k].resize(values[k]->size(), cluster);
+  };
+  int track_index = 0;
   for (const Track& track : tracks.tracks) {
     const int run = RunIndex(*obs.runout, track.run);
+    ++track_index;
     if (run < 0) continue;
     ++fit.tracks;
     fit.observed_heights.insert(fit.observed_heights.end(), track.jump_heights.begin(),
@@ -257,6 +269,7 @@ void AddResiduals(const Observations& obs, const MisfitTerms& terms) {
                                 track.jump_lengths.end());
     fit.observed_speeds.insert(fit.observed_speeds.end(), track.impact_speeds.begin(),
                                track.impact_speeds.end());
+    label(observed_values, observed_by, track_index);
     const std::size_t g =
         static_cast<std::size_t>(obs.runout->run_groups[static_cast<std::size_t>(run)]);
     if (g >= by_group.size()) continue;
@@ -275,23 +288,24 @@ void AddResiduals(const Observations& obs, const MisfitTerms& terms) {
       if (samples.size() >= static_cast<std::size_t>(tracks.flight.min_samples))
         Measure(samples, tracks.flight, ground, &fit.simulated_heights, &fit.simulated_lengths,
                 &fit.simulated_speeds);
+      label(simulated_values, simulated_by, rock->rock);
     }
+  }
+  const std::vector<double> levels = Tracks::Levels();
+  const char* const names[3] = {kHeight, kLength, kSpeed};
+  const double errors[3] = {obs.error.track, std::sqrt(2.0) * obs.error.track,
+                            obs.error.impact_speed};
+  for (int k = 0; k < 3; ++k) {
+    if (observed_values[k]->empty()) continue;  // e.g. a fold's tracks with no impact
+    terms.compare.Quantiles(ResidualId::Of(ObservationKind::kTracks, k, names[k]),
+                            Comparer::Sample{*simulated_values[k], simulated_by[k]},
+                            Comparer::Sample{*observed_values[k], observed_by[k]}, errors[k],
+                            levels, false);
   }
   for (std::vector<double>* v :
        {&fit.observed_heights, &fit.simulated_heights, &fit.observed_lengths,
         &fit.simulated_lengths, &fit.observed_speeds, &fit.simulated_speeds})
     std::sort(v->begin(), v->end());
-  const std::vector<double> levels = Tracks::Levels();
-  auto compare = [&](int index, const char* name, const std::vector<double>& simulated,
-                     const std::vector<double>& observed, double error) {
-    if (observed.empty()) return;  // e.g. a fold's tracks with no impact
-    terms.compare.Quantiles(ResidualId::Of(ObservationKind::kTracks, index, name), simulated,
-                            observed, error, levels, false);
-  };
-  compare(0, kHeight, fit.simulated_heights, fit.observed_heights, obs.error.track);
-  compare(1, kLength, fit.simulated_lengths, fit.observed_lengths,
-          std::sqrt(2.0) * obs.error.track);
-  compare(2, kSpeed, fit.simulated_speeds, fit.observed_speeds, obs.error.impact_speed);
 }
 
 std::string Text(const ResidualId& id) { return "tracks " + id.name; }

@@ -300,6 +300,18 @@ double ComparedQuantile(const std::vector<double>& sorted, double level);
 // the chance that the quantile falls in the next cluster, which that
 // spread misses. 0 for n < 2.
 double QuantileStandardError(const std::vector<double>& sorted, double level);
+// The design effect of the level-p quantile `q` of values drawn in
+// clusters (the flights of one tracked run, of one simulated rock): the
+// variance of the quantile's estimating sum, sum_i (1{x_i < q} - p) (a value
+// at q counting 1/2), taken over the clusters' sums S_c as the clusters are
+// the independent draws, over its variance for independent values:
+// sum_c S_c^2 / (n p (1 - p)) (the linearised variance of a quantile of a
+// clustered sample: Woodruff 1952, Confidence intervals for medians and
+// other position measures, JASA 47:635-646). Values and clusters side by
+// side; at least 1 (so few clusters never make the error smaller than for
+// independent values); 1 when every cluster holds one value or p is 0 or 1.
+double QuantileDesignEffect(const std::vector<double>& values, const std::vector<int>& clusters,
+                            double q, double level);
 // I_x(a, b), the regularised incomplete beta function: P(U <= x) for U ~
 // Beta(a, b). a, b > 0; 0 for x <= 0, 1 for x >= 1.
 double RegularisedIncompleteBeta(double x, double a, double b);
