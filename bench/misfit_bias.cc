@@ -124,10 +124,9 @@ int main(int argc, char** argv) {
   const calibrate::ParameterSpace space = calibrate::ParameterSpace::FromSite(site);
   // --truth a,b,c,d: another truth (the twin's values in its order).
   std::vector<double> truth = calibrate::testing::kTruth;
-  for (int i = 1; i + 1 < argc; ++i) {
-    if (std::string(argv[i]) != "--truth") continue;
+  if (const std::string given = bench::TextArg(argc, argv, "truth", ""); !given.empty()) {
     truth.clear();
-    for (const char* at = argv[i + 1]; *at;) {
+    for (const char* at = given.c_str(); *at;) {
       char* end = nullptr;
       truth.push_back(std::strtod(at, &end));
       if (end == at) break;

@@ -48,12 +48,7 @@ namespace {
 
 using namespace rockcal;
 using bench::Arg;
-
-std::string Text(int argc, char** argv, const std::string& name, const std::string& fallback) {
-  for (int i = 1; i + 1 < argc; ++i)
-    if (argv[i] == "--" + name) return argv[i + 1];
-  return fallback;
-}
+using bench::TextArg;
 
 }  // namespace
 
@@ -69,10 +64,10 @@ int main(int argc, char** argv) {
   // --independent 1: every residual independent (PosteriorOptions::correlated_quantiles off).
   o.independent = Arg(argc, argv, "independent", 0) != 0;
   o.bootstrap = static_cast<int>(Arg(argc, argv, "bootstrap", 200));
-  o.kinds = Text(argc, argv, "kinds", "both");
+  o.kinds = TextArg(argc, argv, "kinds", "both");
   o.error_scale = bench::RealArg(argc, argv, "error-scale", 1.0);
   o.noise = Arg(argc, argv, "noise", 0) != 0;
-  o.truths = Text(argc, argv, "truths", Arg(argc, argv, "prior", 0) != 0 ? "prior" : "middle");
+  o.truths = TextArg(argc, argv, "truths", Arg(argc, argv, "prior", 0) != 0 ? "prior" : "middle");
   o.ranks = static_cast<int>(Arg(argc, argv, "ranks", 0));
   if (const std::string bad = calibrate::testing::Check(o); !bad.empty() || twins < 1) {
     std::fprintf(stderr, "posterior_coverage: %s\n", bad.empty() ? "--twins >= 1" : bad.c_str());

@@ -30,6 +30,14 @@ inline double RealArg(int argc, char** argv, const std::string& name, double fal
   return fallback;
 }
 
+// The text after --NAME on the command line, or `fallback`.
+inline std::string TextArg(int argc, char** argv, const std::string& name,
+                           const std::string& fallback) {
+  for (int k = 1; k + 1 < argc; ++k)
+    if (argv[k] == "--" + name) return argv[k + 1];
+  return fallback;
+}
+
 // Median of `v` (mean of the two middle values for an even count); 0 when empty.
 inline double Median(std::vector<double> v) {
   if (v.empty()) return 0.0;
