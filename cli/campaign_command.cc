@@ -42,8 +42,8 @@ void PrintCampaign(const std::string& out, const calibrate::CampaignSummary& sum
       int inside = 0;
       for (const calibrate::PredictiveBand& b : fit.posterior->bands) inside += b.inside();
       std::printf(
-          "  %-16s predictive check: %d of %zu observed statistics inside their 5-95 %% "
-          "band\n",
+          "  %-16s predictive check: %d of %zu observed statistics inside the 5-95 %% "
+          "band of a new observation\n",
           fit.name.c_str(), inside, fit.posterior->bands.size());
     }
   }

@@ -472,6 +472,8 @@ nlohmann::json PosteriorJson(const PosteriorResult& result) {
                      {"p05", JsonNum(b.p05)},
                      {"median", JsonNum(b.median)},
                      {"p95", JsonNum(b.p95)},
+                     {"new_p05", JsonNum(b.new_p05)},
+                     {"new_p95", JsonNum(b.new_p95)},
                      {"inside", b.inside()}});
   nlohmann::json length = nlohmann::json::array();
   for (double l : result.length_scales) length.push_back(JsonNum(l));

@@ -2,7 +2,10 @@
 // simulated at its own seed, and the bands of the compared statistics over
 // them. See docs/posterior.md.
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <limits>
+#include <map>
 #include <sstream>
 
 #include "rockcal/calibrate/posterior.h"
@@ -71,6 +74,29 @@ PredictiveOutcome DecodeOutcome(const std::string& bytes) {
   return out;
 }
 
+// The `level` quantile of the equal mixture of normals N(means[k], sds[k]^2)
+// (sds > 0), by bisection on the mixture's distribution function.
+double NormalMixtureQuantile(const std::vector<double>& means, const std::vector<double>& sds,
+                             double level) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (std::size_t k = 0; k < means.size(); ++k) {
+    lo = std::min(lo, means[k] - 9.0 * sds[k]);
+    hi = std::max(hi, means[k] + 9.0 * sds[k]);
+  }
+  const auto cdf = [&](double x) {
+    double f = 0.0;
+    for (std::size_t k = 0; k < means.size(); ++k)
+      f += 0.5 * std::erfc(-(x - means[k]) / (sds[k] * std::sqrt(2.0)));
+    return f / static_cast<double>(means.size());
+  };
+  for (int it = 0; it < 200 && hi - lo > 1e-12 * std::max(1.0, std::fabs(lo) + std::fabs(hi));
+       ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (cdf(mid) < level ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
 }  // namespace
 
 void PredictiveBands(const PredictiveDraw& draw, std::uint64_t seed, int rocks, int draws,
@@ -104,14 +130,15 @@ void PredictiveBands(const PredictiveDraw& draw, std::uint64_t seed, int rocks, 
   result->statistic_bands = BandsOverDraws(statistics);
   // The residuals by their identity, in the first draw's order.
   std::vector<observations::ResidualId> keys;
-  std::map<observations::ResidualId, std::vector<double>> values;
+  std::map<observations::ResidualId, std::vector<double>> values, sigmas;
   std::map<observations::ResidualId, double> observed;
   for (const observations::Misfit& m : misfits)
     for (const observations::Residual& r : m.residuals) {
-      if (!std::isfinite(r.simulated)) continue;
+      if (!std::isfinite(r.simulated) || !(r.sigma > 0.0) || !std::isfinite(r.sigma)) continue;
       const observations::ResidualId& key = r.id;
       if (!values.count(key)) keys.push_back(key);
       values[key].push_back(r.simulated);
+      sigmas[key].push_back(r.sigma);
       observed[key] = r.observed;
     }
   for (const auto& key : keys) {
@@ -119,6 +146,8 @@ void PredictiveBands(const PredictiveDraw& draw, std::uint64_t seed, int rocks, 
     PredictiveBand b;
     b.id = key;
     b.observed = observed[key];
+    b.new_p05 = NormalMixtureQuantile(v, sigmas[key], 0.05);
+    b.new_p95 = NormalMixtureQuantile(v, sigmas[key], 0.95);
     b.p05 = core::QuantileOf(&v, 0.05);
     b.median = core::QuantileOf(&v, 0.5);
     b.p95 = core::QuantileOf(&v, 0.95);

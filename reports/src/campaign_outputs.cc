@@ -236,11 +236,12 @@ std::string CampaignMarkdown(const CampaignSummary& summary) {
         << observations::AssessFit(fit.misfit_joint).Sentence() << " |";
     if (post && fit.posterior)
       out << " " << BandsInside(*fit.posterior) << " of " << fit.posterior->bands.size()
-          << " inside their 5-95 % band |";
+          << " inside the 5-95 % band of a new observation |";
     out << "\n";
   }
   if (post)
-    out << "\nPredictive check: each site's observed statistics against the 5-95 % band of "
+    out << "\nPredictive check: each site's observed statistics against the 5-95 % band of a "
+           "new observation (90 % or a little more inside when the model holds) from "
         << summary.calibration.posterior->band_draws
         << " joint posterior draws, every site simulated at each draw's own seed.\n";
   SiteValuesMarkdown(summary, out);

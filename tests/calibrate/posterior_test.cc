@@ -279,6 +279,54 @@ TEST(QuantileCorrelation, WhitensTheQuantilesOfEachDistributionAndNothingElse) {
   EXPECT_EQ(w.row(3).sum(), 1.0) << "the maximum stays independent";
 }
 
+// The predictive check reads each observed value against the band of a new
+// observation: the draws' simulated values with the residual's sigma about
+// them (the misfit's own likelihood), not the simulated values' band alone.
+// Draws whose simulated value is the same m give exactly m -+ 1.6449 sigma;
+// observed values drawn from that likelihood fall inside 90 % of the time,
+// while the simulated values' own band (a tenth of sigma wide) holds almost
+// none of them.
+TEST(PredictiveBands, ANewObservationsBandHoldsNinetyPercentOfValuesDrawnFromTheLikelihood) {
+  constexpr int kResiduals = 2000;
+  constexpr double kMean = 3.0, kSigma = 0.5, kScatter = 0.02;
+  std::vector<double> observed(kResiduals);
+  core::RandomStream obs_rng(17, 0);
+  for (double& o : observed) o = kMean + kSigma * obs_rng.Normal();
+  const PredictiveDraw draw = [&](const std::vector<double>&, std::uint64_t seed) {
+    PredictiveOutcome out;
+    core::RandomStream rng(seed, 0);
+    out.misfit.residuals.resize(kResiduals);
+    for (int k = 0; k < kResiduals; ++k) {
+      observations::Residual& r = out.misfit.residuals[static_cast<std::size_t>(k)];
+      r.id = observations::ResidualId::Of(observations::ObservationKind::kTreeScars, k);
+      // The first residual's draws all simulate kMean exactly.
+      r.simulated = k == 0 ? kMean : kMean + kScatter * rng.Normal();
+      r.observed = observed[static_cast<std::size_t>(k)];
+      r.sigma = kSigma;
+      r.value = (r.simulated - r.observed) / r.sigma;
+    }
+    return out;
+  };
+  PosteriorResult result;
+  result.space = TwoValues();
+  result.samples.assign(40, {0.3, 0.3});
+  PredictiveBands(draw, 5, 100, 20, &result);
+  ASSERT_EQ(result.bands.size(), static_cast<std::size_t>(kResiduals));
+  const PredictiveBand& exact = result.bands[0];
+  EXPECT_NEAR(exact.new_p05, kMean - 1.6448536 * kSigma, 1e-6);
+  EXPECT_NEAR(exact.new_p95, kMean + 1.6448536 * kSigma, 1e-6);
+  EXPECT_EQ(exact.p05, kMean);
+  EXPECT_EQ(exact.p95, kMean);
+  int inside = 0, inside_simulated = 0;
+  for (const PredictiveBand& b : result.bands) {
+    inside += b.inside();
+    inside_simulated += b.observed >= b.p05 && b.observed <= b.p95;
+  }
+  // 90 % of 2000: binomial sd 13.4 (0.67 %).
+  EXPECT_NEAR(inside / static_cast<double>(kResiduals), 0.9, 0.03) << inside;
+  EXPECT_LT(inside_simulated, kResiduals / 10) << inside_simulated;
+}
+
 TEST(PosteriorOptions, InvalidValuesAreNamed) {
   PosteriorOptions o;
   std::string error;

@@ -114,11 +114,14 @@ std::string PairwisePlot(const PosteriorResult& post, const std::vector<double>&
   return s + "</svg>";
 }
 
-// One observation's predictive bands: per quantity the 5-95 % band, its
-// median and the observed value.
+// One observation's predictive bands: per quantity the 5-95 % band of a new
+// observation (thin), of the simulated statistic (thick), its median and the
+// observed value.
 std::string BandPlot(const std::string& label, const std::vector<const calibrate::PredictiveBand*>& bands) {
   double lo = kInf, hi = -kInf;
-  for (const auto* b : bands) lo = std::min({lo, b->p05, b->observed}), hi = std::max({hi, b->p95, b->observed});
+  for (const auto* b : bands)
+    lo = std::min({lo, b->new_p05, b->p05, b->observed}),
+    hi = std::max({hi, b->new_p95, b->p95, b->observed});
   const double pad = 0.06 * (hi - lo > 0 ? hi - lo : 1.0);
   svg::Plot::Options o;
   o.width = 360, o.height = 240, o.left = 58, o.right = 12, o.top = 14, o.bottom = 42;
@@ -133,6 +136,8 @@ std::string BandPlot(const std::string& label, const std::vector<const calibrate
   std::vector<double> xs, med, obs_in, x_in, obs_out, x_out;
   for (std::size_t k = 0; k < bands.size(); ++k) {
     const double x = static_cast<double>(k);
+    plot.Polyline({x, x}, {bands[k]->new_p05, bands[k]->new_p95},
+                  "stroke=\"#969696\" stroke-width=\"2\"");
     plot.Polyline({x, x}, {bands[k]->p05, bands[k]->p95},
                   "stroke=\"#9ecae1\" stroke-width=\"9\"");
     xs.push_back(x), med.push_back(bands[k]->median);
@@ -184,14 +189,22 @@ std::string PosteriorSection(const Context& c) {
     for (const auto& b : post.bands) inside += b.inside();
     s += "<h3>Posterior predictive bands</h3><p>" + Int(post.band_draws) +
          " posterior draws, each simulated at its own seed with " + Int(post.band_rocks) +
-         " rocks: the bands (5 % to 95 %) hold the parameters' uncertainty and the Monte Carlo "
-         "variation together. Dots: the median; rings: the observed values (red outside the "
-         "band). " + Int(inside) + " of " + Int(static_cast<long>(post.bands.size())) +
-         " observed statistics fall inside.</p><ul class=\"legend\">" +
-         LegendItem(Swatch("#9ecae1", "bar"), "5-95 % band") +
+         " rocks. Thick bars: the 5-95 % band of the simulated statistic (the parameters' "
+         "uncertainty and the Monte Carlo variation together); dots: its median. Thin bars: the "
+         "5-95 % band of a new observation (the same draws with each residual's observation, "
+         "sampling and Monte Carlo error about them: the misfit's own likelihood), against which "
+         "the observed values (rings) are read, red outside. Under the model 90 % or a little more "
+         "(the draws "
+         "fitted the same data) fall "
+         "inside: " +
+         Int(inside) + " of " + Int(static_cast<long>(post.bands.size())) +
+         " observed statistics do.</p><ul class=\"legend\">" +
+         LegendItem(Swatch("#9ecae1", "bar"), "5-95 % band of the simulated statistic") +
+         LegendItem(Swatch("#969696", "bar"), "5-95 % band of a new observation") +
          LegendItem(Swatch("#2171b5", "point"), "median") +
          LegendItem(Swatch("#000", "ring"), "observed, inside") +
-         LegendItem(Swatch(kFenceColour, "ring"), "observed, outside") + "</ul><div class=\"figs\">";
+         LegendItem(Swatch(kFenceColour, "ring"), "observed, outside") +
+         "</ul><div class=\"figs\">";
     std::vector<observations::ResidualId> observed;
     std::map<observations::ResidualId, std::vector<const calibrate::PredictiveBand*>> by;
     for (const auto& b : post.bands) {
@@ -202,11 +215,13 @@ std::string PosteriorSection(const Context& c) {
       s += Figure(BandPlot(of.observation(), by[of]), "<b>" + Escape(of.observation()) + "</b>",
                   360);
     s += "</div><table><thead><tr>" + Th("observation") + Th("quantity") + Th("observed") +
-         Th("5 %") + Th("median") + Th("95 %") + Th("inside") + "</tr></thead><tbody>";
+         Th("5 %") + Th("median") + Th("95 %") + Th("new observation 5 %") +
+         Th("new observation 95 %") + Th("inside") + "</tr></thead><tbody>";
     for (const auto& b : post.bands)
       s += "<tr>" + Td(b.id.observation()) + Td(b.id.quantity()) + Td(Num(b.observed), true) +
            Td(Num(b.p05), true) + Td(Num(b.median), true) + Td(Num(b.p95), true) +
-           Td(b.inside() ? "yes" : "no") + "</tr>";
+           Td(Num(b.new_p05), true) + Td(Num(b.new_p95), true) + Td(b.inside() ? "yes" : "no") +
+           "</tr>";
     s += "</tbody></table>";
   }
   if (!post.statistic_bands.empty())

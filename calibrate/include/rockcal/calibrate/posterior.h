@@ -92,7 +92,14 @@ struct PredictiveBand {
   observations::ResidualId id;                // the residual's: its observation and quantity
   double observed = 0.0;                      // SI
   double p05 = 0.0, median = 0.0, p95 = 0.0;  // of the simulated value over the draws, SI
-  bool inside() const { return observed >= p05 && observed <= p95; }
+  // The 5-95 % band of a new observation, SI: the draws' mixture of the
+  // misfit's own likelihood, the observed value normal about each draw's
+  // simulated one with that residual's sigma (observation error, the
+  // observed statistic's sampling error and the simulated one's Monte Carlo
+  // error). The observed value is checked against it: under the model it
+  // falls inside 90 % of the time.
+  double new_p05 = 0.0, new_p95 = 0.0;
+  bool inside() const { return observed >= new_p05 && observed <= new_p95; }
 };
 
 struct PosteriorResult {
