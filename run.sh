@@ -66,10 +66,10 @@ case "${1:-}" in
     # (the sanitizers' own advice: a third less compile time than -O2 for
     # tests that run a little slower) with line tables only (-g1: findings
     # keep their file and line) ...
-    # Each library compiled in batches of sources (ROCKCAL_UNITY_BUILD,
-    # CMakeLists.txt): about half the compile time, here and in the heavy
-    # tests' optimised build below (parallel/ is compiled file by file:
-    # cmake/warnings.cmake).
+    # Each library, rockcal and each test executable compiled in batches of
+    # sources (ROCKCAL_UNITY_BUILD, CMakeLists.txt, tests/CMakeLists.txt):
+    # about half the compile time, here and in the heavy tests' optimised
+    # build below (parallel/ is compiled file by file: cmake/warnings.cmake).
     build build-asan RelWithDebInfo -DROCKCAL_SANITIZE=ON -DROCKCAL_BUILD_BENCH=OFF -DROCKCAL_UNITY_BUILD=ON \
       -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
     ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \

@@ -14,7 +14,7 @@
 #include "small_slope.h"
 
 namespace rockcal::calibrate {
-namespace {
+namespace stability_test {
 
 using fixtures::SmallSlope;
 
@@ -366,5 +366,5 @@ TEST(Restitution, ExactFlightRemovesTheOnsetError) {
   }
 }
 
-}  // namespace
+}  // namespace stability_test
 }  // namespace rockcal::calibrate

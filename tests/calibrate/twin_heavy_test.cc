@@ -13,7 +13,7 @@
 #include "twin_fixture.h"
 
 namespace rockcal::calibrate {
-namespace {
+namespace twin_heavy_test {
 
 using testing::TwinObservations;
 using testing::TwinSite;
@@ -166,5 +166,5 @@ TEST(Calibration, TwinExperimentCeresWithUncertainty) {
   EXPECT_GE(recovered, 2) << "of 3 calibration seeds";
 }
 
-}  // namespace
+}  // namespace twin_heavy_test
 }  // namespace rockcal::calibrate

@@ -18,7 +18,7 @@
 #include "kill_fixture.h"
 
 namespace rockcal::cli {
-namespace {
+namespace campaign_posterior_test {
 
 namespace fs = std::filesystem;
 using testing::Differences;
@@ -195,5 +195,5 @@ TEST(CampaignPosterior, KilledInItsPosteriorOrItsWritesResumesToTheSameFiles) {
   EXPECT_GE(killed_runs, 2) << "most kill points should be reached";
 }
 
-}  // namespace
+}  // namespace campaign_posterior_test
 }  // namespace rockcal::cli

@@ -17,7 +17,7 @@
 #include "rockcal/sites/site.h"
 
 namespace rockcal::cli {
-namespace {
+namespace commands_test {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
@@ -519,5 +519,5 @@ TEST(Validate, WritesTheTracksImpacts) {
   EXPECT_FALSE(fs::exists(dir + "/none.csv"));
 }
 
-}  // namespace
+}  // namespace commands_test
 }  // namespace rockcal::cli

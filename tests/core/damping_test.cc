@@ -10,7 +10,7 @@
 #include <limits>
 
 namespace rockcal::core {
-namespace {
+namespace damping_test {
 
 // ---- SolveSmallSpd -----------------------------------------------------------
 
@@ -176,5 +176,5 @@ TEST(JointDashpots, SeveralContactsSolveTheJointSystem) {
   }
 }
 
-}  // namespace
+}  // namespace damping_test
 }  // namespace rockcal::core

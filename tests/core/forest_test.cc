@@ -12,7 +12,7 @@
 #include "scene_fixtures.h"
 
 namespace rockcal::core {
-namespace {
+namespace forest_test {
 
 using testing::FlatScene;
 using testing::GridScene;
@@ -243,5 +243,5 @@ TEST(Forest, NoRecordOfStrikesUnlessAsked) {
   for (const RockRecord& rock : r.rocks) EXPECT_TRUE(rock.strikes.empty());
 }
 
-}  // namespace
+}  // namespace forest_test
 }  // namespace rockcal::core

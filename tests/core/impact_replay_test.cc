@@ -17,7 +17,7 @@
 #include "scene_fixtures.h"
 
 namespace rockcal::core {
-namespace {
+namespace impact_replay_test {
 
 using testing::GridScene;
 using testing::ImpactEnd;
@@ -180,5 +180,5 @@ TEST(ImpactReplay, TheSceneRejectsAnImpactItCannotReplay) {
   }
 }
 
-}  // namespace
+}  // namespace impact_replay_test
 }  // namespace rockcal::core

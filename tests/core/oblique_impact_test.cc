@@ -18,7 +18,7 @@
 #include "scene_fixtures.h"
 
 namespace rockcal::core {
-namespace {
+namespace oblique_impact_test {
 
 using testing::GridScene;
 using testing::ImpactEnd;
@@ -275,5 +275,5 @@ TEST(ObliqueImpact, TwoContactsInAGrooveReboundAsTheirJointOscillator) {
   }
 }
 
-}  // namespace
+}  // namespace oblique_impact_test
 }  // namespace rockcal::core

@@ -10,7 +10,7 @@
 #include "scene_fixtures.h"
 
 namespace rockcal::core {
-namespace {
+namespace simulate_test {
 
 using testing::FirstApex;
 using testing::FlatScene;
@@ -1057,5 +1057,5 @@ TEST(Simulate, AddingRocksToOneGroupLeavesTheOthersAlone) {
   }
 }
 
-}  // namespace
+}  // namespace simulate_test
 }  // namespace rockcal::core

@@ -13,7 +13,8 @@ namespace rockcal::observations {
 namespace {
 
 TEST(ObservationsFileKeys, TheReferenceListsEveryKeyTheReaderAcceptsAndNoOther) {
-  testing::ExpectReferenceMatches("docs/reference/observations-file.md", ObservationsFileKeys());
+  rockcal::testing::ExpectReferenceMatches("docs/reference/observations-file.md",
+                                           ObservationsFileKeys());
 }
 
 TEST(ObservationsFileKeys, AnUnknownPathIsAProgrammerError) {

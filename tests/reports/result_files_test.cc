@@ -19,7 +19,7 @@
 #include "rockcal/reports/reach_report.h"
 
 namespace rockcal::reports {
-namespace {
+namespace result_files_test {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
@@ -164,5 +164,5 @@ TEST(ResultFiles, ScoreFileReadsBackAsTheScore) {
   fs::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace result_files_test
 }  // namespace rockcal::reports

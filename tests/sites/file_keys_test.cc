@@ -13,7 +13,7 @@ namespace rockcal::sites {
 namespace {
 
 TEST(SiteFileKeys, TheReferenceListsEveryKeyTheReaderAcceptsAndNoOther) {
-  testing::ExpectReferenceMatches("docs/reference/site-file.md", SiteFileKeys());
+  rockcal::testing::ExpectReferenceMatches("docs/reference/site-file.md", SiteFileKeys());
 }
 
 TEST(SiteFileKeys, AnUnknownPathIsAProgrammerError) {

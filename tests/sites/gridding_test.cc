@@ -7,7 +7,7 @@
 #include <cstdint>
 
 namespace rockcal::sites {
-namespace {
+namespace gridding_test {
 
 using ::testing::HasSubstr;
 
@@ -228,5 +228,5 @@ TEST(GridPoints, FarFromTheOriginAsNearIt) {
       EXPECT_NEAR(g.z[g.index(i, j)], Plane(g.x(i) - x0, g.y(j) - y0), 1e-7) << i << "," << j;
 }
 
-}  // namespace
+}  // namespace gridding_test
 }  // namespace rockcal::sites

@@ -13,7 +13,7 @@
 #include "test_files.h"
 
 namespace rockcal::sites {
-namespace {
+namespace site_test {
 
 using testing::ErrorOf;
 using ::testing::HasSubstr;
@@ -781,11 +781,11 @@ TEST(ApplySetting, Errors) {
   EXPECT_DOUBLE_EQ(site.scene.materials[0].hardness, 0.6);  // unchanged by the failures
 }
 
-}  // namespace
+}  // namespace site_test
 }  // namespace rockcal::sites
 
 namespace rockcal::sites {
-namespace {
+namespace site_test {
 
 // A block inventory: one rock per block (or `count` in turn), with the
 // blocks' own masses and sides.
@@ -952,5 +952,5 @@ TEST(LoadSite, FrictionIsCalibratedAndSet) {
                InputError);
 }
 
-}  // namespace
+}  // namespace site_test
 }  // namespace rockcal::sites

@@ -11,7 +11,7 @@
 #include "test_files.h"
 
 namespace rockcal::sites {
-namespace {
+namespace surface_test {
 
 using ::testing::ElementsAre;
 using ::testing::EndsWith;
@@ -474,5 +474,5 @@ TEST(ResolvePath, RelativeToTheSiteFolder) {
   EXPECT_EQ(ResolvePath("", "c.csv"), "c.csv");
 }
 
-}  // namespace
+}  // namespace surface_test
 }  // namespace rockcal::sites
