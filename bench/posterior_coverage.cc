@@ -20,7 +20,7 @@
 //                      [--obs-rocks 60] [--rocks 120] [--threads 1] [--seed 1]
 //                      [--independent 0] [--prior 0] [--truths middle]
 //                      [--ranks 0] [--bootstrap 200] [--kinds both]
-//                      [--error-scale 1] [--noise 0]
+//                      [--error-scale 1] [--noise 0] [--search 0]
 //
 // --bootstrap B: the residuals' correlation from B resamples of the rocks
 // (PosteriorOptions::bootstrap_replicates; 0: each distribution's quantiles
@@ -35,7 +35,10 @@
 // a third material, "toe" (the values: slope, runout and toe hardness, then
 // runout, slope and toe roughness). --truths
 // edges: each truth in the outer 10 % of its range at either end (--prior 1
-// is --truths prior). The twins themselves: tests/calibrate/posterior_twin.h.
+// is --truths prior). --search N: a BOBYQA search of N evaluations from the
+// box's centre first, its evaluations reused by the posterior (as rockcal
+// calibrate --posterior does). The twins themselves:
+// tests/calibrate/posterior_twin.h.
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -69,6 +72,7 @@ int main(int argc, char** argv) {
   o.noise = Arg(argc, argv, "noise", 0) != 0;
   o.truths = TextArg(argc, argv, "truths", Arg(argc, argv, "prior", 0) != 0 ? "prior" : "middle");
   o.ranks = static_cast<int>(Arg(argc, argv, "ranks", 0));
+  o.search = static_cast<int>(Arg(argc, argv, "search", 0));
   if (const std::string bad = calibrate::testing::Check(o); !bad.empty() || twins < 1) {
     std::fprintf(stderr, "posterior_coverage: %s\n", bad.empty() ? "--twins >= 1" : bad.c_str());
     return 2;
@@ -119,12 +123,12 @@ int main(int argc, char** argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf(
       "\n%d twins, %d parameters, %d materials, %d observed rocks, %d rocks per evaluation, %d "
-      "thread(s), %s residuals (bootstrap %d), observed %s, errors x%g%s, truths %s, %d "
-      "simulations, %.0f s; max R-hat %.3f\n\n",
+      "thread(s), %s residuals (bootstrap %d), observed %s, errors x%g%s, truths %s, search %d, "
+      "%d simulations, %.0f s; max R-hat %.3f\n\n",
       twins, o.parameters, o.materials, o.obs_rocks, o.rocks, o.threads,
       o.independent ? "independent" : "correlated", o.bootstrap, o.kinds.c_str(), o.error_scale,
-      o.noise ? " (in the values)" : " (declared)",
-      o.truths.c_str(), simulations, seconds, max_rhat);
+      o.noise ? " (in the values)" : " (declared)", o.truths.c_str(), o.search, simulations,
+      seconds, max_rhat);
   std::printf(
       "| parameter | 90 %% intervals holding the truth | mean width / range | mean |median - "
       "truth| / range |\n|---|---|---|---|\n");

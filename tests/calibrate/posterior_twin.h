@@ -58,6 +58,10 @@ struct PosteriorTwinOptions {
   // either end).
   std::string truths = "prior";
   int ranks = 99;  // posterior samples the truth is ranked among (0: none)
+  // A BOBYQA search of this many evaluations from the box's centre before
+  // the posterior, whose evaluations the posterior reuses, as rockcal
+  // calibrate --posterior does (0: none, the posterior alone).
+  int search = 0;
 };
 
 // Empty when valid; else what is wrong.
@@ -68,6 +72,7 @@ inline std::string Check(const PosteriorTwinOptions& o) {
     return "parameters: 1 to " + std::to_string(most) + " with " + std::to_string(o.materials) +
            " materials";
   if (o.obs_rocks < 10 || o.rocks < 10) return "rocks: 10 or more";
+  if (o.search < 0) return "search: 0 or more evaluations";
   if (o.truths != "middle" && o.truths != "prior" && o.truths != "edges")
     return "truths: middle, prior or edges";
   std::string rest = o.kinds == "both" ? "scars,stops" : o.kinds;
@@ -183,7 +188,15 @@ inline PosteriorTwin RunPosteriorTwin(const PosteriorTwinOptions& o, int t) {
   // at the box's centre.
   const observations::Misfit layout =
       objective.Evaluate(space.ToPhysical(std::vector<double>(d, 0.5)));
-  twin.posterior = SamplePosterior(objective, {}, options, nullptr, nullptr, layout.residuals);
+  std::vector<Evaluation> reused;
+  if (o.search > 0) {
+    MethodOptions search;
+    search.max_evals = o.search;
+    reused = RunMethod(Method::kBobyqa, objective, space.ToPhysical(std::vector<double>(d, 0.5)),
+                       search, nullptr)
+                 .trace;
+  }
+  twin.posterior = SamplePosterior(objective, reused, options, nullptr, nullptr, layout.residuals);
   twin.residuals = objective.residual_count();
   for (std::size_t k = 0; k < d; ++k) {
     const ParameterPosterior& p = twin.posterior.parameters[k];
