@@ -255,8 +255,10 @@ void CheckNoise(const sites::Site& site, const observations::Observations& obs,
 
 // CalibrationOptions::posterior: the posterior on the objective of the
 // stage options.posterior_stage names (`scene`, its rocks and seed), reusing
-// that stage's evaluations (the first stage's: the reach design's too) and
-// appending to its log.
+// the reach design's evaluations in the first stage (space-filling), not
+// the search's (crowded about its best point, they pulled the posterior to
+// the optimum of that stage's one set of random numbers: docs/posterior.md,
+// step 3), and appending to its log.
 PosteriorResult RunPosteriorStage(const sites::Site& site, const observations::Observations& obs,
                                   const CalibrationOptions& options, const ParameterSpace& space,
                                   const core::Scene& scene, const CalibrationCallbacks& callbacks,
@@ -272,11 +274,7 @@ PosteriorResult RunPosteriorStage(const sites::Site& site, const observations::O
   }
   o.resume = !o.log_path.empty() && std::filesystem::exists(o.log_path);
   std::optional<EvaluationLog> log = OpenLog(site, obs, o, space, scene);
-  // The stage's methods: the refining one (the last), or those before it.
-  const std::size_t methods = summary.methods.size() - (options.refine_factor > 1 ? 1 : 0);
   std::vector<Evaluation> reused;
-  for (std::size_t k = refined ? methods : 0; k < (refined ? summary.methods.size() : methods); ++k)
-    for (const Evaluation& e : summary.methods[k].trace) reused.push_back(e);
   if (!refined && summary.reach) {
     // The design's residuals from its statistics (in the misfit's order).
     const ReachResult& r = *summary.reach;

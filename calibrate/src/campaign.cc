@@ -280,21 +280,19 @@ void SplitPosterior(const JointSpace& joint, double undetermined_share, Campaign
 }
 
 // The posterior stage of RunCampaign (CalibrationOptions::posterior, after
-// the search): the joint posterior on `objective` (the search's
-// evaluations reused, the new ones appended to `log`, may be null), its
+// the search): the joint posterior on `objective` (its own design: the
+// search's evaluations are not reused, docs/posterior.md step 3; the new
+// ones appended to `log`, may be null), its
 // predictive bands from draws simulating every site at seeds the search
 // did not use, then each site's posterior and each offset's.
 void CampaignPosterior(const Campaign& campaign, const CalibrationOptions& options,
                        const CampaignObjective& objective, EvaluationLog* log,
                        const CalibrationCallbacks& callbacks, CampaignSummary* summary) {
   CalibrationSummary& cal = summary->calibration;
-  std::vector<Evaluation> reused;
-  for (const MethodResult& m : cal.methods)
-    reused.insert(reused.end(), m.trace.begin(), m.trace.end());
   PosteriorOptions po = *options.posterior;
   po.mcmc.seed = cal.seed;
   cal.posterior =
-      SamplePosterior(objective, reused, po, log, callbacks.posterior, cal.misfit_before.residuals);
+      SamplePosterior(objective, {}, po, log, callbacks.posterior, cal.misfit_before.residuals);
   PredictiveBands(CampaignDraw(campaign, options), cal.seed, cal.rocks, po.predictive_draws,
                   &*cal.posterior, callbacks.posterior);
   SplitPosterior(objective.joint(), po.undetermined_share, summary);

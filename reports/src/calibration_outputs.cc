@@ -145,8 +145,8 @@ std::string PosteriorMarkdown(const CalibrationSummary& record) {
     for (std::size_t k = 0; k < pairs.size(); ++k) out << (k ? ", " : "") << pairs[k];
     out << ".\n";
   }
-  out << "Emulated from " << post.emulated << " evaluations (" << post.reused << " of the search, "
-      << post.evaluated << " of the posterior stage, " << post.rounds
+  out << "Emulated from " << post.emulated << " evaluations (" << post.reused
+      << " of the reach design, " << post.evaluated << " of the posterior stage, " << post.rounds
       << " refining rounds); max R-hat " << FormatNumber(post.max_rhat, "%.3f") << ".\n";
   if (!post.message.empty()) out << "Warning: " << post.message << "\n";
   if (!post.bands.empty()) {

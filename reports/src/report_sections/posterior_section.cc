@@ -161,9 +161,11 @@ std::string PosteriorSection(const Context& c) {
       "<p>The posterior of the calibrated values under a uniform prior on their bounds: the "
       "misfit is a Gaussian log-likelihood in units of each residual's uncertainty "
       "(observation and Monte Carlo error together), sampled on a Gaussian-process emulator of "
-      "the residuals (" + Int(post.emulated) + " evaluations, " + Int(post.reused) +
-      " of them the search's) by adaptive Metropolis (" + Int(static_cast<long>(post.samples.size())) +
-      " samples, max R-hat " + FormatNumber(post.max_rhat, "%.3f") +
+      "the residuals (" +
+      Int(post.emulated) + " evaluations, " + Int(post.reused) +
+      " of them the reach design's) by adaptive Metropolis (" +
+      Int(static_cast<long>(post.samples.size())) + " samples, max R-hat " +
+      FormatNumber(post.max_rhat, "%.3f") +
       "). posterior.csv holds the samples. A value whose interval is about as wide as its "
       "bounds is not determined by these observations.</p>";
   if (!post.message.empty()) s += "<p class=\"warn\"><b>Warning:</b> " + Escape(post.message) + "</p>";

@@ -111,7 +111,7 @@ struct PosteriorResult {
   double max_rhat = 0.0;
   double min_ess = 0.0;  // the smallest effective sample size over the parameters
   double acceptance = 0.0;
-  int reused = 0;     // evaluations of the calibration emulated
+  int reused = 0;     // evaluations of the calibration emulated (the reach design's)
   int evaluated = 0;  // points of the posterior stage (design and rounds)
   int simulated = 0;  // of them, simulated now (the rest replayed from the log)
   int emulated = 0;   // points of the final emulator
