@@ -37,7 +37,8 @@
 // edges: each truth in the outer 10 % of its range at either end (--prior 1
 // is --truths prior). --search N: a BOBYQA search of N evaluations from the
 // box's centre first, its evaluations reused by the posterior (as rockcal
-// calibrate --posterior does). The twins themselves:
+// calibrate --posterior did before this measured its cost). The twins
+// themselves:
 // tests/calibrate/posterior_twin.h.
 #include <chrono>
 #include <cstdio>

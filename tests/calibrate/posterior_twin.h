@@ -60,7 +60,8 @@ struct PosteriorTwinOptions {
   int ranks = 99;  // posterior samples the truth is ranked among (0: none)
   // A BOBYQA search of this many evaluations from the box's centre before
   // the posterior, whose evaluations the posterior reuses, as rockcal
-  // calibrate --posterior does (0: none, the posterior alone).
+  // calibrate --posterior did until the family measured what that costs
+  // (bench/README.md; 0: none, the posterior alone, as it does now).
   int search = 0;
 };
 
