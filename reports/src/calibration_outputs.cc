@@ -153,9 +153,8 @@ std::string PosteriorMarkdown(const CalibrationSummary& record) {
     int inside = 0;
     for (const auto& b : post.bands) inside += b.inside();
     out << "Posterior predictive: " << inside << " of " << post.bands.size()
-        << " observed statistics inside the 5-95 % band of a new observation (90 % or a little "
-           "more "
-           "when the model holds; "
+        << " observed statistics inside the 5-95 % band of a new observation "
+           "(90 % or a little more when the model holds; "
         << post.band_draws << " posterior draws at " << post.band_rocks
         << " rocks, each at its own seed).\n";
     if (!post.statistic_bands.empty())

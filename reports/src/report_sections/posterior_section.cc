@@ -195,10 +195,8 @@ std::string PosteriorSection(const Context& c) {
          "uncertainty and the Monte Carlo variation together); dots: its median. Thin bars: the "
          "5-95 % band of a new observation (the same draws with each residual's observation, "
          "sampling and Monte Carlo error about them: the misfit's own likelihood), against which "
-         "the observed values (rings) are read, red outside. Under the model 90 % or a little more "
-         "(the draws "
-         "fitted the same data) fall "
-         "inside: " +
+         "the observed values (rings) are read, red outside. Under the model 90 % or a little "
+         "more (the draws fitted the same data) fall inside: " +
          Int(inside) + " of " + Int(static_cast<long>(post.bands.size())) +
          " observed statistics do.</p><ul class=\"legend\">" +
          LegendItem(Swatch("#9ecae1", "bar"), "5-95 % band of the simulated statistic") +
