@@ -39,12 +39,10 @@ void PrintCampaign(const std::string& out, const calibrate::CampaignSummary& sum
   if (cal.methods.size() > 1) std::printf("\n%s", reports::ComparisonMarkdown(cal).c_str());
   if (cal.posterior) {
     for (const calibrate::CampaignSiteFit& fit : summary.sites) {
-      int inside = 0;
-      for (const calibrate::PredictiveBand& b : fit.posterior->bands) inside += b.inside();
       std::printf(
           "  %-16s predictive check: %d of %zu observed statistics inside the 5-95 %% "
           "band of a new observation\n",
-          fit.name.c_str(), inside, fit.posterior->bands.size());
+          fit.name.c_str(), fit.posterior->BandsInside(), fit.posterior->bands.size());
     }
   }
   std::printf(

@@ -150,9 +150,7 @@ std::string PosteriorMarkdown(const CalibrationSummary& record) {
       << " refining rounds); max R-hat " << FormatNumber(post.max_rhat, "%.3f") << ".\n";
   if (!post.message.empty()) out << "Warning: " << post.message << "\n";
   if (!post.bands.empty()) {
-    int inside = 0;
-    for (const auto& b : post.bands) inside += b.inside();
-    out << "Posterior predictive: " << inside << " of " << post.bands.size()
+    out << "Posterior predictive: " << post.BandsInside() << " of " << post.bands.size()
         << " observed statistics inside the 5-95 % band of a new observation "
            "(90 % or a little more when the model holds; "
         << post.band_draws << " posterior draws at " << post.band_rocks

@@ -55,13 +55,6 @@ nlohmann::json OffsetsJson(const std::vector<calibrate::OffsetPosterior>& offset
   return out;
 }
 
-// "k of n" of a posterior's bands with the observed value inside.
-int BandsInside(const calibrate::PosteriorResult& post) {
-  int inside = 0;
-  for (const calibrate::PredictiveBand& b : post.bands) inside += b.inside();
-  return inside;
-}
-
 std::string FolderName(const std::string& name) {
   std::string out;
   for (char c : name)
@@ -161,7 +154,7 @@ std::string CampaignSitesCsv(const CampaignSummary& summary) {
         << FormatNumber(fit.misfit_start.value, "%.8g") << ','
         << FormatNumber(fit.misfit_joint.value, "%.8g") << ',' << v.outside.size();
     if (post && fit.posterior)
-      out << ',' << BandsInside(*fit.posterior) << ',' << fit.posterior->bands.size();
+      out << ',' << fit.posterior->BandsInside() << ',' << fit.posterior->bands.size();
     out << '\n';
   }
   return out.str();
@@ -235,7 +228,7 @@ std::string CampaignMarkdown(const CampaignSummary& summary) {
         << FormatNumber(fit.misfit_joint.value, "%.4g") << " | "
         << observations::AssessFit(fit.misfit_joint).Sentence() << " |";
     if (post && fit.posterior)
-      out << " " << BandsInside(*fit.posterior) << " of " << fit.posterior->bands.size()
+      out << " " << fit.posterior->BandsInside() << " of " << fit.posterior->bands.size()
           << " inside the 5-95 % band of a new observation |";
     out << "\n";
   }

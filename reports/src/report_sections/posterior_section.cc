@@ -187,8 +187,7 @@ std::string PosteriorSection(const Context& c) {
        "0.7 or more in size: the pair is determined only together).</p>";
   s += Figure(PairwisePlot(post, calibrated), "Posterior samples, pair by pair", 0);
   if (!post.bands.empty()) {
-    int inside = 0;
-    for (const auto& b : post.bands) inside += b.inside();
+    const int inside = post.BandsInside();
     s += "<h3>Posterior predictive bands</h3><p>" + Int(post.band_draws) +
          " posterior draws, each simulated at its own seed with " + Int(post.band_rocks) +
          " rocks. Thick bars: the 5-95 % band of the simulated statistic (the parameters' "

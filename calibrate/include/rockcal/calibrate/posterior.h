@@ -136,6 +136,13 @@ struct PosteriorResult {
   int band_draws = 0;
   int band_rocks = 0;
   std::string message;  // warnings (R-hat, emulator), empty when none
+
+  // How many of `bands` hold their observed value (PredictiveBand::inside).
+  int BandsInside() const {
+    int n = 0;
+    for (const PredictiveBand& b : bands) n += b.inside();
+    return n;
+  }
 };
 
 // One value's posterior from its values at the samples (`chains` chains of
