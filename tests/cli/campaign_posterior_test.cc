@@ -2,75 +2,29 @@
 // hardness offset per site (3 joint values): the joint posterior, each
 // offset's and each site's, the samples, the per-site predictive check,
 // the site folders read back by rockcal table and rockcal simulate
-// --parameters, and a run killed in its posterior stage or its final
-// writes that resumes to the files of a run that was not killed.
+// --parameters. Killed and resumed: campaign_posterior_kill_heavy_test.cc.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "campaign_posterior_args.h"
 #include "kill_fixture.h"
 
 namespace rockcal::cli {
 namespace campaign_posterior_test {
 
-namespace fs = std::filesystem;
-using testing::Differences;
+using testing::CampaignArgs;
 using testing::FreshDir;
 using testing::Joined;
-using testing::KillPoint;
-using testing::List;
-using testing::Outcome;
+using testing::kCampaignExamples;
 using testing::ReadFile;
 using testing::Rockcal;
-using testing::RunAndKill;
 using testing::RunResult;
-
-const std::string kExamples = std::string(ROCKCAL_SOURCE_DIR) + "/sites/examples/twin_campaign";
-
-// The twin campaign with a hardness offset per site (campaign_offsets.json)
-// at the command's rocks: a file beside the test's outputs.
-std::string OffsetsCampaign() {
-  const std::string file = ::testing::TempDir() + "/rockcal_campaign_posterior_offsets.json";
-  std::ofstream(file)
-      << "{\"name\": \"twin campaign with offsets\", \"units\": \"si\", \"sites\": ["
-      << "{\"site\": \"" << kExamples << "/fan/site.json\", \"observations\": \"" << kExamples
-      << "/fan/observations.json\"}, {\"site\": \"" << kExamples
-      << "/gully/site.json\", \"observations\": \"" << kExamples
-      << "/gully/observations.json\"}], \"shared\": [\"ground\"], \"offsets\": "
-         "[{\"class\": \"ground\", \"parameter\": \"hardness\", \"sigma\": 0.05}]}";
-  return file;
-}
-
-std::vector<std::string> CampaignArgs(const std::string& out, bool resume) {
-  std::vector<std::string> args = {ROCKCAL_EXE,
-                                   "campaign",
-                                   OffsetsCampaign(),
-                                   "--rocks",
-                                   "6",
-                                   "--seed",
-                                   "3",
-                                   "--max-evals",
-                                   "4",
-                                   "--posterior",
-                                   "--posterior-points",
-                                   "10",
-                                   "--posterior-rounds",
-                                   "1",
-                                   "--predictive",
-                                   "3",
-                                   "--quiet",
-                                   "--out",
-                                   out};
-  if (resume) args.push_back("--resume");
-  return args;
-}
 
 nlohmann::json ReadJson(const std::string& path) { return nlohmann::json::parse(ReadFile(path)); }
 
@@ -159,40 +113,12 @@ TEST(CampaignPosterior, WritesEveryIntervalAndTheSitesFilesThatTableAndSimulateR
               ::testing::HasSubstr(",posterior_p05,posterior_p95\n"));
   // rockcal simulate --parameters of a site draws from its posterior.
   const std::string draws = FreshDir("draws");
-  r = Rockcal("simulate " + kExamples + "/gully/site.json --parameters " + out +
+  r = Rockcal("simulate " + kCampaignExamples + "/gully/site.json --parameters " + out +
               "/sites/gully --rocks 6 --draws 3 --quiet --out " + draws);
   ASSERT_EQ(r.status, 0) << r.err;
   const nlohmann::json used = ReadJson(draws + "/summary.json")["parameters"];
   EXPECT_EQ(used["use"], "posterior draws") << used.dump();
   EXPECT_EQ(used["draws"], 3);
-}
-
-TEST(CampaignPosterior, KilledInItsPosteriorOrItsWritesResumesToTheSameFiles) {
-  const std::string work = FreshDir("work");
-  fs::create_directories(work);
-  const std::string log = work + "/run.log";
-  const std::string reference = work + "/reference";
-  const Outcome straight =
-      RunAndKill(CampaignArgs(reference, false), reference, KillPoint::After(1e9), log);
-  ASSERT_EQ(straight.status, 0) << straight.output;
-  const std::vector<KillPoint> kills = {
-      KillPoint::Holds("evaluations.jsonl", "\"method\":\"posterior\""),
-      KillPoint::Written("sites/gully/parameters.json"), KillPoint::Written("summary.json")};
-  int killed_runs = 0;
-  for (std::size_t k = 0; k < kills.size(); ++k) {
-    const std::string out = work + "/case-" + std::to_string(k);
-    const Outcome killed = RunAndKill(CampaignArgs(out, false), out, kills[k], log);
-    killed_runs += killed.killed;
-    std::printf("killed %s: %s\n", kills[k].Describe().c_str(),
-                killed.killed ? "yes" : "no, the run ended first");
-    // A kill at the last file may come after the run ended: then it is whole.
-    ASSERT_TRUE(killed.killed || killed.status == 0) << kills[k].Describe() << "\n"
-                                                     << killed.output;
-    const Outcome resumed = RunAndKill(CampaignArgs(out, true), out, KillPoint::After(1e9), log);
-    ASSERT_EQ(resumed.status, 0) << kills[k].Describe() << "\n" << resumed.output;
-    EXPECT_EQ(List(Differences(reference, out)), "") << "killed " << kills[k].Describe();
-  }
-  EXPECT_GE(killed_runs, 2) << "most kill points should be reached";
 }
 
 }  // namespace campaign_posterior_test

@@ -2,7 +2,7 @@
 // output folder, once resumed to the end, with that of a run that was not
 // killed, wall times aside: for the kill and resume tests of calibrate
 // (calibrate_kill_heavy_test.cc) and of a campaign's posterior
-// (campaign_posterior_test.cc).
+// (campaign_posterior_kill_heavy_test.cc).
 #ifndef ROCKCAL_TESTS_CLI_KILL_FIXTURE_H_
 #define ROCKCAL_TESTS_CLI_KILL_FIXTURE_H_
 
