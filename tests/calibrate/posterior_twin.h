@@ -43,6 +43,9 @@ struct PosteriorTwinOptions {
   std::uint64_t seed = 1;
   bool independent = false;  // every residual independent
   int bootstrap = 200;       // PosteriorOptions::bootstrap_replicates
+  // PosteriorOptions::design_points and rounds; -1: the product's defaults.
+  int design_points = -1;
+  int rounds = -1;
   // What the field observed: any of "scars" (bounce heights at both
   // partitions), "stops" (stop points), "passing" (the share of rocks past
   // Q), comma-separated; "both" is "scars,stops".
@@ -74,6 +77,7 @@ inline std::string Check(const PosteriorTwinOptions& o) {
            " materials";
   if (o.obs_rocks < 10 || o.rocks < 10) return "rocks: 10 or more";
   if (o.search < 0) return "search: 0 or more evaluations";
+  if (o.design_points < -1 || o.rounds < -1) return "design points, rounds: -1 (default) or more";
   if (o.truths != "middle" && o.truths != "prior" && o.truths != "edges")
     return "truths: middle, prior or edges";
   std::string rest = o.kinds == "both" ? "scars,stops" : o.kinds;
@@ -185,6 +189,8 @@ inline PosteriorTwin RunPosteriorTwin(const PosteriorTwinOptions& o, int t) {
   options.mcmc.seed = o.seed;
   options.correlated_quantiles = !o.independent;
   options.bootstrap_replicates = o.bootstrap;
+  if (o.design_points >= 0) options.design_points = o.design_points;
+  if (o.rounds >= 0) options.rounds = o.rounds;
   // The residuals' names (for the quantiles' correlation): one evaluation
   // at the box's centre.
   const observations::Misfit layout =

@@ -37,9 +37,10 @@ struct PosteriorOptions {
   // Emulated points the first emulator needs, evaluations reused included:
   // a maximin Latin hypercube tops them up to this many; 0: 6 (d + 1) [0].
   int design_points = 0;
-  // Refining rounds: each samples the emulator, then simulates the posterior
-  // samples where the emulator is least sure, and refits [3], >= 0.
-  int rounds = 3;
+  // Refining rounds, at most: each samples the emulator, then simulates the
+  // posterior samples where the emulator is least sure, and refits; they
+  // end sooner once settled (settled_variance) [8], >= 0.
+  int rounds = 8;
   // Points simulated per refining round; 0: 2 (d + 1) [0], >= 0.
   int round_points = 0;
   // A round adds no points when the emulator's variance, averaged over the
