@@ -2,7 +2,7 @@
 // itself: bench/posterior_coverage.cc, figures in bench/README.md): 30 twins
 // of the twin slope with truths from the prior, two hardnesses calibrated
 // from 60 field rocks' bounce heights and stop points at 60 rocks per
-// evaluation. Labelled "heavy" (about 50 s in the optimised build).
+// evaluation. Labelled "heavy" (about 140 s in the optimised build).
 #include <gtest/gtest.h>
 
 #include <string>
