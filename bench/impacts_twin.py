@@ -8,10 +8,9 @@ arriving at 8-25 ft/s across and 25-40 ft/s down (random.seed(3)). The
 "field" rebounds are the replays' medians per component at hidden values
 (`rockcal score`, seed 5, impacts.csv's vx_sim, vy_sim, vz_sim); impacts
 whose replays mostly do not leave the ground are dropped. With --single
-each "field" rebound is one replay instead (`impact_draws` 1, seed
---field-seed, 11 by default), as
-a measured rebound is: one draw of what the ground does, at other random
-numbers than the calibration's. `rockcal
+each "field" rebound is one replay instead (`impact_draws` 1, at seed
+--field-seed, 11 by default), as a measured rebound is: one draw of what
+the ground does, at other random numbers than the calibration's. `rockcal
 calibrate` then starts from hardness 0.3, roughness 1 ft, friction 0.8
 (bounds [0.1, 0.8], [0.5, 4] ft, [0.3, 0.9]) at the same seed.
 
@@ -50,7 +49,7 @@ def main():
     ap.add_argument("--posterior", action="store_true",
                     help="sample the posterior: do its 90 %% intervals hold the hidden values?")
     ap.add_argument("--single", action="store_true",
-                    help="each field rebound one replay (seed 11), not the replays' median")
+                    help="each field rebound one replay (at --field-seed), not the replays' median")
     ap.add_argument("--field-seed", type=int, default=11, help="the single rebounds' seed")
     a = ap.parse_args()
     exe = os.path.join(a.build, "cli", "rockcal")
@@ -91,8 +90,10 @@ def main():
     with open(first, "w") as f:
         f.write(header + "".join(",".join(map(str, r)) + ",5,0,5\n" for r in rows))
     obs = os.path.join(a.out, "obs_in.json")
-    json.dump(dict({"units": "us", "impacts_file": first}, **({"impact_draws": 1} if a.single else {})),
-              open(obs, "w"))
+    first_obs = {"units": "us", "impacts_file": first}
+    if a.single:
+        first_obs["impact_draws"] = 1
+    json.dump(first_obs, open(obs, "w"))
     run(exe, "score", write_site("hidden.json", hidden), "--observations", obs, "--rocks", "4",
         "--seed", str(a.field_seed) if a.single else "5", "--out", os.path.join(a.out, "hidden"))
     sim = {r["id"]: r for r in csv.DictReader(open(os.path.join(a.out, "hidden", "impacts.csv")))}

@@ -39,9 +39,8 @@
 // is --truths prior). --search N: a BOBYQA search of N evaluations from the
 // box's centre first, its evaluations reused by the posterior (as rockcal
 // calibrate --posterior did before this measured its cost). --design-points
-// and --rounds: the posterior's (PosteriorOptions); -1, the defaults. The twins
-// themselves:
-// tests/calibrate/posterior_twin.h.
+// and --rounds: the posterior's (PosteriorOptions); -1, the defaults. The
+// twins themselves: tests/calibrate/posterior_twin.h.
 #include <chrono>
 #include <cstdio>
 #include <string>
