@@ -15,11 +15,12 @@ calibrate` then starts from hardness 0.3, roughness 1 ft, friction 0.8
 (bounds [0.1, 0.8], [0.5, 4] ft, [0.3, 0.9]) at the same seed.
 
   bench/impacts_twin.py BUILD_DIR OUT_DIR [--friction 0.6] [--evals 150] [--reach 0]
-                       [--posterior] [--single [--field-seed 11]]
+                       [--posterior [--log-sigma]] [--single [--field-seed 11]]
 
 Prints the recovered values and their errors as shares of their ranges
 (with --posterior, also each value's 90 % interval and whether it holds the
-hidden value).
+hidden value; --log-sigma: the posterior's likelihood with the sigmas' log
+term, rockcal's --posterior-log-sigma).
 """
 import argparse
 import csv
@@ -48,6 +49,8 @@ def main():
     ap.add_argument("--reach", type=int, default=0, help="points of the global stage (0: none)")
     ap.add_argument("--posterior", action="store_true",
                     help="sample the posterior: do its 90 %% intervals hold the hidden values?")
+    ap.add_argument("--log-sigma", action="store_true",
+                    help="the posterior with the sigmas' log term (--posterior-log-sigma)")
     ap.add_argument("--single", action="store_true",
                     help="each field rebound one replay (at --field-seed), not the replays' median")
     ap.add_argument("--field-seed", type=int, default=11, help="the single rebounds' seed")
@@ -112,6 +115,8 @@ def main():
     start = write_site("start.json", {"hardness": 0.3, "roughness": 1.0, "friction": 0.8})
     out = os.path.join(a.out, "calibration")
     extra = ["--posterior", "--predictive", "0"] if a.posterior else []
+    if a.posterior and a.log_sigma:
+        extra.append("--posterior-log-sigma")
     run(exe, "calibrate", start, "--observations", obs, "--rocks", "4", "--reach", str(a.reach),
         "--seed", "5", "--max-evals", str(a.evals), *extra, "--out", out)
     params = json.load(open(os.path.join(out, "parameters.json")))["parameters"]

@@ -21,7 +21,7 @@
 //                      [--independent 0] [--prior 0] [--truths middle]
 //                      [--ranks 0] [--bootstrap 200] [--kinds both]
 //                      [--error-scale 1] [--noise 0] [--search 0]
-//                      [--design-points -1] [--rounds -1]
+//                      [--design-points -1] [--rounds -1] [--log-sigma 0]
 //
 // --bootstrap B: the residuals' correlation from B resamples of the rocks
 // (PosteriorOptions::bootstrap_replicates; 0: each distribution's quantiles
@@ -39,7 +39,9 @@
 // is --truths prior). --search N: a BOBYQA search of N evaluations from the
 // box's centre first, its evaluations reused by the posterior (as rockcal
 // calibrate --posterior did before this measured its cost). --design-points
-// and --rounds: the posterior's (PosteriorOptions); -1, the defaults. The
+// and --rounds: the posterior's (PosteriorOptions); -1, the defaults.
+// --log-sigma 1: the likelihood with the sigmas' log term
+// (PosteriorOptions::sigma_log_term, rockcal's --posterior-log-sigma). The
 // twins themselves: tests/calibrate/posterior_twin.h.
 #include <chrono>
 #include <cstdio>
@@ -77,6 +79,7 @@ int main(int argc, char** argv) {
   o.search = static_cast<int>(Arg(argc, argv, "search", 0));
   o.design_points = static_cast<int>(Arg(argc, argv, "design-points", -1));
   o.rounds = static_cast<int>(Arg(argc, argv, "rounds", -1));
+  o.log_sigma = Arg(argc, argv, "log-sigma", 0) != 0;
   if (const std::string bad = calibrate::testing::Check(o); !bad.empty() || twins < 1) {
     std::fprintf(stderr, "posterior_coverage: %s\n", bad.empty() ? "--twins >= 1" : bad.c_str());
     return 2;
@@ -128,11 +131,12 @@ int main(int argc, char** argv) {
   std::printf(
       "\n%d twins, %d parameters, %d materials, %d observed rocks, %d rocks per evaluation, %d "
       "thread(s), %s residuals (bootstrap %d), observed %s, errors x%g%s, truths %s, search %d, "
-      "design points %d, rounds %d (-1: default), %d simulations, %.0f s; max R-hat %.3f\n\n",
+      "design points %d, rounds %d (-1: default), log sigma %d, %d simulations, %.0f s; max R-hat "
+      "%.3f\n\n",
       twins, o.parameters, o.materials, o.obs_rocks, o.rocks, o.threads,
       o.independent ? "independent" : "correlated", o.bootstrap, o.kinds.c_str(), o.error_scale,
       o.noise ? " (in the values)" : " (declared)", o.truths.c_str(), o.search, o.design_points,
-      o.rounds, simulations, seconds, max_rhat);
+      o.rounds, o.log_sigma ? 1 : 0, simulations, seconds, max_rhat);
   std::printf(
       "| parameter | 90 %% intervals holding the truth | mean width / range | mean |median - "
       "truth| / range |\n|---|---|---|---|\n");

@@ -183,9 +183,10 @@ calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
 void PosteriorFromArgs(const Args& args, calibrate::CalibrationOptions* options) {
   if (!args.Flag("posterior")) {
     std::string given;
-    for (const char* name :
-         {"posterior-points", "posterior-rounds", "posterior-stage", "predictive"})
-      if (args.Has(name)) given += std::string(given.empty() ? "--" : ", --") + name;
+    for (const char* name : {"posterior-points", "posterior-rounds", "posterior-stage",
+                             "posterior-log-sigma", "predictive"})
+      if (args.Has(name) || args.Flag(name))
+        given += std::string(given.empty() ? "--" : ", --") + name;
     if (!given.empty())
       throw InputError("arguments", "the posterior's options (" + given + ") need --posterior");
     return;
@@ -194,6 +195,7 @@ void PosteriorFromArgs(const Args& args, calibrate::CalibrationOptions* options)
   p.design_points = static_cast<int>(args.Integer("posterior-points", p.design_points, 0, 100000));
   p.rounds = static_cast<int>(args.Integer("posterior-rounds", p.rounds, 0, 1000));
   p.predictive_draws = static_cast<int>(args.Integer("predictive", p.predictive_draws, 0, 100000));
+  p.sigma_log_term = args.Flag("posterior-log-sigma");
   options->posterior = p;
   const std::string stage =
       args.Get("posterior-stage", calibrate::PosteriorStageToString(options->posterior_stage));

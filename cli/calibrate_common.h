@@ -59,9 +59,10 @@ calibrate::CalibrationCallbacks ProgressCallbacks(bool quiet, int max_evals,
                                                   const std::string& stages = "");
 
 // --posterior with --posterior-points, --posterior-rounds, --posterior-stage
-// (calibrate's; a campaign has one stage) and --predictive (20 draws by
-// default) into options->posterior (with its predictive_draws) and posterior_stage;
-// those without --posterior are an InputError naming them.
+// (calibrate's; a campaign has one stage), --posterior-log-sigma and
+// --predictive (20 draws by default) into options->posterior (with its
+// predictive_draws) and posterior_stage; those without --posterior are an
+// InputError naming them.
 void PosteriorFromArgs(const Args& args, calibrate::CalibrationOptions* options);
 
 // What the posterior stage shows as it goes: a line per stage (the design,

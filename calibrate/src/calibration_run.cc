@@ -285,6 +285,7 @@ PosteriorResult RunPosteriorStage(const sites::Site& site, const observations::O
       Evaluation e;
       e.parameters = p.physical;
       e.misfit = p.misfit;
+      e.log_scale = p.log_scale;
       for (std::size_t s = 0; s < r.statistics.size(); ++s)
         e.residuals.push_back((p.simulated[s] - r.statistics[s].observed) / p.sigma[s]);
       bool finite = true;

@@ -77,6 +77,7 @@ observations::Misfit CampaignObjective::JoinSites(
     const observations::Misfit& m = sites[s];
     const double scale = std::sqrt(weights_[s]);
     out.value += weights_[s] * m.value;
+    out.log_scale += weights_[s] * m.log_scale;
     if (m.penalised) {
       out.penalised = true;
       out.message += (out.message.empty() ? "" : "; ") + names_[s] + ": " + m.message;

@@ -25,7 +25,7 @@ namespace {
 nlohmann::json ToJson(const Evaluation& e) {
   return {{"method", e.stage.name()}, {"evaluation", e.index},    {"parameters", e.parameters},
           {"misfit", e.misfit},       {"residuals", e.residuals}, {"penalised", e.penalised},
-          {"seconds", e.seconds},     {"elapsed", e.elapsed}};
+          {"seconds", e.seconds},     {"elapsed", e.elapsed},     {"log_scale", e.log_scale}};
 }
 
 // A whole-number field of a log record, from 0 to T's maximum. A fraction, a
@@ -136,6 +136,10 @@ Evaluation ReadLogRecord(const std::string& line, const std::string& where, std:
   e.parameters = j.at("parameters").get<std::vector<double>>();
   e.misfit = j.at("misfit").get<double>();
   e.residuals = j.at("residuals").get<std::vector<double>>();
+  // Absent from a log written before the sigmas' log-likelihood term: not
+  // known (the posterior simulates such a point again).
+  const auto scale = j.find("log_scale");
+  if (scale != j.end() && scale->is_number()) e.log_scale = scale->get<double>();
   e.penalised = j.at("penalised").get<bool>();
   e.seconds = j.at("seconds").get<double>();
   e.elapsed = j.at("elapsed").get<double>();

@@ -23,6 +23,7 @@ std::vector<double> RoughnessKey(const ParameterSpace& space, const std::vector<
 std::string EncodeMisfit(const observations::Misfit& m) {
   parallel::Writer w;
   w.Double(m.value);
+  w.Double(m.log_scale);
   w.Int(m.penalised ? 1 : 0);
   w.String(m.message);
   w.Int(static_cast<long long>(m.residuals.size()));
@@ -37,6 +38,7 @@ std::string EncodeMisfit(const observations::Misfit& m) {
     w.Double(r.observed);
     w.Double(r.sigma);
     w.Double(r.value);
+    w.Double(r.fixed_sigma);
   }
   return w.bytes();
 }
@@ -45,6 +47,7 @@ observations::Misfit DecodeMisfit(const std::string& bytes) {
   parallel::Reader r(bytes);
   observations::Misfit m;
   m.value = r.Double();
+  m.log_scale = r.Double();
   m.penalised = r.Int() != 0;
   m.message = r.String();
   m.residuals.resize(static_cast<std::size_t>(r.Int()));
@@ -59,6 +62,7 @@ observations::Misfit DecodeMisfit(const std::string& bytes) {
     res.observed = r.Double();
     res.sigma = r.Double();
     res.value = r.Double();
+    res.fixed_sigma = r.Double();
   }
   return m;
 }

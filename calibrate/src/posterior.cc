@@ -70,12 +70,17 @@ int PosteriorOptions::RoundPoints(int parameters) const {
 
 namespace {
 
-// The emulated points: unit-box coordinates, physical values, residuals
-// and misfits; the residuals are whitened and warped when emulated (Warped).
+// The emulated points: unit-box coordinates, physical values, residuals,
+// the sigmas' log term (observations::Misfit::log_scale) and the negative
+// log-likelihoods (the misfit, plus the log term when the likelihood
+// carries it); the residuals are whitened and warped when emulated
+// (Outputs), the log term emulated as it is.
 struct Design {
+  bool log_term = false;  // PosteriorOptions::sigma_log_term
   std::vector<std::vector<double>> unit;
   std::vector<std::vector<double>> physical;
   std::vector<std::vector<double>> residuals;
+  std::vector<double> log_scale;
   std::vector<double> misfit;
 
   bool Has(const std::vector<double>& u) const {
@@ -86,29 +91,42 @@ struct Design {
     }
     return false;
   }
-  void Add(const std::vector<double>& u, const std::vector<double>& x,
-           const std::vector<double>& r, double m) {
+  void Add(const std::vector<double>& u, const std::vector<double>& x, const std::vector<double>& r,
+           double scale, double m) {
     if (Has(u)) return;
     unit.push_back(u);
     physical.push_back(x);
     residuals.push_back(r);
-    misfit.push_back(m);
+    log_scale.push_back(scale);
+    misfit.push_back(log_term ? m + scale : m);
   }
-  // Each point's residuals whitened (W r; W empty: as they are) and warped,
-  // r' = c asinh(r / c).
-  std::vector<std::vector<double>> Warped(const Eigen::MatrixXd& whitening, double warp) const {
+  // Whether the log term is emulated: the likelihood carries it and it
+  // varies over the design (a constant output, which moves nothing in the
+  // likelihood, would still move the emulator's fit).
+  bool EmulatesLogTerm() const {
+    if (!log_term || log_scale.empty()) return false;
+    const auto [lo, hi] = std::minmax_element(log_scale.begin(), log_scale.end());
+    return *hi - *lo > 1e-9 * std::max(1.0, std::abs(*hi));
+  }
+  // The emulated outputs of each point: its residuals whitened (W r; W
+  // empty: as they are) and warped, r' = c asinh(r / c), then its log term
+  // when EmulatesLogTerm().
+  std::vector<std::vector<double>> Outputs(const Eigen::MatrixXd& whitening, double warp) const {
     std::vector<std::vector<double>> out;
-    for (const std::vector<double>& residual : residuals) {
+    const bool with_log_term = EmulatesLogTerm();
+    for (std::size_t i = 0; i < residuals.size(); ++i) {
       Eigen::VectorXd r = Eigen::Map<const Eigen::VectorXd>(
-          residual.data(), static_cast<Eigen::Index>(residual.size()));
+          residuals[i].data(), static_cast<Eigen::Index>(residuals[i].size()));
       if (whitening.size() > 0) r = whitening * r;
       std::vector<double> w;
       for (Eigen::Index k = 0; k < r.size(); ++k) w.push_back(warp * std::asinh(r(k) / warp));
+      if (with_log_term) w.push_back(log_scale[i]);
       out.push_back(std::move(w));
     }
     return out;
   }
-  // The point of lowest misfit (physical values); the design is not empty.
+  // The point of lowest negative log-likelihood (physical values); the design
+  // is not empty.
   const std::vector<double>& Best() const {
     return physical[static_cast<std::size_t>(
         std::min_element(misfit.begin(), misfit.end()) - misfit.begin())];
@@ -117,17 +135,21 @@ struct Design {
 
 // The emulated residuals at u (unwarped mean, and variance by the delta
 // method), folded into the log-likelihood: each residual r ~ N(mu, v) under
-// the emulator, so E[exp(-r^2 / 2)] = exp(-mu^2 / (2 (1 + v))) / sqrt(1 + v).
+// the emulator, so E[exp(-r^2 / 2)] = exp(-mu^2 / (2 (1 + v))) / sqrt(1 + v);
+// with `log_term`, minus the emulated log term of the sigmas (the last
+// output, at its mean).
 struct EmulatedTarget {
   const Emulator* emulator;
   double warp;
+  bool log_term;
 
   double LogDensity(const Eigen::VectorXd& u, double* mean_variance = nullptr) const {
     if (!InUnitBox(u)) return kMinusInf;
     Eigen::VectorXd mean, variance;
     emulator->Predict(u, &mean, &variance);
-    double value = 0.0, vsum = 0.0;
-    for (Eigen::Index j = 0; j < mean.size(); ++j) {
+    const Eigen::Index residuals = log_term ? mean.size() - 1 : mean.size();
+    double value = log_term ? -mean(residuals) : 0.0, vsum = 0.0;
+    for (Eigen::Index j = 0; j < residuals; ++j) {
       const double t = mean(j) / warp;
       const double mu = warp * std::sinh(t);
       const double slope = std::cosh(t);
@@ -135,14 +157,15 @@ struct EmulatedTarget {
       value += -0.5 * mu * mu / (1.0 + v) - 0.5 * std::log1p(v);
       vsum += v;
     }
-    if (mean_variance) *mean_variance = vsum / static_cast<double>(mean.size());
+    if (mean_variance) *mean_variance = vsum / static_cast<double>(residuals);
     return value;
   }
 };
 
 std::vector<double> ToStd(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 
-// The chains' starts: the design points of lowest misfit, distinct.
+// The chains' starts: the design points of lowest negative log-likelihood
+// (Design::misfit), distinct.
 std::vector<Eigen::VectorXd> Starts(const Design& design, int chains) {
   std::vector<std::size_t> order(design.unit.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
@@ -159,19 +182,20 @@ std::vector<Eigen::VectorXd> Starts(const Design& design, int chains) {
 }
 
 // Evaluates the unit-box points `units` through the log (replayed where
-// logged as "posterior"), appending new evaluations as each finishes.
+// logged as "posterior", with the sigmas' log term when `log_term` needs
+// it), appending new evaluations as each finishes.
 std::vector<Evaluation> EvaluatePoints(const ObjectiveFunction& objective,
                                        const std::vector<std::vector<double>>& units,
                                        EvaluationLog* log, const std::string& stage,
                                        const PosteriorProgress& progress, int* simulated,
-                                       const Clock::time_point& start) {
+                                       const Clock::time_point& start, bool log_term) {
   std::vector<Evaluation> out(units.size());
   std::vector<std::vector<double>> missing;
   std::vector<std::size_t> where;
   for (std::size_t k = 0; k < units.size(); ++k) {
     const std::vector<double> x = objective.space().ToPhysical(units[k]);
     const Evaluation* logged = log ? log->Find(Stage::Posterior(), x) : nullptr;
-    if (logged &&
+    if (logged && (!log_term || std::isfinite(logged->log_scale)) &&
         logged->residuals.size() == static_cast<std::size_t>(objective.residual_count())) {
       out[k] = *logged;
       out[k].replayed = true;
@@ -189,6 +213,7 @@ std::vector<Evaluation> EvaluatePoints(const ObjectiveFunction& objective,
     e.index = base + i + 1;
     e.parameters = missing[static_cast<std::size_t>(i)];
     e.misfit = m.value;
+    e.log_scale = m.log_scale;
     e.penalised = m.penalised;
     for (const auto& r : m.residuals) e.residuals.push_back(r.value);
     e.elapsed = std::chrono::duration<double>(Clock::now() - start).count();
@@ -205,11 +230,12 @@ int AddEvaluations(const ObjectiveFunction& objective, const std::vector<Evaluat
                    Design* design) {
   int added = 0;
   for (const Evaluation& e : evaluations) {
-    if (e.penalised || e.parameters.empty() ||
+    if (e.penalised || e.parameters.empty() || (design->log_term && !std::isfinite(e.log_scale)) ||
         e.residuals.size() != static_cast<std::size_t>(objective.residual_count()))
       continue;
     const std::size_t before = design->unit.size();
-    design->Add(objective.space().ToUnit(e.parameters), e.parameters, e.residuals, e.misfit);
+    design->Add(objective.space().ToUnit(e.parameters), e.parameters, e.residuals, e.log_scale,
+                e.misfit);
     added += static_cast<int>(design->unit.size() - before);
   }
   return added;
@@ -354,6 +380,8 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
   PosteriorResult result;
   result.space = space;
   Design design;
+  design.log_term = options.sigma_log_term;
+  result.sigma_log_term = options.sigma_log_term;
   result.reused = AddEvaluations(objective, reused, &design);
 
   // The space-filling design, topping the reused evaluations up.
@@ -362,7 +390,8 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
     const auto points = SpaceFillingDesign(DesignKind::kLatinHypercube, wanted, d,
                                            options.mcmc.seed ^ kDesignSeedMix);
     const std::vector<Evaluation> e =
-        EvaluatePoints(objective, points, log, "design", progress, &result.simulated, start);
+        EvaluatePoints(objective, points, log, "design", progress, &result.simulated, start,
+                       options.sigma_log_term);
     result.evaluated += static_cast<int>(points.size());
     AddEvaluations(objective, e, &design);
   }
@@ -400,8 +429,9 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
   round_mcmc.thin = std::min(round_mcmc.thin, round_mcmc.steps);
   for (int round = 0; round < options.rounds; ++round) {
     if (progress) progress("emulator, round " + std::to_string(round + 1), 0, 1);
-    const Emulator emulator = Emulator::Fit(design.unit, design.Warped(whitening, options.warp), options.emulator);
-    const EmulatedTarget target{&emulator, options.warp};
+    const Emulator emulator =
+        Emulator::Fit(design.unit, design.Outputs(whitening, options.warp), options.emulator);
+    const EmulatedTarget target{&emulator, options.warp, design.EmulatesLogTerm()};
     round_mcmc.seed = options.mcmc.seed + 7919ull * static_cast<std::uint64_t>(round + 1);
     const McmcResult chains =
         AdaptiveMetropolis([&](const Eigen::VectorXd& u) { return target.LogDensity(u); },
@@ -412,14 +442,15 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
     ++result.rounds;
     const std::vector<Evaluation> e =
         EvaluatePoints(objective, points, log, "round " + std::to_string(round + 1), progress,
-                       &result.simulated, start);
+                       &result.simulated, start, options.sigma_log_term);
     result.evaluated += static_cast<int>(points.size());
     AddEvaluations(objective, e, &design);
   }
 
   if (progress) progress("sampling", 0, 1);
-  const Emulator emulator = Emulator::Fit(design.unit, design.Warped(whitening, options.warp), options.emulator);
-  const EmulatedTarget target{&emulator, options.warp};
+  const Emulator emulator =
+      Emulator::Fit(design.unit, design.Outputs(whitening, options.warp), options.emulator);
+  const EmulatedTarget target{&emulator, options.warp, design.EmulatesLogTerm()};
   const McmcResult chains =
       AdaptiveMetropolis([&](const Eigen::VectorXd& u) { return target.LogDensity(u); },
                          Starts(design, options.mcmc.chains), options.mcmc);
@@ -496,6 +527,7 @@ nlohmann::json PosteriorJson(const PosteriorResult& result) {
           {"length_scales", length},
           {"nugget", JsonNum(result.nugget)},
           {"residual_correlation", result.correlation_source},
+          {"sigma_log_term", result.sigma_log_term},
           {"effective_residuals", JsonNum(result.effective_residuals)},
           {"wall_seconds", JsonNum(result.wall_seconds)},
           {"predictive", predictive},

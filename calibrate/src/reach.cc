@@ -336,6 +336,7 @@ ReachResult RunReach(const Objective& objective, const ReachOptions& options) {
     point.physical = physical[static_cast<std::size_t>(p)];
     observations::Misfit& misfit = misfits[static_cast<std::size_t>(p)];
     point.misfit = misfit.value;
+    point.log_scale = misfit.log_scale;
     point.penalised = misfit.penalised;
     point.message = misfit.message;
     for (const observations::Residual& r : misfit.residuals) {

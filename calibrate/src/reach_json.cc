@@ -70,9 +70,14 @@ ReachStatistic StatisticOf(const json& j) {
 }
 
 json PointJson(const ReachPoint& p) {
-  return {{"unit", p.unit},           {"physical", p.physical}, {"misfit", JsonNum(p.misfit)},
-          {"penalised", p.penalised}, {"message", p.message},   {"simulated", Numbers(p.simulated)},
-          {"sigma", Numbers(p.sigma)}};
+  return {{"unit", p.unit},
+          {"physical", p.physical},
+          {"misfit", JsonNum(p.misfit)},
+          {"penalised", p.penalised},
+          {"message", p.message},
+          {"simulated", Numbers(p.simulated)},
+          {"sigma", Numbers(p.sigma)},
+          {"log_scale", JsonNum(p.log_scale)}};
 }
 
 ReachPoint PointOf(const json& j) {
@@ -84,6 +89,7 @@ ReachPoint PointOf(const json& j) {
   p.message = j.at("message").get<std::string>();
   p.simulated = Numbers(j.at("simulated"));
   p.sigma = Numbers(j.at("sigma"));
+  if (j.contains("log_scale")) p.log_scale = Number(j, "log_scale");  // absent: not known
   return p;
 }
 

@@ -66,6 +66,7 @@ class Evaluator final {
       e.stage = stage_;
       e.parameters = x;
       e.misfit = m.value;
+      e.log_scale = m.log_scale;
       e.penalised = m.penalised;
       for (const auto& r : m.residuals) e.residuals.push_back(r.value);
       e.seconds = std::chrono::duration<double>(Clock::now() - t0).count();

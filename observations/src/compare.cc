@@ -22,13 +22,14 @@ double Comparer::Floor(double error) const {
 }
 
 void Comparer::Add(const ResidualId& of, Statistic statistic, double level, double simulated,
-                   double observed, double sigma, double value) const {
+                   double observed, double sigma, double value, double fixed_sigma) const {
   observations::Residual r;
   r.id = of.With(statistic, level);
   r.simulated = simulated;
   r.observed = observed;
   r.sigma = sigma;
   r.value = value;
+  r.fixed_sigma = fixed_sigma;
   misfit_->residuals.push_back(r);
 }
 
@@ -98,8 +99,9 @@ void Comparer::Quantiles(const ResidualId& of, Sample simulated_sample, Sample o
                      double obs_error) {
     const double sigma = std::max(
         std::sqrt(error * error + sim_error * sim_error + obs_error * obs_error), min_sigma);
+    const double fixed = std::max(std::sqrt(error * error + obs_error * obs_error), min_sigma);
     const double value = sparse ? penalty_value : (sim - obs) / sigma;
-    Add(of, statistic, level, sim, obs, sigma, value);
+    Add(of, statistic, level, sim, obs, sigma, value, sparse ? 0.0 : fixed);
   };
   for (const double level : levels) {
     // Type-8 quantiles: unbiased between samples of different sizes.
@@ -123,7 +125,7 @@ void Comparer::Share(const ResidualId& of, int k_sim, int n_sim, double observed
   if (n_sim <= 0) {
     Penalise(of.observation() + ": no rocks released; penalty " +
              FormatNumber(options_.penalty, "%.6g") + " added.");
-    Add(of, Statistic::kShare, 0.0, 0.0, observed, 1.0, std::sqrt(2.0 * options_.penalty));
+    Add(of, Statistic::kShare, 0.0, 0.0, observed, 1.0, std::sqrt(2.0 * options_.penalty), 0.0);
     return;
   }
   auto variance = [](double k, int n) {
@@ -132,7 +134,8 @@ void Comparer::Share(const ResidualId& of, int k_sim, int n_sim, double observed
   };
   const double f = static_cast<double>(k_sim) / n_sim;
   const double sigma = std::sqrt(variance(k_sim, n_sim) + variance(observed * n_obs, n_obs));
-  Add(of, Statistic::kShare, 0.0, f, observed, sigma, (f - observed) / sigma);
+  const double fixed = std::sqrt(variance(observed * n_obs, n_obs));
+  Add(of, Statistic::kShare, 0.0, f, observed, sigma, (f - observed) / sigma, fixed);
 }
 
 void Comparer::Fraction(const ResidualId& of, int crossed, int released, double observed,
@@ -141,13 +144,14 @@ void Comparer::Fraction(const ResidualId& of, int crossed, int released, double 
     Penalise(of.observation() + ": no rocks released; penalty " +
              FormatNumber(options_.penalty, "%.6g") + " added.");
     Add(of, Statistic::kFraction, 0.0, 0.0, observed, std::max(error, Floor(error)),
-        std::sqrt(2.0 * options_.penalty));
+        std::sqrt(2.0 * options_.penalty), 0.0);
     return;
   }
   const double n = static_cast<double>(released);
   const double f = static_cast<double>(crossed) / n;
-  const double sigma = std::max(std::sqrt(error * error + f * (1.0 - f) / n), Floor(error));
-  Add(of, Statistic::kFraction, 0.0, f, observed, sigma, (f - observed) / sigma);
+  const double fixed = std::max(error, Floor(error));
+  const double sigma = std::max(std::sqrt(error * error + f * (1.0 - f) / n), fixed);
+  Add(of, Statistic::kFraction, 0.0, f, observed, sigma, (f - observed) / sigma, fixed);
 }
 
 void MisfitTerms::CheckPartition(const std::string& label, int partition) const {

@@ -51,16 +51,18 @@ class Comparer final {
 
   // The floor of a sigma of measurement error `error`.
   double SigmaFloor(double error) const { return Floor(error); }
-  // Adds one residual of `of` and `statistic` as it is.
+  // Adds one residual of `of` and `statistic` as it is; `fixed_sigma` is
+  // the part of `sigma` the simulation does not change (Residual::fixed_sigma;
+  // 0: all of it).
   void Residual(const ResidualId& of, Statistic statistic, double simulated, double observed,
-                double sigma, double value) const {
-    Add(of, statistic, 0.0, simulated, observed, sigma, value);
+                double sigma, double value, double fixed_sigma) const {
+    Add(of, statistic, 0.0, simulated, observed, sigma, value, fixed_sigma);
   }
 
  private:
   double Floor(double error) const;
   void Add(const ResidualId& of, Statistic statistic, double level, double simulated,
-           double observed, double sigma, double value) const;
+           double observed, double sigma, double value, double fixed_sigma) const;
   void Penalise(const std::string& why) const;
 
   const MisfitOptions& options_;

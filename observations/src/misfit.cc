@@ -215,7 +215,11 @@ Misfit ComputeMisfit(const Observations& observations, const core::Scene& scene,
     if (kind.misfit) kind.misfit(observations, terms);
 
   double sum = 0.0;
-  for (const Residual& r : misfit.residuals) sum += r.value * r.value;
+  for (const Residual& r : misfit.residuals) {
+    sum += r.value * r.value;
+    if (r.fixed_sigma > 0.0 && r.fixed_sigma <= r.sigma)
+      misfit.log_scale += std::log(r.sigma / r.fixed_sigma);
+  }
   misfit.value = 0.5 * sum;
   return misfit;
 }

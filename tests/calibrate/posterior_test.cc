@@ -179,6 +179,12 @@ TEST(SamplePosterior, RecoversAKnownGaussianPosterior) {
   EXPECT_LT(r.emulator_variance, 0.02) << "a linear function is emulated almost exactly";
   EXPECT_EQ(r.simulated, objective.calls);
   EXPECT_TRUE(r.message.empty()) << r.message;
+  // Fixed sigmas (no log term): the whole likelihood is the same one, and
+  // the sampler takes the same steps.
+  o.sigma_log_term = true;
+  const PosteriorResult with_term = SamplePosterior(objective, {}, o, nullptr);
+  ASSERT_EQ(with_term.samples.size(), r.samples.size());
+  for (std::size_t k = 0; k < r.samples.size(); ++k) ASSERT_EQ(with_term.samples[k], r.samples[k]);
 }
 
 TEST(SamplePosterior, AParameterTheDataDoNotSeeIsFlaggedUndetermined) {
@@ -216,6 +222,87 @@ TEST(SamplePosterior, AParameterTheDataDoNotSeeIsFlaggedUndetermined) {
   EXPECT_FALSE(r.parameters[0].undetermined) << "width share " << r.parameters[0].width_share;
   EXPECT_TRUE(r.parameters[1].undetermined) << "width share " << r.parameters[1].width_share;
   EXPECT_NEAR(r.parameters[1].width_share, 1.0, 0.1);
+}
+
+// A sigma that grows with a value enters the likelihood as -log sigma, not
+// only through the residuals it scales: 20 residuals 0.5 / s with s = 0.1 +
+// u0 (the simulation's spread, over a fixed part 0.1) give -log p = 5 / (2
+// s^2) + 20 log s, whose mode is s = 0.5; the squared residuals alone would
+// pile the posterior at the upper bound (PosteriorOptions::sigma_log_term
+// off). The second value is a plain Gaussian, N(0.6, 0.05^2) in the unit
+// box.
+TEST(SamplePosterior, ASigmaThatGrowsWithTheValuesEntersAsItsLogarithm) {
+  class SpreadObjective final : public ObjectiveFunction {
+   public:
+    SpreadObjective() : space_(TwoValues()) {}
+    const ParameterSpace& space() const override { return space_; }
+    int residual_count() const override { return 21; }
+    observations::Misfit Evaluate(const std::vector<double>& x) const override {
+      const std::vector<double> u = space_.ToUnit(x);
+      const double s = 0.1 + u[0];
+      observations::Misfit m;
+      for (int i = 0; i < 20; ++i) {
+        observations::Residual r;
+        r.sigma = s;
+        r.fixed_sigma = 0.1;
+        r.value = 0.5 / s;
+        m.residuals.push_back(r);
+        m.value += 0.5 * r.value * r.value;
+        m.log_scale += std::log(s / 0.1);
+      }
+      observations::Residual plain;
+      plain.value = (u[1] - 0.6) / 0.05;
+      m.residuals.push_back(plain);
+      m.value += 0.5 * plain.value * plain.value;
+      return m;
+    }
+    std::vector<observations::Misfit> EvaluateAll(
+        const std::vector<std::vector<double>>& points,
+        const std::function<void(int, const observations::Misfit&)>& done) const override {
+      std::vector<observations::Misfit> out;
+      for (std::size_t k = 0; k < points.size(); ++k) {
+        out.push_back(Evaluate(points[k]));
+        if (done) done(static_cast<int>(k), out.back());
+      }
+      return out;
+    }
+
+   private:
+    ParameterSpace space_;
+  } objective;
+  // The exact marginal of u0 on a fine grid: p(s) ~ s^-20 exp(-5 / (2 s^2)).
+  const int n = 100000;
+  std::vector<double> cdf(n + 1, 0.0);
+  double mass = 0.0;
+  for (int k = 1; k <= n; ++k) {
+    const double s = 0.1 + (k - 0.5) / n;
+    mass += std::exp(-2.5 / (s * s) - 20.0 * std::log(s / 0.5) + 10.0);
+    cdf[static_cast<std::size_t>(k)] = mass;
+  }
+  auto quantile = [&](double q) {
+    const auto it = std::lower_bound(cdf.begin(), cdf.end(), q * mass);
+    return static_cast<double>(it - cdf.begin()) / n;
+  };
+  const double exact[3] = {quantile(0.05), quantile(0.5), quantile(0.95)};
+  const double sd = (exact[2] - exact[0]) / (2.0 * 1.645);
+  PosteriorOptions o;
+  o.design_points = 20;
+  o.rounds = 3;
+  o.sigma_log_term = true;
+  const PosteriorResult r = SamplePosterior(objective, {}, o, nullptr);
+  EXPECT_TRUE(r.sigma_log_term);
+  const Parameter& par = objective.space().parameters()[0];
+  auto unit = [&](double x) { return (x - par.lower) / (par.upper - par.lower); };
+  const ParameterPosterior& p = r.parameters[0];
+  EXPECT_NEAR(unit(p.p05), exact[0], 0.25 * sd) << "exact " << exact[0];
+  EXPECT_NEAR(unit(p.median), exact[1], 0.25 * sd) << "exact " << exact[1];
+  EXPECT_NEAR(unit(p.p95), exact[2], 0.25 * sd) << "exact " << exact[2];
+  EXPECT_LT(r.max_rhat, 1.05);
+  // Without the term the squared residuals alone, 5 / (2 s^2), fall
+  // towards the upper bound: the median lies far above the exact one.
+  o.sigma_log_term = false;
+  const PosteriorResult without = SamplePosterior(objective, {}, o, nullptr);
+  EXPECT_GT(unit(without.parameters[0].median), exact[2]);
 }
 
 TEST(SamplePosterior, AResumedRunReplaysItsEvaluationsAndGivesTheSameSamples) {

@@ -46,6 +46,7 @@ struct PosteriorTwinOptions {
   // PosteriorOptions::design_points and rounds; -1: the product's defaults.
   int design_points = -1;
   int rounds = -1;
+  bool log_sigma = false;  // PosteriorOptions::sigma_log_term
   // What the field observed: any of "scars" (bounce heights at both
   // partitions), "stops" (stop points), "passing" (the share of rocks past
   // Q), comma-separated; "both" is "scars,stops".
@@ -191,6 +192,7 @@ inline PosteriorTwin RunPosteriorTwin(const PosteriorTwinOptions& o, int t) {
   options.bootstrap_replicates = o.bootstrap;
   if (o.design_points >= 0) options.design_points = o.design_points;
   if (o.rounds >= 0) options.rounds = o.rounds;
+  options.sigma_log_term = o.log_sigma;
   // The residuals' names (for the quantiles' correlation): one evaluation
   // at the box's centre.
   const observations::Misfit layout =

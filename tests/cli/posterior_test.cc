@@ -171,6 +171,10 @@ TEST(CalibratePosterior, ItsOptionsNeedTheFlagAndAKnownStage) {
                         "/observations.json --predictive 3 --out " + FreshDir("no_flag"));
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_THAT(r.err, HasSubstr("need --posterior"));
+  r = Rockcal("calibrate " + site + "/site.json --observations " + site +
+              "/observations.json --posterior-log-sigma --out " + FreshDir("no_flag_log"));
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("--posterior-log-sigma"));
   r = Rockcal(Args(FreshDir("stage"), "--posterior-stage middle"));
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_THAT(r.err, HasSubstr("--posterior-stage"));

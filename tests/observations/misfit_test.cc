@@ -156,6 +156,19 @@ TEST(MisfitTest, SigmaCombinesMeasurementMonteCarloAndSamplingErrors) {
   double sum = 0.0;
   for (const Residual& r : m.residuals) sum += r.value * r.value;
   EXPECT_NEAR(m.value, 0.5 * sum, 1e-12 * m.value);
+  // The part of each sigma the simulation does not change: the measurement
+  // error and the observed side's error; the log term sums log(sigma /
+  // fixed) over the residuals.
+  EXPECT_NEAR(p50.fixed_sigma, std::sqrt(e * e + obs_error * obs_error), 1e-12);
+  EXPECT_NEAR(max.fixed_sigma, std::sqrt(e * e + std::pow(0.3 * 17 / 9.0, 2)), 1e-12);
+  double log_scale = 0.0;
+  for (const Residual& r : m.residuals) {
+    EXPECT_GT(r.fixed_sigma, 0.0) << r.id.quantity();
+    EXPECT_LE(r.fixed_sigma, r.sigma) << r.id.quantity();
+    log_scale += std::log(r.sigma / r.fixed_sigma);
+  }
+  EXPECT_NEAR(m.log_scale, log_scale, 1e-12);
+  EXPECT_GT(m.log_scale, 0.0);
 }
 
 // Samples of different sizes from one distribution: each quantile's
@@ -569,6 +582,9 @@ TEST(MisfitTest, PerRunResidualShrinksTheRunsSpreadTowardThePool) {
   EXPECT_NEAR(b.value, -6.0 / sigma_b, 1e-12);
   EXPECT_NEAR(m.runs[1].spread, std::sqrt(s2), 1e-9);
   EXPECT_NEAR(m.runs[1].sigma, sigma_b, 1e-9);
+  // The predictive spread is the simulation's: only the error is fixed.
+  EXPECT_DOUBLE_EQ(a.fixed_sigma, 1.0);
+  EXPECT_DOUBLE_EQ(b.fixed_sigma, 1.0);
   // Pooled quantiles (10 + max) and the share come first, as without runs.
   EXPECT_EQ(m.residuals.size(), 10u + 1u + 2u);
   // Without a pool (no spread in any group), a run's sigma is the error.
@@ -657,6 +673,8 @@ TEST(MisfitTest, PassingFractionWithBinomialError) {
   EXPECT_DOUBLE_EQ(m.residuals[0].simulated, 0.4);
   EXPECT_NEAR(m.residuals[0].sigma, std::sqrt(0.05 * 0.05 + 0.4 * 0.6 / 10), 1e-12);
   EXPECT_EQ(m.value, 0.0);
+  EXPECT_DOUBLE_EQ(m.residuals[0].fixed_sigma, 0.05);
+  EXPECT_NEAR(m.log_scale, std::log(m.residuals[0].sigma / 0.05), 1e-12);
 
   obs.passing[0].fraction = 0.3;
   m = ComputeMisfit(obs, scene, result);

@@ -253,9 +253,10 @@ void CompareRatio(const MisfitTerms& terms, const ResidualId& id, Statistic stat
   *simulated = median;
   *spread = s;
   const double n = static_cast<double>(draws.size());
-  *sigma = std::max(std::sqrt(error * error + s * s * (1.0 + kPi / (2.0 * n))),
-                    terms.compare.SigmaFloor(error));
-  terms.compare.Residual(id, statistic, median, observed, *sigma, (median - observed) / *sigma);
+  const double fixed = std::max(error, terms.compare.SigmaFloor(error));
+  *sigma = std::max(std::sqrt(error * error + s * s * (1.0 + kPi / (2.0 * n))), fixed);
+  terms.compare.Residual(id, statistic, median, observed, *sigma, (median - observed) / *sigma,
+                         fixed);
 }
 
 // The ratios are taken about the impact's own normal (read from the grid),
@@ -309,10 +310,11 @@ void AddResiduals(const Observations& obs, const MisfitTerms& terms) {
     if (tangential) observed_t.push_back(fit.tangential_observed);
     if (fit.draws == 0) {  // its residuals add up to the penalty
       const double value = std::sqrt(2.0 * terms.options.penalty / (tangential ? 2.0 : 1.0));
-      terms.compare.Residual(id, Statistic::kNormalRatio, 0.0, fit.normal_observed, 1.0, value);
+      terms.compare.Residual(id, Statistic::kNormalRatio, 0.0, fit.normal_observed, 1.0, value,
+                             0.0);
       if (tangential)
         terms.compare.Residual(id, Statistic::kTangentialRatio, 0.0, fit.tangential_observed, 1.0,
-                               value);
+                               value, 0.0);
       terms.misfit->penalised = true;
       terms.misfit->message += "impact " + fit.id + ": no replay ended with a finite velocity. ";
       terms.misfit->impacts.push_back(std::move(fit));

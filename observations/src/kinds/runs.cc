@@ -256,12 +256,13 @@ void CompareRuns(const Runout& runout, double error, const core::SimulationResul
         dof > 0.0 ? (options.run_spread_prior * pool * pool + std::max(n - 1.0, 0.0) * own2) / dof
                   : 0.0;
     fit.spread = std::sqrt(spread2);
-    fit.sigma = run.empty() ? std::max(error, compare.SigmaFloor(error))
-                            : std::max(std::sqrt(error * error + spread2 * (1.0 + kPi / (2.0 * n))),
-                                       compare.SigmaFloor(error));
+    const double fixed = std::max(error, compare.SigmaFloor(error));
+    fit.sigma = run.empty()
+                    ? fixed
+                    : std::max(std::sqrt(error * error + spread2 * (1.0 + kPi / (2.0 * n))), fixed);
     const double value = run.empty() ? 0.0 : (fit.simulated - fit.observed) / fit.sigma;
     compare.Residual(ResidualId::Of(ObservationKind::kRun, static_cast<int>(i), fit.id),
-                     Statistic::kRunout, fit.simulated, fit.observed, fit.sigma, value);
+                     Statistic::kRunout, fit.simulated, fit.observed, fit.sigma, value, fixed);
   }
 }
 

@@ -3,6 +3,7 @@
 #ifndef ROCKCAL_CALIBRATE_EVALUATION_H_
 #define ROCKCAL_CALIBRATE_EVALUATION_H_
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,9 @@ struct Evaluation {
   std::vector<double> parameters;  // physical values
   double misfit = 0.0;
   std::vector<double> residuals;
+  // observations::Misfit::log_scale; NaN when not known (a log record
+  // written without it).
+  double log_scale = std::numeric_limits<double>::quiet_NaN();
   bool penalised = false;
   double seconds = 0.0;   // wall seconds of its simulation
   double elapsed = 0.0;   // wall seconds since the method started, when it finished

@@ -2,12 +2,14 @@
 // uniform prior on the calibration box: the misfit is a Gaussian
 // log-likelihood in units of sigma (half the sum of the squared residuals,
 // each scaled by the observation's error and the simulation's Monte Carlo
-// error), so p(theta | obs) ~ exp(-misfit(theta)). Each simulation is
-// expensive and noisy, so the residuals are emulated (emulator.h) over the
-// evaluations already made, a space-filling design and points added where
-// the posterior mass is; the posterior is sampled on the emulator by
-// adaptive Metropolis, the emulator's variance added to each residual's
-// (Kennedy & O'Hagan 2001). See docs/posterior.md.
+// error), so p(theta | obs) ~ exp(-misfit(theta)); with
+// PosteriorOptions::sigma_log_term, exp(-misfit(theta) - log_scale(theta)),
+// the sigmas' log term (Misfit::log_scale) that moves with theta too.
+// Each simulation is expensive and noisy, so the residuals are emulated
+// (emulator.h) over the evaluations already made, a space-filling design
+// and points added where the posterior mass is; the posterior is sampled on
+// the emulator by adaptive Metropolis, the emulator's variance added to
+// each residual's (Kennedy & O'Hagan 2001). See docs/posterior.md.
 #ifndef ROCKCAL_CALIBRATE_POSTERIOR_H_
 #define ROCKCAL_CALIBRATE_POSTERIOR_H_
 
@@ -50,6 +52,12 @@ struct PosteriorOptions {
   // far misfits of a box-wide design do not swamp the region that matters;
   // c in sigmas [4], > 0.
   double warp = 4.0;
+  // The likelihood carries the sigmas' log term, exp(-misfit - log_scale)
+  // (observations::Misfit::log_scale, emulated as one more output): the
+  // Gaussian likelihood whole, where a sigma moves with the values [false].
+  // Off, exp(-misfit): the squared residuals alone, which favour values
+  // that widen a simulated spread (docs/posterior.md, Limits).
+  bool sigma_log_term = false;
   McmcOptions mcmc;  // the final sampling; the rounds use half its steps
   EmulatorOptions emulator;
   // The residuals are correlated: the quantiles of one distribution share
@@ -124,6 +132,7 @@ struct PosteriorResult {
   // (their asymptotic correlation) or "independent"; and how many
   // independent residuals' information it leaves, (tr R)^2 / tr(R^2).
   std::string correlation_source;
+  bool sigma_log_term = false;  // PosteriorOptions::sigma_log_term, as used
   double effective_residuals = 0.0;
   std::vector<double> length_scales;  // unit box
   double nugget = 0.0;

@@ -17,6 +17,7 @@
 #define ROCKCAL_CALIBRATE_REACH_H_
 
 #include <cstdint>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -120,6 +121,9 @@ struct ReachPoint {
   // Per statistic (ReachResult::statistics order): the simulated value and the
   // residual's sigma; NaN where this point gave no value.
   std::vector<double> simulated, sigma;
+  // observations::Misfit::log_scale there; NaN when not known (a reach.json
+  // written without it).
+  double log_scale = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct ReachResult {

@@ -140,6 +140,11 @@ struct Residual {
   double observed = 0.0;    // SI
   double sigma = 1.0;       // SI, > 0
   double value = 0.0;       // (simulated - observed) / sigma
+  // The part of sigma that does not depend on the simulation (the
+  // measurement error and the observed statistic's own error, floored),
+  // 0 < fixed_sigma <= sigma; 0 when all of sigma is fixed (a prior, an
+  // offset, a penalty). Misfit::log_scale sums log(sigma / fixed_sigma).
+  double fixed_sigma = 0.0;
 };
 
 // How the simulations of one tracked run (Runout::has_runs) compare with it.
@@ -211,6 +216,13 @@ struct Misfit {
   double MeanRunError() const;
   int StuckRocks() const;  // summed over the runs
   double value = 0.0;               // 0.5 * sum of residual values squared
+  // The sum over the residuals of log(sigma / fixed_sigma) (those with a
+  // fixed_sigma): the part of the negative log-likelihood that the
+  // simulation's own Monte Carlo and predictive spread add through the
+  // sigmas (docs/posterior.md, "The method"). The posterior adds it to
+  // `value` when asked (calibrate::PosteriorOptions::sigma_log_term); the
+  // search, the verdict and the reports read `value` alone.
+  double log_scale = 0.0;
   // True when a penalty entered the value: a non-finite result (value =
   // penalty, no residuals) or a distribution with fewer than 2 simulated
   // values (its residuals add up to the penalty).
