@@ -26,12 +26,31 @@ ParameterSpace TwoValues() {
   return ParameterSpace({a, b});
 }
 
+// An analytic objective of TwoValues(): EvaluateAll evaluates its points
+// one by one, in order.
+class TwoValueObjective : public ObjectiveFunction {
+ public:
+  TwoValueObjective() : space_(TwoValues()) {}
+  const ParameterSpace& space() const override { return space_; }
+  std::vector<observations::Misfit> EvaluateAll(
+      const std::vector<std::vector<double>>& points,
+      const std::function<void(int, const observations::Misfit&)>& done) const override {
+    std::vector<observations::Misfit> out;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      out.push_back(Evaluate(points[k]));
+      if (done) done(static_cast<int>(k), out.back());
+    }
+    return out;
+  }
+
+ private:
+  ParameterSpace space_;
+};
+
 // Residuals linear in the unit box: r = A (u - centre) / s, so exp(-misfit)
 // is a Gaussian of mean `centre` and precision sum_i a_i a_i^T / s_i^2.
-class LinearObjective final : public ObjectiveFunction {
+class LinearObjective final : public TwoValueObjective {
  public:
-  LinearObjective() : space_(TwoValues()) {}
-  const ParameterSpace& space() const override { return space_; }
   int residual_count() const override { return 3; }
   observations::Misfit Evaluate(const std::vector<double>& x) const override {
     ++calls;
@@ -45,20 +64,7 @@ class LinearObjective final : public ObjectiveFunction {
     }
     return m;
   }
-  std::vector<observations::Misfit> EvaluateAll(
-      const std::vector<std::vector<double>>& points,
-      const std::function<void(int, const observations::Misfit&)>& done) const override {
-    std::vector<observations::Misfit> out;
-    for (std::size_t k = 0; k < points.size(); ++k) {
-      out.push_back(Evaluate(points[k]));
-      if (done) done(static_cast<int>(k), out.back());
-    }
-    return out;
-  }
   mutable int calls = 0;
-
- private:
-  ParameterSpace space_;
 };
 
 // The exact marginal standard deviations of LinearObjective's posterior.
@@ -189,10 +195,8 @@ TEST(SamplePosterior, RecoversAKnownGaussianPosterior) {
 
 TEST(SamplePosterior, AParameterTheDataDoNotSeeIsFlaggedUndetermined) {
   // Only the first parameter enters the residuals.
-  class OneSided final : public ObjectiveFunction {
+  class OneSided final : public TwoValueObjective {
    public:
-    OneSided() : space_(TwoValues()) {}
-    const ParameterSpace& space() const override { return space_; }
     int residual_count() const override { return 1; }
     observations::Misfit Evaluate(const std::vector<double>& x) const override {
       observations::Misfit m;
@@ -202,19 +206,6 @@ TEST(SamplePosterior, AParameterTheDataDoNotSeeIsFlaggedUndetermined) {
       m.value = 0.5 * r.value * r.value;
       return m;
     }
-    std::vector<observations::Misfit> EvaluateAll(
-        const std::vector<std::vector<double>>& points,
-        const std::function<void(int, const observations::Misfit&)>& done) const override {
-      std::vector<observations::Misfit> out;
-      for (std::size_t k = 0; k < points.size(); ++k) {
-        out.push_back(Evaluate(points[k]));
-        if (done) done(static_cast<int>(k), out.back());
-      }
-      return out;
-    }
-
-   private:
-    ParameterSpace space_;
   } objective;
   PosteriorOptions o;
   o.design_points = 16;
@@ -232,13 +223,11 @@ TEST(SamplePosterior, AParameterTheDataDoNotSeeIsFlaggedUndetermined) {
 // off). The second value is a plain Gaussian, N(0.6, 0.05^2) in the unit
 // box.
 TEST(SamplePosterior, ASigmaThatGrowsWithTheValuesEntersAsItsLogarithm) {
-  class SpreadObjective final : public ObjectiveFunction {
+  class SpreadObjective final : public TwoValueObjective {
    public:
-    SpreadObjective() : space_(TwoValues()) {}
-    const ParameterSpace& space() const override { return space_; }
     int residual_count() const override { return 21; }
     observations::Misfit Evaluate(const std::vector<double>& x) const override {
-      const std::vector<double> u = space_.ToUnit(x);
+      const std::vector<double> u = space().ToUnit(x);
       const double s = 0.1 + u[0];
       observations::Misfit m;
       for (int i = 0; i < 20; ++i) {
@@ -256,19 +245,6 @@ TEST(SamplePosterior, ASigmaThatGrowsWithTheValuesEntersAsItsLogarithm) {
       m.value += 0.5 * plain.value * plain.value;
       return m;
     }
-    std::vector<observations::Misfit> EvaluateAll(
-        const std::vector<std::vector<double>>& points,
-        const std::function<void(int, const observations::Misfit&)>& done) const override {
-      std::vector<observations::Misfit> out;
-      for (std::size_t k = 0; k < points.size(); ++k) {
-        out.push_back(Evaluate(points[k]));
-        if (done) done(static_cast<int>(k), out.back());
-      }
-      return out;
-    }
-
-   private:
-    ParameterSpace space_;
   } objective;
   // The exact marginal of u0 on a fine grid: p(s) ~ s^-20 exp(-5 / (2 s^2)).
   const int n = 100000;
