@@ -12,11 +12,13 @@
 namespace rockcal::core {
 namespace {
 
-// A replayed rock starts with every element this share of its radius clear
-// of the ground.
+// A replayed rock starts with its lowest element between one and two of
+// this share of its radius clear of the ground.
 constexpr double kClearance = 0.01;
-// The longest flight allowed before the first contact (an impact whose
-// centre is given above the ground flies on to it).
+// The steps that bring it there along the ground's normal (PlaceDraw).
+constexpr int kPlacingSteps = 64;
+// The longest flight allowed before the first contact (an impact arriving
+// nearly along the ground takes long to touch it).
 constexpr double kMaxLeadSeconds = 2.0;
 
 // The smallest gap between the rock's elements (body, orientation q,
@@ -29,8 +31,9 @@ double ElementGap(const Terrain& terrain, const RockBody& body, const Eigen::Qua
   return gap;
 }
 
-// The state of draw `draw` of `impact`: on the incoming parabola, just clear
-// of the ground, with its drawn orientation and spin.
+// The state of draw `draw` of `impact`: at the incoming velocity, just clear
+// of the ground below (or above) the observed centre, with its drawn
+// orientation and spin.
 ReboundJob PlaceDraw(const Scene& scene, const Terrain& terrain, const ImpactReplay& impact,
                      const Eigen::Vector3d& n, int draw, std::uint64_t stream) {
   RandomStream rng(scene.options.seed, stream);
@@ -44,7 +47,6 @@ ReboundJob PlaceDraw(const Scene& scene, const Terrain& terrain, const ImpactRep
   const Eigen::Quaterniond q(
       std::sqrt(1 - u1) * std::sin(2 * kPi * u2), std::sqrt(1 - u1) * std::cos(2 * kPi * u2),
       std::sqrt(u1) * std::sin(2 * kPi * u3), std::sqrt(u1) * std::cos(2 * kPi * u3));
-  const Eigen::Vector3d g(0, 0, -scene.gravity);
   const Eigen::Vector3d& v = impact.velocity_in;
   const Eigen::Vector3d vt = v - v.dot(n) * n;
   RockState& s = job.start;
@@ -52,18 +54,33 @@ ReboundJob PlaceDraw(const Scene& scene, const Terrain& terrain, const ImpactRep
   s.t = 0.0;
   s.w =
       impact.spin ? *impact.spin : Eigen::Vector3d(u_spin * n.cross(vt) / job.body.bounding_radius);
-  // Back along the parabola through the impact until every element is clear.
+  // Along the line of the incoming velocity through the observed centre
+  // (back while inside the ground, on while above it) until the lowest
+  // element is just clear: the rock reaches this replay's ground where the
+  // observed path meets it, at the observed velocity, wherever the centre
+  // lies against it (a drawn orientation or size, or a roughness that
+  // raises or lowers the ground between the spheres, puts it inside or
+  // above). A step of the gap's excess or shortfall changes no obstacle's
+  // gap by more than itself, so the gap comes to the band from one side; a
+  // path that grazes the ground can fall short that way, and is then lifted
+  // along the normal in doubling steps until clear.
   const double margin = kClearance * job.body.element_radius;
-  double lead = 0.0;
-  for (int i = 0; i < 100 && lead < kMaxLeadSeconds; ++i) {
-    s.x = impact.centre - lead * v + 0.5 * lead * lead * g;
-    const double gap = ElementGap(terrain, job.body, s.q, s.x);
-    if (gap >= margin) break;
-    const double approach = std::max(-(v - lead * g).dot(n), 0.1);
-    lead += std::max((margin - gap) / approach, 1e-4);
+  const Eigen::Vector3d along =
+      v.norm() > 0.0 ? Eigen::Vector3d(v.normalized()) : Eigen::Vector3d(-n);
+  s.x = impact.centre;
+  s.v = v;
+  double gap = ElementGap(terrain, job.body, s.q, s.x);
+  for (int i = 0; i < kPlacingSteps && std::isfinite(gap) && (gap < margin || gap > 2 * margin);
+       ++i) {
+    s.x += (gap - 1.5 * margin) * along;
+    gap = ElementGap(terrain, job.body, s.q, s.x);
   }
-  s.v = v - lead * g;
-  job.max_time = lead + kMaxLeadSeconds + kReplayContactSeconds;
+  double lift = margin;
+  for (int i = 0; i < 40 && gap < margin; ++i, lift *= 2) {
+    s.x += lift * n;
+    gap = ElementGap(terrain, job.body, s.q, s.x);
+  }
+  job.max_time = kMaxLeadSeconds + kReplayContactSeconds;
   job.contact_seconds = kReplayContactSeconds;
   return job;
 }
