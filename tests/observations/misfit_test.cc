@@ -618,6 +618,39 @@ TEST(MisfitTest, PerRunResidualOfASplitOrCensoredRunStaysModerate) {
   EXPECT_LT(stuck.Run(ms, "r0").value, -3.0) << ms.Report();
 }
 
+// When not every observed rock stopped, the runs given are those that did,
+// and the simulated rocks are compared in kind, as the pooled runout does:
+// a run's median and the pooled quantiles of the rocks that stopped, the
+// share stopped of every rock. Counted at the far end instead, the rocks
+// that left raised the simulated runouts the field could not show, and a
+// value that loses more rocks was pushed away (the scene family's tracked
+// runs: bench/README.md).
+TEST(MisfitTest, RunsWithRocksThatLeftAreComparedInKind) {
+  RunCase c({{58.0, 60.0, -150.0, -150.0}, {88.0, 90.0, 92.0, -150.0}}, {60.0, 90.0}, 1.0);
+  const auto run_medians = [&](double stopped_fraction) {
+    c.obs.runout->stopped_fraction = stopped_fraction;
+    c.obs.runout->observed_rocks = 3;
+    const Misfit m = ComputeMisfit(c.obs, c.scene, c.result);
+    EXPECT_EQ(m.runs[0].rocks, 4);
+    EXPECT_EQ(m.runs[0].stopped, 2);
+    EXPECT_EQ(m.runs[1].rocks, 4);
+    for (const Residual& r : m.residuals) {
+      if (r.id.kind == ObservationKind::kRunoutStopped) {
+        EXPECT_DOUBLE_EQ(r.simulated, 5.0 / 8.0);
+      }
+    }
+    return std::vector<double>{m.runs[0].simulated, m.runs[1].simulated};
+  };
+  // Every observed rock stopped: the rocks that left enter at the far end.
+  const std::vector<double> all = run_medians(1.0);
+  EXPECT_GT(all[0], 100.0);
+  EXPECT_DOUBLE_EQ(all[1], 91.0);
+  // Two of three observed rocks stopped: only the simulated ones that did.
+  const std::vector<double> some = run_medians(2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(some[0], 59.0);
+  EXPECT_DOUBLE_EQ(some[1], 90.0);
+}
+
 // options.run_terms: the pooled quantiles, the per-run residuals, or both.
 TEST(MisfitTest, RunTermsChooseTheComparisons) {
   const RunCase c({{40.0, 50.0}, {70.0, 80.0}}, {45.0, 85.0}, 1.0);

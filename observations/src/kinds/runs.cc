@@ -154,7 +154,9 @@ void Read(const Reader& reader, const JsonNode& root, Observations* obs) {
 
 // Per-run observations: run i's runout (from its own release) against the
 // runouts of its group's rocks from the same release; a rock that did not
-// stop is censored as above (at or beyond every distance). Two comparisons,
+// stop is censored as above (at or beyond every distance) when every
+// observed rock stopped, and left out when not (the runs given are those
+// that stopped; the stopped share compares the rest). Two comparisons,
 // as options.run_terms says:
 // - pooled: the runs' runouts pooled into one distribution compared by
 //   quantiles as above (each run adds its group's rocks, so the pooled
@@ -188,6 +190,10 @@ void CompareRuns(const Runout& runout, double error, const core::SimulationResul
     for (const core::RockRecord* rock : by_group[g])
       farthest = std::max(farthest, (rock->stop.head<2>() - runout.run_origins[i]).norm());
   }
+  // As for the pooled runout (runout.cc): when some observed rocks did not
+  // stop either, the runs given are those that stopped, and the simulated
+  // rocks are compared in kind (those that stopped), the share on its own.
+  const bool all_stopped = runout.stopped_fraction >= 1.0;
   std::vector<double> pooled;
   std::vector<std::vector<double>> samples;  // each run's runouts, ascending
   int stopped = 0, released = 0;
@@ -202,13 +208,13 @@ void CompareRuns(const Runout& runout, double error, const core::SimulationResul
       for (const core::RockRecord* rock : by_group[g]) {
         const double d = (rock->stop.head<2>() - runout.run_origins[i]).norm();
         const bool stop = rock->outcome == core::Outcome::kStopped;
-        run.push_back(stop ? d : farthest);
+        if (stop || all_stopped) run.push_back(stop ? d : farthest);
         fit.stopped += stop ? 1 : 0;
         const double moved = (rock->stop.head<2>() - rock->start.head<2>()).norm();
         if (RunFit::StuckNearRelease(moved, fit.observed)) ++fit.stuck;
       }
+      fit.rocks = static_cast<int>(by_group[g].size());
     }
-    fit.rocks = static_cast<int>(run.size());
     if (!run.empty()) {
       std::sort(run.begin(), run.end());
       fit.simulated = core::Quantile(run, 0.5);

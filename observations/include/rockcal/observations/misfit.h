@@ -152,7 +152,9 @@ struct RunFit {
   std::string id;
   int group = 0;               // index into core::Scene::groups
   double observed = 0.0;       // m, the run's runout from its release
-  double simulated = 0.0;      // m, the median runout of its group's rocks (censored ones at the far end)
+  // m, the median runout of its group's rocks (censored ones at the far
+  // end; those that stopped when not every observed rock stopped)
+  double simulated = 0.0;
   int rocks = 0;               // simulated rocks of its group
   int stopped = 0;             // of which stopped
   // Simulated rocks that stopped near their release while the run itself
