@@ -22,15 +22,18 @@
 //                      [--ranks 0] [--bootstrap 200] [--kinds both]
 //                      [--error-scale 1] [--noise 0] [--search 0]
 //                      [--design-points -1] [--rounds -1] [--log-sigma 0]
+//                      [--run-terms both]
 //
 // --bootstrap B: the residuals' correlation from B resamples of the rocks
 // (PosteriorOptions::bootstrap_replicates; 0: each distribution's quantiles
 // alone, the posterior before issue #54). --kinds: which observations the
 // twin's field gives, any of scars (the bounce heights at the two
-// partitions), stops (the stop points) and passing (the share past the
-// second partition), comma-separated; both = scars,stops. --error-scale f:
-// the measurement errors (0.1 m on heights, 1 m on stop points, 0.05 on a
-// passing fraction) times f. --noise 1: the field's values carry those
+// partitions), stops (the stop points), passing (the share past the second
+// partition) and runs (tracked runs: --obs-rocks rock groups released from
+// points of their own, one field rock each, its stop compared with its
+// group's rocks; not with stops), comma-separated; both = scars,stops.
+// --error-scale f: the measurement errors (0.1 m on heights, 1 m on stop
+// points, 0.05 on a passing fraction) times f. --noise 1: the field's values carry those
 // errors (each value plus a normal draw of its error); 0: exact values, the
 // errors declared only. --materials 3: the first 20 m of the runout is
 // a third material, "toe" (the values: slope, runout and toe hardness, then
@@ -40,6 +43,8 @@
 // box's centre first, its evaluations reused by the posterior (as rockcal
 // calibrate --posterior did before this measured its cost). --design-points
 // and --rounds: the posterior's (PosteriorOptions); -1, the defaults.
+// --run-terms: with runs, which comparisons of them enter the misfit
+// (MisfitOptions::run_terms: pooled, per_run or both, the product's default).
 // --log-sigma 1: the likelihood with the sigmas' log term
 // (PosteriorOptions::sigma_log_term, rockcal's --posterior-log-sigma). The
 // twins themselves: tests/calibrate/posterior_twin.h.
@@ -72,6 +77,7 @@ int main(int argc, char** argv) {
   o.independent = Arg(argc, argv, "independent", 0) != 0;
   o.bootstrap = static_cast<int>(Arg(argc, argv, "bootstrap", 200));
   o.kinds = TextArg(argc, argv, "kinds", "both");
+  o.run_terms = TextArg(argc, argv, "run-terms", "both");
   o.error_scale = bench::RealArg(argc, argv, "error-scale", 1.0);
   o.noise = Arg(argc, argv, "noise", 0) != 0;
   o.truths = TextArg(argc, argv, "truths", Arg(argc, argv, "prior", 0) != 0 ? "prior" : "middle");
@@ -130,13 +136,14 @@ int main(int argc, char** argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf(
       "\n%d twins, %d parameters, %d materials, %d observed rocks, %d rocks per evaluation, %d "
-      "thread(s), %s residuals (bootstrap %d), observed %s, errors x%g%s, truths %s, search %d, "
-      "design points %d, rounds %d (-1: default), log sigma %d, %d simulations, %.0f s; max R-hat "
-      "%.3f\n\n",
+      "thread(s), %s residuals (bootstrap %d), observed %s (run terms %s), errors x%g%s, "
+      "truths %s, search %d, design points %d, rounds %d (-1: default), log sigma %d, %d "
+      "simulations, %.0f s; max R-hat %.3f\n\n",
       twins, o.parameters, o.materials, o.obs_rocks, o.rocks, o.threads,
-      o.independent ? "independent" : "correlated", o.bootstrap, o.kinds.c_str(), o.error_scale,
-      o.noise ? " (in the values)" : " (declared)", o.truths.c_str(), o.search, o.design_points,
-      o.rounds, o.log_sigma ? 1 : 0, simulations, seconds, max_rhat);
+      o.independent ? "independent" : "correlated", o.bootstrap, o.kinds.c_str(),
+      o.run_terms.c_str(), o.error_scale, o.noise ? " (in the values)" : " (declared)",
+      o.truths.c_str(), o.search, o.design_points, o.rounds, o.log_sigma ? 1 : 0, simulations,
+      seconds, max_rhat);
   std::printf(
       "| parameter | 90 %% intervals holding the truth | mean width / range | mean |median - "
       "truth| / range |\n|---|---|---|---|\n");

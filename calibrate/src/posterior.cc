@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <limits>
 #include <map>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -77,6 +78,8 @@ namespace {
 // (Outputs), the log term emulated as it is.
 struct Design {
   bool log_term = false;  // PosteriorOptions::sigma_log_term
+  // The residuals the likelihood takes (LikelihoodResiduals; empty: all).
+  std::vector<bool> keep;
   std::vector<std::vector<double>> unit;
   std::vector<std::vector<double>> physical;
   std::vector<std::vector<double>> residuals;
@@ -96,7 +99,19 @@ struct Design {
     if (Has(u)) return;
     unit.push_back(u);
     physical.push_back(x);
-    residuals.push_back(r);
+    if (keep.empty()) {
+      residuals.push_back(r);
+    } else {
+      // The kept residuals, and the misfit of those alone.
+      std::vector<double> kept;
+      m = 0.0;
+      for (std::size_t j = 0; j < r.size(); ++j) {
+        if (!keep[j]) continue;
+        kept.push_back(r[j]);
+        m += 0.5 * r[j] * r[j];
+      }
+      residuals.push_back(std::move(kept));
+    }
     log_scale.push_back(scale);
     misfit.push_back(log_term ? m + scale : m);
   }
@@ -367,6 +382,19 @@ PosteriorResult MapPosterior(
   return out;
 }
 
+std::vector<bool> LikelihoodResiduals(const std::vector<observations::Residual>& layout,
+                                      bool sigma_log_term) {
+  std::vector<bool> keep(layout.size(), true);
+  if (sigma_log_term) return keep;
+  std::set<std::string> pooled;  // sites whose runs' stops are compared pooled
+  for (const observations::Residual& r : layout)
+    if (r.id.kind == observations::ObservationKind::kRunoutDistance) pooled.insert(r.id.site);
+  for (std::size_t j = 0; j < layout.size(); ++j)
+    if (layout[j].id.kind == observations::ObservationKind::kRun && pooled.count(layout[j].id.site))
+      keep[j] = false;
+  return keep;
+}
+
 PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
                                 const std::vector<Evaluation>& reused,
                                 const PosteriorOptions& options, EvaluationLog* log,
@@ -381,6 +409,11 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
   result.space = space;
   Design design;
   design.log_term = options.sigma_log_term;
+  if (layout.size() == static_cast<std::size_t>(objective.residual_count())) {
+    design.keep = LikelihoodResiduals(layout, options.sigma_log_term);
+    result.left_out = static_cast<int>(std::count(design.keep.begin(), design.keep.end(), false));
+    if (result.left_out == 0) design.keep.clear();
+  }
   result.sigma_log_term = options.sigma_log_term;
   result.reused = AddEvaluations(objective, reused, &design);
 
@@ -415,13 +448,27 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
     correlation = QuantileCorrelation(layout);
     result.correlation_source = "quantiles";
   }
+  if (!design.keep.empty() && correlation.size() > 0) {
+    // The left-out residuals' rows and columns go: the kept residuals'
+    // correlation is their block of the whole one.
+    std::vector<Eigen::Index> kept;
+    for (std::size_t j = 0; j < design.keep.size(); ++j)
+      if (design.keep[j]) kept.push_back(static_cast<Eigen::Index>(j));
+    const Eigen::Index n = static_cast<Eigen::Index>(kept.size());
+    Eigen::MatrixXd block(n, n);
+    for (Eigen::Index a = 0; a < n; ++a)
+      for (Eigen::Index b = 0; b < n; ++b)
+        block(a, b) =
+            correlation(kept[static_cast<std::size_t>(a)], kept[static_cast<std::size_t>(b)]);
+    correlation = block;
+  }
   Eigen::MatrixXd whitening;
   if (correlation.size() > 0) {
     whitening = Whitening(correlation);
     result.effective_residuals = EffectiveCount(correlation);
   } else {
     result.correlation_source = "independent";
-    result.effective_residuals = objective.residual_count();
+    result.effective_residuals = objective.residual_count() - result.left_out;
   }
 
   McmcOptions round_mcmc = options.mcmc;
@@ -529,6 +576,7 @@ nlohmann::json PosteriorJson(const PosteriorResult& result) {
           {"residual_correlation", result.correlation_source},
           {"sigma_log_term", result.sigma_log_term},
           {"effective_residuals", JsonNum(result.effective_residuals)},
+          {"left_out_residuals", result.left_out},
           {"wall_seconds", JsonNum(result.wall_seconds)},
           {"predictive", predictive},
           {"message", result.message}};

@@ -148,6 +148,10 @@ std::string PosteriorMarkdown(const CalibrationSummary& record) {
   out << "Emulated from " << post.emulated << " evaluations (" << post.reused
       << " of the reach design, " << post.evaluated << " of the posterior stage, " << post.rounds
       << " refining rounds); max R-hat " << FormatNumber(post.max_rhat, "%.3f") << ".\n";
+  if (post.left_out > 0)
+    out << "Its likelihood leaves out the " << post.left_out
+        << " per-run residuals: the pooled runout quantiles compare the same stops "
+           "(docs/posterior.md, \"Tracked runs\").\n";
   if (!post.message.empty()) out << "Warning: " << post.message << "\n";
   if (!post.bands.empty()) {
     out << "Posterior predictive: " << post.BandsInside() << " of " << post.bands.size()

@@ -193,6 +193,81 @@ TEST(SamplePosterior, RecoversAKnownGaussianPosterior) {
   for (std::size_t k = 0; k < r.samples.size(); ++k) ASSERT_EQ(with_term.samples[k], r.samples[k]);
 }
 
+// LinearObjective's residuals and a fourth, much narrower, that wants the
+// first value at 0.8.
+class PulledObjective final : public TwoValueObjective {
+ public:
+  int residual_count() const override { return 4; }
+  observations::Misfit Evaluate(const std::vector<double>& x) const override {
+    observations::Misfit m = linear_.Evaluate(x);
+    observations::Residual pull;
+    pull.value = (x[0] - 0.8) / 0.02;
+    m.residuals.push_back(pull);
+    m.value += 0.5 * pull.value * pull.value;
+    return m;
+  }
+
+ private:
+  LinearObjective linear_;
+};
+
+// Residuals named: a median of `first`, medians of two scar sets (three
+// observations, so independent) and a run's.
+std::vector<observations::Residual> Layout(observations::ObservationKind first) {
+  using observations::ObservationKind;
+  using observations::ResidualId;
+  using observations::Statistic;
+  std::vector<observations::Residual> layout(4);
+  layout[0].id = ResidualId::Of(first, 2, "tree_scars[2] R").With(Statistic::kQuantile, 0.5);
+  for (int k = 0; k < 2; ++k)
+    layout[static_cast<std::size_t>(k + 1)].id =
+        ResidualId::Of(ObservationKind::kTreeScars, k, "tree_scars[" + std::to_string(k) + "]")
+            .With(Statistic::kQuantile, 0.5);
+  layout[3].id = ResidualId::Of(ObservationKind::kRun, 0, "r1").With(Statistic::kRunout);
+  return layout;
+}
+
+// A site's per-run residuals are left out of the likelihood where its
+// pooled runout quantiles compare the same stops, and only there (docs/
+// posterior.md, "Tracked runs"): the posterior is then LinearObjective's.
+TEST(SamplePosterior, PerRunResidualsBesideThePooledQuantilesAreLeftOut) {
+  using observations::ObservationKind;
+  const PulledObjective objective;
+  PosteriorOptions o;
+  o.design_points = 20;
+  o.rounds = 2;
+  const PosteriorResult left =
+      SamplePosterior(objective, {}, o, nullptr, nullptr, Layout(ObservationKind::kRunoutDistance));
+  EXPECT_EQ(left.left_out, 1);
+  const Eigen::Vector2d sd = ExactSd();
+  EXPECT_NEAR(left.parameters[0].median, 0.4, 0.15 * sd(0));
+  EXPECT_NEAR(left.parameters[1].median, 0.6, 0.15 * sd(1));
+  // Beside scars the run's residual is the only comparison of its stop: kept.
+  const PosteriorResult kept =
+      SamplePosterior(objective, {}, o, nullptr, nullptr, Layout(ObservationKind::kTreeScars));
+  EXPECT_EQ(kept.left_out, 0);
+  EXPECT_GT(kept.parameters[0].median, 0.75) << "the narrow residual holds the first value";
+}
+
+TEST(LikelihoodResiduals, LeavesOutASitesRunsWhereItsStopsArePooledUnlessTheLogTermIsOn) {
+  using observations::ObservationKind;
+  using observations::Residual;
+  using observations::ResidualId;
+  std::vector<Residual> layout(5);
+  layout[0].id = ResidualId::Of(ObservationKind::kRunoutDistance);
+  layout[0].id.site = "a";
+  layout[1].id = ResidualId::Of(ObservationKind::kRun, 0, "r1");
+  layout[1].id.site = "a";
+  layout[2].id = ResidualId::Of(ObservationKind::kRun, 0, "r1");
+  layout[2].id.site = "b";  // site b compares its runs one by one only
+  layout[3].id = ResidualId::Of(ObservationKind::kRunoutStopped);
+  layout[3].id.site = "a";
+  layout[4].id = ResidualId::Of(ObservationKind::kTreeScars, 0, "tree_scars[0] P");
+  layout[4].id.site = "b";
+  EXPECT_EQ(LikelihoodResiduals(layout, false), (std::vector<bool>{true, false, true, true, true}));
+  EXPECT_EQ(LikelihoodResiduals(layout, true), std::vector<bool>(5, true));
+}
+
 TEST(SamplePosterior, AParameterTheDataDoNotSeeIsFlaggedUndetermined) {
   // Only the first parameter enters the residuals.
   class OneSided final : public TwoValueObjective {

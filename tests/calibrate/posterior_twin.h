@@ -49,9 +49,15 @@ struct PosteriorTwinOptions {
   bool log_sigma = false;  // PosteriorOptions::sigma_log_term
   // What the field observed: any of "scars" (bounce heights at both
   // partitions), "stops" (stop points), "passing" (the share of rocks past
-  // Q), comma-separated; "both" is "scars,stops".
+  // Q), "runs" (tracked runs: obs_rocks rock groups, each released from a
+  // point of its own, one field rock each, its stop compared with its
+  // group's rocks; not with "stops"), comma-separated; "both" is
+  // "scars,stops".
   std::string kinds = "both";
   double error_scale = 1.0;  // the measurement errors times this
+  // Tracked runs: which comparisons enter the misfit
+  // (observations::MisfitOptions::run_terms: "pooled", "per_run", "both").
+  std::string run_terms = "both";
   // The field's values carry the measurement errors they declare: each
   // height, each stop point's x and y and the passing share plus a normal
   // draw of its error (seeded by the twin). Off: exact values, errors
@@ -69,6 +75,12 @@ struct PosteriorTwinOptions {
   int search = 0;
 };
 
+// Whether the field of `o` observes `kind` ("scars", "stops", "passing", "runs").
+inline bool Observes(const PosteriorTwinOptions& o, const std::string& kind) {
+  const std::string list = "," + (o.kinds == "both" ? std::string("scars,stops") : o.kinds) + ",";
+  return list.find("," + kind + ",") != std::string::npos;
+}
+
 // Empty when valid; else what is wrong.
 inline std::string Check(const PosteriorTwinOptions& o) {
   const int most = o.materials == 3 ? 6 : 4;
@@ -85,20 +97,35 @@ inline std::string Check(const PosteriorTwinOptions& o) {
   for (std::size_t at = 0; at <= rest.size();) {
     const std::size_t comma = std::min(rest.find(',', at), rest.size());
     const std::string k = rest.substr(at, comma - at);
-    if (k != "scars" && k != "stops" && k != "passing") return "kinds: scars, stops, passing";
+    if (k != "scars" && k != "stops" && k != "passing" && k != "runs")
+      return "kinds: scars, stops, passing, runs";
     at = comma + 1;
   }
+  if (Observes(o, "runs") && Observes(o, "stops")) return "kinds: runs are the stops (not both)";
+  observations::RunTerms terms;
+  if (!observations::StringToRunTerms(o.run_terms, &terms))
+    return "run terms: pooled, per_run, both";
   return "";
 }
 
-inline bool Observes(const PosteriorTwinOptions& o, const std::string& kind) {
-  const std::string list = "," + (o.kinds == "both" ? std::string("scars,stops") : o.kinds) + ",";
-  return list.find("," + kind + ",") != std::string::npos;
-}
-
 // The twin site of `o`, with `rocks` rocks and the calibrated values of `o`.
+// With tracked runs, o.obs_rocks groups (the runs), each released from a
+// point of its own across the release zone, rocks / o.obs_rocks rocks each
+// (at least one).
 inline sites::Site PosteriorTwinSite(const PosteriorTwinOptions& o, int rocks) {
   sites::Site site = TwinSite(rocks);
+  if (Observes(o, "runs")) {
+    const core::RockGroup one = site.scene.groups[0];
+    site.scene.groups.clear();
+    for (int r = 0; r < o.obs_rocks; ++r) {
+      core::RockGroup g = one;
+      g.id = "run" + std::to_string(r + 1);
+      g.count = std::max(1, rocks / o.obs_rocks);
+      g.release.zone.clear();
+      g.release.point = Eigen::Vector2d(2.5, 8.0 + 4.0 * (r + 0.5) / o.obs_rocks);
+      site.scene.groups.push_back(g);
+    }
+  }
   std::vector<sites::ParameterBound> all = site.calibrate;  // slope h, slope r, runout h, runout r
   if (o.materials == 3) {
     core::Scene& scene = site.scene;
@@ -150,14 +177,15 @@ inline PosteriorTwin RunPosteriorTwin(const PosteriorTwinOptions& o, int t) {
   twin.truth = space.ToPhysical(unit);
   sites::Site field = PosteriorTwinSite(o, o.obs_rocks);
   field.scene.options.threads = o.threads;
-  observations::Observations obs =
-      TwinObservations(field, twin.truth, 1000 + o.seed * 100 + static_cast<std::uint64_t>(t));
+  const bool runs = Observes(o, "runs");
+  observations::Observations obs = TwinObservations(
+      field, twin.truth, 1000 + o.seed * 100 + static_cast<std::uint64_t>(t), runs);
   if (Observes(o, "passing")) {
     // The share of the field's rocks past Q: those with a scar there.
     const double past = static_cast<double>(obs.tree_scars[1].heights.size());
     obs.passing.push_back({"passing[0] Q", 1, past / static_cast<double>(o.obs_rocks)});
   }
-  if (!Observes(o, "stops")) obs.runout.reset();
+  if (!Observes(o, "stops") && !runs) obs.runout.reset();
   if (!Observes(o, "scars")) obs.tree_scars.clear();
   // A partition no observed rock reached (few rocks) has nothing to compare.
   obs.tree_scars.erase(
@@ -175,8 +203,13 @@ inline PosteriorTwin RunPosteriorTwin(const PosteriorTwinOptions& o, int t) {
       observations::Runout& r = *obs.runout;
       r.distances.clear();
       r.lateral.clear();
-      for (Eigen::Vector2d& p : r.stop_points) {
+      for (std::size_t i = 0; i < r.stop_points.size(); ++i) {
+        Eigen::Vector2d& p = r.stop_points[i];
         p += obs.error.runout * Eigen::Vector2d(draw.Normal(), draw.Normal());
+        if (r.has_runs()) {
+          r.distances.push_back((p - r.run_origins[i]).norm());
+          continue;
+        }
         r.distances.push_back(r.Distance(p));
         r.lateral.push_back(r.Lateral(p));
       }
@@ -185,7 +218,9 @@ inline PosteriorTwin RunPosteriorTwin(const PosteriorTwinOptions& o, int t) {
       p.fraction = std::clamp(p.fraction + obs.error.passing * draw.Normal(), 0.0, 1.0);
   }
   const core::Scene scene = RunScene(site, o.rocks, o.seed, o.threads);
-  const Objective objective(scene, space, obs, {});
+  observations::MisfitOptions misfit;
+  observations::StringToRunTerms(o.run_terms, &misfit.run_terms);
+  const Objective objective(scene, space, obs, misfit);
   PosteriorOptions options;
   options.mcmc.seed = o.seed;
   options.correlated_quantiles = !o.independent;

@@ -5,6 +5,8 @@
 #define ROCKCAL_TESTS_CALIBRATE_TWIN_FIXTURE_H_
 
 #include <cmath>
+#include <cstdint>
+#include <string>
 #include <vector>
 
 #include "rockcal/calibrate/parameter_space.h"
@@ -63,10 +65,14 @@ inline sites::Site TwinSite(int rocks) {
 }
 
 // Observations of bounce heights at P and of stop points, from a simulation
-// of `site` at `truth` with `seed`.
+// of `site` at `truth` with `seed`. With `runs`, each rock group is one
+// tracked run (its first rock, released from the group's release point):
+// the stop points are the runs' (Runout::run_ids "run1", ..., their
+// distances from their own release), and a run whose rock did not stop is
+// left out (the stopped share counts it).
 inline observations::Observations TwinObservations(const sites::Site& site,
                                                    const std::vector<double>& truth,
-                                                   std::uint64_t seed) {
+                                                   std::uint64_t seed, bool runs = false) {
   core::Scene scene = site.scene;
   ParameterSpace::FromSite(site).Apply(truth, &scene);
   scene.options.seed = seed;
@@ -82,7 +88,12 @@ inline observations::Observations TwinObservations(const sites::Site& site,
   for (const auto& r : sim.rocks) {
     if (r.crossings[0].crossed) scars.heights.push_back(r.crossings[0].height);
     if (r.crossings[1].crossed) runout_scars.heights.push_back(r.crossings[1].height);
-    if (r.outcome == core::Outcome::kStopped) runout.stop_points.emplace_back(r.stop.x(), r.stop.y());
+    if (r.outcome != core::Outcome::kStopped) continue;
+    runout.stop_points.emplace_back(r.stop.x(), r.stop.y());
+    if (!runs) continue;
+    runout.run_ids.push_back("run" + std::to_string(r.group + 1));
+    runout.run_groups.push_back(r.group);
+    runout.run_origins.push_back(scene.groups[static_cast<std::size_t>(r.group)].release.point);
   }
   // The observed share of stopped rocks: the field would see the others go.
   runout.observed_rocks = static_cast<int>(sim.rocks.size());
@@ -90,7 +101,12 @@ inline observations::Observations TwinObservations(const sites::Site& site,
       static_cast<double>(runout.stop_points.size()) / static_cast<double>(sim.rocks.size());
   runout.from = Eigen::Vector2d(2.5, 10.0);
   runout.direction = Eigen::Vector2d(1.0, 0.0);
-  for (const auto& p : runout.stop_points) {
+  for (std::size_t i = 0; i < runout.stop_points.size(); ++i) {
+    const Eigen::Vector2d& p = runout.stop_points[i];
+    if (runs) {
+      runout.distances.push_back((p - runout.run_origins[i]).norm());
+      continue;
+    }
     runout.distances.push_back(runout.Distance(p));
     runout.lateral.push_back(runout.Lateral(p));
   }

@@ -168,6 +168,10 @@ std::string PosteriorSection(const Context& c) {
       FormatNumber(post.max_rhat, "%.3f") +
       "). posterior.csv holds the samples. A value whose interval is about as wide as its "
       "bounds is not determined by these observations.</p>";
+  if (post.left_out > 0)
+    s += "<p>The likelihood leaves out the " + Int(post.left_out) +
+         " per-run residuals: the pooled runout quantiles compare the same stops, which would "
+         "otherwise count twice (docs/posterior.md, \"Tracked runs\").</p>";
   if (!post.message.empty()) s += "<p class=\"warn\"><b>Warning:</b> " + Escape(post.message) + "</p>";
   if (const std::string advice = PosteriorAdvice(rec); !advice.empty())
     s += "<p class=\"warn\">" + Escape(advice) + "</p>";

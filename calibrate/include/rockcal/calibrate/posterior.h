@@ -134,6 +134,7 @@ struct PosteriorResult {
   std::string correlation_source;
   bool sigma_log_term = false;  // PosteriorOptions::sigma_log_term, as used
   double effective_residuals = 0.0;
+  int left_out = 0;                   // residuals the likelihood leaves out (LikelihoodResiduals)
   std::vector<double> length_scales;  // unit box
   double nugget = 0.0;
   double wall_seconds = 0.0;
@@ -175,6 +176,17 @@ PosteriorResult MapPosterior(
     const std::function<std::vector<double>(const std::vector<double>&)>& map,
     double undetermined_share);
 
+// Which of the misfit's residuals (named as in `layout`) the posterior's
+// likelihood takes: all but, for each site whose tracked runs are compared
+// both by the pooled quantiles ("runout distance") and one by one ("run
+// <id>"), the per-run residuals. The same stops would count twice, and a
+// run's sigma is mostly its simulated spread, which the misfit alone
+// rewards widening (docs/posterior.md, "Tracked runs"). With the sigmas'
+// log term (`sigma_log_term`) every residual is taken: the log term is
+// summed over all of them.
+std::vector<bool> LikelihoodResiduals(const std::vector<observations::Residual>& layout,
+                                      bool sigma_log_term);
+
 // Progress of SamplePosterior: (what, done, total).
 using PosteriorProgress = std::function<void(const std::string& stage, int done, int total)>;
 
@@ -188,8 +200,9 @@ using PosteriorProgress = std::function<void(const std::string& stage, int done,
 // `layout`: the residuals of one evaluation (their observation and quantity
 // name each residual; the values are not used), for the quantiles'
 // correlation when the objective gives none (PosteriorOptions::
-// bootstrap_replicates); empty or of another length: then every residual
-// independent.
+// bootstrap_replicates) and for the residuals the likelihood takes
+// (LikelihoodResiduals); empty or of another length: then every residual,
+// each independent.
 PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
                                 const std::vector<Evaluation>& reused,
                                 const PosteriorOptions& options, EvaluationLog* log,
