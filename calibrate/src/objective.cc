@@ -20,6 +20,18 @@ std::vector<double> RoughnessKey(const ParameterSpace& space, const std::vector<
 
 }  // namespace
 
+Evaluation EvaluationOf(const Stage& stage, const std::vector<double>& physical,
+                        const observations::Misfit& m) {
+  Evaluation e;
+  e.stage = stage;
+  e.parameters = physical;
+  e.misfit = m.value;
+  e.log_scale = m.log_scale;
+  e.penalised = m.penalised;
+  for (const observations::Residual& r : m.residuals) e.residuals.push_back(r.value);
+  return e;
+}
+
 std::string EncodeMisfit(const observations::Misfit& m) {
   parallel::Writer w;
   w.Double(m.value);

@@ -224,13 +224,8 @@ std::vector<Evaluation> EvaluatePoints(const ObjectiveFunction& objective,
   const int base = log ? log->size() : 0;
   objective.EvaluateAll(missing, [&](int i, const observations::Misfit& m) {
     Evaluation& e = out[where[static_cast<std::size_t>(i)]];
-    e.stage = Stage::Posterior();
+    e = EvaluationOf(Stage::Posterior(), missing[static_cast<std::size_t>(i)], m);
     e.index = base + i + 1;
-    e.parameters = missing[static_cast<std::size_t>(i)];
-    e.misfit = m.value;
-    e.log_scale = m.log_scale;
-    e.penalised = m.penalised;
-    for (const auto& r : m.residuals) e.residuals.push_back(r.value);
     e.elapsed = std::chrono::duration<double>(Clock::now() - start).count();
     if (log) log->Append(e);
     ++*simulated;

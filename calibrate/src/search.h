@@ -62,13 +62,7 @@ class Evaluator final {
       resumed_ = Clock::now();
     } else {
       const auto t0 = Clock::now();
-      const observations::Misfit m = objective_.Evaluate(x);
-      e.stage = stage_;
-      e.parameters = x;
-      e.misfit = m.value;
-      e.log_scale = m.log_scale;
-      e.penalised = m.penalised;
-      for (const auto& r : m.residuals) e.residuals.push_back(r.value);
+      e = EvaluationOf(stage_, x, objective_.Evaluate(x));
       e.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
       ++simulated_;
     }

@@ -6,6 +6,7 @@
 #ifndef ROCKCAL_CALIBRATE_OBJECTIVE_H_
 #define ROCKCAL_CALIBRATE_OBJECTIVE_H_
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -13,8 +14,7 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
-
+#include "rockcal/calibrate/evaluation.h"
 #include "rockcal/calibrate/parameter_space.h"
 #include "rockcal/core/simulate.h"
 #include "rockcal/observations/misfit.h"
@@ -58,6 +58,12 @@ class ObjectiveFunction {
     return {};
   }
 };
+
+// The evaluation by `stage` at `physical` whose misfit is `m`: its value,
+// log term, penalty and residuals' values (the index and times are the
+// caller's).
+Evaluation EvaluationOf(const Stage& stage, const std::vector<double>& physical,
+                        const observations::Misfit& m);
 
 class Objective final : public ObjectiveFunction {
  public:
