@@ -222,16 +222,26 @@ std::vector<Evaluation> EvaluatePoints(const ObjectiveFunction& objective,
   int done = static_cast<int>(units.size() - missing.size());
   if (progress) progress(stage, done, static_cast<int>(units.size()));
   const int base = log ? log->size() : 0;
-  objective.EvaluateAll(missing, [&](int i, const observations::Misfit& m) {
-    Evaluation& e = out[where[static_cast<std::size_t>(i)]];
-    e = EvaluationOf(Stage::Posterior(), missing[static_cast<std::size_t>(i)], m);
-    e.index = base + i + 1;
-    e.elapsed = std::chrono::duration<double>(Clock::now() - start).count();
-    if (log) log->Append(e);
-    ++*simulated;
-    ++done;
-    if (progress) progress(stage, done, static_cast<int>(units.size()));
-  });
+  const std::vector<observations::Misfit> misfits =
+      objective.EvaluateAll(missing, [&](int i, const observations::Misfit& m) {
+        Evaluation& e = out[where[static_cast<std::size_t>(i)]];
+        e = EvaluationOf(Stage::Posterior(), missing[static_cast<std::size_t>(i)], m);
+        e.index = base + i + 1;
+        e.elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+        if (log) log->Append(e);
+        ++*simulated;
+        ++done;
+        if (progress) progress(stage, done, static_cast<int>(units.size()));
+      });
+  // Under mpirun the callback runs on rank 0 only: every rank takes the
+  // misfits EvaluateAll returns to all, so that all emulate the same design
+  // (else their posteriors parted and a refining round waited forever).
+  for (std::size_t i = 0; i < missing.size() && i < misfits.size(); ++i) {
+    Evaluation& e = out[where[i]];
+    if (!e.parameters.empty()) continue;
+    e = EvaluationOf(Stage::Posterior(), missing[i], misfits[i]);
+    e.index = base + static_cast<int>(i) + 1;
+  }
   return out;
 }
 
