@@ -46,6 +46,17 @@ Scene PlaneScene(double e, double friction) {
   return scene;
 }
 
+// A box (1 x 0.7 x 0.5 m) over the rough slope z = -0.3 x (roughness 0.2 m).
+Scene RoughSlopeBoxScene() {
+  Material m = SmoothMaterial(0.5, kContactTime, 0.5);
+  m.roughness_m = 0.2;
+  Scene scene = GridScene(
+      21, 21, 1.0, [](double x, double) { return -0.3 * x; }, m);
+  scene.groups = {PointGroup(Shape::kBox, 1.0, 10, 10, 1.0)};
+  scene.groups[0].box = Eigen::Vector3d(1.0, 0.7, 0.5);
+  return scene;
+}
+
 ImpactReplay Arriving(double incidence, int draws = 1) {
   ImpactReplay impact;
   impact.group = 0;
@@ -129,12 +140,7 @@ TEST(ImpactReplay, TheRockMeetsTheGroundAtTheObservedVelocityWhereverItsCentreLi
 // campaign's hung a calibration). Every draw now starts clear and none
 // gains more speed than gravity gives it over the replay.
 TEST(ImpactReplay, AnImpactDeepInRisingGroundStartsClearAndGainsNoEnergy) {
-  Material m = SmoothMaterial(0.5, kContactTime, 0.5);
-  m.roughness_m = 0.2;
-  Scene scene = GridScene(
-      21, 21, 1.0, [](double x, double) { return -0.3 * x; }, m);
-  scene.groups = {PointGroup(Shape::kBox, 1.0, 10, 10, 1.0)};
-  scene.groups[0].box = Eigen::Vector3d(1.0, 0.7, 0.5);
+  Scene scene = RoughSlopeBoxScene();
   scene.options.threads = 1;
   ImpactReplay impact;
   impact.centre = Eigen::Vector3d(10, 10, -3.0);  // the box's centre at the surface
@@ -154,12 +160,7 @@ TEST(ImpactReplay, AnImpactDeepInRisingGroundStartsClearAndGainsNoEnergy) {
 }
 
 TEST(ImpactReplay, DrawsAreTheSameAtAnyThreadCountAndDifferAcrossDraws) {
-  Material m = SmoothMaterial(0.5, kContactTime, 0.5);
-  m.roughness_m = 0.2;
-  Scene scene = GridScene(
-      21, 21, 1.0, [](double x, double) { return -0.3 * x; }, m);
-  scene.groups = {PointGroup(Shape::kBox, 1.0, 10, 10, 1.0)};
-  scene.groups[0].box = Eigen::Vector3d(1.0, 0.7, 0.5);
+  Scene scene = RoughSlopeBoxScene();
   ImpactReplay impact;
   impact.centre = Eigen::Vector3d(10, 10, -3.0 + 0.5);
   impact.velocity_in = Eigen::Vector3d(6, 0, -4);
