@@ -15,7 +15,7 @@ namespace {
 // A replayed rock starts with its lowest element between one and two of
 // this share of its radius clear of the ground.
 constexpr double kClearance = 0.01;
-// The steps that bring it there along the ground's normal (PlaceDraw).
+// The steps that bring it there along the incoming velocity (PlaceDraw).
 constexpr int kPlacingSteps = 64;
 // The longest flight allowed before the first contact (an impact arriving
 // nearly along the ground takes long to touch it).
