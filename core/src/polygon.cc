@@ -1,6 +1,9 @@
 #include "rockcal/core/polygon.h"
 
 #include <algorithm>
+#include <cmath>
+
+#include "rockcal/core/numbers.h"
 
 namespace rockcal::core {
 
@@ -27,6 +30,16 @@ bool PointInPolygon(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Ve
     }
   }
   return inside;
+}
+
+std::vector<Eigen::Vector2d> DiscPolygon(const Eigen::Vector2d& centre, double radius) {
+  std::vector<Eigen::Vector2d> disc;
+  disc.reserve(kDiscVertices);
+  for (int k = 0; k < kDiscVertices; ++k) {
+    const double a = 2.0 * kPi * k / kDiscVertices;
+    disc.push_back(centre + radius * Eigen::Vector2d(std::cos(a), std::sin(a)));
+  }
+  return disc;
 }
 
 }  // namespace rockcal::core

@@ -11,6 +11,7 @@
 
 #include "rockcal/core/limits.h"
 #include "rockcal/core/numbers.h"
+#include "rockcal/core/polygon.h"
 #include "rockcal/sites/file_keys.h"
 #include "rockcal/sites/inventory.h"
 #include "rockcal/sites/shape_file.h"
@@ -64,15 +65,11 @@ Eigen::Vector2d ReadReleasePoint(const JsonNode& node, Units units, const core::
   if (const auto spread = node.Find("position_spread")) {
     // A tracked release is known within an error: each rock starts at a
     // point drawn uniformly from the disc of this radius about the point
-    // (a polygon of kSpreadVertices vertices, released as a zone).
+    // (core::DiscPolygon, released as a zone).
     const double radius = NumberInRange(*spread, LengthToSI(spread->NonNegative(), units), 0,
                                         1000.0, "release position spread", Quantity::kLength, units);
     if (radius > 0) {
-      constexpr int kSpreadVertices = 24;
-      for (int k = 0; k < kSpreadVertices; ++k) {
-        const double a = 2.0 * core::kPi * k / kSpreadVertices;
-        r->zone.push_back(r->point + radius * Eigen::Vector2d(std::cos(a), std::sin(a)));
-      }
+      r->zone = core::DiscPolygon(r->point, radius);
       if (auto off = FindOffTerrain(grid, r->zone, grid.spacing / 4))
         spread->Fail("the disc of this radius about the release point reaches " + text.At(*off) +
                      ", off the terrain (" + text.grid + "); expected a disc on the terrain");

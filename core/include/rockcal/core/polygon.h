@@ -14,6 +14,12 @@ namespace rockcal::core {
 // parts covered an odd number of times. False for fewer than 3 vertices.
 bool PointInPolygon(const std::vector<Eigen::Vector2d>& polygon, const Eigen::Vector2d& p);
 
+// The disc of `radius` about `centre` as a plan polygon of kDiscVertices
+// vertices on its circle, counter-clockwise from +x: a release point's
+// position spread, released as a zone. radius > 0.
+inline constexpr int kDiscVertices = 24;
+std::vector<Eigen::Vector2d> DiscPolygon(const Eigen::Vector2d& centre, double radius);
+
 }  // namespace rockcal::core
 
 #endif  // ROCKCAL_CORE_POLYGON_H_
