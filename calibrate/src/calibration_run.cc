@@ -297,6 +297,8 @@ PosteriorResult RunPosteriorStage(const sites::Site& site, const observations::O
   po.mcmc.seed = scene.options.seed;
   PosteriorResult result = SamplePosterior(objective, reused, po, log ? &*log : nullptr,
                                            callbacks.posterior, summary.misfit_before.residuals);
+  if (const std::string points = PointReleaseWarning(scene); !points.empty())
+    result.message += (result.message.empty() ? "" : " ") + points + ".";
   PredictiveBands(SiteDraw(site, obs, options.misfit, space, scene.total_rocks(), options.threads),
                   scene.options.seed, scene.total_rocks(), options.posterior->predictive_draws, &result,
                   callbacks.posterior);

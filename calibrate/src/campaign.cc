@@ -294,6 +294,10 @@ void CampaignPosterior(const Campaign& campaign, const CalibrationOptions& optio
   po.mcmc.seed = cal.seed;
   cal.posterior =
       SamplePosterior(objective, {}, po, log, callbacks.posterior, cal.misfit_before.residuals);
+  for (const CampaignSite& s : campaign.sites)
+    if (const std::string points = PointReleaseWarning(s.site.scene); !points.empty())
+      cal.posterior->message +=
+          (cal.posterior->message.empty() ? "" : " ") + s.name + ": " + points + ".";
   PredictiveBands(CampaignDraw(campaign, options), cal.seed, cal.rocks, po.predictive_draws,
                   &*cal.posterior, callbacks.posterior);
   SplitPosterior(objective.joint(), po.undetermined_share, summary);

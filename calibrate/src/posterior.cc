@@ -524,6 +524,20 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
   return result;
 }
 
+std::string PointReleaseWarning(const core::Scene& scene) {
+  int points = 0;
+  std::string first;
+  for (const core::RockGroup& g : scene.groups)
+    if (g.release.zone.empty() && points++ == 0) first = g.id;
+  if (points == 0) return "";
+  return std::to_string(points) + " of " + std::to_string(scene.groups.size()) +
+         " rock groups start at an exact point" +
+         (first.empty() ? "" : " (the first: '" + first + "')") +
+         ": their rocks meet the same ground first, so the compared statistics can jump with the "
+         "values, which the emulator smooths over (intervals too narrow); give each release "
+         "point its position error (\"position_spread\"; docs/posterior.md, \"Tracked runs\")";
+}
+
 nlohmann::json PosteriorJson(const PosteriorResult& result) {
   using text::JsonNum;
   nlohmann::json parameters = nlohmann::json::array();

@@ -1,18 +1,19 @@
 // The posterior sampler and stage (calibrate/src/mcmc.cc, posterior.cc) on
 // analytic targets whose posterior is known exactly.
 #include "rockcal/calibrate/posterior.h"
-#include "rockcal/calibrate/residual_correlation.h"
-#include "rockcal/core/statistics.h"
-#include "rockcal/calibrate/posterior_draws.h"
-#include "rockcal/core/random.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
-#include <unistd.h>
-
 #include <filesystem>
+
+#include "rockcal/calibrate/posterior_draws.h"
+#include "rockcal/calibrate/residual_correlation.h"
+#include "rockcal/core/polygon.h"
+#include "rockcal/core/random.h"
+#include "rockcal/core/statistics.h"
 
 namespace rockcal::calibrate {
 namespace {
@@ -247,6 +248,27 @@ TEST(SamplePosterior, PerRunResidualsBesideThePooledQuantilesAreLeftOut) {
       SamplePosterior(objective, {}, o, nullptr, nullptr, Layout(ObservationKind::kTreeScars));
   EXPECT_EQ(kept.left_out, 0);
   EXPECT_GT(kept.parameters[0].median, 0.75) << "the narrow residual holds the first value";
+}
+
+TEST(PointReleaseWarning, NamesTheGroupsThatStartAtAnExactPoint) {
+  core::Scene scene;
+  core::RockGroup zone;
+  zone.id = "slope";
+  zone.release.zone = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  scene.groups = {zone};
+  EXPECT_EQ(PointReleaseWarning(scene), "");
+  core::RockGroup point;
+  point.id = "v004";
+  point.release.point = {33.4, 236.67};
+  scene.groups.push_back(point);
+  const std::string warning = PointReleaseWarning(scene);
+  EXPECT_NE(warning.find("1 of 2 rock groups start at an exact point (the first: 'v004')"),
+            std::string::npos)
+      << warning;
+  EXPECT_NE(warning.find("position_spread"), std::string::npos) << warning;
+  // A position spread makes the point a disc, released as a zone.
+  scene.groups[1].release.zone = core::DiscPolygon(point.release.point, 0.5);
+  EXPECT_EQ(PointReleaseWarning(scene), "");
 }
 
 TEST(LikelihoodResiduals, LeavesOutASitesRunsWhereItsStopsArePooledUnlessTheLogTermIsOn) {

@@ -187,6 +187,15 @@ PosteriorResult MapPosterior(
 std::vector<bool> LikelihoodResiduals(const std::vector<observations::Residual>& layout,
                                       bool sigma_log_term);
 
+// A warning for a posterior of `scene` when some of its rock groups start
+// at an exact point (a release "point" without "position_spread"): every
+// rock of such a group meets the same ground first, so the simulated
+// statistics can jump with the values (a resonance of the first bounces),
+// which the posterior's emulator smooths over and its intervals then miss
+// (docs/posterior.md, "Tracked runs"). Empty when every group starts in a
+// zone or a disc.
+std::string PointReleaseWarning(const core::Scene& scene);
+
 // Progress of SamplePosterior: (what, done, total).
 using PosteriorProgress = std::function<void(const std::string& stage, int done, int total)>;
 
