@@ -19,7 +19,7 @@
 //
 //   misfit_bias [--obs-seeds 16] [--cal-seeds 4] [--truth-seeds 0] [--points 11] [--span 25]
 //               [--obs-rocks 120] [--rocks 120] [--threads 1] [--scars 2] [--error-scale 1]
-//               [--truth a,b,c,d]
+//               [--truth a,b,c,d] [--max 1] [--runs 0] [--run-spread 0.5]
 #include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
@@ -30,7 +30,7 @@
 #include <string>
 #include <vector>
 
-#include "../tests/calibrate/twin_fixture.h"
+#include "../tests/calibrate/posterior_twin.h"
 #include "rockcal/calibrate/objective.h"
 #include "rockcal/calibrate/posterior.h"
 #include "rockcal/calibrate/residual_correlation.h"
@@ -109,6 +109,18 @@ int main(int argc, char** argv) {
   const int rocks = static_cast<int>(Arg(argc, argv, "rocks", 120));
   const int threads = static_cast<int>(Arg(argc, argv, "threads", 1));
   const int scars = static_cast<int>(Arg(argc, argv, "scars", 2));
+  // --max 0: the maxima left out of the misfit (MisfitOptions::include_max).
+  observations::MisfitOptions misfit_options;
+  misfit_options.include_max = Arg(argc, argv, "max", 1) != 0;
+  // --runs G: G tracked runs of one field rock each (the field's rocks), each
+  // its own group of rocks / G simulated rocks released from a point of its
+  // own (posterior_twin.h's SplitIntoRuns; --run-spread), compared by their pooled
+  // quantiles (the per-run residuals, whose number varies with the runs that
+  // stopped, left out).
+  const int runs = static_cast<int>(Arg(argc, argv, "runs", 0));
+  // --run-spread r: the disc about each run's release point, m (0: the point).
+  const double run_spread = bench::RealArg(argc, argv, "run-spread", 0.5);
+  if (runs > 0) misfit_options.run_terms = observations::RunTerms::kPooled;
   // The measurement errors (0.1 m on heights, 1 m on stop points) times this:
   // at 0 the residuals' sigma is the Monte Carlo and sampling errors alone.
   const double error_scale = bench::RealArg(argc, argv, "error-scale", 1.0);
@@ -120,7 +132,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   const auto start = std::chrono::steady_clock::now();
-  const sites::Site site = calibrate::testing::TwinSite(rocks);
+  sites::Site site = calibrate::testing::TwinSite(rocks);
+  if (runs > 0) calibrate::testing::SplitIntoRuns(runs, rocks, run_spread, &site);
   const calibrate::ParameterSpace space = calibrate::ParameterSpace::FromSite(site);
   // --truth a,b,c,d: another truth (the twin's values in its order).
   std::vector<double> truth = calibrate::testing::kTruth;
@@ -143,12 +156,13 @@ int main(int argc, char** argv) {
   }
 
   std::vector<observations::Observations> obs;
-  sites::Site field = calibrate::testing::TwinSite(obs_rocks);
+  sites::Site field = calibrate::testing::TwinSite(runs > 0 ? runs : obs_rocks);
+  if (runs > 0) calibrate::testing::SplitIntoRuns(runs, runs, run_spread, &field);
   field.scene.options.threads = threads;
   double observed_heights = 0, observed_stops = 0;
   for (int k = 0; k < K; ++k) {
-    observations::Observations o =
-        calibrate::testing::TwinObservations(field, truth, 5000 + static_cast<std::uint64_t>(k));
+    observations::Observations o = calibrate::testing::TwinObservations(
+        field, truth, 5000 + static_cast<std::uint64_t>(k), runs > 0);
     o.tree_scars.resize(static_cast<std::size_t>(scars));
     o.error.height *= error_scale;
     o.error.runout *= error_scale;
@@ -195,7 +209,7 @@ int main(int argc, char** argv) {
   for (int c = 0; c < C + T; ++c) {
     const core::Scene run =
         calibrate::RunScene(site, rocks, static_cast<std::uint64_t>(c + 1), threads);
-    const calibrate::Objective objective(run, space, obs[0], {});
+    const calibrate::Objective objective(run, space, obs[0], misfit_options);
     auto score = [&](const std::vector<double>& theta, auto&& use) {
       core::Scene scene = objective.scene();
       space.Apply(theta, &scene);
@@ -253,9 +267,10 @@ int main(int argc, char** argv) {
   for (std::size_t j = 0; j < d; ++j)
     std::printf(" %s %.3g", space.parameters()[j].label().c_str(), truth[j]);
   std::printf(
-      "\n%d observation seeds (%d rocks: %.1f heights, %.1f stop points on average), %d "
+      "\n%d observation seeds (%d rocks%s: %.1f heights, %.1f stop points on average), %d "
       "calibration seeds (%d rocks), %d simulations, %.0f s\n\n",
-      K, obs_rocks, observed_heights, observed_stops, C, rocks, simulations,
+      K, runs > 0 ? runs : obs_rocks, runs > 0 ? " in as many runs" : "", observed_heights,
+      observed_stops, C, rocks, simulations,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 
   std::printf("At the truth (over %d x %d pairs): residual | mean | its s.e. | mean square\n",

@@ -22,15 +22,15 @@
 //                      [--ranks 0] [--bootstrap 200] [--kinds both]
 //                      [--error-scale 1] [--noise 0] [--search 0]
 //                      [--design-points -1] [--rounds -1] [--log-sigma 0]
-//                      [--run-terms both]
+//                      [--run-terms both] [--max 1] [--run-spread 0.5]
 //
 // --bootstrap B: the residuals' correlation from B resamples of the rocks
 // (PosteriorOptions::bootstrap_replicates; 0: each distribution's quantiles
 // alone, the posterior before issue #54). --kinds: which observations the
 // twin's field gives, any of scars (the bounce heights at the two
 // partitions), stops (the stop points), passing (the share past the second
-// partition) and runs (tracked runs: --obs-rocks rock groups released from
-// points of their own, one field rock each, its stop compared with its
+// partition) and runs (tracked runs: --obs-rocks rock groups released about
+// points of their own (--run-spread), one field rock each, its stop compared with its
 // group's rocks; not with stops), comma-separated; both = scars,stops.
 // --error-scale f: the measurement errors (0.1 m on heights, 1 m on stop
 // points, 0.05 on a passing fraction) times f. --noise 1: the field's values carry those
@@ -45,6 +45,10 @@
 // and --rounds: the posterior's (PosteriorOptions); -1, the defaults.
 // --run-terms: with runs, which comparisons of them enter the misfit
 // (MisfitOptions::run_terms: pooled, per_run or both, the product's default).
+// --max 0: the distributions' maxima left out of the misfit
+// (MisfitOptions::include_max). --run-spread r: with runs, each run's rocks
+// start within a disc of r m about its release point (the tracked sites'
+// position_spread; 0: at the point itself, as before 2026-12-07).
 // --log-sigma 1: the likelihood with the sigmas' log term
 // (PosteriorOptions::sigma_log_term, rockcal's --posterior-log-sigma). The
 // twins themselves: tests/calibrate/posterior_twin.h.
@@ -78,6 +82,8 @@ int main(int argc, char** argv) {
   o.bootstrap = static_cast<int>(Arg(argc, argv, "bootstrap", 200));
   o.kinds = TextArg(argc, argv, "kinds", "both");
   o.run_terms = TextArg(argc, argv, "run-terms", "both");
+  o.include_max = Arg(argc, argv, "max", 1) != 0;
+  o.run_spread = bench::RealArg(argc, argv, "run-spread", 0.5);
   o.error_scale = bench::RealArg(argc, argv, "error-scale", 1.0);
   o.noise = Arg(argc, argv, "noise", 0) != 0;
   o.truths = TextArg(argc, argv, "truths", Arg(argc, argv, "prior", 0) != 0 ? "prior" : "middle");
@@ -137,13 +143,14 @@ int main(int argc, char** argv) {
   std::printf(
       "\n%d twins, %d parameters, %d materials, %d observed rocks, %d rocks per evaluation, %d "
       "thread(s), %s residuals (bootstrap %d), observed %s (run terms %s), errors x%g%s, "
-      "truths %s, search %d, design points %d, rounds %d (-1: default), log sigma %d, %d "
-      "simulations, %.0f s; max R-hat %.3f\n\n",
+      "truths %s, search %d, design points %d, rounds %d (-1: default), log sigma %d, maxima %d, "
+      "run spread %g m, "
+      "%d simulations, %.0f s; max R-hat %.3f\n\n",
       twins, o.parameters, o.materials, o.obs_rocks, o.rocks, o.threads,
       o.independent ? "independent" : "correlated", o.bootstrap, o.kinds.c_str(),
       o.run_terms.c_str(), o.error_scale, o.noise ? " (in the values)" : " (declared)",
-      o.truths.c_str(), o.search, o.design_points, o.rounds, o.log_sigma ? 1 : 0, simulations,
-      seconds, max_rhat);
+      o.truths.c_str(), o.search, o.design_points, o.rounds, o.log_sigma ? 1 : 0,
+      o.include_max ? 1 : 0, o.run_spread, simulations, seconds, max_rhat);
   std::printf(
       "| parameter | 90 %% intervals holding the truth | mean width / range | mean |median - "
       "truth| / range |\n|---|---|---|---|\n");

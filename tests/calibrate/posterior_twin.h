@@ -23,6 +23,7 @@
 #include "rockcal/calibrate/objective.h"
 #include "rockcal/calibrate/posterior.h"
 #include "rockcal/calibrate/score.h"
+#include "rockcal/core/polygon.h"
 #include "rockcal/core/random.h"
 #include "twin_fixture.h"
 
@@ -49,8 +50,8 @@ struct PosteriorTwinOptions {
   bool log_sigma = false;  // PosteriorOptions::sigma_log_term
   // What the field observed: any of "scars" (bounce heights at both
   // partitions), "stops" (stop points), "passing" (the share of rocks past
-  // Q), "runs" (tracked runs: obs_rocks rock groups, each released from a
-  // point of its own, one field rock each, its stop compared with its
+  // Q), "runs" (tracked runs: obs_rocks rock groups, each released about a
+  // point of its own (run_spread), one field rock each, its stop compared with its
   // group's rocks; not with "stops"), comma-separated; "both" is
   // "scars,stops".
   std::string kinds = "both";
@@ -58,6 +59,12 @@ struct PosteriorTwinOptions {
   // Tracked runs: which comparisons enter the misfit
   // (observations::MisfitOptions::run_terms: "pooled", "per_run", "both").
   std::string run_terms = "both";
+  // The maxima compared too (observations::MisfitOptions::include_max).
+  bool include_max = true;
+  // Tracked runs: the radius of the disc about each run's release point its
+  // rocks start in, m (the tracked sites' "position_spread"; 0: the point
+  // itself).
+  double run_spread = 0.5;
   // The field's values carry the measurement errors they declare: each
   // height, each stop point's x and y and the passing share plus a normal
   // draw of its error (seeded by the twin). Off: exact values, errors
@@ -108,24 +115,29 @@ inline std::string Check(const PosteriorTwinOptions& o) {
   return "";
 }
 
+// Splits the twin site's one rock group into `runs` groups (tracked runs),
+// each released from a point of its own across the release zone, rocks /
+// runs rocks each (at least one), within a disc of `spread` about it (as a
+// tracked site's "position_spread"; 0: from the point itself).
+inline void SplitIntoRuns(int runs, int rocks, double spread, sites::Site* site) {
+  const core::RockGroup one = site->scene.groups[0];
+  site->scene.groups.clear();
+  for (int r = 0; r < runs; ++r) {
+    core::RockGroup g = one;
+    g.id = "run" + std::to_string(r + 1);
+    g.count = std::max(1, rocks / runs);
+    g.release.point = Eigen::Vector2d(2.5, 8.0 + 4.0 * (r + 0.5) / runs);
+    g.release.zone.clear();
+    if (spread > 0) g.release.zone = core::DiscPolygon(g.release.point, spread);
+    site->scene.groups.push_back(g);
+  }
+}
+
 // The twin site of `o`, with `rocks` rocks and the calibrated values of `o`.
-// With tracked runs, o.obs_rocks groups (the runs), each released from a
-// point of its own across the release zone, rocks / o.obs_rocks rocks each
-// (at least one).
+// With tracked runs, o.obs_rocks groups (the runs: SplitIntoRuns).
 inline sites::Site PosteriorTwinSite(const PosteriorTwinOptions& o, int rocks) {
   sites::Site site = TwinSite(rocks);
-  if (Observes(o, "runs")) {
-    const core::RockGroup one = site.scene.groups[0];
-    site.scene.groups.clear();
-    for (int r = 0; r < o.obs_rocks; ++r) {
-      core::RockGroup g = one;
-      g.id = "run" + std::to_string(r + 1);
-      g.count = std::max(1, rocks / o.obs_rocks);
-      g.release.zone.clear();
-      g.release.point = Eigen::Vector2d(2.5, 8.0 + 4.0 * (r + 0.5) / o.obs_rocks);
-      site.scene.groups.push_back(g);
-    }
-  }
+  if (Observes(o, "runs")) SplitIntoRuns(o.obs_rocks, rocks, o.run_spread, &site);
   std::vector<sites::ParameterBound> all = site.calibrate;  // slope h, slope r, runout h, runout r
   if (o.materials == 3) {
     core::Scene& scene = site.scene;
@@ -220,6 +232,7 @@ inline PosteriorTwin RunPosteriorTwin(const PosteriorTwinOptions& o, int t) {
   const core::Scene scene = RunScene(site, o.rocks, o.seed, o.threads);
   observations::MisfitOptions misfit;
   observations::StringToRunTerms(o.run_terms, &misfit.run_terms);
+  misfit.include_max = o.include_max;
   const Objective objective(scene, space, obs, misfit);
   PosteriorOptions options;
   options.mcmc.seed = o.seed;
