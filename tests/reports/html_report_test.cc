@@ -494,6 +494,10 @@ TEST(HtmlReportTest, ASearchValueOutsideItsPosteriorSaysWhichToUse) {
   in.calibration = &record;
   const std::string text = Unescape(FindSection(Render(in), "posterior")->AllText());
   EXPECT_NE(text.find("Use the posterior for a design"), std::string::npos) << text;
+  // The scene family's measured coverage, with where the docs give it.
+  EXPECT_NE(text.find("held the truth 89.0 % of the time"), std::string::npos) << text;
+  EXPECT_NE(text.find("docs/posterior.md, \"How honest the intervals are\""), std::string::npos)
+      << text;
   // Inside its interval: no advice.
   record.methods[0].best[0] = post.parameters[0].median;
   EXPECT_EQ(PosteriorAdvice(record), "");

@@ -168,6 +168,16 @@ std::string PosteriorSection(const Context& c) {
       FormatNumber(post.max_rhat, "%.3f") +
       "). posterior.csv holds the samples. A value whose interval is about as wide as its "
       "bounds is not determined by these observations.</p>";
+  // The family's figures: docs/posterior.md, "How honest the intervals are"
+  // (measured 2026-12-07; bench/README.md holds each row).
+  s += "<p>How honest such intervals are, measured on the project's scene family of twin "
+       "experiments (truths drawn from the prior, fields simulated with their measurement "
+       "errors, ten settings of observation kinds, counts, errors and materials: 1060 "
+       "intervals): the 90 % intervals held the truth 89.0 % of the time (84-94 % per "
+       "setting) and the truth's rank among the posterior's samples was uniform "
+       "(simulation-based calibration); for truths in the outer tenth of a range 79-81 % (an "
+       "exact posterior: about 84 %). The model's own error is not in them: the predictive "
+       "bands below are the check (docs/posterior.md, \"How honest the intervals are\").</p>";
   if (post.left_out > 0)
     s += "<p>The likelihood leaves out the " + Int(post.left_out) +
          " per-run residuals: the pooled runout quantiles compare the same stops, which would "
