@@ -459,13 +459,7 @@ PosteriorResult SamplePosterior(const ObjectiveFunction& objective,
     std::vector<Eigen::Index> kept;
     for (std::size_t j = 0; j < design.keep.size(); ++j)
       if (design.keep[j]) kept.push_back(static_cast<Eigen::Index>(j));
-    const Eigen::Index n = static_cast<Eigen::Index>(kept.size());
-    Eigen::MatrixXd block(n, n);
-    for (Eigen::Index a = 0; a < n; ++a)
-      for (Eigen::Index b = 0; b < n; ++b)
-        block(a, b) =
-            correlation(kept[static_cast<std::size_t>(a)], kept[static_cast<std::size_t>(b)]);
-    correlation = block;
+    correlation = Eigen::MatrixXd(correlation(kept, kept));
   }
   Eigen::MatrixXd whitening;
   if (correlation.size() > 0) {
